@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages this project builds and runs on. Idempotent:
+# packages already present are left alone and apt-get is not called at all.
+# Nothing is fetched from anywhere but Debian's archive.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ccache pkg-config
+  trilinos-all-dev libptscotch-dev libscotch-dev   # Tpetra, Anasazi, Amesos2, Belos, Teuchos
+  libopenmpi-dev openmpi-bin                        # MPI (Trilinos is built against Open MPI)
+  libsuitesparse-dev                                # CHOLMOD
+  libarpack2-dev libparpack2-dev                    # ARPACK and its MPI version PARPACK
+  libgtest-dev                                      # GoogleTest
+  liblapack-dev libblas-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,54 @@
+// Dense gyroscopic eigensolver for reduced models (up to a few thousand DOFs).
+//
+// Method "Meirovitch" (seed eqs. (20)-(24)): with I* = diag(M, K) = L L^T and
+// G* = [[G, K], [-K, 0]], the problem omega^2 I* y = G*^T I*^-1 G* y is real
+// symmetric with every omega^2 double. K' = L^-1 K* L^-T = A^T A where
+// A = L^-1 G* L^-T is skew, so omega are the singular values of A: we take the
+// SVD of A (error ~ eps ||A||) rather than eigenvalues of A^T A (which would
+// square the condition number). Valid only for K > 0 (doc/theory.md, "Dense").
+//
+// Method "General": LAPACK dggev on the 2n first-order pencil, valid for any
+// symmetric K; it returns complex lambda, and each mode is classified stable,
+// rigid, divergent or fluttering.
+//
+// Method "Auto" (default): Meirovitch when the Cholesky factorisation of K
+// succeeds with healthy pivots, otherwise General, saying why in the result.
+#pragma once
+
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+
+#include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/GyroscopicSystem.hpp"
+
+namespace cms::eigen {
+
+class DenseGyroscopicSolver {
+public:
+  /// `params` is validated against getValidParameters(): an unknown key or a
+  /// wrong type throws cms::InputError naming the key.
+  explicit DenseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList());
+
+  /// Keys, types, defaults and one-line docs (print them with `print()`).
+  static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+
+  GyroscopicResult solve(const GyroscopicSystem& system) const;
+
+private:
+  Teuchos::ParameterList params_;
+};
+
+/// Residual, energies, phase normalisation and stability class of modes whose
+/// lambda and q are set (q unnormalised). Shared by every dense extraction.
+void completeDenseModes(const GyroscopicSystem& system, std::vector<GyroscopicMode>& modes,
+                        double rigidBodyTol, double instabilityTol);
+
+/// The frequency scale sqrt(||K||/||M||) + ||G||/||M|| that the rigid-body and
+/// instability tolerances are relative to.
+double frequencyScale(double normM, double normG, double normK);
+
+/// Classify lambda against the tolerances (relative to `scale`).
+Stability classify(std::complex<double> lambda, double scale, double rigidBodyTol,
+                   double instabilityTol);
+
+}  // namespace cms::eigen

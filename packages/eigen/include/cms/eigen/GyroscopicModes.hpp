@@ -1,0 +1,61 @@
+// What every gyroscopic eigensolver returns: eigenvalues of
+//   (lambda^2 M + lambda G + K) q = 0      (seed eq. (19) with Q = 0)
+// with their modes, a residual per mode, a stability class per mode, and the
+// name of the solver that ran and why (doc/theory.md, "Results").
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+namespace cms::eigen {
+
+/// Classification of one eigenvalue lambda of a conservative gyroscopic system.
+/// The spectrum is Hamiltonian (lambda, -lambda, conj(lambda), -conj(lambda)),
+/// so any Re(lambda) != 0 means instability (doc/theory.md, "Stability").
+enum class Stability {
+  Stable,      ///< lambda = i omega, omega > 0: a stable oscillation
+  RigidBody,   ///< |lambda| below the rigid-body tolerance: zero frequency
+  Divergence,  ///< lambda real and positive: static (buckling-like) instability
+  Flutter      ///< Re lambda > 0 and Im lambda != 0: oscillatory instability
+};
+const char* toString(Stability s);
+
+/// Outcome of a solve as a status, never an exception (cf. Anasazi::ReturnType).
+enum class SolveStatus {
+  Converged,       ///< every requested mode converged
+  NotConverged,    ///< fewer modes than requested met the tolerance
+  NumericalIssue   ///< a factorisation or the eigensolver broke down
+};
+const char* toString(SolveStatus s);
+
+struct GyroscopicMode {
+  std::complex<double> lambda;  ///< eigenvalue (1/s)
+  double omega = 0.0;           ///< |Im lambda| (rad/s): the damped natural frequency
+  double hz = 0.0;              ///< omega / (2 pi)
+  double growthRate = 0.0;      ///< Re lambda (1/s): > 0 is unstable
+  Stability stability = Stability::Stable;
+  /// Complex mode shape, normalised q^H M q = 1, phase such that its largest
+  /// entry is real and positive. For the distributed solvers this holds only
+  /// this rank's rows (in the row map's order).
+  std::vector<std::complex<double>> q;
+  double kineticEnergy = 0.0;  ///< |lambda|^2 q^H M q / 2, amplitude of the mass-normalised mode
+  double strainEnergy = 0.0;   ///< q^H K q / 2 (K = K_V - K_T: negative parts mean softening)
+  /// ||(lambda^2 M + lambda G + K) q|| / ((||K|| + |lambda| ||G|| + |lambda|^2 ||M||) ||q||),
+  /// a normwise backward error: ~1e-16 for a mode exact to rounding.
+  double residual = 0.0;
+};
+
+struct GyroscopicResult {
+  std::vector<GyroscopicMode> modes;  ///< ascending |lambda|
+  std::string solver;                 ///< which solver produced the modes
+  std::string reason;                 ///< why that solver (e.g. the fallback's cause)
+  SolveStatus status = SolveStatus::Converged;
+  int numRequested = 0;
+  int iterations = 0;     ///< restarts/iterations of an iterative solver, 0 for dense
+  int numOperatorApplies = 0;
+  double maxResidual() const;
+  bool isStable() const;  ///< no Divergence or Flutter mode among those returned
+};
+
+}  // namespace cms::eigen

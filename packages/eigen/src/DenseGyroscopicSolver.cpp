@@ -1,0 +1,384 @@
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include <Teuchos_BLAS.hpp>
+#include <Teuchos_LAPACK.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+
+#include "cms/core/Error.hpp"
+
+namespace cms::eigen {
+
+using cplx = std::complex<double>;
+
+namespace {
+
+const double kTwoPi = 2.0 * M_PI;
+
+/// X <- L^-1 X (left) or X <- X L^-T (right), L lower triangular.
+void lowerSolveLeft(const DenseMatrix& L, DenseMatrix& X) {
+  Teuchos::BLAS<int, double>().TRSM(Teuchos::LEFT_SIDE, Teuchos::LOWER_TRI, Teuchos::NO_TRANS,
+                                    Teuchos::NON_UNIT_DIAG, X.numRows(), X.numCols(), 1.0,
+                                    L.values(), L.stride(), X.values(), X.stride());
+}
+void lowerTransSolveRight(const DenseMatrix& L, DenseMatrix& X) {
+  Teuchos::BLAS<int, double>().TRSM(Teuchos::RIGHT_SIDE, Teuchos::LOWER_TRI, Teuchos::TRANS,
+                                    Teuchos::NON_UNIT_DIAG, X.numRows(), X.numCols(), 1.0,
+                                    L.values(), L.stride(), X.values(), X.stride());
+}
+/// x <- L^-T x for one column x (length n) stored contiguously.
+void lowerTransSolveVector(const DenseMatrix& L, double* x) {
+  Teuchos::BLAS<int, double>().TRSM(Teuchos::LEFT_SIDE, Teuchos::LOWER_TRI, Teuchos::TRANS,
+                                    Teuchos::NON_UNIT_DIAG, L.numRows(), 1, 1.0, L.values(),
+                                    L.stride(), x, L.numRows());
+}
+
+int requestedCount(const Teuchos::ParameterList& p, int n) {
+  const int k = p.get<int>("Number of Modes");
+  CMS_INPUT_CHECK(k == 0 || k < -1, "DenseGyroscopicSolver: \"Number of Modes\" = "
+                                        << k << " must be positive, or -1 for all " << n);
+  CMS_INPUT_CHECK(k > n, "DenseGyroscopicSolver: \"Number of Modes\" = "
+                             << k << " but the system has only " << n
+                             << " DOFs, hence " << n << " modes");
+  return k == -1 ? n : k;
+}
+
+/// Meirovitch's symmetric form, seed eqs. (20)-(24), solved by the SVD of the
+/// skew factor A = L^-1 G* L^-T (doc/theory.md, "Dense path").
+std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const DenseMatrix& Lm,
+                                            const DenseMatrix& Lk, int nModes) {
+  const int n = sys.size(), N = 2 * n;
+  // With L = diag(Lm, Lk):  A = [[Lm^-1 G Lm^-T, Lm^-1 Lk], [-(Lm^-1 Lk)^T, 0]].
+  DenseMatrix A11(sys.G);
+  lowerSolveLeft(Lm, A11);
+  lowerTransSolveRight(Lm, A11);
+  DenseMatrix A12(Lk);
+  lowerSolveLeft(Lm, A12);
+  DenseMatrix A(N, N);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      A(i, j) = 0.5 * (A11(i, j) - A11(j, i));  // exactly skew despite rounding
+      A(i, n + j) = A12(i, j);
+      A(n + j, i) = -A12(i, j);
+    }
+
+  // SVD: A = U S V^T; omega_r are the singular values, each (nearly) double.
+  DenseMatrix Acopy(A), U(N, N), VT(N, N);
+  std::vector<double> s(N), rwork(5 * N);
+  int info = 0, lwork = -1;
+  double wq = 0.0;
+  Teuchos::LAPACK<int, double> lapack;
+  lapack.GESVD('A', 'A', N, N, Acopy.values(), N, s.data(), U.values(), N, VT.values(), N, &wq,
+               lwork, rwork.data(), &info);
+  lwork = static_cast<int>(wq);
+  std::vector<double> work(std::max(1, lwork));
+  lapack.GESVD('A', 'A', N, N, Acopy.values(), N, s.data(), U.values(), N, VT.values(), N,
+               work.data(), lwork, rwork.data(), &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                             "DenseGyroscopicSolver: LAPACK dgesvd failed, info = " << info);
+
+  // Walk the singular values from the smallest up, in clusters of (near-)equal
+  // values. A cluster of 2m values spans m complex modes: pick them by a
+  // Gram-Schmidt that keeps {c, J c} pairs, J = V^T A V / sigma being the
+  // complex structure of the cluster (J^2 = -I). This separates the repeated
+  // frequencies of symmetric rotors instead of returning one mode twice.
+  const double clusterTol = 1e-10 * s[0];
+  std::vector<GyroscopicMode> modes;
+  Teuchos::BLAS<int, double> blas;
+  int hi = N;  // clusters are [lo, hi) in descending-s index
+  while (hi > 0 && static_cast<int>(modes.size()) < nModes) {
+    int lo = hi - 1;
+    while (lo > 0 && s[lo - 1] - s[hi - 1] <= clusterTol) --lo;
+    if ((hi - lo) % 2 == 1 && lo > 0) --lo;  // rounding split a pair across the tolerance
+    const int c = hi - lo, m = c / 2;
+    double sigma = 0.0;
+    for (int k = lo; k < hi; ++k) sigma += s[k] / c;
+    // V (N x c): right singular vectors of the cluster; W = A V.
+    DenseMatrix V(N, c), W(N, c);
+    for (int k = 0; k < c; ++k)
+      for (int i = 0; i < N; ++i) V(i, k) = VT(lo + k, i);
+    gemm(false, false, 1.0, A, V, 0.0, W);
+    DenseMatrix J(c, c);
+    gemm(true, false, 1.0 / std::max(sigma, std::numeric_limits<double>::min()), V, W, 0.0, J);
+    std::vector<std::vector<double>> basis;  // orthonormal, closed under J
+    for (int e = 0; e < c && static_cast<int>(basis.size()) < 2 * m; ++e) {
+      std::vector<double> w(c, 0.0);
+      w[e] = 1.0;
+      for (const auto& b : basis) {
+        const double d = b[e];
+        for (int i = 0; i < c; ++i) w[i] -= d * b[i];
+      }
+      double nw = std::sqrt(std::inner_product(w.begin(), w.end(), w.begin(), 0.0));
+      if (nw < 0.5) continue;
+      for (double& x : w) x /= nw;
+      std::vector<double> Jw(c, 0.0);
+      for (int j = 0; j < c; ++j)
+        for (int i = 0; i < c; ++i) Jw[i] += J(i, j) * w[j];
+      for (const auto& b : basis) {  // J is orthogonal only to rounding
+        const double d = std::inner_product(b.begin(), b.end(), Jw.begin(), 0.0);
+        for (int i = 0; i < c; ++i) Jw[i] -= d * b[i];
+      }
+      const double nJ = std::sqrt(std::inner_product(Jw.begin(), Jw.end(), Jw.begin(), 0.0));
+      for (double& x : Jw) x /= nJ;
+      basis.push_back(w);
+      basis.push_back(Jw);
+      // y' = V w, z' = A y' / omega with omega = ||A y'|| (Rayleigh quotient, seed eq. (25)).
+      std::vector<double> yp(N, 0.0), zp(N, 0.0);
+      for (int k = 0; k < c; ++k) {
+        blas.AXPY(N, w[k], &V(0, k), 1, yp.data(), 1);
+        blas.AXPY(N, w[k], &W(0, k), 1, zp.data(), 1);
+      }
+      const double omega = blas.NRM2(N, zp.data(), 1);
+      for (double& x : zp) x /= omega;
+      // y = L^-T y', z = L^-T z'; the state is x = [q'; q], so q is the lower half.
+      lowerTransSolveVector(Lk, yp.data() + n);
+      lowerTransSolveVector(Lk, zp.data() + n);
+      GyroscopicMode mode;
+      mode.lambda = cplx(0.0, omega);
+      mode.q.resize(n);
+      for (int i = 0; i < n; ++i) mode.q[i] = cplx(yp[n + i], zp[n + i]);
+      modes.push_back(std::move(mode));
+      if (static_cast<int>(modes.size()) == nModes) break;
+    }
+    hi = lo;
+  }
+  return modes;
+}
+
+/// The 2n first-order pencil A x = lambda B x with x = [q; q'],
+/// A = [[0, I], [-K, -G]], B = [[I, 0], [0, M]], solved by LAPACK dggev after
+/// scaling time so that M, G, K have comparable norms (doc/theory.md, "General").
+std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale) {
+  const int n = sys.size(), N = 2 * n;
+  const double mu = std::max(sys.M.normFrobenius(), std::numeric_limits<double>::min());
+  DenseMatrix A(N, N), B(N, N);
+  for (int i = 0; i < n; ++i) {
+    A(i, n + i) = 1.0;
+    B(i, i) = 1.0;
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      A(n + i, j) = -sys.K(i, j) / (mu * scale * scale);
+      A(n + i, n + j) = -sys.G(i, j) / (mu * scale);
+      B(n + i, n + j) = sys.M(i, j) / mu;
+    }
+  std::vector<double> ar(N), ai(N), be(N);
+  DenseMatrix VR(N, N);
+  double vl = 0.0, wq = 0.0;
+  int info = 0, lwork = -1;
+  Teuchos::LAPACK<int, double> lapack;
+  lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
+              VR.values(), N, &wq, lwork, &info);
+  lwork = static_cast<int>(wq);
+  std::vector<double> work(std::max(1, lwork));
+  lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
+              VR.values(), N, work.data(), lwork, &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                             "DenseGyroscopicSolver: LAPACK dggev failed, info = " << info);
+
+  // One eigenvalue per Hamiltonian pair {lambda, -conj(lambda)}... is kept:
+  // those with Im > 0, and of the (near-)real ones the upper half by Re.
+  struct Cand { cplx lambda; std::vector<cplx> q; };
+  std::vector<Cand> upper, real;
+  const double imagTol = 1e-9;  // relative to the scaled frequency 1
+  for (int j = 0; j < N; ++j) {
+    TEUCHOS_TEST_FOR_EXCEPTION(be[j] == 0.0, NumericalError,
+                               "DenseGyroscopicSolver: infinite eigenvalue (M singular?)");
+    cplx lam(ar[j] / be[j], ai[j] / be[j]);
+    std::vector<cplx> q(n);
+    if (ai[j] != 0.0) {  // complex pair stored in columns j, j+1
+      const double sgn = 1.0;
+      for (int i = 0; i < n; ++i) q[i] = cplx(VR(i, j), sgn * VR(i, j + 1));
+      cplx lam2 = std::conj(lam);
+      std::vector<cplx> q2(n);
+      for (int i = 0; i < n; ++i) q2[i] = std::conj(q[i]);
+      for (auto& [l, v] : {std::make_pair(lam, q), std::make_pair(lam2, q2)}) {
+        if (std::abs(l.imag()) <= imagTol * std::max(1.0, std::abs(l))) real.push_back({l, v});
+        else if (l.imag() > 0) upper.push_back({l, v});
+      }
+      ++j;
+    } else {
+      for (int i = 0; i < n; ++i) q[i] = VR(i, j);
+      real.push_back({lam, q});
+    }
+  }
+  std::sort(real.begin(), real.end(),
+            [](const Cand& a, const Cand& b) { return a.lambda.real() > b.lambda.real(); });
+  const std::size_t keepReal = (real.size() + 1) / 2;
+  for (std::size_t k = 0; k < keepReal; ++k) {
+    real[k].lambda = cplx(real[k].lambda.real(), 0.0);
+    upper.push_back(real[k]);
+  }
+  std::sort(upper.begin(), upper.end(), [](const Cand& a, const Cand& b) {
+    return std::abs(a.lambda) < std::abs(b.lambda);
+  });
+  std::vector<GyroscopicMode> modes;
+  for (int k = 0; k < nModes && k < static_cast<int>(upper.size()); ++k) {
+    GyroscopicMode m;
+    m.lambda = upper[k].lambda * scale;
+    m.q = std::move(upper[k].q);
+    modes.push_back(std::move(m));
+  }
+  return modes;
+}
+
+}  // namespace
+
+double frequencyScale(double normM, double normG, double normK) {
+  const double tiny = std::numeric_limits<double>::min();
+  const double s = std::sqrt(normK / std::max(normM, tiny)) + normG / std::max(normM, tiny);
+  return s > 0.0 ? s : 1.0;
+}
+
+Stability classify(cplx lambda, double scale, double rigidBodyTol, double instabilityTol) {
+  if (std::abs(lambda) <= rigidBodyTol * scale) return Stability::RigidBody;
+  if (lambda.real() > instabilityTol * scale)
+    return std::abs(lambda.imag()) <= instabilityTol * scale ? Stability::Divergence
+                                                              : Stability::Flutter;
+  return Stability::Stable;
+}
+
+void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
+                        double rigidBodyTol, double instabilityTol) {
+  const int n = sys.size(), k = static_cast<int>(modes.size());
+  if (k == 0) return;
+  const double nM = sys.M.normFrobenius(), nG = sys.G.normFrobenius(),
+               nK = sys.K.normFrobenius();
+  const double scale = frequencyScale(nM, nG, nK);
+  // Products with the real and imaginary parts of all modes at once (BLAS-3).
+  DenseMatrix Qr(n, k), Qi(n, k);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < n; ++i) {
+      Qr(i, j) = modes[j].q[i].real();
+      Qi(i, j) = modes[j].q[i].imag();
+    }
+  DenseMatrix MQr, MQi, GQr, GQi, KQr, KQi;
+  gemm(false, false, 1.0, sys.M, Qr, 0.0, MQr);
+  gemm(false, false, 1.0, sys.M, Qi, 0.0, MQi);
+  gemm(false, false, 1.0, sys.G, Qr, 0.0, GQr);
+  gemm(false, false, 1.0, sys.G, Qi, 0.0, GQi);
+  gemm(false, false, 1.0, sys.K, Qr, 0.0, KQr);
+  gemm(false, false, 1.0, sys.K, Qi, 0.0, KQi);
+  for (int j = 0; j < k; ++j) {
+    GyroscopicMode& m = modes[j];
+    const cplx l = m.lambda, l2 = l * l;
+    double qMq = 0.0, qKq = 0.0, qq = 0.0, rr = 0.0;
+    std::size_t imax = 0;
+    for (int i = 0; i < n; ++i) {
+      const cplx q = m.q[i];
+      const cplx Mq(MQr(i, j), MQi(i, j)), Gq(GQr(i, j), GQi(i, j)), Kq(KQr(i, j), KQi(i, j));
+      qMq += std::real(std::conj(q) * Mq);
+      qKq += std::real(std::conj(q) * Kq);
+      qq += std::norm(q);
+      rr += std::norm(l2 * Mq + l * Gq + Kq);
+      if (std::abs(q) > std::abs(m.q[imax])) imax = i;
+    }
+    const double denom = (nK + std::abs(l) * nG + std::norm(l) * nM) * std::sqrt(qq);
+    m.residual = denom > 0.0 ? std::sqrt(rr) / denom : std::sqrt(rr);
+    // Normalise q^H M q = 1 with the largest entry real positive.
+    const cplx phase = std::abs(m.q[imax]) > 0 ? std::conj(m.q[imax]) / std::abs(m.q[imax]) : 1.0;
+    const double s = qMq > 0.0 ? 1.0 / std::sqrt(qMq) : 1.0;
+    for (auto& q : m.q) q *= phase * s;
+    m.kineticEnergy = 0.5 * std::norm(l);
+    m.strainEnergy = 0.5 * qKq * s * s;
+    m.growthRate = l.real();
+    m.omega = std::abs(l.imag());
+    m.hz = m.omega / kTwoPi;
+    m.stability = classify(l, scale, rigidBodyTol, instabilityTol);
+  }
+}
+
+Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParameters() {
+  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Dense Gyroscopic Solver"));
+    Teuchos::setStringToIntegralParameter<int>(
+        "Method", "Auto",
+        "Meirovitch: real symmetric form (K must be positive definite); General: LAPACK dggev "
+        "on the first-order pencil; Auto: Meirovitch if K > 0, else General",
+        Teuchos::tuple<std::string>("Auto", "Meirovitch", "General"), pl.get());
+    pl->set("Number of Modes", -1, "How many of the lowest modes to return; -1 for all n");
+    pl->set("Structure Tolerance", 1e-10,
+            "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
+    pl->set("Rigid Body Tolerance", 1e-6,
+            "|lambda| below this times the frequency scale sqrt(||K||/||M||)+||G||/||M|| is a "
+            "rigid-body (zero-frequency) mode; rigid pairs form Jordan blocks, so their computed "
+            "lambda carries an error ~sqrt(eps)");
+    pl->set("Instability Tolerance", 1e-7,
+            "Re(lambda) above this times the frequency scale is reported as divergence or "
+            "flutter; below it the mode is stable (double roots at a critical speed split by "
+            "~sqrt(eps))");
+    pl->set("Definiteness Tolerance", 1e-14,
+            "K is treated as not positive definite when its smallest Cholesky pivot squared is "
+            "below this times the largest (the symmetric form would lose all accuracy)");
+    return pl;
+  }();
+  return valid;
+}
+
+DenseGyroscopicSolver::DenseGyroscopicSolver(const Teuchos::ParameterList& params)
+    : params_(params) {
+  try {
+    params_.validateParametersAndSetDefaults(*getValidParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("DenseGyroscopicSolver: invalid parameter: ") + e.what());
+  }
+}
+
+GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) const {
+  input.validate(params_.get<double>("Structure Tolerance"));
+  const GyroscopicSystem sys = input.symmetrised();
+  const int n = sys.size();
+  const int nModes = requestedCount(params_, n);
+  const std::string method = params_.get<std::string>("Method");
+  const double rigidTol = params_.get<double>("Rigid Body Tolerance");
+  const double instabTol = params_.get<double>("Instability Tolerance");
+
+  DenseMatrix Lm(sys.M);
+  const int infoM = choleskyLower(Lm);
+  CMS_INPUT_CHECK(infoM != 0, "DenseGyroscopicSolver: M is not positive definite (Cholesky "
+                              "pivot "
+                                  << infoM << " of " << n
+                                  << " failed): every DOF needs mass or rotary inertia");
+
+  GyroscopicResult result;
+  result.numRequested = nModes;
+  const double scale =
+      frequencyScale(sys.M.normFrobenius(), sys.G.normFrobenius(), sys.K.normFrobenius());
+
+  std::string whyNotSymmetric;
+  DenseMatrix Lk(sys.K);
+  if (method != "General") {
+    const int infoK = choleskyLower(Lk, params_.get<double>("Definiteness Tolerance"));
+    if (infoK == n + 1)
+      whyNotSymmetric = "K is positive definite only to rounding (smallest Cholesky pivot^2 / "
+                        "largest below \"Definiteness Tolerance\")";
+    else if (infoK != 0)
+      whyNotSymmetric = "K is not positive definite (Cholesky pivot " + std::to_string(infoK) +
+                        " of " + std::to_string(n) + " failed)";
+    CMS_INPUT_CHECK(method == "Meirovitch" && !whyNotSymmetric.empty(),
+                               "DenseGyroscopicSolver: Method \"Meirovitch\" needs K > 0 "
+                               "(I* = diag(M,K) > 0, seed eq. (23)), but "
+                                   << whyNotSymmetric << "; use \"Auto\" or \"General\"");
+  }
+
+  if (method != "General" && whyNotSymmetric.empty()) {
+    result.modes = meirovitchModes(sys, Lm, Lk, nModes);
+    result.solver = "dense Meirovitch (SVD of the skew factor of K*)";
+    result.reason = "K and M positive definite: real symmetric form, seed eq. (24)";
+  } else {
+    result.modes = generalModes(sys, nModes, scale);
+    result.solver = "dense general (LAPACK dggev, 2n first-order pencil)";
+    result.reason = method == "General" ? "requested" : whyNotSymmetric;
+  }
+  completeDenseModes(input, result.modes, rigidTol, instabTol);  // residuals of the user's matrices
+  result.status = static_cast<int>(result.modes.size()) == nModes ? SolveStatus::Converged
+                                                                   : SolveStatus::NumericalIssue;
+  return result;
+}
+
+}  // namespace cms::eigen

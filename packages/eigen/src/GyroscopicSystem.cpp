@@ -1,0 +1,57 @@
+#include "cms/eigen/GyroscopicSystem.hpp"
+
+#include "cms/core/Error.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+namespace cms::eigen {
+
+void GyroscopicSystem::validate(double relTol) const {
+  const int n = M.numRows();
+  CMS_INPUT_CHECK(n == 0, "GyroscopicSystem: M is empty (0 DOFs)");
+  const std::pair<const DenseMatrix*, const char*> mats[] = {{&M, "M"}, {&G, "G"}, {&K, "K"}};
+  for (const auto& [A, name] : mats) {
+    CMS_INPUT_CHECK(A->numRows() != A->numCols(), "GyroscopicSystem: " << name << " is "
+                                                      << A->numRows() << "x" << A->numCols()
+                                                      << ", not square");
+    CMS_INPUT_CHECK(A->numRows() != n, "GyroscopicSystem: " << name << " is " << A->numRows()
+                                           << "x" << A->numCols() << " but M is " << n << "x"
+                                           << n);
+    requireFinite(*A, std::string("GyroscopicSystem: ") + name);
+  }
+  // Defects are measured against the size of each term of the quadratic at the
+  // frequency scale s (lambda^2 M, lambda G, K at |lambda| = s), so a G or K
+  // that is zero up to rounding (a Ritz projection onto rigid-body vectors) is
+  // not mistaken for a structural error.
+  const double nM = M.normFrobenius(), nG = G.normFrobenius(), nK = K.normFrobenius();
+  const double s = frequencyScale(nM, nG, nK);
+  const double sys = s * s * nM + s * nG + nK;
+  const double dM = symmetryDefect(M) * nM * s * s / sys;
+  const double dG = skewDefect(G) * nG * s / sys;
+  const double dK = symmetryDefect(K) * nK / sys;
+  CMS_INPUT_CHECK(dM > relTol, "GyroscopicSystem: M is not symmetric: max|M - M^T| s^2 / "
+                               "(s^2||M|| + s||G|| + ||K||) = "
+                                   << dM << " > " << relTol);
+  CMS_INPUT_CHECK(dG > relTol, "GyroscopicSystem: G is not skew-symmetric: max|G + G^T| s / "
+                               "(s^2||M|| + s||G|| + ||K||) = "
+                                   << dG << " > " << relTol
+                                   << " (damping belongs in a separate matrix, not in G)");
+  CMS_INPUT_CHECK(dK > relTol, "GyroscopicSystem: K is not symmetric: max|K - K^T| / "
+                               "(s^2||M|| + s||G|| + ||K||) = "
+                                   << dK << " > " << relTol);
+}
+
+GyroscopicSystem GyroscopicSystem::symmetrised() const {
+  GyroscopicSystem s{M, G, K};
+  const int n = size();
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) {
+      s.M(i, j) = s.M(j, i) = 0.5 * (M(i, j) + M(j, i));
+      s.K(i, j) = s.K(j, i) = 0.5 * (K(i, j) + K(j, i));
+      s.G(i, j) = 0.5 * (G(i, j) - G(j, i));
+      s.G(j, i) = -s.G(i, j);
+    }
+  for (int i = 0; i < n; ++i) s.G(i, i) = 0.0;
+  return s;
+}
+
+}  // namespace cms::eigen

@@ -1,0 +1,21 @@
+// GoogleTest main for MPI tests: initialises MPI and Kokkos through Tpetra,
+// prints only rank 0's listener output, and min-reduces pass/fail across
+// ranks so no rank disagrees silently (doc/architecture.md, "Tests").
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <Tpetra_Core.hpp>
+
+int main(int argc, char** argv) {
+  Tpetra::ScopeGuard scope(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  int ok = RUN_ALL_TESTS() == 0 ? 1 : 0, allOk = 0;
+  MPI_Allreduce(&ok, &allOk, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  return allOk ? 0 : 1;
+}

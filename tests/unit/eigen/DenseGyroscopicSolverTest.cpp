@@ -1,0 +1,256 @@
+// The dense gyroscopic solver: agreement with an independent nonsymmetric
+// solution, residuals, normalisation, repeated frequencies, fallbacks, and
+// clear errors on bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "RandomSystems.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+using namespace cms;
+using namespace cms::eigen;
+
+namespace {
+GyroscopicResult solveWith(const GyroscopicSystem& s, const std::string& method, int nModes = -1) {
+  Teuchos::ParameterList p;
+  p.set("Method", method);
+  p.set("Number of Modes", nModes);
+  return DenseGyroscopicSolver(p).solve(s);
+}
+}  // namespace
+
+// Meirovitch's symmetric form and the general pencil both reproduce the
+// eigenvalues of the companion matrix (dgeev, independent code). Tolerance
+// 1e-10 relative: these systems have cond(M), cond(K) <= ~10 and ||G|| ~ 1, so
+// every eigenvalue is computed to ~1e-14; 1e-10 leaves room for n = 200.
+TEST(DenseGyroscopic, MeirovitchAndGeneralMatchCompanionEigenvalues) {
+  std::mt19937 rng(12345);
+  for (int n : {5, 8, 13, 30, 64, 200}) {
+    const GyroscopicSystem s = fixtures::randomGyroscopic(n, rng);
+    const std::vector<double> ref = fixtures::companionFrequencies(s);
+    ASSERT_EQ(static_cast<int>(ref.size()), n);
+    const GyroscopicResult sym = solveWith(s, "Meirovitch");
+    const GyroscopicResult gen = solveWith(s, "General");
+    ASSERT_EQ(static_cast<int>(sym.modes.size()), n);
+    ASSERT_EQ(static_cast<int>(gen.modes.size()), n);
+    for (int k = 0; k < n; ++k) {
+      EXPECT_NEAR(sym.modes[k].omega, ref[k], 1e-10 * ref[k]) << "n=" << n << " k=" << k;
+      EXPECT_NEAR(gen.modes[k].omega, ref[k], 1e-10 * ref[k]) << "n=" << n << " k=" << k;
+      EXPECT_EQ(sym.modes[k].stability, Stability::Stable);
+      EXPECT_EQ(gen.modes[k].stability, Stability::Stable);
+      EXPECT_LT(std::abs(gen.modes[k].growthRate), 1e-9 * ref[k]);
+    }
+    // Backward errors at rounding level (1e-16 * n-ish); 1e-12 is generous.
+    EXPECT_LT(sym.maxResidual(), 1e-12) << "n=" << n;
+    EXPECT_LT(gen.maxResidual(), 1e-12) << "n=" << n;
+  }
+}
+
+TEST(DenseGyroscopic, AutoPicksMeirovitchForPositiveDefiniteK) {
+  std::mt19937 rng(7);
+  const GyroscopicResult r = solveWith(fixtures::randomGyroscopic(10, rng), "Auto");
+  EXPECT_NE(r.solver.find("Meirovitch"), std::string::npos) << r.solver;
+  EXPECT_EQ(r.status, SolveStatus::Converged);
+}
+
+// Modes are mass-normalised (q^H M q = 1), so the kinetic energy is omega^2/2,
+// and the energy balance of seed eq. (19) holds: omega^2 - omega q^H(iG)q - q^H K q = 0.
+TEST(DenseGyroscopic, ModesAreMassNormalisedAndBalanceEnergy) {
+  std::mt19937 rng(99);
+  const GyroscopicSystem s = fixtures::randomGyroscopic(12, rng, 3.0);
+  for (const char* method : {"Meirovitch", "General"}) {
+    const GyroscopicResult r = solveWith(s, method);
+    for (const auto& m : r.modes) {
+      std::complex<double> qMq = 0, qGq = 0;
+      for (int i = 0; i < s.size(); ++i)
+        for (int j = 0; j < s.size(); ++j) {
+          qMq += std::conj(m.q[i]) * s.M(i, j) * m.q[j];
+          qGq += std::conj(m.q[i]) * s.G(i, j) * m.q[j];
+        }
+      EXPECT_NEAR(qMq.real(), 1.0, 1e-12) << method;
+      EXPECT_NEAR(m.kineticEnergy, 0.5 * m.omega * m.omega, 1e-12 * m.omega * m.omega);
+      // -omega^2 + i omega (q^H G q) + q^H K q = 0 with q^H G q = i g: -w^2 - w g + qKq = 0.
+      const double g = std::imag(qGq);
+      EXPECT_NEAR(-m.omega * m.omega - m.omega * g + 2.0 * m.strainEnergy, 0.0,
+                  1e-10 * m.omega * m.omega)
+          << method;
+    }
+  }
+}
+
+// A symmetric rotor: two identical bending planes and no gyroscopic coupling
+// give every frequency twice. Both modes of each double root must come back,
+// independent (not the same mode twice), with small residuals.
+TEST(DenseGyroscopic, RepeatedFrequenciesOfSymmetricRotorAreSeparated) {
+  std::mt19937 rng(3);
+  const int h = 6, n = 2 * h;
+  const DenseMatrix Mh = fixtures::randomSpd(h, 0.5, rng), Kh = fixtures::randomSpd(h, 1.0, rng);
+  GyroscopicSystem s{DenseMatrix(n, n), DenseMatrix(n, n), DenseMatrix(n, n)};
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < h; ++i) {
+      s.M(i, j) = s.M(h + i, h + j) = Mh(i, j);
+      s.K(i, j) = s.K(h + i, h + j) = Kh(i, j);
+    }
+  const GyroscopicResult r = solveWith(s, "Meirovitch");
+  ASSERT_EQ(static_cast<int>(r.modes.size()), n);
+  for (int k = 0; k < n; k += 2) {
+    EXPECT_NEAR(r.modes[k].omega, r.modes[k + 1].omega, 1e-12 * r.modes[k].omega);
+    // Independence: |<q1, q2>_M| < 1 for unit M-norm modes (1 would mean the same mode).
+    std::complex<double> ip = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) ip += std::conj(r.modes[k].q[i]) * s.M(i, j) * r.modes[k + 1].q[j];
+    EXPECT_LT(std::abs(ip), 0.99) << "modes " << k << " and " << k + 1 << " coincide";
+  }
+  EXPECT_LT(r.maxResidual(), 1e-12);
+}
+
+// K indefinite: the symmetric form is invalid; Auto must say so and fall back.
+TEST(DenseGyroscopic, IndefiniteStiffnessFallsBackToGeneralAndSaysWhy) {
+  std::mt19937 rng(5);
+  GyroscopicSystem s = fixtures::randomGyroscopic(8, rng);
+  s.K(0, 0) = -50.0;
+  const GyroscopicResult r = solveWith(s, "Auto");
+  EXPECT_NE(r.solver.find("general"), std::string::npos) << r.solver;
+  EXPECT_NE(r.reason.find("not positive definite"), std::string::npos) << r.reason;
+  const std::vector<std::complex<double>> ref = fixtures::companionEigenvalues(s);
+  // Each returned lambda is an eigenvalue of the companion matrix.
+  for (const auto& m : r.modes) {
+    double best = std::numeric_limits<double>::max();
+    for (auto l : ref) best = std::min(best, std::abs(l - m.lambda));
+    EXPECT_LT(best, 1e-9 * std::max(1.0, std::abs(m.lambda)));
+  }
+  EXPECT_LT(r.maxResidual(), 1e-12);
+  // A strongly negative K_00 with weak gyroscopic coupling diverges.
+  EXPECT_FALSE(r.isStable());
+}
+
+TEST(DenseGyroscopic, ForcedMeirovitchWithIndefiniteKIsAnError) {
+  std::mt19937 rng(5);
+  GyroscopicSystem s = fixtures::randomGyroscopic(4, rng);
+  s.K(1, 1) = -10.0;
+  EXPECT_THROW(solveWith(s, "Meirovitch"), InputError);
+}
+
+// A free body (K = 0 on three translations) has rigid-body modes; they are
+// classified, and the elastic modes are still right.
+TEST(DenseGyroscopic, FreeBodyRigidModesAreClassified) {
+  std::mt19937 rng(11);
+  const int n = 6;
+  GyroscopicSystem s = fixtures::randomGyroscopic(n, rng, 0.0);
+  // K = B^T diag(0,0,0,k..) B: three zero-energy directions.
+  DenseMatrix B = fixtures::randomMatrix(n, n, rng), D(n, n), DB, K;
+  for (int i = 3; i < n; ++i) D(i, i) = 1.0 + i;
+  gemm(false, false, 1.0, D, B, 0.0, DB);
+  gemm(true, false, 1.0, B, DB, 0.0, K);
+  s.K = K;
+  const GyroscopicResult r = solveWith(s, "Auto");
+  int rigid = 0;
+  for (const auto& m : r.modes) rigid += m.stability == Stability::RigidBody;
+  EXPECT_EQ(rigid, 3);
+  EXPECT_TRUE(r.isStable());
+  const std::vector<double> ref = fixtures::companionFrequencies(s);
+  std::vector<double> elastic;
+  for (const auto& m : r.modes)
+    if (m.stability == Stability::Stable) elastic.push_back(m.omega);
+  ASSERT_EQ(elastic.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(elastic[k], ref[ref.size() - 3 + k], 1e-9 * elastic[k]);
+}
+
+// Stiffness/mass ratios of 1e6 and more across DOFs: still right.
+TEST(DenseGyroscopic, WideSpreadOfScalesStaysAccurate) {
+  std::mt19937 rng(21);
+  const int n = 10;
+  GyroscopicSystem s = fixtures::randomGyroscopic(n, rng);
+  for (int i = 0; i < n / 2; ++i) {  // scale half the DOFs: K by 1e6, M by 1e-3
+    for (int j = 0; j < n; ++j) {
+      s.K(i, j) *= 1e3, s.K(j, i) *= 1e3;
+      s.M(i, j) *= 3e-2, s.M(j, i) *= 3e-2;
+      s.G(i, j) *= 1e-1, s.G(j, i) *= 1e-1;
+    }
+  }
+  const std::vector<double> ref = fixtures::companionFrequencies(s);
+  for (const char* method : {"Meirovitch", "General"}) {
+    const GyroscopicResult r = solveWith(s, method);
+    // The spread of frequencies is ~1e4; the lowest carry relative errors up to
+    // eps * omega_max / omega_min ~ 1e-12; 1e-9 is the bound we promise.
+    for (int k = 0; k < n; ++k) EXPECT_NEAR(r.modes[k].omega, ref[k], 1e-9 * ref[k]) << method;
+  }
+}
+
+TEST(DenseGyroscopic, NumberOfModesReturnsTheLowest) {
+  std::mt19937 rng(8);
+  const GyroscopicSystem s = fixtures::randomGyroscopic(20, rng);
+  const std::vector<double> ref = fixtures::companionFrequencies(s);
+  for (const char* method : {"Meirovitch", "General"}) {
+    const GyroscopicResult r = solveWith(s, method, 4);
+    ASSERT_EQ(r.modes.size(), 4u);
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(r.modes[k].omega, ref[k], 1e-10 * ref[k]);
+  }
+}
+
+// ---- Bad input: a clear error, never a crash or a number --------------------
+
+namespace {
+std::string errorOf(const GyroscopicSystem& s, Teuchos::ParameterList p = {}) {
+  try {
+    DenseGyroscopicSolver(p).solve(s);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(DenseGyroscopicInput, RejectsMalformedSystems) {
+  std::mt19937 rng(1);
+  const GyroscopicSystem good = fixtures::randomGyroscopic(4, rng);
+
+  GyroscopicSystem s = good;
+  s.K.shape(3, 4);
+  EXPECT_NE(errorOf(s).find("K is 3x4, not square"), std::string::npos) << errorOf(s);
+
+  s = good;
+  s.G.shape(5, 5);
+  EXPECT_NE(errorOf(s).find("G is 5x5 but M is 4x4"), std::string::npos) << errorOf(s);
+
+  s = good;
+  s.M(0, 0) = -1.0;
+  EXPECT_NE(errorOf(s).find("M is not positive definite"), std::string::npos) << errorOf(s);
+
+  s = good;
+  s.G(0, 1) += 1.0;
+  EXPECT_NE(errorOf(s).find("G is not skew-symmetric"), std::string::npos) << errorOf(s);
+
+  s = good;
+  s.K(1, 2) += 1.0;
+  EXPECT_NE(errorOf(s).find("K is not symmetric"), std::string::npos) << errorOf(s);
+
+  s = good;
+  s.K(2, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(errorOf(s).find("K(2,2) = nan is not finite"), std::string::npos) << errorOf(s);
+
+  s = good;
+  s.M(3, 1) = s.M(1, 3) = std::numeric_limits<double>::infinity();
+  EXPECT_NE(errorOf(s).find("is not finite"), std::string::npos) << errorOf(s);
+
+  EXPECT_NE(errorOf(GyroscopicSystem{}).find("empty"), std::string::npos);
+
+  Teuchos::ParameterList p;
+  p.set("Number of Modes", 5);
+  EXPECT_NE(errorOf(good, p).find("only 4 DOFs"), std::string::npos) << errorOf(good, p);
+}
+
+TEST(DenseGyroscopicInput, RejectsUnknownParametersAndBadValues) {
+  Teuchos::ParameterList p;
+  p.set("Numbr of Modes", 3);
+  EXPECT_THROW(DenseGyroscopicSolver{p}, InputError);
+  Teuchos::ParameterList q;
+  q.set("Method", "Lanczos");
+  EXPECT_THROW(DenseGyroscopicSolver{q}, InputError);
+  Teuchos::ParameterList r;
+  r.set("Number of Modes", 2.5);
+  EXPECT_THROW(DenseGyroscopicSolver{r}, InputError);
+}

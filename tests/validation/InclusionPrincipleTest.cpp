@@ -1,0 +1,58 @@
+// The inclusion principle, seed eqs. (26)-(29), as a property over random
+// gyroscopic systems with K > 0: for nested Ritz subspaces V_1 ⊂ V_2 ⊂ ...,
+// (i) every reduced frequency bounds the full one from above, and
+// (ii) adding one vector interlaces: alpha_r <= omega_r <= alpha_{r+1}.
+// The reduced K* is not a submatrix of the full K' (doc/theory.md,
+// "Inclusion principle"), but the positive eigenvalues of the hyperbolic
+// quadratic pencil omega^2 M - omega (iG) - K obey a Courant-Fischer
+// (Duffin) minimax principle, which gives both statements.
+#include <gtest/gtest.h>
+
+#include "RandomSystems.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+using namespace cms;
+
+namespace {
+std::vector<double> frequencies(const eigen::GyroscopicSystem& s) {
+  std::vector<double> w;
+  for (const auto& m : eigen::DenseGyroscopicSolver().solve(s).modes) w.push_back(m.omega);
+  return w;
+}
+DenseMatrix leadingColumns(const DenseMatrix& V, int k) {
+  DenseMatrix W(V.numRows(), k);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < V.numRows(); ++i) W(i, j) = V(i, j);
+  return W;
+}
+}  // namespace
+
+TEST(InclusionPrinciple, NestedRitzSubspacesBoundAndInterlace) {
+  std::mt19937 rng(2024);
+  int checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = 4 + trial % 13;
+    const double gyro = 0.3 * (1 + trial % 7);  // from weak to strong coupling
+    const eigen::GyroscopicSystem full = fixtures::randomGyroscopic(n, rng, gyro);
+    const std::vector<double> exact = frequencies(full);
+    const DenseMatrix V = fixtures::randomMatrix(n, n, rng);
+    std::vector<double> prev;
+    for (int k = 1; k <= n; ++k) {
+      const std::vector<double> red = frequencies(fixtures::project(full, leadingColumns(V, k)));
+      ASSERT_EQ(static_cast<int>(red.size()), k);
+      // Slack 1e-10 relative: the solver's accuracy on these well-conditioned systems.
+      for (int r = 0; r < k; ++r) {
+        EXPECT_GE(red[r], exact[r] * (1 - 1e-10)) << "trial " << trial << " k=" << k << " r=" << r;
+        ++checked;
+      }
+      for (int r = 0; r + 1 < k && !prev.empty(); ++r) {
+        EXPECT_LE(red[r], prev[r] * (1 + 1e-10)) << "trial " << trial << " k=" << k;
+        EXPECT_GE(red[r + 1], prev[r] * (1 - 1e-10)) << "trial " << trial << " k=" << k;
+      }
+      prev = red;
+    }
+    // The full basis reproduces the full frequencies.
+    for (int r = 0; r < n; ++r) EXPECT_NEAR(prev[r], exact[r], 1e-9 * exact[r]);
+  }
+  EXPECT_GT(checked, 1000);
+}

@@ -1,0 +1,120 @@
+// Closed form (a): a point mass m on springs kx, ky in a frame spinning at
+// Omega about z (doc/theory.md, "Rotating point mass"):
+//   m x'' - 2 m Omega y' + (kx - m Omega^2) x = 0
+//   m y'' + 2 m Omega x' + (ky - m Omega^2) y = 0
+// lambda^2 solves m^2 s^2 + (m (a + b) + 4 m^2 Omega^2) s + a b = 0 with
+// a = kx - m Omega^2, b = ky - m Omega^2. With kx < ky the system diverges for
+// sqrt(kx/m) < Omega < sqrt(ky/m) and is gyroscopically stabilised above,
+// where K is negative definite.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include "cms/analysis/Campbell.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+using namespace cms;
+using namespace cms::eigen;
+using cplx = std::complex<double>;
+
+namespace {
+const double m = 2.0, kx = 800.0, ky = 1250.0;  // critical speeds 20 and 25 rad/s
+
+analysis::SpeedDependentSystem pointMass() {
+  analysis::SpeedDependentSystem s;
+  s.M.shape(2, 2), s.G1.shape(2, 2), s.K0.shape(2, 2), s.K2.shape(2, 2);
+  s.M(0, 0) = s.M(1, 1) = m;
+  s.G1(0, 1) = -2.0 * m, s.G1(1, 0) = 2.0 * m;
+  s.K0(0, 0) = kx, s.K0(1, 1) = ky;
+  s.K2(0, 0) = s.K2(1, 1) = -m;  // spin softening K_T = m Omega^2 I
+  return s;
+}
+
+/// The two lambda with Im >= 0 (or Re >= 0 when real), from the closed form.
+std::vector<cplx> exactLambdas(double W) {
+  const double a = kx - m * W * W, b = ky - m * W * W;
+  const double B = m * (a + b) + 4 * m * m * W * W, C = a * b, A = m * m;
+  const cplx disc = std::sqrt(cplx(B * B - 4 * A * C));
+  std::vector<cplx> out;
+  for (cplx s : {(-B + disc) / (2 * A), (-B - disc) / (2 * A)}) {
+    cplx l = std::sqrt(s);  // principal root: Re >= 0
+    if (std::abs(l.real()) < 1e-12 * std::abs(l)) l = cplx(0.0, std::abs(l.imag()));
+    out.push_back(l);
+  }
+  std::sort(out.begin(), out.end(), [](cplx p, cplx q) { return std::abs(p) < std::abs(q); });
+  return out;
+}
+
+GyroscopicResult solveAt(double W) {
+  return DenseGyroscopicSolver().solve(pointMass().at(W));
+}
+}  // namespace
+
+// Below, between (a narrow margin either side) and above the critical speeds,
+// the solver's lambdas equal the closed form to 1e-9 relative; that bound
+// covers dggev's backward error ~1e-16 amplified by the conditioning near
+// the critical speeds (margin 1e-3: a double root is 1e-3 away at most).
+TEST(RotatingPointMass, MatchesClosedFormAtAllSpeedRegimes) {
+  for (double W : {0.0, 5.0, 19.9, 20.02, 22.5, 24.98, 25.1, 40.0, 200.0}) {
+    const GyroscopicResult r = solveAt(W);
+    ASSERT_EQ(r.modes.size(), 2u);
+    const std::vector<cplx> ex = exactLambdas(W);
+    for (int k = 0; k < 2; ++k)
+      EXPECT_LT(std::abs(r.modes[k].lambda - ex[k]), 1e-9 * std::abs(ex[k]) + 1e-12)
+          << "Omega=" << W << " k=" << k << " got " << r.modes[k].lambda << " exact " << ex[k];
+    EXPECT_LT(r.maxResidual(), 1e-12) << "Omega=" << W;
+  }
+}
+
+TEST(RotatingPointMass, StabilityRegimesAreClassified) {
+  // Below the first critical speed: K > 0, Meirovitch's form, stable.
+  GyroscopicResult r = solveAt(10.0);
+  EXPECT_NE(r.solver.find("Meirovitch"), std::string::npos);
+  EXPECT_TRUE(r.isStable());
+  // Between the critical speeds: one divergent mode (real positive lambda).
+  r = solveAt(22.5);
+  EXPECT_NE(r.solver.find("general"), std::string::npos) << r.solver;
+  EXPECT_FALSE(r.isStable());
+  int div = 0;
+  for (const auto& mm : r.modes) div += mm.stability == Stability::Divergence;
+  EXPECT_EQ(div, 1);
+  // Above: K negative definite, yet stable (gyroscopic stabilisation).
+  r = solveAt(40.0);
+  EXPECT_NE(r.reason.find("not positive definite"), std::string::npos) << r.reason;
+  EXPECT_TRUE(r.isStable());
+  for (const auto& mm : r.modes) EXPECT_EQ(mm.stability, Stability::Stable);
+  // At a critical speed exactly, the stiffness has a null direction and one
+  // root is zero: reported as a zero-frequency (rigid) mode, not as a number.
+  r = solveAt(20.0);
+  EXPECT_EQ(r.modes[0].stability, Stability::RigidBody);
+}
+
+TEST(RotatingPointMass, CampbellFindsTheDivergenceRange) {
+  std::vector<double> speeds;
+  for (int i = 0; i <= 300; ++i) speeds.push_back(0.1 * i);
+  const analysis::CampbellDiagram d = analysis::campbell(pointMass(), speeds, {});
+  const auto ranges = d.instabilityRanges();
+  ASSERT_EQ(ranges.size(), 1u);
+  // Sweep step 0.1: the first/last unstable sample lies within one step inside
+  // (20, 25); exactly at 20 and 25 the zero root is neutral.
+  EXPECT_GT(ranges[0].first, 20.0 - 1e-9);
+  EXPECT_LE(ranges[0].first, 20.1 + 1e-9);
+  EXPECT_GE(ranges[0].second, 24.9 - 1e-9);
+  EXPECT_LT(ranges[0].second, 25.0 + 1e-9);
+}
+
+// Isotropic springs: in the rotating frame omega = |sqrt(k/m) -/+ Omega|.
+TEST(RotatingPointMass, IsotropicSpringsGiveShiftedFrequencies) {
+  auto s = pointMass();
+  s.K0(1, 1) = kx;
+  const double w0 = std::sqrt(kx / m);
+  for (double W : {3.0, 12.0, 35.0}) {
+    const GyroscopicResult r = DenseGyroscopicSolver().solve(s.at(W));
+    std::vector<double> ex = {std::abs(w0 - W), w0 + W};
+    std::sort(ex.begin(), ex.end());
+    for (int k = 0; k < 2; ++k) EXPECT_NEAR(r.modes[k].omega, ex[k], 1e-10 * ex[k]) << W;
+    EXPECT_TRUE(r.isStable());
+  }
+}
