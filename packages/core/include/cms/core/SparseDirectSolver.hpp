@@ -1,0 +1,54 @@
+// A sparse direct factorisation of a distributed Tpetra::CrsMatrix, factored
+// once and solved many times (the inner step of every shift-invert).
+//
+//   "KLU2"    Amesos2's LU: any nonsingular matrix (nonsymmetric shifted
+//             gyroscopic pencils, the real form of complex shifts).
+//   "Tacho"   Amesos2's multifrontal factorisation (Trilinos' own).
+//   "CHOLMOD" SuiteSparse's supernodal Cholesky, called directly because
+//             Amesos2 here has no CHOLMOD adapter: symmetric positive
+//             definite matrices only, and it *reports* when the matrix is not
+//             positive definite, which is how the eigen layer decides that
+//             Meirovitch's symmetric form applies.
+// The distributed matrix and right-hand sides are gathered to rank 0 for the
+// factorisation and solves (as Amesos2 does for its serial solvers); results
+// are scattered back to the caller's maps. All calls are collective.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "cms/core/TpetraTypes.hpp"
+
+namespace cms {
+
+class SparseDirectSolver {
+public:
+  enum class Outcome { Factored, NotPositiveDefinite, Singular };
+
+  /// Throws cms::InputError for an unknown method name.
+  SparseDirectSolver(Teuchos::RCP<const CrsMatrix> A, const std::string& method);
+  ~SparseDirectSolver();
+  SparseDirectSolver(const SparseDirectSolver&) = delete;
+  SparseDirectSolver& operator=(const SparseDirectSolver&) = delete;
+
+  /// Symbolic and numeric factorisation; the same outcome on every rank.
+  Outcome factor();
+  /// X = A^-1 B. Requires factor() == Factored. B and X on A's range/domain map.
+  void solve(const MultiVector& B, MultiVector& X) const;
+
+  const std::string& method() const { return method_; }
+  /// Seconds spent in factor(), for benchmarks and reports.
+  double factorSeconds() const { return factorSeconds_; }
+  /// Human-readable detail of a failed factorisation.
+  const std::string& failure() const { return failure_; }
+
+  static bool isKnownMethod(const std::string& method);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::string method_, failure_;
+  double factorSeconds_ = 0.0;
+};
+
+}  // namespace cms

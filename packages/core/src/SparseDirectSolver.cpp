@@ -1,0 +1,267 @@
+#include "cms/core/SparseDirectSolver.hpp"
+
+#include <cholmod.h>
+
+#include <cmath>
+
+#include <Amesos2.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultSerialComm.hpp>
+#include <Teuchos_Time.hpp>
+#include <Tpetra_ComputeGatherMap.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/Error.hpp"
+
+namespace cms {
+
+namespace {
+
+/// All rows of a map on rank 0, keeping their global ids.
+Teuchos::RCP<const Map> rootMapOf(const Teuchos::RCP<const Map>& map) {
+  return Tpetra::Details::computeGatherMap(map, Teuchos::null);
+}
+
+}  // namespace
+
+struct SparseDirectSolver::Impl {
+  Teuchos::RCP<const CrsMatrix> A;
+  // Every method factors the whole matrix on rank 0: rootMap holds all rows
+  // there, toRoot moves data between the caller's map and it.
+  Teuchos::RCP<const Map> rootMap;
+  Teuchos::RCP<const Tpetra::Import<>> toRoot;
+  // Amesos2 on rank 0, on a serial communicator: Amesos2 13.2's KLU2 given
+  // the distributed matrix itself returned wrong solutions on 2 ranks
+  // (forward error ~1e2, tests/unit/core), so it never sees more than one rank.
+  Teuchos::RCP<const Map> serialMap;
+  Teuchos::RCP<CrsMatrix> serialA;
+  Teuchos::RCP<Amesos2::Solver<CrsMatrix, MultiVector>> amesos;
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  bool commonStarted = false;
+
+  ~Impl() {
+    if (factor) cholmod_free_factor(&factor, &common);
+    if (commonStarted) cholmod_finish(&common);
+  }
+
+  /// All of A on rank 0 (an empty matrix elsewhere).
+  Teuchos::RCP<CrsMatrix> gather() {
+    rootMap = rootMapOf(A->getRowMap());
+    toRoot = Teuchos::rcp(new Tpetra::Import<>(A->getRowMap(), rootMap));
+    auto rootA = Teuchos::rcp(new CrsMatrix(rootMap, 0));
+    rootA->doImport(*A, *toRoot, Tpetra::INSERT);
+    rootA->fillComplete(rootMap, rootMap);
+    return rootA;
+  }
+
+  Outcome factorAmesos(const std::string& method, std::string& failure) {
+    const auto comm = A->getComm();
+    const auto rootA = gather();
+    int ok = 1;
+    if (comm->getRank() == 0) {
+      try {
+        auto self = Teuchos::rcp(new Teuchos::SerialComm<int>());
+        const size_t n = rootMap->getNodeNumElements();
+        // Contiguous ids 0..n-1 (the gathered position): Amesos2 assumes
+        // contiguous global ids ("IsContiguous") and mis-solves blocks of
+        // right-hand sides otherwise.
+        serialMap = Teuchos::rcp(new Map(n, 0, self));
+        serialA = Teuchos::rcp(new CrsMatrix(serialMap, rootA->getNodeMaxNumRowEntries()));
+        const auto colMap = rootA->getColMap();
+        CrsMatrix::local_inds_host_view_type cols;
+        CrsMatrix::values_host_view_type vals;
+        for (size_t i = 0; i < n; ++i) {
+          rootA->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+          Teuchos::Array<GlobalOrdinal> gc(cols.extent(0));
+          Teuchos::Array<double> v(cols.extent(0));
+          for (size_t e = 0; e < cols.extent(0); ++e) {
+            gc[e] = rootMap->getLocalElement(colMap->getGlobalElement(cols(e)));
+            v[e] = vals(e);
+          }
+          serialA->insertGlobalValues(static_cast<GlobalOrdinal>(i), gc(), v());
+        }
+        serialA->fillComplete(serialMap, serialMap);
+        amesos = Amesos2::create<CrsMatrix, MultiVector>(method, serialA);
+        amesos->symbolicFactorization();
+        amesos->numericFactorization();
+      } catch (const std::exception& e) {
+        ok = 0;
+        failure = method + ": " + e.what();
+      }
+    }
+    Teuchos::broadcast(*comm, 0, &ok);
+    return ok ? Outcome::Factored : Outcome::Singular;
+  }
+
+  void solveAmesos(const MultiVector& B, MultiVector& X) const {
+    const size_t nv = B.getNumVectors();
+    MultiVector rootB(rootMap, nv), rootX(rootMap, nv);
+    rootB.doImport(B, *toRoot, Tpetra::INSERT);
+    if (A->getComm()->getRank() == 0) {
+      const size_t n = serialMap->getNodeNumElements();
+      MultiVector sb(serialMap, nv), sx(serialMap, nv);
+      {
+        auto from = rootB.getLocalViewHost(Tpetra::Access::ReadOnly);
+        auto to = sb.getLocalViewHost(Tpetra::Access::OverwriteAll);
+        for (size_t j = 0; j < nv; ++j)
+          for (size_t i = 0; i < n; ++i) to(i, j) = from(i, j);
+      }
+      amesos->solve(Teuchos::ptrFromRef(sx), Teuchos::ptrFromRef(sb));
+      auto from = sx.getLocalViewHost(Tpetra::Access::ReadOnly);
+      auto to = rootX.getLocalViewHost(Tpetra::Access::OverwriteAll);
+      for (size_t j = 0; j < nv; ++j)
+        for (size_t i = 0; i < n; ++i) to(i, j) = from(i, j);
+    }
+    X.doExport(rootX, *toRoot, Tpetra::INSERT);
+  }
+
+  Outcome factorCholmod(std::string& failure) {
+    const auto comm = A->getComm();
+    const auto rootAp = gather();
+    const CrsMatrix& rootA = *rootAp;
+    int status = 0;  // 0 factored, 1 not positive definite, 2 other failure
+    if (comm->getRank() == 0) {
+      cholmod_start(&common);
+      commonStarted = true;
+      common.print = 0;  // failures are reported through Outcome and failure()
+      const size_t n = rootMap->getNodeNumElements();
+      const auto colMap = rootA.getColMap();
+      // CSR of a symmetric matrix is its CSC; keep the upper triangle (stype 1).
+      size_t nnz = 0;
+      for (size_t i = 0; i < n; ++i) nnz += rootA.getNumEntriesInLocalRow(i);
+      cholmod_sparse* S = cholmod_allocate_sparse(n, n, nnz, /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1, CHOLMOD_REAL, &common);
+      auto* Sp = static_cast<int*>(S->p);
+      auto* Si = static_cast<int*>(S->i);
+      auto* Sx = static_cast<double*>(S->x);
+      size_t k = 0;
+      CrsMatrix::local_inds_host_view_type cols;
+      CrsMatrix::values_host_view_type vals;
+      for (size_t j = 0; j < n; ++j) {
+        Sp[j] = static_cast<int>(k);
+        rootA.getLocalRowView(static_cast<LocalOrdinal>(j), cols, vals);
+        for (size_t e = 0; e < cols.extent(0); ++e) {
+          const GlobalOrdinal i = rootMap->getLocalElement(colMap->getGlobalElement(cols(e)));
+          if (i <= static_cast<GlobalOrdinal>(j)) {
+            Si[k] = static_cast<int>(i);
+            Sx[k] = vals(e);
+            ++k;
+          }
+        }
+      }
+      Sp[n] = static_cast<int>(k);
+      common.quick_return_if_not_posdef = 1;
+      // Supernodal is always L L^T, which fails on the first non-positive pivot;
+      // CHOLMOD's simplicial default is L D L^T, which succeeds on indefinite
+      // matrices and would hide exactly what we need to know.
+      common.supernodal = CHOLMOD_SUPERNODAL;
+      factor = cholmod_analyze(S, &common);
+      if (factor) cholmod_factorize(S, factor, &common);
+      cholmod_free_sparse(&S, &common);
+      if (!factor || common.status < CHOLMOD_OK) status = 2;
+      else if (common.status == CHOLMOD_NOT_POSDEF || factor->minor < factor->n) status = 1;
+      if (status == 1)
+        failure = "CHOLMOD: not positive definite at column " + std::to_string(factor->minor) +
+                  " of " + std::to_string(n);
+      if (status == 2) failure = "CHOLMOD failed, status " + std::to_string(common.status);
+    }
+    Teuchos::broadcast(*comm, 0, &status);
+    return status == 0 ? Outcome::Factored
+                       : (status == 1 ? Outcome::NotPositiveDefinite : Outcome::Singular);
+  }
+
+  void solveCholmod(const MultiVector& B, MultiVector& X) const {
+    const size_t nv = B.getNumVectors();
+    MultiVector rootB(rootMap, nv), rootX(rootMap, nv);
+    rootB.doImport(B, *toRoot, Tpetra::INSERT);
+    if (A->getComm()->getRank() == 0) {
+      auto& c = const_cast<cholmod_common&>(common);
+      const size_t n = rootMap->getNodeNumElements();
+      auto b = rootB.getLocalViewHost(Tpetra::Access::ReadOnly);
+      cholmod_dense* rhs = cholmod_allocate_dense(n, nv, n, CHOLMOD_REAL, &c);
+      auto* r = static_cast<double*>(rhs->x);
+      for (size_t j = 0; j < nv; ++j)
+        for (size_t i = 0; i < n; ++i) r[i + j * n] = b(i, j);
+      cholmod_dense* sol = cholmod_solve(CHOLMOD_A, factor, rhs, &c);
+      auto x = rootX.getLocalViewHost(Tpetra::Access::OverwriteAll);
+      const auto* s = static_cast<const double*>(sol->x);
+      for (size_t j = 0; j < nv; ++j)
+        for (size_t i = 0; i < n; ++i) x(i, j) = s[i + j * n];
+      cholmod_free_dense(&rhs, &c);
+      cholmod_free_dense(&sol, &c);
+    }
+    X.doExport(rootX, *toRoot, Tpetra::INSERT);
+  }
+};
+
+bool SparseDirectSolver::isKnownMethod(const std::string& m) {
+  return m == "KLU2" || m == "Tacho" || m == "CHOLMOD";
+}
+
+SparseDirectSolver::SparseDirectSolver(Teuchos::RCP<const CrsMatrix> A, const std::string& method)
+    : impl_(new Impl), method_(method) {
+  CMS_INPUT_CHECK(!isKnownMethod(method), "SparseDirectSolver: unknown method \""
+                                              << method
+                                              << "\"; valid: KLU2, Tacho, CHOLMOD");
+  CMS_INPUT_CHECK(A.is_null() || !A->isFillComplete(),
+                  "SparseDirectSolver: the matrix must exist and be fill-complete");
+  impl_->A = A;
+}
+
+SparseDirectSolver::~SparseDirectSolver() = default;
+
+SparseDirectSolver::Outcome SparseDirectSolver::factor() {
+  Teuchos::Time timer("factor", true);
+  Outcome out = Outcome::Factored;
+  if (method_ == "CHOLMOD") {
+    out = impl_->factorCholmod(failure_);
+  } else {
+    out = impl_->factorAmesos(method_, failure_);
+    // LU codes factor a singular matrix without complaint and then return
+    // Inf/NaN or a huge null-space component: solve a probe A x = A x0. A
+    // backward-stable solve has a small residual even then, so judge the
+    // forward error, which is ~cond(A) eps: above 1e-6 (cond >~ 1e10) the
+    // matrix is singular for every purpose of this code.
+    if (out == Outcome::Factored) {
+      const auto map = impl_->A->getDomainMap();
+      MultiVector x0(map, 1), b(map, 1), x(map, 1);
+      x0.randomize();
+      impl_->A->apply(x0, b);
+      solve(b, x);
+      Teuchos::Array<double> nx0(1), ne(1);
+      x0.norm2(nx0());
+      x.update(-1.0, x0, 1.0);
+      x.norm2(ne());
+      const double ferr = ne[0] / nx0[0];
+      if (!std::isfinite(ferr) || !(ferr < 1e-6)) {
+        out = Outcome::Singular;
+        failure_ = method_ + ": the matrix is singular to working precision (probe forward "
+                             "error " + std::to_string(ferr) + ")";
+      }
+    }
+  }
+  // Rank 0 factored; every rank must report the same words.
+  {
+    const auto comm = impl_->A->getComm();
+    int len = static_cast<int>(failure_.size());
+    Teuchos::broadcast(*comm, 0, &len);
+    failure_.resize(len);
+    if (len > 0) Teuchos::broadcast(*comm, 0, len, &failure_[0]);
+  }
+  factorSeconds_ = timer.stop();
+  return out;
+}
+
+void SparseDirectSolver::solve(const MultiVector& B, MultiVector& X) const {
+  if (method_ == "CHOLMOD") {
+    impl_->solveCholmod(B, X);
+    return;
+  }
+  TEUCHOS_TEST_FOR_EXCEPTION(impl_->toRoot.is_null(), std::logic_error,
+                             "SparseDirectSolver::solve before a successful factor()");
+  impl_->solveAmesos(B, X);
+}
+
+}  // namespace cms

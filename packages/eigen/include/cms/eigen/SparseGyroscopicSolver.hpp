@@ -1,0 +1,44 @@
+// Sparse distributed gyroscopic eigensolver for full models (1e5-1e6 DOFs).
+//
+// Every method iterates on the same real spectral transformation of the
+// Hamiltonian matrix H of the first-order system (doc/theory.md, "Sparse path"):
+//     R_s = (H^2 - s)^-1,   eigenvalues 1 / (lambda^2 - s),
+// applied through sparse factorisations of Q(mu) = mu^2 M + mu G + K only
+// (never forming K* or I*^-1):
+//   s = 0           two solves with K per application (K factored once);
+//   s = tau^2 > 0   solves with Q(-tau), Q(tau): nonsingular for a free body
+//                   (singular K), the "K + sigma M" style shift;
+//   s = -w_t^2 < 0  one complex solve with Q(i w_t): frequencies near w_t.
+// When K > 0 (detected by a CHOLMOD Cholesky), -R_s = (K* + s I*)^-1 I* is
+// self-adjoint in the I* = diag(M, K) inner product: Meirovitch's symmetric
+// form (seed eqs. (21)-(24)) without forming it, solved by Anasazi (Block
+// Krylov-Schur, Block Davidson or LOBPCG, block size >= 2 because every
+// eigenvalue is double) or PARPACK dsaupd. Otherwise the general path runs
+// Anasazi's non-Hermitian Block Krylov-Schur or PARPACK dnaupd on R_s.
+// Either way the modes are extracted by a Rayleigh-Ritz projection of the
+// quadratic problem onto the converged vectors, solved by the dense solver,
+// and every mode's residual is recomputed from M, G, K.
+#pragma once
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/SparseGyroscopicSystem.hpp"
+
+namespace cms::eigen {
+
+class SparseGyroscopicSolver {
+public:
+  /// `params` is validated against getValidParameters(); unknown keys and
+  /// wrong types throw cms::InputError naming the key.
+  explicit SparseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList());
+  static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+
+  /// Collective. Modes carry this rank's rows of q.
+  GyroscopicResult solve(const SparseGyroscopicSystem& system) const;
+
+private:
+  Teuchos::ParameterList params_;
+};
+
+}  // namespace cms::eigen

@@ -1,0 +1,373 @@
+#include "cms/eigen/SparseGyroscopicSolver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+
+#include <AnasaziBasicEigenproblem.hpp>
+#include <AnasaziBlockDavidsonSolMgr.hpp>
+#include <AnasaziBlockKrylovSchurSolMgr.hpp>
+#include <AnasaziLOBPCGSolMgr.hpp>
+#include <AnasaziTpetraAdapter.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_LAPACK.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "ArpackEigensolver.hpp"
+#include "SpectralTransform.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/core/SparseDirectSolver.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+namespace cms::eigen {
+
+using cplx = std::complex<double>;
+using MVT = Anasazi::MultiVecTraits<double, MultiVector>;
+
+namespace {
+
+const double kTwoPi = 2.0 * M_PI;
+
+/// A deterministic start block, the same for any rank count.
+Teuchos::RCP<MultiVector> startBlock(const Teuchos::RCP<const Map>& map, int cols) {
+  auto X = Teuchos::rcp(new MultiVector(map, cols));
+  auto v = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
+  for (size_t i = 0; i < map->getNodeNumElements(); ++i)
+    for (int j = 0; j < cols; ++j) {
+      std::mt19937 rng(static_cast<unsigned>(map->getGlobalElement(i)) * 2654435761u +
+                       977u * static_cast<unsigned>(j) + 5u);
+      v(i, j) = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+    }
+  return X;
+}
+
+/// Orthonormal basis of span(B) by the eigen-decomposition of its Gram matrix,
+/// dropping directions below `relTol` (SVQB with truncation): the converged
+/// vectors of a double eigenvalue may be (nearly) dependent once halved.
+Teuchos::RCP<MultiVector> orthonormalBasis(const MultiVector& B, double relTol) {
+  const int k = static_cast<int>(B.getNumVectors());
+  DenseMatrix Gm(k, k);
+  MVT::MvTransMv(1.0, B, B, Gm);
+  std::vector<double> w(k), work(std::max(1, 4 * k));
+  int info = 0;
+  Teuchos::LAPACK<int, double>().SYEV('V', 'U', k, Gm.values(), k, w.data(), work.data(),
+                                      static_cast<int>(work.size()), &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError, "orthonormalBasis: dsyev info " << info);
+  const double wmax = k > 0 ? w[k - 1] : 0.0;
+  std::vector<int> keep;
+  for (int j = k - 1; j >= 0; --j)
+    if (w[j] > relTol * wmax) keep.push_back(j);
+  DenseMatrix T(k, static_cast<int>(keep.size()));
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    for (int i = 0; i < k; ++i) T(i, c) = Gm(i, keep[c]) / std::sqrt(w[keep[c]]);
+  auto Q = Teuchos::rcp(new MultiVector(B.getMap(), std::max<size_t>(keep.size(), 1)));
+  if (!keep.empty()) MVT::MvTimesMatAddMv(1.0, B, T, 0.0, *Q);
+  return Q;
+}
+
+DenseMatrix projectOnto(const CrsMatrix& A, const MultiVector& Q) {
+  MultiVector AQ(Q.getMap(), Q.getNumVectors());
+  A.apply(Q, AQ);
+  DenseMatrix R(static_cast<int>(Q.getNumVectors()), static_cast<int>(Q.getNumVectors()));
+  MVT::MvTransMv(1.0, Q, AQ, R);
+  return R;
+}
+
+struct Config {
+  std::string method, eigensolver, linearSolver;
+  int nModes, blockSize, numBlocks, maxRestarts, verbosity;
+  double tol, shift, residualTol, rigidTol, instabTol;
+};
+
+}  // namespace
+
+Teuchos::RCP<const Teuchos::ParameterList> SparseGyroscopicSolver::getValidParameters() {
+  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Sparse Gyroscopic Solver"));
+    Teuchos::setStringToIntegralParameter<int>(
+        "Method", "Auto",
+        "Symmetric: Meirovitch's I*-self-adjoint form (K must be positive definite); General: "
+        "non-Hermitian iteration valid for any K; Auto: Symmetric if CHOLMOD finds K > 0",
+        Teuchos::tuple<std::string>("Auto", "Symmetric", "General"), pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
+        "Eigensolver", "Block Krylov-Schur",
+        "Iterative eigensolver: Anasazi's Block Krylov-Schur (any path), Block Davidson or "
+        "LOBPCG (symmetric path, Shift >= 0), or PARPACK (pdsaupd / pdnaupd)",
+        Teuchos::tuple<std::string>("Block Krylov-Schur", "Block Davidson", "LOBPCG", "ARPACK"),
+        pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
+        "Linear Solver", "KLU2",
+        "Sparse direct solver for shifted Q(mu) = mu^2 M + mu G + K (KLU2 or Tacho); K alone is "
+        "factored by CHOLMOD when it is positive definite",
+        Teuchos::tuple<std::string>("KLU2", "Tacho"), pl.get());
+    pl->set("Number of Modes", 10, "How many modes (one per +/- frequency pair) to return");
+    pl->set("Shift", 0.0,
+            "s in (H^2 - s)^-1: 0 targets the lowest frequencies; s > 0 the lowest too but "
+            "regularises a singular K (free bodies); s < 0 targets frequencies near sqrt(-s) rad/s");
+    pl->set("Block Size", 2, "Block size (>= 2: every eigenvalue of the transform is double)");
+    pl->set("Number of Blocks", 0, "Krylov/Davidson subspace blocks; 0 picks max(3 nev / bs, 10)");
+    pl->set("Maximum Restarts", 300, "Restarts (Anasazi) or iterations (ARPACK) before giving up");
+    pl->set("Convergence Tolerance", 1e-10, "Relative residual tolerance of the iteration");
+    pl->set("Residual Tolerance", 1e-8,
+            "A returned mode whose backward error ||Q(lambda) q|| / ((||K|| + |lambda| ||G|| + "
+            "|lambda|^2 ||M||) ||q||) exceeds this makes the status NotConverged");
+    pl->set("Rigid Body Tolerance", 1e-6, "As for the dense solver");
+    pl->set("Instability Tolerance", 1e-7, "As for the dense solver");
+    pl->set("Verbosity", 0, "0 silent, 1 summary, 2 iteration details (Anasazi's output on rank 0)");
+    return pl;
+  }();
+  return valid;
+}
+
+SparseGyroscopicSolver::SparseGyroscopicSolver(const Teuchos::ParameterList& params)
+    : params_(params) {
+  try {
+    params_.validateParametersAndSetDefaults(*getValidParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("SparseGyroscopicSolver: invalid parameter: ") + e.what());
+  }
+  const int k = params_.get<int>("Number of Modes"), bs = params_.get<int>("Block Size");
+  CMS_INPUT_CHECK(k < 1, "SparseGyroscopicSolver: \"Number of Modes\" = " << k << " must be >= 1");
+  CMS_INPUT_CHECK(bs < 2, "SparseGyroscopicSolver: \"Block Size\" = "
+                              << bs << " must be >= 2: every eigenvalue is double");
+  CMS_INPUT_CHECK(!(params_.get<double>("Convergence Tolerance") > 0.0),
+                  "SparseGyroscopicSolver: \"Convergence Tolerance\" must be positive");
+  CMS_INPUT_CHECK(!std::isfinite(params_.get<double>("Shift")),
+                  "SparseGyroscopicSolver: \"Shift\" must be finite");
+}
+
+GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys) const {
+  sys.validate();
+  Config c{params_.get<std::string>("Method"), params_.get<std::string>("Eigensolver"),
+           params_.get<std::string>("Linear Solver"), params_.get<int>("Number of Modes"),
+           params_.get<int>("Block Size"), params_.get<int>("Number of Blocks"),
+           params_.get<int>("Maximum Restarts"), params_.get<int>("Verbosity"),
+           params_.get<double>("Convergence Tolerance"), params_.get<double>("Shift"),
+           params_.get<double>("Residual Tolerance"), params_.get<double>("Rigid Body Tolerance"),
+           params_.get<double>("Instability Tolerance")};
+  const GlobalOrdinal N = sys.globalSize();
+  CMS_INPUT_CHECK(c.nModes > N, "SparseGyroscopicSolver: \"Number of Modes\" = "
+                                    << c.nModes << " but the system has only " << N
+                                    << " DOFs, hence " << N << " modes");
+  const auto rowMap = sys.M->getRowMap();
+  const auto comm = rowMap->getComm();
+
+  // 1. Which form: Meirovitch's needs K > 0, which CHOLMOD tells (and its
+  //    factor is the K-solve of the unshifted transform).
+  GyroscopicResult result;
+  result.numRequested = c.nModes;
+  bool symmetric = c.method == "Symmetric";
+  std::shared_ptr<SparseDirectSolver> kFactor;
+  if (c.method != "General") {
+    kFactor = std::make_shared<SparseDirectSolver>(sys.K, "CHOLMOD");
+    const auto out = kFactor->factor();
+    const bool posdef = out == SparseDirectSolver::Outcome::Factored;
+    CMS_INPUT_CHECK(c.method == "Symmetric" && !posdef,
+                    "SparseGyroscopicSolver: Method \"Symmetric\" needs K > 0 (I* = diag(M,K) > 0, "
+                    "seed eq. (23)), but " << kFactor->failure() << "; use \"Auto\" or \"General\"");
+    symmetric = posdef;
+    result.reason = posdef ? "K positive definite (CHOLMOD): Meirovitch's symmetric form, seed eq. (24)"
+                           : "K is not positive definite (" + kFactor->failure() +
+                                 "): general non-Hermitian iteration";
+    if (!posdef) kFactor.reset();
+  } else {
+    result.reason = "requested";
+  }
+  CMS_INPUT_CHECK(!symmetric && (c.eigensolver == "Block Davidson" || c.eigensolver == "LOBPCG"),
+                  "SparseGyroscopicSolver: \"" << c.eigensolver
+                      << "\" needs the symmetric path (K > 0); " << result.reason);
+  CMS_INPUT_CHECK(c.shift < 0.0 && (c.eigensolver == "Block Davidson" || c.eigensolver == "LOBPCG"),
+                  "SparseGyroscopicSolver: \"" << c.eigensolver
+                      << "\" needs a definite transform: \"Shift\" >= 0");
+
+  // 2. The spectral transform, factored once.
+  const double sign = symmetric ? -1.0 : 1.0;  // -R is I*-positive when K > 0, s >= 0
+  auto R = Teuchos::rcp(new detail::SpectralTransform(sys, c.shift, sign, c.linearSolver, "KLU2"));
+  if (kFactor && c.shift == 0.0) R->adoptStiffnessFactor(kFactor);
+  const std::string why = R->factor();
+  if (!why.empty()) {
+    result.status = SolveStatus::NumericalIssue;
+    result.solver = "none";
+    result.reason += "; " + why;
+    return result;
+  }
+  const auto state = R->getDomainMap();
+  auto Istar = Teuchos::rcp(new detail::StateInnerProduct(sys));
+
+  // 3. Iterate. Each mode is a double eigenvalue of R: ask for 2 per mode.
+  const int nev = static_cast<int>(std::min<GlobalOrdinal>(2 * c.nModes, 2 * N - 1));
+  const int numBlocks = c.numBlocks > 0 ? c.numBlocks : std::max(3 * nev / c.blockSize + 1, 10);
+  Teuchos::RCP<MultiVector> ritz;
+  int converged = 0;
+  std::string solverName;
+  if (c.eigensolver == "ARPACK") {
+    const int ncv = static_cast<int>(std::min<GlobalOrdinal>(2 * N, std::max(2 * nev + 1, nev + 20)));
+    auto out = detail::arpackSolve(*R, symmetric ? Istar.get() : nullptr, symmetric, nev, ncv,
+                                   c.tol, c.maxRestarts);
+    solverName = symmetric ? "PARPACK pdsaupd (mode 3, B = I*)" : "PARPACK pdnaupd";
+    result.iterations = out.iterations;
+    if (out.info < 0 || out.vectors.is_null()) {
+      result.status = SolveStatus::NumericalIssue;
+      result.solver = solverName;
+      result.reason += "; ARPACK: " + out.message;
+      return result;
+    }
+    if (!out.message.empty()) result.reason += "; ARPACK: " + out.message;
+    ritz = out.vectors;
+    converged = out.numConverged;
+  } else {
+    using Problem = Anasazi::BasicEigenproblem<double, MultiVector, Operator>;
+    Teuchos::RCP<Problem> problem;
+    const bool krylovSchur = c.eigensolver == "Block Krylov-Schur";
+    if (krylovSchur)
+      problem = Teuchos::rcp(new Problem(R, symmetric ? Teuchos::RCP<Operator>(Istar) : Teuchos::null,
+                                         startBlock(state, c.blockSize)));
+    else  // Davidson / LOBPCG: the symmetric pencil (I* (-R), I*)
+      problem = Teuchos::rcp(new Problem(Teuchos::rcp(new detail::ProductOperator(Istar, R)), Istar,
+                                         startBlock(state, c.blockSize)));
+    if (!krylovSchur) problem->setPrec(Teuchos::rcp(new detail::StateJacobi(sys)));
+    problem->setHermitian(symmetric);
+    problem->setNEV(nev);
+    TEUCHOS_TEST_FOR_EXCEPTION(!problem->setProblem(), std::logic_error,
+                               "Anasazi rejected the eigenproblem set-up");
+    Teuchos::ParameterList pl;
+    pl.set("Which", std::string("LM"));
+    pl.set("Block Size", c.blockSize);
+    pl.set("Convergence Tolerance", c.tol);
+    pl.set("Maximum Restarts", c.maxRestarts);
+    pl.set("Verbosity", c.verbosity >= 2 ? Anasazi::Errors + Anasazi::Warnings + Anasazi::IterationDetails +
+                                               Anasazi::FinalSummary
+                                         : (c.verbosity == 1 ? Anasazi::Errors + Anasazi::Warnings +
+                                                                   Anasazi::FinalSummary
+                                                             : Anasazi::Errors));
+    Anasazi::ReturnType ret;
+    if (krylovSchur) {
+      pl.set("Num Blocks", numBlocks);
+      Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+      ret = mgr.solve();
+      result.iterations = mgr.getNumIters();
+    } else if (c.eigensolver == "Block Davidson") {
+      // With locking, Block Davidson stagnates on the double eigenvalues of the
+      // transform (measured: residual stuck near 1e-4); without locking its
+      // block must hold all nev vectors.
+      pl.set("Block Size", std::max(c.blockSize, nev));
+      pl.set("Num Blocks", c.numBlocks > 0 ? c.numBlocks : 4);
+      pl.set("Use Locking", false);
+      Anasazi::BlockDavidsonSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+      ret = mgr.solve();
+      result.iterations = mgr.getNumIters();
+    } else {
+      pl.set("Maximum Iterations", 50 * c.maxRestarts);
+      pl.set("Use Locking", true);
+      pl.set("Max Locked", nev);
+      Anasazi::LOBPCGSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+      ret = mgr.solve();
+      result.iterations = mgr.getNumIters();
+    }
+    solverName = "Anasazi " + c.eigensolver + (symmetric ? " (Hermitian, I* inner product)" : " (non-Hermitian)");
+    const auto& sol = problem->getSolution();
+    converged = sol.numVecs;
+    if (ret != Anasazi::Converged) result.reason += "; Anasazi did not converge all requested vectors";
+    if (sol.numVecs > 0) ritz = sol.Evecs;
+  }
+  result.solver = solverName + ", " + (c.shift == 0.0 ? std::string("unshifted")
+                                                      : "shift s = " + std::to_string(c.shift)) +
+                  ", Q(mu) by " + (kFactor && c.shift == 0.0 ? "CHOLMOD" : c.linearSolver);
+  result.numOperatorApplies = R->numApplies();
+  if (ritz.is_null() || converged == 0) {
+    result.status = SolveStatus::NotConverged;
+    return result;
+  }
+
+  // 4. Quadratic Rayleigh-Ritz on the q halves of the converged vectors.
+  const auto qHalves = detail::lowerHalf(*ritz, rowMap);
+  MultiVector qCopy(*qHalves, Teuchos::Copy);
+  const auto Q = orthonormalBasis(qCopy, 1e-12);
+  GyroscopicSystem reduced{projectOnto(*sys.M, *Q), projectOnto(*sys.G, *Q), projectOnto(*sys.K, *Q)};
+  Teuchos::ParameterList dense;
+  dense.set("Rigid Body Tolerance", c.rigidTol);
+  dense.set("Instability Tolerance", c.instabTol);
+  GyroscopicResult ritzModes = DenseGyroscopicSolver(dense).solve(reduced);
+  // Keep those the transform favours: largest |1 / (lambda^2 - s)|.
+  auto& rm = ritzModes.modes;
+  std::stable_sort(rm.begin(), rm.end(), [&](const GyroscopicMode& a, const GyroscopicMode& b) {
+    return std::abs(a.lambda * a.lambda - c.shift) < std::abs(b.lambda * b.lambda - c.shift);
+  });
+  const int k = std::min<int>(c.nModes, static_cast<int>(rm.size()));
+  rm.resize(k);
+
+  // 5. Full modes q = Q q_r and their residuals from M, G, K.
+  const int kk = std::max(k, 1);
+  DenseMatrix Yr(static_cast<int>(Q->getNumVectors()), kk), Yi(static_cast<int>(Q->getNumVectors()), kk);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < Yr.numRows(); ++i) {
+      Yr(i, j) = rm[j].q[i].real();
+      Yi(i, j) = rm[j].q[i].imag();
+    }
+  MultiVector Qr(rowMap, kk), Qi(rowMap, kk);
+  MVT::MvTimesMatAddMv(1.0, *Q, Yr, 0.0, Qr);
+  MVT::MvTimesMatAddMv(1.0, *Q, Yi, 0.0, Qi);
+  MultiVector MQr(rowMap, kk), MQi(rowMap, kk), GQr(rowMap, kk), GQi(rowMap, kk), KQr(rowMap, kk),
+      KQi(rowMap, kk);
+  sys.M->apply(Qr, MQr), sys.M->apply(Qi, MQi);
+  sys.G->apply(Qr, GQr), sys.G->apply(Qi, GQi);
+  sys.K->apply(Qr, KQr), sys.K->apply(Qi, KQi);
+  const double nM = sys.M->getFrobeniusNorm(), nG = sys.G->getFrobeniusNorm(), nK = sys.K->getFrobeniusNorm();
+  const double scale = frequencyScale(nM, nG, nK);
+  const size_t nloc = rowMap->getNodeNumElements();
+  auto qr = Qr.getLocalViewHost(Tpetra::Access::ReadOnly), qi = Qi.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto mr = MQr.getLocalViewHost(Tpetra::Access::ReadOnly), mi = MQi.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto gr = GQr.getLocalViewHost(Tpetra::Access::ReadOnly), gi = GQi.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto kr = KQr.getLocalViewHost(Tpetra::Access::ReadOnly), ki = KQi.getLocalViewHost(Tpetra::Access::ReadOnly);
+  const int nprocs = comm->getSize();
+  for (int j = 0; j < k; ++j) {
+    GyroscopicMode& m = rm[j];
+    const cplx l = m.lambda, l2 = l * l;
+    double local[4] = {0, 0, 0, 0};  // qMq, qKq, qq, rr
+    double big = -1.0;
+    cplx bigVal = 0.0;
+    for (size_t i = 0; i < nloc; ++i) {
+      const cplx q(qr(i, j), qi(i, j)), Mq(mr(i, j), mi(i, j)), Gq(gr(i, j), gi(i, j)), Kq(kr(i, j), ki(i, j));
+      local[0] += std::real(std::conj(q) * Mq);
+      local[1] += std::real(std::conj(q) * Kq);
+      local[2] += std::norm(q);
+      local[3] += std::norm(l2 * Mq + l * Gq + Kq);
+      if (std::abs(q) > big) big = std::abs(q), bigVal = q;
+    }
+    double global[4];
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 4, local, global);
+    // The largest entry over all ranks fixes the phase (lowest rank wins ties).
+    std::vector<double> bigs(3 * nprocs), mine = {big, bigVal.real(), bigVal.imag()};
+    Teuchos::gatherAll(*comm, 3, mine.data(), 3 * nprocs, bigs.data());
+    int owner = 0;
+    for (int p = 1; p < nprocs; ++p)
+      if (bigs[3 * p] > bigs[3 * owner]) owner = p;
+    const cplx top(bigs[3 * owner + 1], bigs[3 * owner + 2]);
+    const cplx phase = std::abs(top) > 0 ? std::conj(top) / std::abs(top) : 1.0;
+    const double s = global[0] > 0 ? 1.0 / std::sqrt(global[0]) : 1.0;
+    m.q.resize(nloc);
+    for (size_t i = 0; i < nloc; ++i) m.q[i] = cplx(qr(i, j), qi(i, j)) * phase * s;
+    const double denom = (nK + std::abs(l) * nG + std::norm(l) * nM) * std::sqrt(global[2]);
+    m.residual = denom > 0 ? std::sqrt(global[3]) / denom : std::sqrt(global[3]);
+    m.kineticEnergy = 0.5 * std::norm(l);
+    m.strainEnergy = 0.5 * global[1] * s * s;
+    m.growthRate = l.real();
+    m.omega = std::abs(l.imag());
+    m.hz = m.omega / kTwoPi;
+    m.stability = classify(l, scale, c.rigidTol, c.instabTol);
+  }
+  std::stable_sort(rm.begin(), rm.end(), [](const GyroscopicMode& a, const GyroscopicMode& b) {
+    return std::abs(a.lambda) < std::abs(b.lambda);
+  });
+  result.modes = std::move(rm);
+  const bool allAccurate = std::all_of(result.modes.begin(), result.modes.end(),
+                                       [&](const GyroscopicMode& m) { return m.residual <= c.residualTol; });
+  result.status = (k == c.nModes && allAccurate) ? SolveStatus::Converged : SolveStatus::NotConverged;
+  return result;
+}
+
+}  // namespace cms::eigen
