@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
 
 #include "RotatingChain.hpp"
