@@ -11,7 +11,7 @@ packages=(
   libsuitesparse-dev                                # CHOLMOD
   libarpack2-dev libparpack2-dev                    # ARPACK and its MPI version PARPACK
   libgtest-dev                                      # GoogleTest
-  liblapack-dev libblas-dev
+  liblapack-dev libblas-dev libopenblas0-pthread   # optimised BLAS/LAPACK through Debian's alternatives
 )
 
 missing=()

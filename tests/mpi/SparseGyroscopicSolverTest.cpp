@@ -111,7 +111,7 @@ TEST(SparseGyroscopic, GeneralPathFindsDivergenceLikeDense) {
 TEST(SparseGyroscopic, PositiveShiftHandlesFreeBodyWithRigidModes) {
   ChainSpec spec;
   spec.nodes = 120;
-  spec.grounded = false;  // K singular: two rigid translations
+  spec.support = ChainSpec::Support::None;  // K singular: two rigid translations
   spec.rotatingFrame = false;
   spec.spin = 3.0;
   const auto sys = fixtures::sparseChain(spec, world());

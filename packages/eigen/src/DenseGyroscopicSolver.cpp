@@ -48,6 +48,37 @@ int requestedCount(const Teuchos::ParameterList& p, int n) {
   return k == -1 ? n : k;
 }
 
+extern "C" void dgesvdx_(const char* jobu, const char* jobvt, const char* range, const int* m,
+                         const int* n, double* a, const int* lda, const double* vl,
+                         const double* vu, const int* il, const int* iu, int* ns, double* s,
+                         double* u, const int* ldu, double* vt, const int* ldvt, double* work,
+                         const int* lwork, int* iwork, int* info, std::size_t, std::size_t,
+                         std::size_t);
+
+/// The `count` smallest singular values of the square A (descending, as
+/// LAPACK orders them) and their right singular vectors as rows of VT.
+void singularTriplets(const DenseMatrix& A, int count, std::vector<double>& s, DenseMatrix& VT) {
+  const int N = A.numRows();
+  DenseMatrix Ac(A);
+  const int il = N - count + 1, iu = N, ldu = 1;
+  const double vl = 0.0, vu = 0.0;
+  int ns = 0, info = 0, lwork = -1;
+  s.assign(N, 0.0);
+  VT.shape(count, N);
+  double u = 0.0, wq = 0.0;
+  std::vector<int> iwork(12 * N);
+  dgesvdx_("N", "V", "I", &N, &N, Ac.values(), &N, &vl, &vu, &il, &iu, &ns, s.data(), &u, &ldu,
+           VT.values(), &count, &wq, &lwork, iwork.data(), &info, 1, 1, 1);
+  lwork = static_cast<int>(wq);
+  std::vector<double> work(std::max(1, lwork));
+  dgesvdx_("N", "V", "I", &N, &N, Ac.values(), &N, &vl, &vu, &il, &iu, &ns, s.data(), &u, &ldu,
+           VT.values(), &count, work.data(), &lwork, iwork.data(), &info, 1, 1, 1);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0 || ns != count, NumericalError,
+                             "DenseGyroscopicSolver: LAPACK dgesvdx failed, info = "
+                                 << info << ", " << ns << " of " << count << " values");
+  s.resize(count);
+}
+
 /// Meirovitch's symmetric form, seed eqs. (20)-(24), solved by the SVD of the
 /// skew factor A = L^-1 G* L^-T (doc/theory.md, "Dense path").
 std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const DenseMatrix& Lm,
@@ -67,30 +98,34 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
       A(n + j, i) = -A12(i, j);
     }
 
-  // SVD: A = U S V^T; omega_r are the singular values, each (nearly) double.
-  DenseMatrix Acopy(A), U(N, N), VT(N, N);
-  std::vector<double> s(N), rwork(5 * N);
-  int info = 0, lwork = -1;
-  double wq = 0.0;
-  Teuchos::LAPACK<int, double> lapack;
-  lapack.GESVD('A', 'A', N, N, Acopy.values(), N, s.data(), U.values(), N, VT.values(), N, &wq,
-               lwork, rwork.data(), &info);
-  lwork = static_cast<int>(wq);
-  std::vector<double> work(std::max(1, lwork));
-  lapack.GESVD('A', 'A', N, N, Acopy.values(), N, s.data(), U.values(), N, VT.values(), N,
-               work.data(), lwork, rwork.data(), &info);
-  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
-                             "DenseGyroscopicSolver: LAPACK dgesvd failed, info = " << info);
+  // The smallest singular triplets of A (LAPACK dgesvdx, one bidiagonalisation
+  // and then only the wanted vectors): omega_r are the singular values, each
+  // (nearly) double. Ask for a margin beyond 2 nModes so a cluster at the edge
+  // is complete, and widen the request if it is not.
+  const double normA = A.normFrobenius();
+  const double clusterTol = 1e-10 * normA;
+  int want = std::min(N, 2 * nModes + 4);
+  std::vector<double> s;
+  DenseMatrix VT;
+  while (true) {
+    singularTriplets(A, want, s, VT);  // s descending, s.size() == want
+    // The cluster holding the (2 nModes)-th smallest value is complete when a
+    // larger returned value lies beyond the cluster tolerance from it.
+    const int edge = want - 2 * nModes;  // its index in the descending s
+    const bool complete = want == N || s[0] - s[edge] > clusterTol;
+    if (complete) break;
+    want = std::min(N, 2 * want);
+  }
+  const int ns = static_cast<int>(s.size());
 
   // Walk the singular values from the smallest up, in clusters of (near-)equal
   // values. A cluster of 2m values spans m complex modes: pick them by a
   // Gram-Schmidt that keeps {c, J c} pairs, J = V^T A V / sigma being the
   // complex structure of the cluster (J^2 = -I). This separates the repeated
   // frequencies of symmetric rotors instead of returning one mode twice.
-  const double clusterTol = 1e-10 * s[0];
   std::vector<GyroscopicMode> modes;
   Teuchos::BLAS<int, double> blas;
-  int hi = N;  // clusters are [lo, hi) in descending-s index
+  int hi = ns;  // clusters are [lo, hi) in descending-s index
   while (hi > 0 && static_cast<int>(modes.size()) < nModes) {
     int lo = hi - 1;
     while (lo > 0 && s[lo - 1] - s[hi - 1] <= clusterTol) --lo;
@@ -101,7 +136,7 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
     // V (N x c): right singular vectors of the cluster; W = A V.
     DenseMatrix V(N, c), W(N, c);
     for (int k = 0; k < c; ++k)
-      for (int i = 0; i < N; ++i) V(i, k) = VT(lo + k, i);
+      for (int i = 0; i < N; ++i) V(i, k) = VT(lo + k, i);  // rows of V^T
     gemm(false, false, 1.0, A, V, 0.0, W);
     DenseMatrix J(c, c);
     gemm(true, false, 1.0 / std::max(sigma, std::numeric_limits<double>::min()), V, W, 0.0, J);
@@ -368,7 +403,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
 
   if (method != "General" && whyNotSymmetric.empty()) {
     result.modes = meirovitchModes(sys, Lm, Lk, nModes);
-    result.solver = "dense Meirovitch (SVD of the skew factor of K*)";
+    result.solver = "dense Meirovitch (singular values of the skew factor of K*)";
     result.reason = "K and M positive definite: real symmetric form, seed eq. (24)";
   } else {
     result.modes = generalModes(sys, nModes, scale);

@@ -1,6 +1,7 @@
 #include "cms/fem/RotatingChain.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <random>
 
@@ -24,7 +25,9 @@ void entries(const RotatingChain& s, const Sink& add, long long first, long long
     const double m = 1.0 + nodeRandom(s.seed, i, 0);
     const long long x = 2 * i, y = 2 * i + 1;
     double kxx = 0.0, kyy = 0.0;
-    if (s.grounded)
+    const bool grounded = s.support == RotatingChain::Support::EveryNode ||
+                          (s.support == RotatingChain::Support::Ends && (i == 0 || i == s.nodes - 1));
+    if (grounded)
       kxx += 10.0 * (1 + nodeRandom(s.seed, i, 1)), kyy += 25.0 * (1 + nodeRandom(s.seed, i, 2));
     for (long long j : {i - 1, i + 1}) {  // springs to neighbours, x and y stiffness differ
       if (j < 0 || j >= s.nodes) continue;
@@ -49,6 +52,13 @@ void entries(const RotatingChain& s, const Sink& add, long long first, long long
   }
 }
 }  // namespace
+
+double RotatingChain::subcriticalSpin(double fraction) const {
+  // Lowest stiffness eigenvalue of a chain held at its ends is about
+  // k_min (pi / (nodes + 1))^2 with k_min = 400 the softest spring; the heaviest
+  // mass is 2, so m Omega^2 stays below it for Omega = fraction * sqrt(k_min / 2) pi / (nodes + 1).
+  return fraction * std::sqrt(400.0 / 2.0) * M_PI / static_cast<double>(nodes + 1);
+}
 
 RotatingChain::Dense RotatingChain::dense() const {
   const int n = static_cast<int>(dofs());

@@ -16,13 +16,22 @@ namespace Teuchos { template <class T> class Comm; }
 namespace cms::fem {
 
 struct RotatingChain {
+  /// Where the chain is grounded by springs: at every node (a low spectrum
+  /// densely clustered near the grounding frequency: a hard case for Krylov
+  /// methods), at its two end nodes only (string-like, well-separated low
+  /// modes, omega_k ~ k), or nowhere (a free chain: K singular at zero spin).
+  enum class Support { EveryNode, Ends, None };
+
   long long nodes = 50;
   double spin = 0.0;          ///< rad/s
-  bool grounded = true;       ///< false: a free chain (K singular at zero spin)
+  Support support = Support::EveryNode;
   bool rotatingFrame = true;  ///< false: stationary-frame rotor coupling
   unsigned seed = 1;
 
   long long dofs() const { return 2 * nodes; }
+  /// For Support::Ends: a spin at which K stays positive definite, a fraction
+  /// of the chain's lowest frequency (spin softening below every stiffness).
+  double subcriticalSpin(double fraction = 0.5) const;
 
   struct Dense { DenseMatrix M, G, K; };
   struct Distributed { Teuchos::RCP<const CrsMatrix> M, G, K; };
