@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <sstream>
 
 #include <AnasaziBasicEigenproblem.hpp>
 #include <AnasaziBlockDavidsonSolMgr.hpp>
@@ -226,16 +227,32 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     if (krylovSchur)
       problem = Teuchos::rcp(new Problem(R, symmetric ? Teuchos::RCP<Operator>(Istar) : Teuchos::null,
                                          startBlock(state, c.blockSize)));
-    else  // Davidson / LOBPCG: the symmetric pencil (I* (-R), I*)
+    else {
+      // Davidson / LOBPCG: the symmetric pencil (I* (-R_s), I*), largest
+      // eigenvalues 1/(omega^2 + s), preconditioned by I*^-1 so that a
+      // preconditioned residual is a step of the Krylov space of -R_s. (The
+      // un-inverted pencil (K* + s I*, I*) with its exact preconditioner was
+      // measured unusable: its residual cannot fall below eps ||K*|| / omega_1^2.)
+      auto mFactor = std::make_shared<SparseDirectSolver>(sys.M, "CHOLMOD");
+      CMS_INPUT_CHECK(mFactor->factor() != SparseDirectSolver::Outcome::Factored,
+                      "SparseGyroscopicSolver: M is not positive definite ("
+                          << mFactor->failure() << ")");
+      if (!kFactor) {
+        kFactor = std::make_shared<SparseDirectSolver>(sys.K, "CHOLMOD");
+        kFactor->factor();
+      }
+      auto Iinv = Teuchos::rcp(new detail::StateInverseInnerProduct(sys, mFactor, kFactor));
       problem = Teuchos::rcp(new Problem(Teuchos::rcp(new detail::ProductOperator(Istar, R)), Istar,
                                          startBlock(state, c.blockSize)));
-    if (!krylovSchur) problem->setPrec(Teuchos::rcp(new detail::StateJacobi(sys)));
+      problem->setPrec(Iinv);
+    }
     problem->setHermitian(symmetric);
     problem->setNEV(nev);
     TEUCHOS_TEST_FOR_EXCEPTION(!problem->setProblem(), std::logic_error,
                                "Anasazi rejected the eigenproblem set-up");
     Teuchos::ParameterList pl;
     pl.set("Which", std::string("LM"));
+    if (!krylovSchur) pl.set("Orthogonalization", std::string("DGKS"));  // SVQB looped (2 ranks)
     pl.set("Block Size", c.blockSize);
     pl.set("Convergence Tolerance", c.tol);
     pl.set("Maximum Restarts", c.maxRestarts);
@@ -244,29 +261,40 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
                                          : (c.verbosity == 1 ? Anasazi::Errors + Anasazi::Warnings +
                                                                    Anasazi::FinalSummary
                                                              : Anasazi::Errors));
-    Anasazi::ReturnType ret;
-    if (krylovSchur) {
-      pl.set("Num Blocks", numBlocks);
-      Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
-      ret = mgr.solve();
-      result.iterations = mgr.getNumIters();
-    } else if (c.eigensolver == "Block Davidson") {
-      // With locking, Block Davidson stagnates on the double eigenvalues of the
-      // transform (measured: residual stuck near 1e-4); without locking its
-      // block must hold all nev vectors.
-      pl.set("Block Size", std::max(c.blockSize, nev));
-      pl.set("Num Blocks", c.numBlocks > 0 ? c.numBlocks : 4);
-      pl.set("Use Locking", false);
-      Anasazi::BlockDavidsonSolMgr<double, MultiVector, Operator> mgr(problem, pl);
-      ret = mgr.solve();
-      result.iterations = mgr.getNumIters();
-    } else {
-      pl.set("Maximum Iterations", 50 * c.maxRestarts);
-      pl.set("Use Locking", true);
-      pl.set("Max Locked", nev);
-      Anasazi::LOBPCGSolMgr<double, MultiVector, Operator> mgr(problem, pl);
-      ret = mgr.solve();
-      result.iterations = mgr.getNumIters();
+    Anasazi::ReturnType ret = Anasazi::Unconverged;
+    // A breakdown inside Anasazi (LOBPCG's Cholesky of a dependent basis, a
+    // Davidson restart on an empty block) is an outcome, not a crash.
+    std::string breakdown;
+    try {
+      if (krylovSchur) {
+        pl.set("Num Blocks", numBlocks);
+        Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+        ret = mgr.solve();
+        result.iterations = mgr.getNumIters();
+      } else if (c.eigensolver == "Block Davidson") {
+        pl.set("Num Blocks", numBlocks);
+        pl.set("Use Locking", true);
+        pl.set("Max Locked", nev);
+        Anasazi::BlockDavidsonSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+        ret = mgr.solve();
+        result.iterations = mgr.getNumIters();
+      } else {
+        pl.set("Maximum Iterations", 10 * c.maxRestarts);
+        pl.set("Use Locking", true);
+        pl.set("Max Locked", nev);
+        Anasazi::LOBPCGSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+        ret = mgr.solve();
+        result.iterations = mgr.getNumIters();
+      }
+    } catch (const std::exception& e) {
+      breakdown = e.what();
+    }
+    if (!breakdown.empty()) {
+      result.status = SolveStatus::NumericalIssue;
+      result.solver = "Anasazi " + c.eigensolver;
+      result.reason += "; Anasazi broke down: " + breakdown.substr(0, 300);
+      result.numOperatorApplies = R->numApplies();
+      return result;
     }
     solverName = "Anasazi " + c.eigensolver + (symmetric ? " (Hermitian, I* inner product)" : " (non-Hermitian)");
     const auto& sol = problem->getSolution();
@@ -367,6 +395,18 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   const bool allAccurate = std::all_of(result.modes.begin(), result.modes.end(),
                                        [&](const GyroscopicMode& m) { return m.residual <= c.residualTol; });
   result.status = (k == c.nModes && allAccurate) ? SolveStatus::Converged : SolveStatus::NotConverged;
+  // The reason always says why a status is not Converged.
+  if (k < c.nModes)
+    result.reason += "; only " + std::to_string(k) + " of " + std::to_string(c.nModes) +
+                     " modes could be extracted from the converged vectors";
+  if (!allAccurate) {
+    int bad = 0;
+    for (const auto& m : result.modes) bad += m.residual > c.residualTol;
+    std::ostringstream os;
+    os << "; " << bad << " of " << k << " modes exceed the Residual Tolerance " << c.residualTol
+       << " (worst " << result.maxResidual() << ")";
+    result.reason += os.str();
+  }
   return result;
 }
 

@@ -203,6 +203,55 @@ void StateInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::E
   Y.update(alpha, out, beta);
 }
 
+StateInverseInnerProduct::StateInverseInnerProduct(const SparseGyroscopicSystem& sys,
+                                                   std::shared_ptr<SparseDirectSolver> m,
+                                                   std::shared_ptr<SparseDirectSolver> k)
+    : sys_(sys), map_(stateMap(*sys.M->getRowMap())), m_(std::move(m)), k_(std::move(k)) {}
+
+void StateInverseInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
+                                     double alpha, double beta) const {
+  const auto rowMap = sys_.M->getRowMap();
+  Teuchos::RCP<const MultiVector> Xc =
+      Xin.isConstantStride() ? Teuchos::rcpFromRef(Xin)
+                             : Teuchos::RCP<const MultiVector>(new MultiVector(Xin, Teuchos::Copy));
+  MultiVector out(map_, Xin.getNumVectors());
+  m_->solve(*upperHalf(*Xc, rowMap), *upperHalf(out, rowMap));
+  k_->solve(*lowerHalf(*Xc, rowMap), *lowerHalf(out, rowMap));
+  Y.update(alpha, out, beta);
+}
+
+ShiftedStateStiffness::ShiftedStateStiffness(const SparseGyroscopicSystem& sys, double s,
+                                             Teuchos::RCP<const Operator> Iinv)
+    : sys_(sys), s_(s), map_(stateMap(*sys.M->getRowMap())), Iinv_(std::move(Iinv)) {}
+
+void ShiftedStateStiffness::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
+                                  double alpha, double beta) const {
+  // G* [v; q] = [G v + K q; -K v];  K* x = G*^T I*^-1 G* x = -G* (I*^-1 G* x).
+  const auto rowMap = sys_.M->getRowMap();
+  Teuchos::RCP<const MultiVector> Xc =
+      Xin.isConstantStride() ? Teuchos::rcpFromRef(Xin)
+                             : Teuchos::RCP<const MultiVector>(new MultiVector(Xin, Teuchos::Copy));
+  const size_t nv = Xin.getNumVectors();
+  auto gstar = [&](const MultiVector& x, MultiVector& y) {
+    const auto v = upperHalf(x, rowMap), q = lowerHalf(x, rowMap);
+    auto y1 = upperHalf(y, rowMap), y2 = lowerHalf(y, rowMap);
+    sys_.G->apply(*v, *y1);
+    sys_.K->apply(*q, *y1, Teuchos::NO_TRANS, 1.0, 1.0);
+    sys_.K->apply(*v, *y2, Teuchos::NO_TRANS, -1.0, 0.0);
+  };
+  MultiVector u(map_, nv), w(map_, nv), out(map_, nv);
+  gstar(*Xc, u);
+  Iinv_->apply(u, w);
+  gstar(w, out);
+  out.scale(-1.0);
+  if (s_ != 0.0) {
+    MultiVector Ix(map_, nv);
+    StateInnerProduct(sys_).apply(*Xc, Ix);
+    out.update(s_, Ix, 1.0);
+  }
+  Y.update(alpha, out, beta);
+}
+
 StateJacobi::StateJacobi(const SparseGyroscopicSystem& sys)
     : map_(stateMap(*sys.M->getRowMap())), inverseDiagonal_(new MultiVector(map_, 1)) {
   const auto rowMap = sys.M->getRowMap();

@@ -69,6 +69,42 @@ private:
   Teuchos::RCP<const Map> map_;
 };
 
+/// I*^-1 = diag(M^-1, K^-1), from factorisations of M and K.
+class StateInverseInnerProduct : public Tpetra::Operator<double> {
+public:
+  StateInverseInnerProduct(const SparseGyroscopicSystem& sys,
+                           std::shared_ptr<SparseDirectSolver> mFactor,
+                           std::shared_ptr<SparseDirectSolver> kFactor);
+  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
+  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
+  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
+             double alpha = 1.0, double beta = 0.0) const override;
+
+private:
+  SparseGyroscopicSystem sys_;
+  Teuchos::RCP<const Map> map_;
+  std::shared_ptr<SparseDirectSolver> m_, k_;
+};
+
+/// K* + s I* = G*^T I*^-1 G* + s I* (seed eq. (23), shifted): the operator
+/// whose smallest eigenvalues omega^2 + s (relative to I*) LOBPCG and Block
+/// Davidson seek, preconditioned exactly by (K* + s I*)^-1 = -R_s I*^-1.
+class ShiftedStateStiffness : public Tpetra::Operator<double> {
+public:
+  ShiftedStateStiffness(const SparseGyroscopicSystem& sys, double s,
+                        Teuchos::RCP<const Operator> inverseInnerProduct);
+  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
+  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
+  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
+             double alpha = 1.0, double beta = 0.0) const override;
+
+private:
+  SparseGyroscopicSystem sys_;
+  double s_;
+  Teuchos::RCP<const Map> map_;
+  Teuchos::RCP<const Operator> Iinv_;
+};
+
 /// diag(I*)^-1: the preconditioner that makes Block Davidson's and LOBPCG's
 /// expansion vectors (residuals of A x = theta I* x) approximate the
 /// I*-scaled ones, without which they stagnate on badly scaled M and K.
