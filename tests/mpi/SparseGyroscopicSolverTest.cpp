@@ -179,6 +179,20 @@ TEST(SparseGyroscopic, SameFrequenciesOnOneRankAndAll) {
   }
 }
 
+// n = 2000, the top of the range where the dense path is the reference: the
+// end-supported chain (string-like spectrum), K > 0, lowest 6 modes.
+TEST(SparseGyroscopic, AgreeWithDenseAtTwoThousandDofs) {
+  ChainSpec spec;
+  spec.nodes = 1000;
+  spec.support = ChainSpec::Support::Ends;
+  spec.spin = spec.subcriticalSpin(0.5);
+  Teuchos::ParameterList dp;
+  dp.set("Number of Modes", 6);
+  const auto ref = DenseGyroscopicSolver(dp).solve(fixtures::denseChain(spec)).modes;
+  const auto sys = fixtures::sparseChain(spec, world());
+  for (const char* es : {"Block Krylov-Schur", "ARPACK"}) expectSameModes(sparseSolve(sys, es, 6), ref);
+}
+
 // n = 1e5: Anasazi and ARPACK agree with each other.
 TEST(SparseGyroscopic, AnasaziAndArpackAgreeAtHundredThousandDofs) {
   ChainSpec spec;
