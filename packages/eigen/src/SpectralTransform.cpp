@@ -23,6 +23,11 @@ Teuchos::RCP<const Map> stateMap(const Map& rowMap) {
                               rowMap.getIndexBase(), rowMap.getComm()));
 }
 
+Teuchos::RCP<const MultiVector> packed(const MultiVector& X) {
+  return X.isConstantStride() ? Teuchos::rcpFromRef(X)
+                              : Teuchos::RCP<const MultiVector>(new MultiVector(X, Teuchos::Copy));
+}
+
 Teuchos::RCP<MultiVector> upperHalf(MultiVector& X, const Teuchos::RCP<const Map>& rowMap) {
   return X.offsetViewNonConst(rowMap, 0);
 }
@@ -169,11 +174,7 @@ void SpectralTransform::applyComplexResolvent(const MultiVector& X, MultiVector&
 void SpectralTransform::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
                               double alpha, double beta) const {
   ++applies_;
-  // Eigensolvers pass column views with arbitrary strides; the half views
-  // below need constant stride, so copy when it is not.
-  Teuchos::RCP<const MultiVector> Xc =
-      Xin.isConstantStride() ? Teuchos::rcpFromRef(Xin)
-                             : Teuchos::RCP<const MultiVector>(new MultiVector(Xin, Teuchos::Copy));
+  const Teuchos::RCP<const MultiVector> Xc = packed(Xin);
   const MultiVector& X = *Xc;
   MultiVector out(map_, X.getNumVectors());
   if (s_ < 0.0) {
@@ -194,9 +195,7 @@ StateInnerProduct::StateInnerProduct(const SparseGyroscopicSystem& sys)
 void StateInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
                               double alpha, double beta) const {
   const auto rowMap = sys_.M->getRowMap();
-  Teuchos::RCP<const MultiVector> Xc =
-      Xin.isConstantStride() ? Teuchos::rcpFromRef(Xin)
-                             : Teuchos::RCP<const MultiVector>(new MultiVector(Xin, Teuchos::Copy));
+  const Teuchos::RCP<const MultiVector> Xc = packed(Xin);
   MultiVector out(map_, Xin.getNumVectors());
   sys_.M->apply(*upperHalf(*Xc, rowMap), *upperHalf(out, rowMap));
   sys_.K->apply(*lowerHalf(*Xc, rowMap), *lowerHalf(out, rowMap));
@@ -211,60 +210,11 @@ StateInverseInnerProduct::StateInverseInnerProduct(const SparseGyroscopicSystem&
 void StateInverseInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
                                      double alpha, double beta) const {
   const auto rowMap = sys_.M->getRowMap();
-  Teuchos::RCP<const MultiVector> Xc =
-      Xin.isConstantStride() ? Teuchos::rcpFromRef(Xin)
-                             : Teuchos::RCP<const MultiVector>(new MultiVector(Xin, Teuchos::Copy));
+  const Teuchos::RCP<const MultiVector> Xc = packed(Xin);
   MultiVector out(map_, Xin.getNumVectors());
   m_->solve(*upperHalf(*Xc, rowMap), *upperHalf(out, rowMap));
   k_->solve(*lowerHalf(*Xc, rowMap), *lowerHalf(out, rowMap));
   Y.update(alpha, out, beta);
-}
-
-ShiftedStateStiffness::ShiftedStateStiffness(const SparseGyroscopicSystem& sys, double s,
-                                             Teuchos::RCP<const Operator> Iinv)
-    : sys_(sys), s_(s), map_(stateMap(*sys.M->getRowMap())), Iinv_(std::move(Iinv)) {}
-
-void ShiftedStateStiffness::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
-                                  double alpha, double beta) const {
-  // G* [v; q] = [G v + K q; -K v];  K* x = G*^T I*^-1 G* x = -G* (I*^-1 G* x).
-  const auto rowMap = sys_.M->getRowMap();
-  Teuchos::RCP<const MultiVector> Xc =
-      Xin.isConstantStride() ? Teuchos::rcpFromRef(Xin)
-                             : Teuchos::RCP<const MultiVector>(new MultiVector(Xin, Teuchos::Copy));
-  const size_t nv = Xin.getNumVectors();
-  auto gstar = [&](const MultiVector& x, MultiVector& y) {
-    const auto v = upperHalf(x, rowMap), q = lowerHalf(x, rowMap);
-    auto y1 = upperHalf(y, rowMap), y2 = lowerHalf(y, rowMap);
-    sys_.G->apply(*v, *y1);
-    sys_.K->apply(*q, *y1, Teuchos::NO_TRANS, 1.0, 1.0);
-    sys_.K->apply(*v, *y2, Teuchos::NO_TRANS, -1.0, 0.0);
-  };
-  MultiVector u(map_, nv), w(map_, nv), out(map_, nv);
-  gstar(*Xc, u);
-  Iinv_->apply(u, w);
-  gstar(w, out);
-  out.scale(-1.0);
-  if (s_ != 0.0) {
-    MultiVector Ix(map_, nv);
-    StateInnerProduct(sys_).apply(*Xc, Ix);
-    out.update(s_, Ix, 1.0);
-  }
-  Y.update(alpha, out, beta);
-}
-
-StateJacobi::StateJacobi(const SparseGyroscopicSystem& sys)
-    : map_(stateMap(*sys.M->getRowMap())), inverseDiagonal_(new MultiVector(map_, 1)) {
-  const auto rowMap = sys.M->getRowMap();
-  Tpetra::Vector<double> dm(rowMap), dk(rowMap);
-  sys.M->getLocalDiagCopy(dm);
-  sys.K->getLocalDiagCopy(dk);
-  upperHalf(*inverseDiagonal_, rowMap)->reciprocal(dm);
-  lowerHalf(*inverseDiagonal_, rowMap)->reciprocal(dk);
-}
-
-void StateJacobi::apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp, double alpha,
-                        double beta) const {
-  Y.elementWiseMultiply(alpha, *inverseDiagonal_->getVector(0), X, beta);
 }
 
 void ProductOperator::apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp, double alpha,

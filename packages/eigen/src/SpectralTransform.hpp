@@ -86,41 +86,6 @@ private:
   std::shared_ptr<SparseDirectSolver> m_, k_;
 };
 
-/// K* + s I* = G*^T I*^-1 G* + s I* (seed eq. (23), shifted): the operator
-/// whose smallest eigenvalues omega^2 + s (relative to I*) LOBPCG and Block
-/// Davidson seek, preconditioned exactly by (K* + s I*)^-1 = -R_s I*^-1.
-class ShiftedStateStiffness : public Tpetra::Operator<double> {
-public:
-  ShiftedStateStiffness(const SparseGyroscopicSystem& sys, double s,
-                        Teuchos::RCP<const Operator> inverseInnerProduct);
-  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
-  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
-  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
-             double alpha = 1.0, double beta = 0.0) const override;
-
-private:
-  SparseGyroscopicSystem sys_;
-  double s_;
-  Teuchos::RCP<const Map> map_;
-  Teuchos::RCP<const Operator> Iinv_;
-};
-
-/// diag(I*)^-1: the preconditioner that makes Block Davidson's and LOBPCG's
-/// expansion vectors (residuals of A x = theta I* x) approximate the
-/// I*-scaled ones, without which they stagnate on badly scaled M and K.
-class StateJacobi : public Tpetra::Operator<double> {
-public:
-  explicit StateJacobi(const SparseGyroscopicSystem& sys);
-  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
-  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
-  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
-             double alpha = 1.0, double beta = 0.0) const override;
-
-private:
-  Teuchos::RCP<const Map> map_;
-  Teuchos::RCP<MultiVector> inverseDiagonal_;
-};
-
 /// A * B as one operator (Block Davidson and LOBPCG need the symmetric
 /// I* (-R) rather than the I*-self-adjoint -R).
 class ProductOperator : public Tpetra::Operator<double> {
@@ -135,6 +100,10 @@ public:
 private:
   Teuchos::RCP<const Operator> A_, B_;
 };
+
+/// X itself when its columns have constant stride, else a packed copy
+/// (eigensolvers pass strided column views; the half views need packing).
+Teuchos::RCP<const MultiVector> packed(const MultiVector& X);
 
 /// Views of the v and q halves of a state multivector.
 Teuchos::RCP<MultiVector> upperHalf(MultiVector& X, const Teuchos::RCP<const Map>& rowMap);
