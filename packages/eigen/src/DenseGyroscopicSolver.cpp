@@ -216,8 +216,9 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
                              "DenseGyroscopicSolver: LAPACK dggev failed, info = " << info);
 
-  // One eigenvalue per Hamiltonian pair {lambda, -conj(lambda)}... is kept:
-  // those with Im > 0, and of the (near-)real ones the upper half by Re.
+  // One eigenvalue of each conjugate pair is kept (the modes of lambda and
+  // conj(lambda) are conjugate): those with Im > 0, and of the (near-)real
+  // ones, which pair as +/- sigma, the upper half by Re.
   struct Cand { cplx lambda; std::vector<cplx> q; };
   std::vector<Cand> upper, real;
   const double imagTol = 1e-9;  // relative to the scaled frequency 1
@@ -227,8 +228,7 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
     cplx lam(ar[j] / be[j], ai[j] / be[j]);
     std::vector<cplx> q(n);
     if (ai[j] != 0.0) {  // complex pair stored in columns j, j+1
-      const double sgn = 1.0;
-      for (int i = 0; i < n; ++i) q[i] = cplx(VR(i, j), sgn * VR(i, j + 1));
+      for (int i = 0; i < n; ++i) q[i] = cplx(VR(i, j), VR(i, j + 1));
       cplx lam2 = std::conj(lam);
       std::vector<cplx> q2(n);
       for (int i = 0; i < n; ++i) q2[i] = std::conj(q[i]);
