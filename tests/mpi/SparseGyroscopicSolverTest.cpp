@@ -133,7 +133,7 @@ TEST(SparseGyroscopic, PositiveShiftHandlesFreeBodyWithRigidModes) {
   EXPECT_GE(rigid, 1);
   for (const char* es : {"Block Krylov-Schur", "ARPACK"}) {
     const GyroscopicResult r = sparseSolve(sys, es, 5, 4.0);
-    ASSERT_EQ(r.modes.size(), 5u) << es;
+    ASSERT_EQ(r.modes.size(), 5u) << es << ": " << r.solver << " / " << r.reason;
     for (std::size_t k = 0; k < ref.size(); ++k) {
       if (ref[k].stability == Stability::RigidBody) {
         EXPECT_EQ(r.modes[k].stability, Stability::RigidBody) << es << " mode " << k;

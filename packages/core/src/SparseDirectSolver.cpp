@@ -24,6 +24,8 @@ Teuchos::RCP<const Map> rootMapOf(const Teuchos::RCP<const Map>& map) {
   return Tpetra::Details::computeGatherMap(map, Teuchos::null);
 }
 
+const double kDefinitenessTolerance = 1e-14;
+
 }  // namespace
 
 struct SparseDirectSolver::Impl {
@@ -165,6 +167,17 @@ struct SparseDirectSolver::Impl {
       if (status == 1)
         failure = "CHOLMOD: not positive definite at column " + std::to_string(factor->minor) +
                   " of " + std::to_string(n);
+      // A singular positive semi-definite matrix (a free body's K) can factor
+      // with a rounding-sized positive pivot; (min/max diag L)^2 below the
+      // dense solver's "Definiteness Tolerance" means definite only to rounding.
+      if (status == 0) {
+        const double rc = cholmod_rcond(factor, &common);
+        if (!(rc >= kDefinitenessTolerance)) {
+          status = 1;
+          failure = "CHOLMOD: positive definite only to rounding (pivot ratio estimate " +
+                    std::to_string(rc) + ")";
+        }
+      }
       if (status == 2) failure = "CHOLMOD failed, status " + std::to_string(common.status);
     }
     Teuchos::broadcast(*comm, 0, &status);

@@ -10,6 +10,8 @@
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/HashRandom.hpp"
+
 namespace cms::eigen::detail {
 
 namespace {
@@ -58,10 +60,7 @@ ArpackOutcome arpackSolve(const Operator& op, const Operator* inner, bool symmet
 
   // A deterministic start vector, the same for any rank count (seeded by global id).
   std::vector<double> resid(std::max(n, 1));
-  for (int i = 0; i < n; ++i) {
-    std::mt19937 rng(static_cast<unsigned>(map->getGlobalElement(i)) * 2654435761u + 17u);
-    resid[i] = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
-  }
+  for (int i = 0; i < n; ++i) resid[i] = hashSigned(map->getGlobalElement(i), 17u);
   const int ldv = std::max(n, 1);
   std::vector<double> v(static_cast<size_t>(ldv) * ncv), workd(3 * ldv);
   const int lworkl = symmetric ? ncv * (ncv + 8) : 3 * ncv * ncv + 6 * ncv;

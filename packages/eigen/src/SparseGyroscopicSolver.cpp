@@ -21,6 +21,7 @@
 #include "ArpackEigensolver.hpp"
 #include "SpectralTransform.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/HashRandom.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
@@ -38,11 +39,7 @@ Teuchos::RCP<MultiVector> startBlock(const Teuchos::RCP<const Map>& map, int col
   auto X = Teuchos::rcp(new MultiVector(map, cols));
   auto v = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t i = 0; i < map->getNodeNumElements(); ++i)
-    for (int j = 0; j < cols; ++j) {
-      std::mt19937 rng(static_cast<unsigned>(map->getGlobalElement(i)) * 2654435761u +
-                       977u * static_cast<unsigned>(j) + 5u);
-      v(i, j) = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
-    }
+    for (int j = 0; j < cols; ++j) v(i, j) = hashSigned(map->getGlobalElement(i), 5u + j);
   return X;
 }
 
@@ -311,10 +308,22 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     return result;
   }
 
-  // 4. Quadratic Rayleigh-Ritz on the q halves of the converged vectors.
-  const auto qHalves = detail::lowerHalf(*ritz, rowMap);
-  MultiVector qCopy(*qHalves, Teuchos::Copy);
-  const auto Q = orthonormalBasis(qCopy, 1e-12);
+  // 4. Quadratic Rayleigh-Ritz on the halves of the converged vectors.
+  // Both halves of each converged state vector: for an exact eigenvector
+  // v = lambda q adds nothing, but for a partly converged one (a double
+  // eigenvalue of R near the edge of the wanted set) it enriches the subspace.
+  const size_t nr = ritz->getNumVectors(), nloc0 = rowMap->getNodeNumElements();
+  MultiVector halves(rowMap, 2 * nr);
+  {
+    const auto src = ritz->getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto dst = halves.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t j = 0; j < nr; ++j)
+      for (size_t i = 0; i < nloc0; ++i) {
+        dst(i, j) = src(nloc0 + i, j);  // q
+        dst(i, nr + j) = src(i, j);     // v
+      }
+  }
+  const auto Q = orthonormalBasis(halves, 1e-12);
   GyroscopicSystem reduced{projectOnto(*sys.M, *Q), projectOnto(*sys.G, *Q), projectOnto(*sys.K, *Q)};
   Teuchos::ParameterList dense;
   dense.set("Rigid Body Tolerance", c.rigidTol);
@@ -325,8 +334,10 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   std::stable_sort(rm.begin(), rm.end(), [&](const GyroscopicMode& a, const GyroscopicMode& b) {
     return std::abs(a.lambda * a.lambda - c.shift) < std::abs(b.lambda * b.lambda - c.shift);
   });
-  const int k = std::min<int>(c.nModes, static_cast<int>(rm.size()));
-  rm.resize(k);
+  // Every candidate gets its full-model residual: a projection can also
+  // produce spurious Ritz values (large residual) near the target, and those
+  // must lose to genuine modes, not be selected for being close.
+  const int k = static_cast<int>(rm.size());
 
   // 5. Full modes q = Q q_r and their residuals from M, G, K.
   const int kk = std::max(k, 1);
@@ -388,22 +399,27 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     m.hz = m.omega / kTwoPi;
     m.stability = classify(l, scale, c.rigidTol, c.instabTol);
   }
+  // Accurate candidates first (in order of preference), then the first nModes.
+  std::stable_partition(rm.begin(), rm.end(),
+                        [&](const GyroscopicMode& m) { return m.residual <= c.residualTol; });
+  if (static_cast<int>(rm.size()) > c.nModes) rm.resize(c.nModes);
   std::stable_sort(rm.begin(), rm.end(), [](const GyroscopicMode& a, const GyroscopicMode& b) {
     return std::abs(a.lambda) < std::abs(b.lambda);
   });
   result.modes = std::move(rm);
+  const int kept = static_cast<int>(result.modes.size());
   const bool allAccurate = std::all_of(result.modes.begin(), result.modes.end(),
                                        [&](const GyroscopicMode& m) { return m.residual <= c.residualTol; });
-  result.status = (k == c.nModes && allAccurate) ? SolveStatus::Converged : SolveStatus::NotConverged;
+  result.status = (kept == c.nModes && allAccurate) ? SolveStatus::Converged : SolveStatus::NotConverged;
   // The reason always says why a status is not Converged.
-  if (k < c.nModes)
-    result.reason += "; only " + std::to_string(k) + " of " + std::to_string(c.nModes) +
+  if (kept < c.nModes)
+    result.reason += "; only " + std::to_string(kept) + " of " + std::to_string(c.nModes) +
                      " modes could be extracted from the converged vectors";
   if (!allAccurate) {
     int bad = 0;
     for (const auto& m : result.modes) bad += m.residual > c.residualTol;
     std::ostringstream os;
-    os << "; " << bad << " of " << k << " modes exceed the Residual Tolerance " << c.residualTol
+    os << "; " << bad << " of " << kept << " modes exceed the Residual Tolerance " << c.residualTol
        << " (worst " << result.maxResidual() << ")";
     result.reason += os.str();
   }

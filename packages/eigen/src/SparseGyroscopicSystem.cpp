@@ -9,6 +9,7 @@
 #include <Tpetra_Vector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/HashRandom.hpp"
 
 namespace cms::eigen {
 
@@ -21,10 +22,7 @@ namespace {
 MultiVector probe(const Teuchos::RCP<const Map>& map, unsigned seed) {
   MultiVector x(map, 1);
   auto v = x.getLocalViewHost(Tpetra::Access::OverwriteAll);
-  for (size_t i = 0; i < map->getNodeNumElements(); ++i) {
-    std::mt19937 rng(static_cast<unsigned>(map->getGlobalElement(i)) * 2654435761u + seed);
-    v(i, 0) = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
-  }
+  for (size_t i = 0; i < map->getNodeNumElements(); ++i) v(i, 0) = hashSigned(map->getGlobalElement(i), seed);
   return x;
 }
 }  // namespace

@@ -8,12 +8,13 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 
+#include "cms/core/HashRandom.hpp"
+
 namespace cms::fem {
 
 namespace {
 double nodeRandom(unsigned seed, long long node, int which) {
-  std::mt19937 rng(static_cast<unsigned>(node) * 2654435761u + 7919u * which + 104729u * seed);
-  return std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+  return hashUnit(static_cast<std::uint64_t>(node), 8u * seed + which);
 }
 
 using Sink = std::function<void(long long, long long, double, double, double)>;
