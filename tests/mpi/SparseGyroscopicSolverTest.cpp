@@ -243,6 +243,9 @@ TEST(SparseGyroscopicInput, RejectsMalformedSystemsAndParameters) {
   Teuchos::ParameterList q;
   q.set("Eigensolver", "Lanczos");
   EXPECT_THROW(SparseGyroscopicSolver{q}, InputError);
+  Teuchos::ParameterList t;  // shifted Q(mu) are nonsymmetric: no Cholesky-only solver
+  t.set("Linear Solver", "Tacho");
+  EXPECT_THROW(SparseGyroscopicSolver{t}, InputError);
   Teuchos::ParameterList b;
   b.set("Block Size", 1);
   EXPECT_THROW(SparseGyroscopicSolver{b}, InputError);

@@ -99,9 +99,10 @@ Teuchos::RCP<const Teuchos::ParameterList> SparseGyroscopicSolver::getValidParam
         pl.get());
     Teuchos::setStringToIntegralParameter<int>(
         "Linear Solver", "KLU2",
-        "Sparse direct solver for shifted Q(mu) = mu^2 M + mu G + K (KLU2 or Tacho); K alone is "
+        "Sparse direct solver for shifted Q(mu) = mu^2 M + mu G + K, which is nonsymmetric, so an "
+        "LU (KLU2; Tacho is Cholesky-only and is not offered); K alone is "
         "factored by CHOLMOD when it is positive definite",
-        Teuchos::tuple<std::string>("KLU2", "Tacho"), pl.get());
+        Teuchos::tuple<std::string>("KLU2"), pl.get());
     pl->set("Number of Modes", 10, "How many modes (one per +/- frequency pair) to return");
     pl->set("Shift", 0.0,
             "s in (H^2 - s)^-1: 0 targets the lowest frequencies; s > 0 the lowest too but "

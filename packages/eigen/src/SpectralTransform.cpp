@@ -91,8 +91,8 @@ Teuchos::RCP<CrsMatrix> realFormOfComplex(const CrsMatrix& A, const CrsMatrix& B
 
 SpectralTransform::SpectralTransform(const SparseGyroscopicSystem& sys, double s, double sign,
                                      const std::string& method, const std::string& kMethod)
-    : sys_(sys), s_(s), sign_(sign), method_(method), kMethod_(kMethod),
-      map_(stateMap(*sys.M->getRowMap())) {}
+    : StateOperator(*sys.M->getRowMap()), sys_(sys), s_(s), sign_(sign), method_(method),
+      kMethod_(kMethod) {}
 
 void SpectralTransform::adoptStiffnessFactor(std::shared_ptr<SparseDirectSolver> k) {
   qPlus_ = qMinus_ = std::move(k);
@@ -190,7 +190,7 @@ void SpectralTransform::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::E
 }
 
 StateInnerProduct::StateInnerProduct(const SparseGyroscopicSystem& sys)
-    : sys_(sys), map_(stateMap(*sys.M->getRowMap())) {}
+    : StateOperator(*sys.M->getRowMap()), sys_(sys) {}
 
 void StateInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
                               double alpha, double beta) const {
@@ -205,7 +205,7 @@ void StateInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::E
 StateInverseInnerProduct::StateInverseInnerProduct(const SparseGyroscopicSystem& sys,
                                                    std::shared_ptr<SparseDirectSolver> m,
                                                    std::shared_ptr<SparseDirectSolver> k)
-    : sys_(sys), map_(stateMap(*sys.M->getRowMap())), m_(std::move(m)), k_(std::move(k)) {}
+    : StateOperator(*sys.M->getRowMap()), sys_(sys), m_(std::move(m)), k_(std::move(k)) {}
 
 void StateInverseInnerProduct::apply(const MultiVector& Xin, MultiVector& Y, Teuchos::ETransp,
                                      double alpha, double beta) const {

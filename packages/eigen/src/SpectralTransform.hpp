@@ -17,13 +17,25 @@ namespace cms::eigen::detail {
 /// row g this rank owns, v rows first.
 Teuchos::RCP<const Map> stateMap(const Map& rowMap);
 
+/// An operator from the 2n state space to itself: the map every operator
+/// below shares.
+class StateOperator : public Tpetra::Operator<double> {
+public:
+  explicit StateOperator(const Map& rowMap) : map_(stateMap(rowMap)) {}
+  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
+  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
+
+protected:
+  Teuchos::RCP<const Map> map_;
+};
+
 /// R = sign * (H^2 - s)^-1 with H the Hamiltonian matrix of the first-order
 /// system; sign = -1 makes it positive definite in the I* inner product when
 /// K > 0 and s >= 0.
-class SpectralTransform : public Tpetra::Operator<double> {
+class SpectralTransform : public StateOperator {
 public:
   /// `solverMethod`: SparseDirectSolver method for Q(mu) (K alone when s = 0
-  /// may use CHOLMOD; shifted, nonsymmetric Q need KLU2 or Tacho).
+  /// may use CHOLMOD; shifted Q(mu) are nonsymmetric and need an LU: KLU2).
   SpectralTransform(const SparseGyroscopicSystem& sys, double s, double sign,
                     const std::string& solverMethod, const std::string& kSolverMethod);
 
@@ -32,8 +44,6 @@ public:
   /// When K was already factored by CHOLMOD (the definiteness test), reuse it.
   void adoptStiffnessFactor(std::shared_ptr<SparseDirectSolver> kFactor);
 
-  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
-  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
              double alpha = 1.0, double beta = 0.0) const override;
 
@@ -50,39 +60,32 @@ private:
   SparseGyroscopicSystem sys_;
   double s_, sign_;
   std::string method_, kMethod_;
-  Teuchos::RCP<const Map> map_;
   std::shared_ptr<SparseDirectSolver> qPlus_, qMinus_, qComplex_;
   mutable int applies_ = 0;
 };
 
 /// I* = diag(M, K) on [v; q]: Meirovitch's inner product (seed eq. (21)).
-class StateInnerProduct : public Tpetra::Operator<double> {
+class StateInnerProduct : public StateOperator {
 public:
   explicit StateInnerProduct(const SparseGyroscopicSystem& sys);
-  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
-  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
              double alpha = 1.0, double beta = 0.0) const override;
 
 private:
   SparseGyroscopicSystem sys_;
-  Teuchos::RCP<const Map> map_;
 };
 
 /// I*^-1 = diag(M^-1, K^-1), from factorisations of M and K.
-class StateInverseInnerProduct : public Tpetra::Operator<double> {
+class StateInverseInnerProduct : public StateOperator {
 public:
   StateInverseInnerProduct(const SparseGyroscopicSystem& sys,
                            std::shared_ptr<SparseDirectSolver> mFactor,
                            std::shared_ptr<SparseDirectSolver> kFactor);
-  Teuchos::RCP<const Map> getDomainMap() const override { return map_; }
-  Teuchos::RCP<const Map> getRangeMap() const override { return map_; }
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
              double alpha = 1.0, double beta = 0.0) const override;
 
 private:
   SparseGyroscopicSystem sys_;
-  Teuchos::RCP<const Map> map_;
   std::shared_ptr<SparseDirectSolver> m_, k_;
 };
 

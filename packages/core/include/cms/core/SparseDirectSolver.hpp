@@ -3,7 +3,9 @@
 //
 //   "KLU2"    Amesos2's LU: any nonsingular matrix (nonsymmetric shifted
 //             gyroscopic pencils, the real form of complex shifts).
-//   "Tacho"   Amesos2's multifrontal factorisation (Trilinos' own).
+//   "Tacho"   Amesos2's multifrontal factorisation (Trilinos' own); in this
+//             build a Cholesky, so symmetric positive definite matrices only
+//             (an indefinite one is reported as Outcome::Singular).
 //   "CHOLMOD" SuiteSparse's supernodal Cholesky, called directly because
 //             Amesos2 here has no CHOLMOD adapter: symmetric positive
 //             definite matrices only, and it *reports* when the matrix is not
