@@ -11,6 +11,8 @@ packages=(
   libsuitesparse-dev                                # CHOLMOD
   libarpack2-dev libparpack2-dev                    # ARPACK and its MPI version PARPACK
   libgtest-dev                                      # GoogleTest
+  gmsh libgmsh-dev                                  # meshes: the Gmsh SDK and command
+  calculix-ccx                                      # a peer FE code to compare with (benchmarks)
   liblapack-dev libblas-dev libopenblas0-pthread   # optimised BLAS/LAPACK through Debian's alternatives
 )
 

@@ -199,7 +199,21 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
 
   // 3. Iterate. Each mode is a double eigenvalue of R: ask for 2 per mode.
   const int nev = static_cast<int>(std::min<GlobalOrdinal>(2 * c.nModes, 2 * N - 1));
-  const int numBlocks = c.numBlocks > 0 ? c.numBlocks : std::max(3 * nev / c.blockSize + 1, 10);
+  // The automatic subspace never exceeds the state dimension 2N (Anasazi
+  // refuses a basis longer than the vectors); a problem too small for any
+  // Krylov subspace is reported, not attempted: the dense solver is the
+  // right tool there.
+  const int maxBlocks = static_cast<int>(std::min<GlobalOrdinal>(2 * N / c.blockSize, 1 << 20));
+  const int numBlocks =
+      c.numBlocks > 0 ? c.numBlocks : std::min(std::max(3 * nev / c.blockSize + 1, 10), maxBlocks);
+  if (c.eigensolver != "ARPACK" && numBlocks * c.blockSize < nev + c.blockSize) {
+    result.status = SolveStatus::NumericalIssue;
+    result.solver = "none";
+    result.reason += "; " + std::to_string(N) + " DOFs leave no room for a Krylov subspace of " +
+                     std::to_string(numBlocks) + " blocks of " + std::to_string(c.blockSize) + " for " +
+                     std::to_string(c.nModes) + " modes: use DenseGyroscopicSolver for a model this small";
+    return result;
+  }
   Teuchos::RCP<MultiVector> ritz;
   int converged = 0;
   std::string solverName;

@@ -1,0 +1,54 @@
+// Parallel assembly of a FiniteElementModel into distributed Tpetra matrices
+// (doc/theory.md §9-§10, doc/architecture.md "Assembly"): every rank holds the
+// mesh, computes the element matrices of its own block of elements into an
+// overlapping CSR matrix, and one Tpetra Export (ADD) sums the shared rows
+// into the owned rows. Nothing is gathered onto one rank except the
+// factorisation of the prestress solve (cms::SparseDirectSolver's design).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/fem/FiniteElementModel.hpp"
+
+namespace Teuchos { template <class T> class Comm; }
+
+namespace cms::fem {
+
+/// Which global row each (node, component) is: nodes in mesh order, their
+/// free components in the order ux uy uz rx ry rz. Identical on every rank
+/// and for every rank count.
+struct DofLayout {
+  std::vector<std::uint8_t> present;  ///< bit c: node carries component c
+  std::vector<std::uint8_t> fixed;    ///< bit c: component c is fixed (no row)
+  std::vector<long long> first;       ///< row of the node's first free component
+  long long size = 0;                 ///< number of free DOFs
+
+  int componentCount(std::int64_t node) const;  ///< free components of the node
+  /// Row of (node, c), or -1 if absent or fixed.
+  long long row(std::int64_t node, Component c) const;
+};
+
+/// The assembled matrices of one substructure, all on `map` (rows owned by
+/// contiguous blocks of nodes). Per unit spin speed (null when the model has
+/// no spin, or the term does not apply):
+///   K(Omega) = K + Omega^2 (KS1 - KT1),  G(Omega) = Omega G1,  f(Omega) = Omega^2 f1.
+struct AssembledMatrices {
+  DofLayout layout;
+  Teuchos::RCP<const Map> map;
+  Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1;
+  Teuchos::RCP<const MultiVector> f1;  ///< centrifugal load per Omega^2
+  Teuchos::RCP<const MultiVector> u1;  ///< static response K u1 = f1 (prestress)
+  double mass = 0.0;                   ///< total translational mass (sum of element masses)
+  long long elementCount = 0;
+  double assemblySeconds = 0.0, prestressSeconds = 0.0;
+};
+
+/// Collective. Throws cms::InputError for a model inconsistent with its mesh
+/// (naming the set, node or element tag) and cms::NumericalError for an
+/// inverted element or an unconstrained prestress problem.
+AssembledMatrices assemble(const FiniteElementModel& model,
+                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+
+}  // namespace cms::fem

@@ -1,0 +1,84 @@
+// The description of one meshed substructure, everything its matrices need:
+// the mesh, which physical groups are element sets (solid or frame, with
+// material and section), lumped items (point masses, springs), fixed DOFs by
+// node set, and the spin of its frame. Built in code or from a Teuchos
+// ParameterList (a scene's "Finite Element Model" sublist, doc/user-guide.md)
+// validated against validParameters(), as Anasazi and Belos solver managers do.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "cms/fem/ElementMatrix.hpp"
+#include "cms/fem/MatrixSubstructureFile.hpp"
+#include "cms/fem/Mesh.hpp"
+
+namespace cms::fem {
+
+struct ElementSet {
+  enum class Kind { Solid, Frame };
+  std::string group;     ///< physical group of the mesh
+  Kind kind = Kind::Solid;
+  std::string material;  ///< key into FiniteElementModel::materials
+  BeamSection section;   ///< Frame only
+  BeamTheory theory = BeamTheory::EulerBernoulli;
+};
+
+struct PointMassSet {
+  std::string name, nodeSet;  ///< one point mass at every node of the set
+  double mass = 0.0;
+  std::array<double, 6> inertia{};  ///< Jxx Jyy Jzz Jxy Jyz Jxz about the node
+};
+
+struct SpringSet {
+  std::string name, nodeSet;
+  std::string toNodeSet;  ///< empty: grounded; else nodes paired by coincident coordinates
+  std::array<double, 6> stiffness{};
+};
+
+struct FixedSet {
+  std::string name, nodeSet;
+  std::vector<Component> components;  ///< all six for "all" (absent ones skipped)
+  bool all = false;
+};
+
+/// The steady spin of the substructure's frame (doc/theory.md §9).
+struct SpinDefinition {
+  enum class Frame {
+    Rotating,   ///< displacements in the spinning frame: G1, KT1, f1, KS1
+    Stationary  ///< axisymmetric rotor about its own axis: polar-inertia G1 only
+  };
+  Spin spin;    ///< unit axis and origin
+  Frame frame = Frame::Rotating;
+  bool stressStiffening = true;  ///< Rotating only: assemble KS1 from the centrifugal prestress
+};
+
+struct FiniteElementModel {
+  std::string name = "substructure";
+  std::shared_ptr<const Mesh> mesh;
+  std::map<std::string, IsotropicMaterial> materials;
+  std::vector<ElementSet> elementSets;
+  std::vector<PointMassSet> pointMasses;
+  std::vector<SpringSet> springs;
+  std::vector<FixedSet> fixed;
+  std::optional<SpinDefinition> spin;  ///< none: a non-rotating substructure
+
+  /// Every key with its type, default and a one-line description.
+  static Teuchos::RCP<const Teuchos::ParameterList> validParameters();
+  /// Reads and validates `params` (unknown keys, wrong types, bad values:
+  /// cms::InputError naming the key path) and the mesh it names ("Mesh",
+  /// resolved against baseDir when relative).
+  static FiniteElementModel fromParameters(const Teuchos::ParameterList& params,
+                                           const std::string& baseDir = ".");
+  /// Checks the model against its mesh: element sets name existing groups of
+  /// supported cell types (Solid: Tet4, Tet10, Hex8; Frame: Line2), materials
+  /// exist and are valid, node sets exist. Throws cms::InputError.
+  void validate() const;
+};
+
+}  // namespace cms::fem

@@ -1,0 +1,50 @@
+// Two-node 3D frame element (12 DOFs: ux uy uz rx ry rz at each node):
+// axial, torsion and bending in two planes, Euler-Bernoulli or Timoshenko
+// (shear-deformable, interdependent interpolation: the shape functions of
+// Friedman & Kosmatka 1993, which reduce to Hermite cubics when the shear
+// parameter phi = 12 E I / (kappa G A L^2) is zero), consistent mass with
+// rotary inertia. Rotating-frame and stationary-frame spin terms and the
+// geometric stiffness of an axial force (doc/theory.md §9, §10).
+#pragma once
+
+#include "cms/fem/ElementMatrix.hpp"
+
+namespace cms::fem {
+
+struct FrameElement {
+  Vec3 x1{}, x2{};
+  IsotropicMaterial material;
+  BeamSection section;
+  BeamTheory theory = BeamTheory::EulerBernoulli;
+
+  double length() const;
+};
+
+/// Throws cms::InputError when the length is zero (relative to |x1| + |x2|)
+/// or the orientation vector is parallel to the axis.
+ElementMatrix frameStiffness(const FrameElement& e);
+ElementMatrix frameMass(const FrameElement& e);
+
+/// Axial force (tension positive) of the element displacement ue (12 values,
+/// global axes): N = EA (u2 - u1) . x_local / L.
+double frameAxialForce(const FrameElement& e, const double* ue);
+
+/// Geometric (stress) stiffness of a constant axial force N: bending
+/// ∫ N v'^T v' dx in both planes with the element's own translational shape
+/// functions, and the torsional term N (Iy + Iz) / (A L).
+ElementMatrix frameGeometricStiffness(const FrameElement& e, double axialForce);
+
+/// Rotating-frame terms per unit speed: translational (rho A) from the
+/// displacement shape functions, rotary (rho J_section) from the rotation
+/// shape functions with the rigid-body formulas of theory §9.3; f1 includes
+/// the centrifugal force rho A Omega^2 r_perp (r from spin.origin) and the
+/// rotary torque (J n) x n.
+SpinMatrices frameSpinMatrices(const FrameElement& e, const Spin& spin);
+
+/// Stationary-frame gyroscopic matrix per unit speed of a beam spinning about
+/// its own axis (Nelson & McVaugh 1976): only the polar rotary inertia,
+/// rho (Iy + Iz) [n]x^T on the rotations, no softening. Throws
+/// cms::InputError if axis is not parallel to the element (to 1e-8).
+ElementMatrix frameStationaryGyroscopic(const FrameElement& e, const Vec3& axis);
+
+}  // namespace cms::fem

@@ -1,0 +1,540 @@
+// Parallel assembly (doc/architecture.md, "Assembly"; doc/theory.md §9-§10).
+//
+// Ownership: rows belong to contiguous blocks of nodes, elements ("items":
+// frames, solids, point masses, springs) to contiguous blocks of the item
+// list, so the work per rank is balanced and the numbering is independent of
+// the rank count. Each rank assembles its items into CSR arrays over an
+// overlapping row map (its owned rows first, then the ghost rows its items
+// touch); Tpetra's exportAndFillComplete sums the ghost rows into their
+// owners. All matrices share one sparsity pattern, computed once.
+#include "cms/fem/FiniteElementAssembly.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_CrsGraph.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Export.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/core/SparseDirectSolver.hpp"
+#include "cms/fem/FrameElement.hpp"
+#include "cms/fem/LumpedElements.hpp"
+#include "cms/fem/SolidElement.hpp"
+
+namespace cms::fem {
+
+namespace {
+
+constexpr std::uint8_t kTranslations = 0x07;
+constexpr std::uint8_t kAllComponents = 0x3f;
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// One contribution to the matrices: an element of a set, or a lumped item.
+struct Item {
+  enum class Kind : std::uint8_t { Frame, Solid, PointMass, GroundSpring, Spring };
+  Kind kind;
+  int set;                 ///< index into the model's sets of that kind
+  const CellBlock* block;  ///< Frame, Solid
+  std::int64_t cell;       ///< Frame, Solid: cell index; lumped: first node
+  std::int64_t other;      ///< Spring: second node
+};
+
+SolidType solidTypeOf(CellType t) {
+  switch (t) {
+    case CellType::Tet4: return SolidType::Tet4;
+    case CellType::Tet10: return SolidType::Tet10;
+    default: return SolidType::Hex8;
+  }
+}
+
+std::string nodeName(const Mesh& mesh, std::int64_t node) {
+  return "node " + std::to_string(mesh.nodeTags[node]);
+}
+
+/// Nodes of a and b paired by coincident coordinates (a joint between two
+/// coincident node sets), or the single pair when both hold one node.
+std::vector<std::pair<std::int64_t, std::int64_t>> springPairs(const Mesh& mesh,
+                                                               const SpringSet& s) {
+  const auto a = mesh.nodeSet(s.nodeSet), b = mesh.nodeSet(s.toNodeSet);
+  std::vector<std::pair<std::int64_t, std::int64_t>> pairs;
+  if (a.size() == 1 && b.size() == 1) return {{a[0], b[0]}};
+  CMS_INPUT_CHECK(a.size() != b.size(),
+                  "spring '" << s.name << "': node sets '" << s.nodeSet << "' (" << a.size()
+                             << " nodes) and '" << s.toNodeSet << "' (" << b.size()
+                             << " nodes) must have the same size to be paired");
+  double scale = 0.0;
+  for (std::size_t i = 0; i < mesh.coordinates.size(); ++i)
+    scale = std::max(scale, std::abs(mesh.coordinates[i]));
+  const double tol = 1e-9 * std::max(scale, 1.0);
+  for (std::int64_t na : a) {
+    std::int64_t match = -1;
+    for (std::int64_t nb : b) {
+      double d = 0.0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(mesh.x(na)[c] - mesh.x(nb)[c]));
+      if (d <= tol) { match = nb; break; }
+    }
+    CMS_INPUT_CHECK(match < 0, "spring '" << s.name << "': " << nodeName(mesh, na) << " of set '"
+                                          << s.nodeSet << "' has no coincident node in set '"
+                                          << s.toNodeSet << "'");
+    pairs.emplace_back(na, match);
+  }
+  return pairs;
+}
+
+bool hasRotationalStiffness(const std::array<double, 6>& k) {
+  return k[3] != 0.0 || k[4] != 0.0 || k[5] != 0.0;
+}
+
+/// The element DOF components of one node for an item: frames and 6-DOF
+/// lumped items use all six, solids and 3-DOF lumped items the translations.
+int itemNodeDofs(const Item& it, const FiniteElementModel& model) {
+  switch (it.kind) {
+    case Item::Kind::Frame: return 6;
+    case Item::Kind::Solid: return 3;
+    case Item::Kind::PointMass: {
+      const auto& p = model.pointMasses[it.set];
+      return std::any_of(p.inertia.begin(), p.inertia.end(), [](double v) { return v != 0.0; }) ? 6 : 3;
+    }
+    default: return hasRotationalStiffness(model.springs[it.set].stiffness) ? 6 : 3;
+  }
+}
+
+/// The item's element matrices (only those the model needs) in a fixed order.
+struct ItemMatrices {
+  ElementMatrix M, K;
+  SpinMatrices spin;  ///< G1, KT1, f1 (empty when no spin)
+  ElementMatrix Ks;   ///< geometric stiffness (second pass)
+};
+
+}  // namespace
+
+int DofLayout::componentCount(std::int64_t node) const {
+  return __builtin_popcount(present[node] & ~fixed[node]);
+}
+
+long long DofLayout::row(std::int64_t node, Component c) const {
+  const int bit = static_cast<int>(c);
+  const std::uint8_t free = present[node] & ~fixed[node];
+  if (!(free & (1u << bit))) return -1;
+  return first[node] + __builtin_popcount(free & ((1u << bit) - 1u));
+}
+
+AssembledMatrices assemble(const FiniteElementModel& model,
+                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const auto t0 = std::chrono::steady_clock::now();
+  model.validate();
+  const Mesh& mesh = *model.mesh;
+  const std::int64_t numNodes = static_cast<std::int64_t>(mesh.nodeCount());
+  const int rank = comm->getRank(), nranks = comm->getSize();
+
+  // 1. Items, in set order: the same list on every rank.
+  std::vector<Item> items;
+  for (std::size_t s = 0; s < model.elementSets.size(); ++s) {
+    const auto& set = model.elementSets[s];
+    const auto kind = set.kind == ElementSet::Kind::Frame ? Item::Kind::Frame : Item::Kind::Solid;
+    for (const CellBlock& b : mesh.group(set.group).blocks)
+      for (std::size_t c = 0; c < b.size(); ++c)
+        items.push_back({kind, static_cast<int>(s), &b, static_cast<std::int64_t>(c), -1});
+  }
+  const std::size_t numElements = items.size();
+  for (std::size_t s = 0; s < model.pointMasses.size(); ++s)
+    for (std::int64_t n : mesh.nodeSet(model.pointMasses[s].nodeSet))
+      items.push_back({Item::Kind::PointMass, static_cast<int>(s), nullptr, n, -1});
+  for (std::size_t s = 0; s < model.springs.size(); ++s) {
+    const auto& sp = model.springs[s];
+    if (sp.toNodeSet.empty()) {
+      for (std::int64_t n : mesh.nodeSet(sp.nodeSet))
+        items.push_back({Item::Kind::GroundSpring, static_cast<int>(s), nullptr, n, -1});
+    } else {
+      for (auto [a, b] : springPairs(mesh, sp))
+        items.push_back({Item::Kind::Spring, static_cast<int>(s), nullptr, a, b});
+    }
+  }
+
+  auto itemNodes = [&](const Item& it, std::int64_t* out) -> int {
+    if (it.block) {
+      const int n = it.block->nodesPerCell;
+      std::copy_n(&it.block->nodes[it.cell * n], n, out);
+      return n;
+    }
+    out[0] = it.cell;
+    if (it.kind == Item::Kind::Spring) { out[1] = it.other; return 2; }
+    return 1;
+  };
+
+  // 2. Components per node (doc/architecture.md, "DOF layout").
+  AssembledMatrices out;
+  DofLayout& L = out.layout;
+  L.present.assign(numNodes, 0);
+  L.fixed.assign(numNodes, 0);
+  std::int64_t nodes[32];
+  for (const Item& it : items) {
+    if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
+    const int nn = itemNodes(it, nodes);
+    for (int a = 0; a < nn; ++a)
+      L.present[nodes[a]] |= it.kind == Item::Kind::Frame ? kAllComponents : kTranslations;
+  }
+  for (const Item& it : items) {
+    if (it.kind == Item::Kind::Frame || it.kind == Item::Kind::Solid) continue;
+    const int nn = itemNodes(it, nodes);
+    const bool rotations = itemNodeDofs(it, model) == 6;
+    const std::string& name =
+        it.kind == Item::Kind::PointMass ? model.pointMasses[it.set].name : model.springs[it.set].name;
+    for (int a = 0; a < nn; ++a) {
+      CMS_INPUT_CHECK(rotations && (L.present[nodes[a]] & kAllComponents) != kAllComponents,
+                      model.name << ": " << (it.kind == Item::Kind::PointMass ? "point mass '" : "spring '")
+                                 << name << "' acts on the rotations of " << nodeName(mesh, nodes[a])
+                                 << ", which has none (only nodes of frame elements do)");
+      L.present[nodes[a]] |= kTranslations;
+    }
+  }
+  {
+    std::vector<std::size_t> loose;
+    for (std::int64_t n = 0; n < numNodes; ++n)
+      if (!L.present[n]) loose.push_back(mesh.nodeTags[n]);
+    if (!loose.empty()) {
+      std::ostringstream os;
+      os << mesh.source << ": " << loose.size()
+         << " node(s) belong to no element set or lumped item (unconnected), e.g. node";
+      for (std::size_t i = 0; i < std::min<std::size_t>(loose.size(), 5); ++i) os << ' ' << loose[i];
+      os << "; add their physical group to an element set or remove them from the mesh";
+      throw InputError(os.str());
+    }
+  }
+  for (const FixedSet& f : model.fixed) {
+    for (std::int64_t n : mesh.nodeSet(f.nodeSet)) {
+      if (f.all) { L.fixed[n] |= L.present[n]; continue; }
+      for (Component c : f.components) {
+        const std::uint8_t bit = 1u << static_cast<int>(c);
+        CMS_INPUT_CHECK(!(L.present[n] & bit), "boundary condition '" << f.name << "' fixes "
+                                                   << componentName(c) << " at " << nodeName(mesh, n)
+                                                   << ", which has no such DOF");
+        L.fixed[n] |= bit;
+      }
+    }
+  }
+  L.first.assign(numNodes, 0);
+  long long next = 0;
+  for (std::int64_t n = 0; n < numNodes; ++n) {
+    L.first[n] = next;
+    next += L.componentCount(n);
+  }
+  L.size = next;
+  CMS_INPUT_CHECK(L.size == 0, model.name << ": every DOF is fixed; nothing to assemble");
+
+  // 3. Ownership: contiguous node blocks own their rows; contiguous item blocks.
+  const std::int64_t nodeBegin = numNodes * rank / nranks, nodeEnd = numNodes * (rank + 1) / nranks;
+  const long long rowBegin = nodeBegin < numNodes ? L.first[nodeBegin] : L.size;
+  const long long rowEnd = nodeEnd < numNodes ? L.first[nodeEnd] : L.size;
+  const std::size_t itemBegin = items.size() * rank / nranks, itemEnd = items.size() * (rank + 1) / nranks;
+  using GO = GlobalOrdinal;
+  using LO = LocalOrdinal;
+  auto ownedMap = Teuchos::rcp(new Map(static_cast<GO>(L.size), static_cast<std::size_t>(rowEnd - rowBegin),
+                                       0, comm));
+
+  // 4. Each item's global rows (-1 for fixed), then the overlap map.
+  std::vector<std::int64_t> itemDofStart(itemEnd - itemBegin + 1, 0);
+  std::vector<long long> itemDofs;
+  for (std::size_t i = itemBegin; i < itemEnd; ++i) {
+    const Item& it = items[i];
+    const int nn = itemNodes(it, nodes), nd = itemNodeDofs(it, model);
+    for (int a = 0; a < nn; ++a)
+      for (int c = 0; c < nd; ++c) itemDofs.push_back(L.row(nodes[a], static_cast<Component>(c)));
+    itemDofStart[i - itemBegin + 1] = static_cast<std::int64_t>(itemDofs.size());
+  }
+  std::vector<long long> ghosts;
+  for (long long g : itemDofs)
+    if (g >= 0 && (g < rowBegin || g >= rowEnd)) ghosts.push_back(g);
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  const LO numOwned = static_cast<LO>(rowEnd - rowBegin);
+  const LO numOverlap = numOwned + static_cast<LO>(ghosts.size());
+  std::vector<GO> overlapGids(numOverlap);
+  std::iota(overlapGids.begin(), overlapGids.begin() + numOwned, static_cast<GO>(rowBegin));
+  std::copy(ghosts.begin(), ghosts.end(), overlapGids.begin() + numOwned);
+  auto overlapMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                         Teuchos::ArrayView<const GO>(overlapGids), 0, comm));
+  auto lidOf = [&](long long g) -> LO {
+    if (g < 0) return -1;
+    if (g >= rowBegin && g < rowEnd) return static_cast<LO>(g - rowBegin);
+    return numOwned + static_cast<LO>(std::lower_bound(ghosts.begin(), ghosts.end(), g) - ghosts.begin());
+  };
+  std::vector<LO> itemLids(itemDofs.size());
+  std::transform(itemDofs.begin(), itemDofs.end(), itemLids.begin(), lidOf);
+
+  // 5. The shared CSR pattern over the overlap rows (columns: overlap lids).
+  Teuchos::ArrayRCP<std::size_t> rowPtr(numOverlap + 1, 0);
+  for (std::size_t i = 0; i + 1 < itemDofStart.size(); ++i) {
+    const auto b = itemDofStart[i], e = itemDofStart[i + 1];
+    for (auto p = b; p < e; ++p)
+      if (itemLids[p] >= 0) rowPtr[itemLids[p] + 1] += static_cast<std::size_t>(e - b);
+  }
+  for (LO r = 0; r < numOverlap; ++r) rowPtr[r + 1] += rowPtr[r];
+  std::vector<LO> cols(rowPtr[numOverlap]);
+  {
+    std::vector<std::size_t> fill(rowPtr.begin(), rowPtr.end() - 1);
+    for (std::size_t i = 0; i + 1 < itemDofStart.size(); ++i) {
+      const auto b = itemDofStart[i], e = itemDofStart[i + 1];
+      for (auto p = b; p < e; ++p) {
+        if (itemLids[p] < 0) continue;
+        for (auto q = b; q < e; ++q)
+          if (itemLids[q] >= 0) cols[fill[itemLids[p]]++] = itemLids[q];
+      }
+    }
+  }
+  // Sort and deduplicate each row in place, compacting the arrays.
+  std::size_t write = 0;
+  for (LO r = 0; r < numOverlap; ++r) {
+    const std::size_t b = rowPtr[r], e = rowPtr[r + 1];
+    std::sort(cols.begin() + b, cols.begin() + e);
+    const std::size_t start = write;
+    for (std::size_t p = b; p < e; ++p)
+      if (p == b || cols[p] != cols[p - 1]) cols[write++] = cols[p];
+    rowPtr[r] = start;
+  }
+  rowPtr[numOverlap] = write;
+  cols.resize(write);
+  cols.shrink_to_fit();
+
+  // Positions of an item's entries in the CSR values: found once per item
+  // (a binary search per entry) and reused by every matrix of that item.
+  std::vector<std::int64_t> positions;
+  auto locate = [&](std::size_t local) {
+    const auto b = itemDofStart[local], e = itemDofStart[local + 1];
+    const int n = static_cast<int>(e - b);
+    positions.assign(static_cast<std::size_t>(n) * n, -1);
+    for (int i = 0; i < n; ++i) {
+      const LO r = itemLids[b + i];
+      if (r < 0) continue;
+      const LO* rb = cols.data() + rowPtr[r];
+      const LO* re = cols.data() + rowPtr[r + 1];
+      for (int j = 0; j < n; ++j) {
+        const LO c = itemLids[b + j];
+        if (c >= 0) positions[static_cast<std::size_t>(i) * n + j] = std::lower_bound(rb, re, c) - cols.data();
+      }
+    }
+  };
+  using Values = CrsMatrix::local_matrix_device_type::values_type;  // host memory (Serial node)
+  auto scatter = [&](const ElementMatrix& A, Values& values) {
+    const std::size_t nn = positions.size();
+    for (std::size_t k = 0; k < nn; ++k)
+      if (positions[k] >= 0) values(positions[k]) += A.a[k];
+  };
+  auto scatterVector = [&](std::size_t local, const std::vector<double>& f, std::vector<double>& v) {
+    const auto b = itemDofStart[local], e = itemDofStart[local + 1];
+    for (auto p = b; p < e; ++p)
+      if (itemLids[p] >= 0) v[itemLids[p]] += f[p - b];
+  };
+
+  // 6. Element matrices. Errors are collected and reduced so every rank
+  // throws together (a rank's own elements may be the only bad ones).
+  const bool spinning = model.spin.has_value();
+  const bool rotatingFrame = spinning && model.spin->frame == SpinDefinition::Frame::Rotating;
+  const Spin spin = spinning ? model.spin->spin : Spin{};
+  const std::size_t nnz = cols.size();
+  Values vM("M", nnz), vK("K", nnz), vG, vKT;
+  std::vector<double> vf;
+  if (spinning) vG = Values("G1", nnz);
+  if (rotatingFrame) { vKT = Values("KT1", nnz); vf.assign(numOverlap, 0.0); }
+  double localMass = 0.0;
+
+  auto frameOf = [&](const Item& it) {
+    const auto& set = model.elementSets[it.set];
+    FrameElement fe;
+    const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
+    std::copy_n(mesh.x(cn[0]), 3, fe.x1.begin());
+    std::copy_n(mesh.x(cn[1]), 3, fe.x2.begin());
+    fe.material = model.materials.at(set.material);
+    fe.section = set.section;
+    fe.theory = set.theory;
+    return fe;
+  };
+  std::vector<double> xyz(3 * 27);
+  auto solidOf = [&](const Item& it) {
+    const auto& set = model.elementSets[it.set];
+    const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
+    for (int a = 0; a < it.block->nodesPerCell; ++a) std::copy_n(mesh.x(cn[a]), 3, &xyz[3 * a]);
+    return SolidElement{solidTypeOf(it.block->type), xyz.data(), model.materials.at(set.material)};
+  };
+  auto pointMassOf = [&](const Item& it) {
+    PointMass p;
+    p.m = model.pointMasses[it.set].mass;
+    p.inertia = model.pointMasses[it.set].inertia;
+    std::copy_n(mesh.x(it.cell), 3, p.x.begin());
+    return p;
+  };
+
+  std::string failure;
+  bool failureIsInput = false;  // an element's data is bad, not the numerics
+  for (std::size_t i = itemBegin; i < itemEnd && failure.empty(); ++i) {
+    const Item& it = items[i];
+    const std::size_t local = i - itemBegin;
+    const int nd = itemNodeDofs(it, model);
+    try {
+      ItemMatrices m;
+      switch (it.kind) {
+        case Item::Kind::Frame: {
+          const FrameElement fe = frameOf(it);
+          m.K = frameStiffness(fe);
+          m.M = frameMass(fe);
+          localMass += fe.material.rho * fe.section.A * fe.length();
+          if (rotatingFrame) m.spin = frameSpinMatrices(fe, spin);
+          else if (spinning) m.spin.G1 = frameStationaryGyroscopic(fe, spin.axis);
+          break;
+        }
+        case Item::Kind::Solid: {
+          const SolidElement se = solidOf(it);
+          m.K = solidStiffness(se);
+          m.M = solidMass(se);
+          localMass += se.material.rho * solidVolume(se);
+          if (rotatingFrame) m.spin = solidSpinMatrices(se, spin);
+          break;
+        }
+        case Item::Kind::PointMass: {
+          const PointMass p = pointMassOf(it);
+          m.M = pointMassMatrix(p, nd);
+          m.K = ElementMatrix(nd);
+          localMass += p.m;
+          if (rotatingFrame) m.spin = pointMassSpinMatrices(p, spin, nd);
+          else if (spinning && nd == 6) m.spin.G1 = pointMassStationaryGyroscopic(p, spin.axis);
+          break;
+        }
+        case Item::Kind::GroundSpring:
+          m.K = groundedSpringMatrix(model.springs[it.set].stiffness, nd);
+          break;
+        case Item::Kind::Spring:
+          m.K = twoNodeSpringMatrix(model.springs[it.set].stiffness, nd);
+          break;
+      }
+      locate(local);
+      scatter(m.K, vK);
+      if (m.M.n) scatter(m.M, vM);
+      if (m.spin.G1.n) scatter(m.spin.G1, vG);
+      if (rotatingFrame && m.spin.KT1.n) scatter(m.spin.KT1, vKT);
+      if (rotatingFrame && !m.spin.f1.empty()) scatterVector(local, m.spin.f1, vf);
+    } catch (const std::exception& e) {
+      std::ostringstream os;
+      os << model.name << ": ";
+      if (it.block) os << "element " << it.block->cellTags[it.cell] << " of set '"
+                       << model.elementSets[it.set].group << "'";
+      else os << nodeName(mesh, it.cell);
+      os << ": " << e.what();
+      failure = os.str();
+      failureIsInput = dynamic_cast<const InputError*>(&e) != nullptr;
+    }
+  }
+  auto throwIfAnyFailed = [&](const std::string& what) {
+    int bad = what.empty() ? 0 : (failureIsInput ? 2 : 1), anyBad = 0;
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, bad, Teuchos::outArg(anyBad));
+    if (!anyBad) return;
+    // The message of the lowest failing rank, on every rank.
+    int src = bad ? rank : nranks, lowest = 0;
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, src, Teuchos::outArg(lowest));
+    int len = static_cast<int>(what.size());
+    Teuchos::broadcast(*comm, lowest, Teuchos::outArg(len));
+    std::string msg = what;
+    msg.resize(len);
+    Teuchos::broadcast(*comm, lowest, len, msg.data());
+    if (anyBad == 2) throw InputError(msg);
+    throw NumericalError(msg);
+  };
+  throwIfAnyFailed(failure);
+
+  // 7. Overlapping rows -> owned rows: each matrix is the shared overlap
+  // pattern with its own values, exported with Tpetra's
+  // exportAndFillComplete (sums the shared rows, builds optimised storage).
+  Tpetra::Export<> exporter(overlapMap, ownedMap);
+  using Graph = Tpetra::CrsGraph<>;
+  Teuchos::RCP<const Graph> overlapGraph;
+  {
+    Teuchos::ArrayRCP<LO> colsRcp(cols.size());
+    std::copy(cols.begin(), cols.end(), colsRcp.begin());
+    auto g = Teuchos::rcp(new Graph(overlapMap, overlapMap, rowPtr, colsRcp));
+    g->expertStaticFillComplete(ownedMap, ownedMap);
+    overlapGraph = g;
+  }
+  auto finish = [&](Values& values) -> Teuchos::RCP<const CrsMatrix> {
+    auto overlap = Teuchos::rcp(new CrsMatrix(overlapGraph, values));
+    values = Values();  // the matrix holds the only reference now
+    if (!overlap->isFillComplete()) overlap->fillComplete(ownedMap, ownedMap);
+    return Tpetra::exportAndFillCompleteCrsMatrix<CrsMatrix>(Teuchos::rcp_const_cast<const CrsMatrix>(overlap),
+                                                             exporter, ownedMap, ownedMap);
+  };
+  out.map = ownedMap;
+  out.M = finish(vM);
+  out.K = finish(vK);
+  if (spinning) out.G1 = finish(vG);
+  if (rotatingFrame) {
+    out.KT1 = finish(vKT);
+    MultiVector fOverlap(overlapMap, 1);
+    {
+      auto view = fOverlap.getDataNonConst(0);
+      std::copy(vf.begin(), vf.end(), view.begin());
+    }
+    auto f1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
+    f1->doExport(fOverlap, exporter, Tpetra::ADD);
+    out.f1 = f1;
+  }
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, localMass, Teuchos::outArg(out.mass));
+  out.elementCount = static_cast<long long>(numElements);
+  out.assemblySeconds = secondsSince(t0);
+
+  // 8. Centrifugal prestress (theory §10): K u1 = f1 per unit Omega^2, then
+  // the geometric stiffness of the element stresses of u1.
+  if (rotatingFrame && model.spin->stressStiffening) {
+    const auto t1 = std::chrono::steady_clock::now();
+    SparseDirectSolver solver(out.K, "CHOLMOD");
+    const auto outcome = solver.factor();
+    if (outcome != SparseDirectSolver::Outcome::Factored)
+      throw NumericalError(model.name + ": the centrifugal prestress needs a stiffness matrix that is "
+                           "positive definite (a substructure restrained against rigid-body motion); "
+                           "CHOLMOD: " + solver.failure() +
+                           ". Add boundary conditions or set \"Stress Stiffening\" to false");
+    auto u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
+    solver.solve(*out.f1, *u1);
+    out.u1 = u1;
+    MultiVector uOverlap(overlapMap, 1);
+    uOverlap.doImport(*u1, Tpetra::Import<>(ownedMap, overlapMap), Tpetra::INSERT);
+    auto u = uOverlap.getData(0);
+    Values vKS("KS1", nnz);
+    std::vector<double> ue(6 * 27);
+    for (std::size_t i = itemBegin; i < itemEnd && failure.empty(); ++i) {
+      const Item& it = items[i];
+      if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
+      const std::size_t local = i - itemBegin;
+      const auto b = itemDofStart[local], e = itemDofStart[local + 1];
+      for (auto p = b; p < e; ++p) ue[p - b] = itemLids[p] >= 0 ? u[itemLids[p]] : 0.0;
+      try {
+        if (it.kind == Item::Kind::Frame) {
+          const FrameElement fe = frameOf(it);
+          locate(local);
+          scatter(frameGeometricStiffness(fe, frameAxialForce(fe, ue.data())), vKS);
+        } else {
+          locate(local);
+          scatter(solidGeometricStiffness(solidOf(it), ue.data()), vKS);
+        }
+      } catch (const std::exception& ex) {
+        failureIsInput = dynamic_cast<const InputError*>(&ex) != nullptr;
+        failure = model.name + ": element " + std::to_string(it.block->cellTags[it.cell]) + ": " + ex.what();
+      }
+    }
+    throwIfAnyFailed(failure);
+    out.KS1 = finish(vKS);
+    out.prestressSeconds = secondsSince(t1);
+  }
+  return out;
+}
+
+}  // namespace cms::fem

@@ -1,0 +1,371 @@
+// Reading and checking a FiniteElementModel (doc/user-guide.md, "Finite
+// element substructures"). The parameter list is checked key by key against
+// validParameters() before anything is computed, so a misspelt key or a value
+// of the wrong type is reported with its full path. Numbers may be given as
+// integers or reals (YAML writes 7850, not 7850.0).
+#include "cms/fem/FiniteElementModel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include <Teuchos_Array.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/fem/LumpedElements.hpp"
+
+namespace cms::fem {
+
+namespace {
+
+using Teuchos::ParameterList;
+
+/// The names of a valid list's entries, for messages.
+std::string namesOf(const ParameterList& valid) {
+  std::ostringstream os;
+  bool first = true;
+  for (auto it = valid.begin(); it != valid.end(); ++it) {
+    os << (first ? "" : ", ") << '"' << valid.name(it) << '"';
+    first = false;
+  }
+  return os.str();
+}
+
+/// Every key of `p` must be a key of `valid`, with a sublist exactly where
+/// valid has one.
+void checkKeys(const ParameterList& p, const ParameterList& valid, const std::string& path) {
+  for (auto it = p.begin(); it != p.end(); ++it) {
+    const std::string& key = p.name(it);
+    CMS_INPUT_CHECK(!valid.isParameter(key), path << ": unknown key \"" << key << "\"; valid keys are "
+                                                  << namesOf(valid));
+    CMS_INPUT_CHECK(p.isSublist(key) != valid.isSublist(key),
+                    path << "/" << key << ": " << (valid.isSublist(key) ? "must be a list of entries"
+                                                                       : "must be a value, not a list"));
+  }
+}
+
+double getNumber(const ParameterList& p, const std::string& key, const std::string& path,
+                 std::optional<double> fallback = std::nullopt) {
+  if (!p.isParameter(key)) {
+    CMS_INPUT_CHECK(!fallback, path << ": missing required key \"" << key << "\"");
+    return *fallback;
+  }
+  double v = 0.0;
+  if (p.isType<double>(key)) v = p.get<double>(key);
+  else if (p.isType<int>(key)) v = p.get<int>(key);
+  else if (p.isType<long long>(key)) v = static_cast<double>(p.get<long long>(key));
+  else CMS_INPUT_CHECK(true, path << "/" << key << ": must be a number");
+  CMS_INPUT_CHECK(!std::isfinite(v), path << "/" << key << " = " << v << " must be finite");
+  return v;
+}
+
+std::string getString(const ParameterList& p, const std::string& key, const std::string& path,
+                      std::optional<std::string> fallback = std::nullopt) {
+  if (!p.isParameter(key)) {
+    CMS_INPUT_CHECK(!fallback, path << ": missing required key \"" << key << "\"");
+    return *fallback;
+  }
+  CMS_INPUT_CHECK(!p.isType<std::string>(key), path << "/" << key << ": must be a string");
+  return p.get<std::string>(key);
+}
+
+bool getBool(const ParameterList& p, const std::string& key, const std::string& path, bool fallback) {
+  if (!p.isParameter(key)) return fallback;
+  CMS_INPUT_CHECK(!p.isType<bool>(key), path << "/" << key << ": must be true or false");
+  return p.get<bool>(key);
+}
+
+std::vector<double> getNumbers(const ParameterList& p, const std::string& key, const std::string& path,
+                               std::size_t size, std::optional<std::vector<double>> fallback) {
+  if (!p.isParameter(key)) {
+    CMS_INPUT_CHECK(!fallback, path << ": missing required key \"" << key << "\"");
+    return *fallback;
+  }
+  std::vector<double> v;
+  if (p.isType<Teuchos::Array<double>>(key)) {
+    const auto& a = p.get<Teuchos::Array<double>>(key);
+    v.assign(a.begin(), a.end());
+  } else if (p.isType<Teuchos::Array<int>>(key)) {
+    const auto& a = p.get<Teuchos::Array<int>>(key);
+    v.assign(a.begin(), a.end());
+  } else {
+    CMS_INPUT_CHECK(true, path << "/" << key << ": must be a list of " << size << " numbers, e.g. [0, 0, 1]");
+  }
+  CMS_INPUT_CHECK(v.size() != size, path << "/" << key << ": has " << v.size() << " numbers, needs " << size);
+  for (double x : v) CMS_INPUT_CHECK(!std::isfinite(x), path << "/" << key << ": entry " << x << " must be finite");
+  return v;
+}
+
+Vec3 toVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+ParameterList materialParameters() {
+  ParameterList p("Material");
+  p.set("Young's Modulus", 0.0, "E (Pa), > 0");
+  p.set("Poisson's Ratio", 0.0, "nu, in (-1, 0.5)");
+  p.set("Density", 0.0, "rho (kg/m^3), > 0");
+  return p;
+}
+
+ParameterList elementSetParameters() {
+  ParameterList p("Element Set");
+  p.set("Type", "Solid", "Solid (Tet4, Tet10, Hex8 cells) or Frame (2-node line cells)");
+  p.set("Material", "", "a name under Materials");
+  p.set("Theory", "Euler-Bernoulli", "Frame: Euler-Bernoulli or Timoshenko");
+  p.set("Area", 0.0, "Frame: cross-section area A (m^2)");
+  p.set("Iy", 0.0, "Frame: second moment about local y, int z^2 dA (m^4)");
+  p.set("Iz", 0.0, "Frame: second moment about local z, int y^2 dA (m^4)");
+  p.set("Torsion Constant", 0.0, "Frame: J (m^4)");
+  p.set("Shear Factor Y", 5.0 / 6.0, "Frame, Timoshenko: kappa for shear along local y");
+  p.set("Shear Factor Z", 5.0 / 6.0, "Frame, Timoshenko: kappa for shear along local z");
+  p.set("Orientation", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 1.0)), "Frame: a vector in the local x-y plane");
+  p.set("Rotary Inertia", true, "Frame: include the section's rotary inertia");
+  return p;
+}
+
+ParameterList pointMassParameters() {
+  ParameterList p("Point Mass");
+  p.set("Node Set", "", "physical group whose nodes each carry this mass");
+  p.set("Mass", 0.0, "m (kg)");
+  p.set("Inertia", Teuchos::Array<double>(6, 0.0), "Jxx Jyy Jzz Jxy Jyz Jxz about the node (kg m^2)");
+  return p;
+}
+
+ParameterList springParameters() {
+  ParameterList p("Spring");
+  p.set("Node Set", "", "physical group: one spring at each node");
+  p.set("To Node Set", "", "empty: grounded; else the other ends (coincident nodes)");
+  p.set("Stiffness", Teuchos::Array<double>(6, 0.0), "kx ky kz krx kry krz (N/m, N m/rad)");
+  return p;
+}
+
+ParameterList fixedParameters() {
+  ParameterList p("Boundary Condition");
+  p.set("Node Set", "", "physical group whose nodes are fixed");
+  p.set("Fixed", "all", "\"all\" or components among ux uy uz rx ry rz, space-separated");
+  return p;
+}
+
+ParameterList spinParameters() {
+  ParameterList p("Spin");
+  p.set("Axis", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 1.0)), "spin axis (normalised)");
+  p.set("Origin", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 0.0)), "a point on the spin axis (m)");
+  p.set("Frame", "Rotating", "Rotating (displacements in the spinning frame) or Stationary "
+                             "(axisymmetric rotor about its own axis, Nelson-McVaugh)");
+  p.set("Stress Stiffening", true, "Rotating: assemble the centrifugal geometric stiffness");
+  return p;
+}
+
+/// Entries of a "name -> list of fixed keys" sublist, each checked.
+template <class Fn>
+void forEachEntry(const ParameterList& p, const std::string& key, const std::string& path,
+                  const ParameterList& valid, Fn fn) {
+  if (!p.isSublist(key)) return;
+  const ParameterList& list = p.sublist(key);
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string& name = list.name(it);
+    const std::string sub = path + "/" + key + "/" + name;
+    CMS_INPUT_CHECK(!list.isSublist(name), sub << ": must be a list of keys (" << namesOf(valid) << ")");
+    checkKeys(list.sublist(name), valid, sub);
+    fn(name, list.sublist(name), sub);
+  }
+}
+
+}  // namespace
+
+Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
+  auto p = Teuchos::rcp(new ParameterList("Finite Element Model"));
+  p->set("Name", "substructure", "used in messages and output");
+  p->set("Mesh", "", "Gmsh .msh (2.2 or 4.1, ASCII or binary) or .geo; relative to the scene");
+  p->sublist("Materials", false, "name -> material").sublist("<name>") = materialParameters();
+  p->sublist("Element Sets", false, "physical group -> element set").sublist("<group>") = elementSetParameters();
+  p->sublist("Point Masses", false, "name -> point mass").sublist("<name>") = pointMassParameters();
+  p->sublist("Springs", false, "name -> spring").sublist("<name>") = springParameters();
+  p->sublist("Boundary Conditions", false, "name -> fixed node set").sublist("<name>") = fixedParameters();
+  p->sublist("Spin", false, "the frame's steady spin (omit for none)") = spinParameters();
+  return p;
+}
+
+FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir) {
+  // Teuchos names sublists "Parent->Child"; messages use "Parent/Child".
+  std::string path = params.name();
+  if (path.empty() || path == "ANONYMOUS") path = "Finite Element Model";
+  for (std::size_t at; (at = path.find("->")) != std::string::npos;) path.replace(at, 2, "/");
+  ParameterList top = *validParameters();
+  checkKeys(params, top, path);
+
+  FiniteElementModel m;
+  m.name = getString(params, "Name", path, std::string("substructure"));
+  forEachEntry(params, "Materials", path, materialParameters(), [&](const std::string& name, const ParameterList& p,
+                                                                    const std::string& sub) {
+    IsotropicMaterial mat;
+    mat.E = getNumber(p, "Young's Modulus", sub);
+    mat.nu = getNumber(p, "Poisson's Ratio", sub);
+    mat.rho = getNumber(p, "Density", sub);
+    mat.validate(sub.c_str());
+    m.materials[name] = mat;
+  });
+  forEachEntry(params, "Element Sets", path, elementSetParameters(), [&](const std::string& name,
+                                                                         const ParameterList& p,
+                                                                         const std::string& sub) {
+    ElementSet s;
+    s.group = name;
+    const std::string type = getString(p, "Type", sub);
+    CMS_INPUT_CHECK(type != "Solid" && type != "Frame",
+                    sub << "/Type = \"" << type << "\" must be \"Solid\" or \"Frame\"");
+    s.kind = type == "Frame" ? ElementSet::Kind::Frame : ElementSet::Kind::Solid;
+    s.material = getString(p, "Material", sub);
+    if (s.kind == ElementSet::Kind::Frame) {
+      const std::string theory = getString(p, "Theory", sub, std::string("Euler-Bernoulli"));
+      CMS_INPUT_CHECK(theory != "Euler-Bernoulli" && theory != "Timoshenko",
+                      sub << "/Theory = \"" << theory << "\" must be \"Euler-Bernoulli\" or \"Timoshenko\"");
+      s.theory = theory == "Timoshenko" ? BeamTheory::Timoshenko : BeamTheory::EulerBernoulli;
+      s.section.A = getNumber(p, "Area", sub);
+      s.section.Iy = getNumber(p, "Iy", sub);
+      s.section.Iz = getNumber(p, "Iz", sub);
+      s.section.J = getNumber(p, "Torsion Constant", sub);
+      s.section.shearFactorY = getNumber(p, "Shear Factor Y", sub, 5.0 / 6.0);
+      s.section.shearFactorZ = getNumber(p, "Shear Factor Z", sub, 5.0 / 6.0);
+      s.section.orientation = toVec3(getNumbers(p, "Orientation", sub, 3, std::vector<double>{0, 0, 1}));
+      s.section.rotaryInertia = getBool(p, "Rotary Inertia", sub, true);
+      s.section.validate(sub.c_str());
+    } else {
+      for (const char* k : {"Theory", "Area", "Iy", "Iz", "Torsion Constant", "Shear Factor Y", "Shear Factor Z",
+                            "Orientation", "Rotary Inertia"})
+        CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Frame element sets only");
+    }
+    m.elementSets.push_back(s);
+  });
+  forEachEntry(params, "Point Masses", path, pointMassParameters(), [&](const std::string& name,
+                                                                        const ParameterList& p,
+                                                                        const std::string& sub) {
+    PointMassSet s;
+    s.name = name;
+    s.nodeSet = getString(p, "Node Set", sub);
+    s.mass = getNumber(p, "Mass", sub);
+    const auto J = getNumbers(p, "Inertia", sub, 6, std::vector<double>(6, 0.0));
+    std::copy(J.begin(), J.end(), s.inertia.begin());
+    PointMass check;
+    check.m = s.mass;
+    check.inertia = s.inertia;
+    check.validate(sub.c_str());
+    m.pointMasses.push_back(s);
+  });
+  forEachEntry(params, "Springs", path, springParameters(), [&](const std::string& name, const ParameterList& p,
+                                                                const std::string& sub) {
+    SpringSet s;
+    s.name = name;
+    s.nodeSet = getString(p, "Node Set", sub);
+    s.toNodeSet = getString(p, "To Node Set", sub, std::string());
+    const auto k = getNumbers(p, "Stiffness", sub, 6, std::nullopt);
+    for (std::size_t i = 0; i < 6; ++i) {
+      CMS_INPUT_CHECK(k[i] < 0.0, sub << "/Stiffness: entry " << i + 1 << " = " << k[i] << " must be >= 0");
+      s.stiffness[i] = k[i];
+    }
+    m.springs.push_back(s);
+  });
+  forEachEntry(params, "Boundary Conditions", path, fixedParameters(), [&](const std::string& name,
+                                                                           const ParameterList& p,
+                                                                           const std::string& sub) {
+    FixedSet f;
+    f.name = name;
+    f.nodeSet = getString(p, "Node Set", sub);
+    std::istringstream is(getString(p, "Fixed", sub, std::string("all")));
+    std::string word;
+    while (is >> word) {
+      if (word == "all") { f.all = true; continue; }
+      bool known = false;
+      for (int c = 0; c < 6; ++c)
+        if (word == componentName(static_cast<Component>(c))) {
+          f.components.push_back(static_cast<Component>(c));
+          known = true;
+        }
+      CMS_INPUT_CHECK(!known, sub << "/Fixed: unknown component \"" << word
+                                  << "\"; use \"all\" or ux uy uz rx ry rz");
+    }
+    CMS_INPUT_CHECK(!f.all && f.components.empty(), sub << "/Fixed: names no component");
+    m.fixed.push_back(f);
+  });
+  if (params.isSublist("Spin")) {
+    const ParameterList& p = params.sublist("Spin");
+    const std::string sub = path + "/Spin";
+    checkKeys(p, spinParameters(), sub);
+    SpinDefinition s;
+    auto axis = getNumbers(p, "Axis", sub, 3, std::nullopt);
+    const double norm = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    CMS_INPUT_CHECK(norm == 0.0, sub << "/Axis: must be a nonzero vector");
+    s.spin.axis = {axis[0] / norm, axis[1] / norm, axis[2] / norm};
+    s.spin.origin = toVec3(getNumbers(p, "Origin", sub, 3, std::vector<double>{0, 0, 0}));
+    const std::string frame = getString(p, "Frame", sub, std::string("Rotating"));
+    CMS_INPUT_CHECK(frame != "Rotating" && frame != "Stationary",
+                    sub << "/Frame = \"" << frame << "\" must be \"Rotating\" or \"Stationary\"");
+    s.frame = frame == "Rotating" ? SpinDefinition::Frame::Rotating : SpinDefinition::Frame::Stationary;
+    s.stressStiffening = getBool(p, "Stress Stiffening", sub, true);
+    CMS_INPUT_CHECK(s.frame == SpinDefinition::Frame::Stationary && p.isParameter("Stress Stiffening") &&
+                        s.stressStiffening,
+                    sub << "/Stress Stiffening: applies to the Rotating frame only");
+    if (s.frame == SpinDefinition::Frame::Stationary) s.stressStiffening = false;
+    m.spin = s;
+  }
+
+  std::filesystem::path mesh = getString(params, "Mesh", path);
+  CMS_INPUT_CHECK(mesh.empty(), path << "/Mesh: must name a mesh file");
+  if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
+  m.mesh = std::make_shared<Mesh>(readGmsh(mesh.string()));
+  m.validate();
+  return m;
+}
+
+void FiniteElementModel::validate() const {
+  CMS_INPUT_CHECK(!mesh, name << ": no mesh");
+  CMS_INPUT_CHECK(elementSets.empty(), name << ": no element sets; name at least one physical group of "
+                                            << mesh->source << " under \"Element Sets\"");
+  std::set<std::string> seen;
+  for (const ElementSet& s : elementSets) {
+    const std::string what = name + ": element set '" + s.group + "'";
+    CMS_INPUT_CHECK(!seen.insert(s.group).second, what << " is listed twice");
+    const PhysicalGroup& g = mesh->group(s.group);
+    auto mat = materials.find(s.material);
+    CMS_INPUT_CHECK(mat == materials.end(), what << ": unknown material '" << s.material << "'");
+    mat->second.validate(("material '" + s.material + "'").c_str());
+    if (s.kind == ElementSet::Kind::Frame) s.section.validate(what.c_str());
+    for (const CellBlock& b : g.blocks) {
+      const bool ok = s.kind == ElementSet::Kind::Frame
+                          ? b.type == CellType::Line2
+                          : (b.type == CellType::Tet4 || b.type == CellType::Tet10 || b.type == CellType::Hex8);
+      CMS_INPUT_CHECK(!ok, what << " (" << mesh->source << ", physical group of dimension " << g.dim
+                                << "): cells of type " << cellTypeName(b.type) << " (Gmsh type " << b.gmshType
+                                << ", e.g. element " << (b.cellTags.empty() ? 0 : b.cellTags[0])
+                                << ") are not supported by "
+                                << (s.kind == ElementSet::Kind::Frame ? "Frame sets (2-node lines only)"
+                                                                      : "Solid sets (Tet4, Tet10, Hex8)"));
+    }
+  }
+  for (const PointMassSet& p : pointMasses) mesh->group(p.nodeSet);
+  for (const SpringSet& s : springs) {
+    mesh->group(s.nodeSet);
+    if (!s.toNodeSet.empty()) mesh->group(s.toNodeSet);
+  }
+  for (const FixedSet& f : fixed) mesh->group(f.nodeSet);
+  if (spin) {
+    const Vec3& a = spin->spin.axis;
+    CMS_INPUT_CHECK(std::abs(a[0] * a[0] + a[1] * a[1] + a[2] * a[2] - 1.0) > 1e-12,
+                    name << ": spin axis must be a unit vector");
+    if (spin->frame == SpinDefinition::Frame::Stationary)
+      for (const ElementSet& s : elementSets) {
+        CMS_INPUT_CHECK(s.kind == ElementSet::Kind::Solid,
+                        name << ": element set '" << s.group
+                             << "' is solid; the stationary-frame (Nelson-McVaugh) form is for beam and "
+                                "point-mass rotors spinning about their own axis. Use Frame: Rotating");
+        // Constant coefficients in the stationary frame need a section that
+        // looks the same at every angle of rotation (theory §9.4).
+        CMS_INPUT_CHECK(std::abs(s.section.Iy - s.section.Iz) > 1e-8 * (s.section.Iy + s.section.Iz),
+                        name << ": element set '" << s.group << "' has Iy = " << s.section.Iy << " != Iz = "
+                             << s.section.Iz << "; the stationary frame needs an axisymmetric rotor "
+                                "(Iy = Iz). Use Frame: Rotating");
+      }
+  }
+}
+
+}  // namespace cms::fem

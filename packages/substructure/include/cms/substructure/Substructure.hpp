@@ -1,0 +1,90 @@
+// One substructure as the synthesis layer sees it: distributed matrices per
+// unit spin speed on one row map, and the table saying which node and
+// component each row is (for attachments, interface DOFs and output). Built
+// from a meshed FiniteElementModel (assembled in parallel) or from
+// pre-assembled Matrix Market files with a sidecar (fem/MatrixSubstructureFile.hpp),
+// and written back out in the same form.
+//
+//   K(Omega) = K + Omega^2 (KS1 - KT1),   G(Omega) = Omega G1      (theory §9)
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/fem/FiniteElementModel.hpp"
+
+namespace Teuchos { template <class T> class Comm; }
+
+namespace cms::substructure {
+
+/// Which node and component each global row is; identical on every rank.
+struct DofTable {
+  std::vector<long long> nodeIds;            ///< mesh node tag / sidecar node id
+  std::vector<double> coordinates;           ///< 3 per node
+  std::vector<long long> offsets;            ///< rows of node i: offsets[i] .. offsets[i+1]-1
+  std::vector<fem::Component> components;    ///< component of each row
+  std::map<std::string, std::vector<std::int64_t>> nodeSets;  ///< name -> node indices
+
+  long long rows() const { return offsets.empty() ? 0 : offsets.back(); }
+  std::size_t nodes() const { return nodeIds.size(); }
+  /// Row of (node, c), or -1 when the node has no such (free) component.
+  long long row(std::int64_t node, fem::Component c) const;
+};
+
+struct GyroscopicMatrices {
+  Teuchos::RCP<const CrsMatrix> M, G, K;
+};
+
+class Substructure {
+public:
+  /// Assembles the model (collective); see fem::assemble for errors.
+  static Substructure fromFiniteElementModel(const fem::FiniteElementModel& model,
+                                             const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+  /// Reads a sidecar and its Matrix Market files (collective). Throws
+  /// cms::InputError naming the file: unreadable or malformed matrix,
+  /// dimensions that differ from the sidecar's DOF count, M or K missing,
+  /// per-unit-speed matrices without a spin axis.
+  static Substructure fromMatrixMarket(const std::string& sidecarPath,
+                                       const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+  /// Writes <directory>/<stem>.cms and <stem>_<matrix>.mtx for every matrix
+  /// present (collective; rank 0 writes), stem = fileStem(). Throws
+  /// cms::InputError if the directory cannot be written.
+  void writeMatrixMarket(const std::string& directory) const;
+  /// The name with every character but letters, digits, '-', '_' and '.'
+  /// replaced by '_' (a file name without spaces, as the sidecar requires).
+  std::string fileStem() const;
+
+  const std::string& name() const { return name_; }
+  Teuchos::RCP<const Map> map() const { return map_; }
+  const DofTable& dofs() const { return dofs_; }
+  Teuchos::RCP<const CrsMatrix> M() const { return M_; }
+  Teuchos::RCP<const CrsMatrix> K() const { return K_; }
+  Teuchos::RCP<const CrsMatrix> G1() const { return G1_; }
+  Teuchos::RCP<const CrsMatrix> KT1() const { return KT1_; }
+  Teuchos::RCP<const CrsMatrix> KS1() const { return KS1_; }
+  /// The spin the per-unit-speed matrices refer to (none: not rotating).
+  const std::optional<fem::SpinDefinition>& spin() const { return spin_; }
+  /// The mass moving with a unit rigid translation along x of the rows,
+  /// u^T M u: the total mass of an unsupported substructure; supports take
+  /// away what sits on their fixed DOFs.
+  double mass() const { return mass_; }
+
+  /// M, G(Omega), K(Omega) (theory §9); Omega = 0 gives G = 0 and K. New
+  /// matrices are formed only when a speed-dependent term is present.
+  GyroscopicMatrices atSpeed(double omega) const;
+
+private:
+  static double translationMass(const Substructure& s);
+
+  std::string name_ = "substructure";
+  Teuchos::RCP<const Map> map_;
+  DofTable dofs_;
+  Teuchos::RCP<const CrsMatrix> M_, K_, G1_, KT1_, KS1_;
+  std::optional<fem::SpinDefinition> spin_;
+  double mass_ = 0.0;
+};
+
+}  // namespace cms::substructure

@@ -1,0 +1,293 @@
+#include "cms/substructure/Substructure.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <MatrixMarket_Tpetra.hpp>
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/fem/FiniteElementAssembly.hpp"
+
+namespace cms::substructure {
+
+namespace {
+
+using fem::Component;
+
+/// Rows owned by contiguous blocks of nodes: the same rule as the assembly,
+/// so a substructure read back from its Matrix Market files has its rows on
+/// the same ranks as when it was assembled.
+Teuchos::RCP<const Map> nodeBlockMap(const DofTable& t, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const long long n = static_cast<long long>(t.nodes());
+  const int r = comm->getRank(), p = comm->getSize();
+  const long long b = t.offsets[n * r / p], e = t.offsets[n * (r + 1) / p];
+  return Teuchos::rcp(new Map(static_cast<GlobalOrdinal>(t.rows()), static_cast<std::size_t>(e - b), 0, comm));
+}
+
+/// Checks a Matrix Market file completely on every rank before Tpetra's
+/// reader sees it: Tpetra reads on rank 0 only, and a malformed file must
+/// give the same error, with its line, on every rank rather than a hang.
+void checkMatrixMarketFile(const std::string& path, long long rows) {
+  std::ifstream in(path);
+  CMS_INPUT_CHECK(!in, path << ": cannot open matrix file");
+  std::string line;
+  long long lineNo = 0;
+  CMS_INPUT_CHECK(!std::getline(in, line), path << ": empty file");
+  ++lineNo;
+  std::istringstream banner(line);
+  std::string magic, object, format, field, symmetry;
+  banner >> magic >> object >> format >> field >> symmetry;
+  for (auto* s : {&object, &format, &field, &symmetry})
+    for (char& c : *s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  CMS_INPUT_CHECK(magic != "%%MatrixMarket" || object != "matrix" || format != "coordinate",
+                  path << ":1: not a Matrix Market coordinate matrix (banner \"" << line << "\")");
+  CMS_INPUT_CHECK(field != "real" && field != "integer",
+                  path << ":1: field \"" << field << "\" must be real or integer");
+  CMS_INPUT_CHECK(symmetry != "general" && symmetry != "symmetric" && symmetry != "skew-symmetric",
+                  path << ":1: symmetry \"" << symmetry << "\" must be general, symmetric or skew-symmetric");
+  long long m = -1, n = -1, nnz = -1;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (line.empty() || line[0] == '%') continue;
+    std::istringstream size(line);
+    std::string extra;
+    CMS_INPUT_CHECK(!(size >> m >> n >> nnz) || (size >> extra) || m < 0 || n < 0 || nnz < 0,
+                    path << ":" << lineNo << ": size line must be \"rows columns entries\"");
+    break;
+  }
+  CMS_INPUT_CHECK(m < 0, path << ": no size line");
+  CMS_INPUT_CHECK(m != rows || n != rows, path << ":" << lineNo << ": matrix is " << m << " x " << n
+                                               << " but the sidecar lays out " << rows << " DOFs");
+  long long count = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (line.empty() || line[0] == '%') continue;
+    const char* s = line.c_str();
+    char* end = nullptr;
+    const long long i = std::strtoll(s, &end, 10);
+    const bool iOk = end != s;
+    s = end;
+    const long long j = std::strtoll(s, &end, 10);
+    const bool jOk = end != s;
+    s = end;
+    const double v = std::strtod(s, &end);
+    const bool vOk = end != s;
+    while (*end == ' ' || *end == '\t' || *end == '\r') ++end;
+    CMS_INPUT_CHECK(!iOk || !jOk || !vOk || *end != '\0',
+                    path << ":" << lineNo << ": entry must be \"row column value\"");
+    CMS_INPUT_CHECK(i < 1 || i > m || j < 1 || j > n,
+                    path << ":" << lineNo << ": index (" << i << ", " << j << ") outside 1.." << m);
+    CMS_INPUT_CHECK(!std::isfinite(v), path << ":" << lineNo << ": value is not finite");
+    CMS_INPUT_CHECK(symmetry != "general" && j > i,
+                    path << ":" << lineNo << ": a " << symmetry << " file stores the lower triangle only");
+    CMS_INPUT_CHECK(symmetry == "skew-symmetric" && i == j && v != 0.0,
+                    path << ":" << lineNo << ": skew-symmetric matrix with a nonzero diagonal");
+    ++count;
+  }
+  CMS_INPUT_CHECK(count != nnz, path << ": " << count << " entries, but the size line declares " << nnz
+                                     << " (truncated file?)");
+}
+
+}  // namespace
+
+double Substructure::translationMass(const Substructure& s) {
+  MultiVector ones(s.map_, 1), Mx(s.map_, 1);
+  {
+    auto v = ones.getDataNonConst(0);
+    const long long first = s.map_->getMinGlobalIndex();
+    for (long i = 0; i < static_cast<long>(v.size()); ++i)
+      v[i] = s.dofs_.components[first + i] == Component::UX ? 1.0 : 0.0;
+  }
+  s.M_->apply(ones, Mx);
+  Teuchos::Array<double> dot(1);
+  ones.dot(Mx, dot());
+  return dot[0];
+}
+
+long long DofTable::row(std::int64_t node, Component c) const {
+  for (long long r = offsets[node]; r < offsets[node + 1]; ++r)
+    if (components[r] == c) return r;
+  return -1;
+}
+
+Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel& model,
+                                                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  fem::AssembledMatrices a = fem::assemble(model, comm);
+  Substructure s;
+  s.name_ = model.name;
+  s.map_ = a.map;
+  s.M_ = a.M;
+  s.K_ = a.K;
+  s.G1_ = a.G1;
+  s.KT1_ = a.KT1;
+  s.KS1_ = a.KS1;
+  s.spin_ = model.spin;
+  const fem::Mesh& mesh = *model.mesh;
+  DofTable& t = s.dofs_;
+  t.nodeIds.assign(mesh.nodeTags.begin(), mesh.nodeTags.end());
+  t.coordinates = mesh.coordinates;
+  t.offsets.assign(mesh.nodeCount() + 1, 0);
+  for (std::size_t n = 0; n < mesh.nodeCount(); ++n) {
+    for (int c = 0; c < 6; ++c)
+      if (a.layout.row(static_cast<std::int64_t>(n), static_cast<Component>(c)) >= 0)
+        t.components.push_back(static_cast<Component>(c));
+    t.offsets[n + 1] = static_cast<long long>(t.components.size());
+  }
+  // Node sets: every physical group that is not an element set (interfaces,
+  // attachments, supports).
+  std::set<std::string> elementGroups;
+  for (const auto& e : model.elementSets) elementGroups.insert(e.group);
+  for (const auto& g : mesh.groups)
+    if (!elementGroups.count(g.name)) t.nodeSets[g.name] = mesh.nodeSet(g.name);
+  s.mass_ = translationMass(s);
+  return s;
+}
+
+Substructure Substructure::fromMatrixMarket(const std::string& sidecarPath,
+                                            const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const fem::MatrixSubstructureFile f = fem::readMatrixSubstructureFile(sidecarPath);
+  Substructure s;
+  s.name_ = std::filesystem::path(sidecarPath).stem().string();
+  DofTable& t = s.dofs_;
+  t.nodeIds = f.nodeIds;
+  t.coordinates = f.coordinates;
+  t.offsets.assign(f.nodeIds.size() + 1, 0);
+  for (std::size_t n = 0; n < f.nodeIds.size(); ++n) {
+    t.components.insert(t.components.end(), f.components[n].begin(), f.components[n].end());
+    t.offsets[n + 1] = static_cast<long long>(t.components.size());
+  }
+  std::map<long long, std::int64_t> indexOf;
+  for (std::size_t n = 0; n < f.nodeIds.size(); ++n) indexOf[f.nodeIds[n]] = static_cast<std::int64_t>(n);
+  for (const auto& [name, ids] : f.nodeSets) {
+    auto& set = t.nodeSets[name];
+    for (long long id : ids) set.push_back(indexOf.at(id));
+  }
+  const bool perUnitSpeed = f.matrices.count("G1") || f.matrices.count("KT1") || f.matrices.count("KS1");
+  CMS_INPUT_CHECK(perUnitSpeed && !f.hasSpinAxis,
+                  sidecarPath << ": per-unit-speed matrices (G1, KT1, KS1) need a spin-axis record");
+  if (f.hasSpinAxis) {
+    fem::SpinDefinition spin;
+    spin.spin.axis = f.spinAxis;
+    spin.spin.origin = f.spinOrigin;
+    spin.stressStiffening = f.matrices.count("KS1") > 0;
+    spin.frame = f.matrices.count("KT1") ? fem::SpinDefinition::Frame::Rotating
+                                         : fem::SpinDefinition::Frame::Stationary;
+    s.spin_ = spin;
+  }
+
+  s.map_ = nodeBlockMap(t, comm);
+  using Reader = Tpetra::MatrixMarket::Reader<CrsMatrix>;
+  auto read = [&](const std::string& key) -> Teuchos::RCP<const CrsMatrix> {
+    auto it = f.matrices.find(key);
+    if (it == f.matrices.end()) return Teuchos::null;
+    checkMatrixMarketFile(it->second, t.rows());
+    Teuchos::RCP<const Map> colMap;
+    return Reader::readSparseFile(it->second, s.map_, colMap, s.map_, s.map_, true, false, false);
+  };
+  s.M_ = read("M");
+  s.K_ = read("K");
+  s.G1_ = read("G1");
+  s.KT1_ = read("KT1");
+  s.KS1_ = read("KS1");
+  s.mass_ = translationMass(s);
+  return s;
+}
+
+std::string Substructure::fileStem() const {
+  std::string stem = name_;
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+  return stem.empty() ? std::string("substructure") : stem;
+}
+
+void Substructure::writeMatrixMarket(const std::string& directory) const {
+  const auto comm = map_->getComm();
+  const std::string stem = fileStem();
+  int ok = 1;
+  if (comm->getRank() == 0) {
+    std::error_code ec;
+    std::filesystem::create_directories(directory, ec);
+    std::ofstream probe(std::filesystem::path(directory) / (stem + ".cms"));
+    ok = probe ? 1 : 0;
+  }
+  Teuchos::broadcast(*comm, 0, Teuchos::outArg(ok));
+  CMS_INPUT_CHECK(!ok, directory << ": cannot write the substructure '" << name_ << "' there");
+
+  fem::MatrixSubstructureFile f;
+  f.nodeIds = dofs_.nodeIds;
+  f.coordinates = dofs_.coordinates;
+  f.components.resize(dofs_.nodes());
+  for (std::size_t n = 0; n < dofs_.nodes(); ++n)
+    f.components[n].assign(dofs_.components.begin() + dofs_.offsets[n], dofs_.components.begin() + dofs_.offsets[n + 1]);
+  for (const auto& [name, nodes] : dofs_.nodeSets) {
+    auto& ids = f.nodeSets[name];
+    for (auto n : nodes) ids.push_back(dofs_.nodeIds[n]);
+  }
+  if (spin_) {
+    f.hasSpinAxis = true;
+    f.spinAxis = spin_->spin.axis;
+    f.spinOrigin = spin_->spin.origin;
+  }
+  using Writer = Tpetra::MatrixMarket::Writer<CrsMatrix>;
+  auto write = [&](const char* key, const Teuchos::RCP<const CrsMatrix>& A) {
+    if (A.is_null()) return;
+    const std::string file = stem + "_" + key + ".mtx";
+    f.matrices[key] = file;
+    Writer::writeSparseFile((std::filesystem::path(directory) / file).string(), A, key,
+                            name_ + ": " + key + " (cms-substructure; theory §9)");
+  };
+  write("M", M_);
+  write("K", K_);
+  write("G1", G1_);
+  write("KT1", KT1_);
+  write("KS1", KS1_);
+  // Rank 0 writes the sidecar; its failure must reach every rank, not leave
+  // the others waiting.
+  std::string failure;
+  if (comm->getRank() == 0) {
+    try {
+      fem::writeMatrixSubstructureFile(f, (std::filesystem::path(directory) / (stem + ".cms")).string());
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  int len = static_cast<int>(failure.size());
+  Teuchos::broadcast(*comm, 0, Teuchos::outArg(len));
+  failure.resize(len);
+  if (len > 0) Teuchos::broadcast(*comm, 0, len, failure.data());
+  CMS_INPUT_CHECK(len > 0, failure);
+}
+
+GyroscopicMatrices Substructure::atSpeed(double omega) const {
+  GyroscopicMatrices g;
+  g.M = M_;
+  g.K = K_;
+  const double w2 = omega * omega;
+  if (w2 != 0.0 && !KS1_.is_null())
+    g.K = Tpetra::MatrixMatrix::add(1.0, false, *g.K, w2, false, *KS1_);
+  if (w2 != 0.0 && !KT1_.is_null())
+    g.K = Tpetra::MatrixMatrix::add(1.0, false, *g.K, -w2, false, *KT1_);
+  if (!G1_.is_null()) {
+    auto G = Teuchos::rcp(new CrsMatrix(*G1_, Teuchos::Copy));
+    G->resumeFill();
+    G->scale(omega);
+    G->fillComplete(G1_->getDomainMap(), G1_->getRangeMap());
+    g.G = G;
+  } else {
+    auto G = Teuchos::rcp(new CrsMatrix(map_, 0));
+    G->fillComplete(map_, map_);
+    g.G = G;
+  }
+  return g;
+}
+
+}  // namespace cms::substructure

@@ -1,0 +1,285 @@
+// Parallel assembly of meshed substructures (fem::assemble via
+// substructure::Substructure): the same matrices whatever the rank count,
+// rigid-body invariants, lumped items against closed forms, Matrix Market
+// round trips, and every bad-input case raising the same error on all ranks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "BeamModels.hpp"
+#include "SubstructureModes.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/core/HashRandom.hpp"
+#include "cms/fem/FiniteElementAssembly.hpp"
+
+#ifndef CMS_TEST_DATA_DIR
+#define CMS_TEST_DATA_DIR "tests/data"
+#endif
+
+using namespace cms;
+using fem::Component;
+using substructure::Substructure;
+
+namespace {
+
+auto world() { return Teuchos::DefaultComm<int>::getComm(); }
+/// This rank alone: the one-rank reference computed inside a 2-rank run.
+auto self() { return world()->split(world()->getRank(), 0); }
+
+const std::string kMeshes = std::string(CMS_TEST_DATA_DIR) + "/meshes/";
+
+fem::FiniteElementModel spinningSolidBlade() {
+  fem::FiniteElementModel m;
+  m.name = "solid blade";
+  m.mesh = std::make_shared<fem::Mesh>(fem::readGmsh(kMeshes + "blade_tet10.geo"));
+  m.materials["steel"] = {2.1e11, 0.3, 7800.0};
+  fem::ElementSet set;
+  set.group = "blade";
+  set.material = "steel";
+  m.elementSets.push_back(set);
+  m.fixed.push_back({"root", "root", {}, true});
+  fem::SpinDefinition spin;
+  spin.spin.axis = {0.0, 0.0, 1.0};
+  spin.spin.origin = {-0.1, 0.0, 0.0};  // a hub of radius 0.1
+  m.spin = spin;
+  return m;
+}
+
+/// A small spinning frame model with every matrix (M, K, G1, KT1, KS1) and a
+/// clamped root (a node without rows), for the Matrix Market tests.
+fem::FiniteElementModel spinningBeam() {
+  fem::BeamSection sec;
+  sec.A = 1e-3;
+  sec.Iy = 1e-7;
+  sec.Iz = 3e-7;
+  sec.J = 2e-7;
+  sec.orientation = {0, 1, 0};
+  auto m = fixtures::frameModel(fixtures::lineMesh(2.0, 40), {7e10, 0.33, 2700.0}, sec,
+                                fem::BeamTheory::Timoshenko);
+  m.name = "spinning beam";
+  m.fixed.push_back({"root", "root", {}, true});
+  fem::SpinDefinition spin;
+  spin.spin.axis = {0.0, 0.6, 0.8};
+  spin.spin.origin = {-0.5, 0.0, 0.0};
+  m.spin = spin;
+  return m;
+}
+
+/// y = A x for x(gid) = hashSigned(gid), returned as this rank's rows of y
+/// keyed by gid, for comparing matrices assembled on different rank counts.
+std::map<long long, double> probe(const CrsMatrix& A, std::uint64_t salt) {
+  MultiVector x(A.getDomainMap(), 1), y(A.getRangeMap(), 1);
+  auto xv = x.getDataNonConst(0);
+  const auto& map = *A.getDomainMap();
+  for (std::size_t i = 0; i < map.getNodeNumElements(); ++i)
+    xv[i] = hashSigned(static_cast<std::uint64_t>(map.getGlobalElement(i)), salt);
+  xv = Teuchos::null;
+  A.apply(x, y);
+  std::map<long long, double> out;
+  auto yv = y.getData(0);
+  for (std::size_t i = 0; i < A.getRangeMap()->getNodeNumElements(); ++i)
+    out[A.getRangeMap()->getGlobalElement(i)] = yv[i];
+  return out;
+}
+
+/// Every row this rank owns in `dist` agrees with the same row of `serial`
+/// to round-off: 1e-13 of the matrix's Frobenius norm (the summation order
+/// of shared entries is the only difference).
+void expectSameMatrix(const CrsMatrix& dist, const CrsMatrix& serial, const char* name) {
+  const double scale = serial.getFrobeniusNorm();
+  for (std::uint64_t salt : {1u, 2u}) {
+    const auto a = probe(dist, salt), b = probe(serial, salt);
+    for (const auto& [gid, v] : a) {
+      ASSERT_TRUE(b.count(gid)) << name;
+      EXPECT_NEAR(v, b.at(gid), 1e-13 * scale) << name << " row " << gid;
+    }
+  }
+}
+
+double quadratic(const CrsMatrix& A, const MultiVector& x) {
+  MultiVector y(A.getRangeMap(), 1);
+  A.apply(x, y);
+  Teuchos::Array<double> d(1);
+  x.dot(y, d());
+  return d[0];
+}
+
+/// A rigid-body field on the substructure's rows: translation t plus small
+/// rotation w about the origin (rotation DOFs take w itself).
+MultiVector rigidField(const Substructure& s, const fem::Vec3& t, const fem::Vec3& w) {
+  MultiVector x(s.map(), 1);
+  auto v = x.getDataNonConst(0);
+  const auto& dofs = s.dofs();
+  const auto& map = *s.map();
+  for (std::size_t n = 0; n < dofs.nodes(); ++n) {
+    const double* p = &dofs.coordinates[3 * n];
+    const double u[6] = {t[0] + w[1] * p[2] - w[2] * p[1], t[1] + w[2] * p[0] - w[0] * p[2],
+                         t[2] + w[0] * p[1] - w[1] * p[0], w[0], w[1], w[2]};
+    for (long long r = dofs.offsets[n]; r < dofs.offsets[n + 1]; ++r) {
+      const LocalOrdinal lid = map.getLocalElement(r);
+      if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid())
+        v[lid] = u[static_cast<int>(dofs.components[r])];
+    }
+  }
+  return x;
+}
+
+template <class Fn>
+void expectInputError(Fn fn, const std::string& needle) {
+  try {
+    fn();
+    ADD_FAILURE() << "no cms::InputError; expected one mentioning \"" << needle << "\"";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(Assembly, SameMatricesOnOneRankAndOnAllRanks) {
+  const auto model = spinningSolidBlade();
+  const auto dist = Substructure::fromFiniteElementModel(model, world());
+  const auto serial = Substructure::fromFiniteElementModel(model, self());
+  ASSERT_FALSE(dist.KS1().is_null());
+  EXPECT_EQ(dist.map()->getGlobalNumElements(), serial.map()->getGlobalNumElements());
+  expectSameMatrix(*dist.M(), *serial.M(), "M");
+  expectSameMatrix(*dist.K(), *serial.K(), "K");
+  expectSameMatrix(*dist.G1(), *serial.G1(), "G1");
+  expectSameMatrix(*dist.KT1(), *serial.KT1(), "KT1");
+  expectSameMatrix(*dist.KS1(), *serial.KS1(), "KS1");
+}
+
+// Without supports a solid has six rigid-body modes: K annihilates rigid
+// fields (to 1e-10 of ||K||, the round-off of summing element matrices of
+// entries ~E h), M gives the mass rho V of any unit translation, and the
+// spin-softening energy of a unit translation normal to the axis is the mass
+// too (theory §9.1: KT1 = int rho N^T [n]x^T [n]x N).
+TEST(Assembly, RigidBodyFieldsOfAFreeSolid) {
+  auto model = spinningSolidBlade();
+  model.fixed.clear();
+  model.spin->stressStiffening = false;  // a free body has no static prestress
+  const auto s = Substructure::fromFiniteElementModel(model, world());
+  const double volume = 1.0 * 0.04 * 0.02, mass = 7800.0 * volume;
+  EXPECT_NEAR(s.mass(), mass, 1e-12 * mass);
+  const double normK = s.K()->getFrobeniusNorm();
+  for (const auto& [t, w] : std::vector<std::pair<fem::Vec3, fem::Vec3>>{
+           {{1, 0, 0}, {0, 0, 0}}, {{0, 1, 0}, {0, 0, 0}}, {{0, 0, 0}, {0, 0, 1e-3}}, {{0, 0, 0}, {1e-3, 0, 0}}}) {
+    const MultiVector x = rigidField(s, t, w);
+    MultiVector Kx(s.map(), 1);
+    s.K()->apply(x, Kx);
+    EXPECT_LT(Kx.getVector(0)->norm2(), 1e-10 * normK * x.getVector(0)->norm2());
+  }
+  EXPECT_NEAR(quadratic(*s.M(), rigidField(s, {0, 0, 1}, {0, 0, 0})), mass, 1e-10 * mass);
+  EXPECT_NEAR(quadratic(*s.KT1(), rigidField(s, {1, 0, 0}, {0, 0, 0})), mass, 1e-10 * mass);
+  EXPECT_NEAR(quadratic(*s.KT1(), rigidField(s, {0, 0, 1}, {0, 0, 0})), 0.0, 1e-10 * mass);
+  const auto sys = s.atSpeed(100.0);
+  EXPECT_NO_THROW((eigen::SparseGyroscopicSystem{sys.M, sys.G, sys.K}.validate()));
+}
+
+// A massless-beam cantilever with a tip point mass m and a grounded tip
+// spring k: omega^2 = (3 E I / L^3 + k) / m to the beam's own mass, which is
+// 1e-6 of m here (Rayleigh's correction 0.2357 m_beam/m ~ 2.4e-7 relative in
+// omega^2); asserted 1e-6.
+TEST(Assembly, TipMassAndSpringMatchTheSingleDofClosedForm) {
+  fem::IsotropicMaterial mat{2e11, 0.3, 1.0};
+  fem::BeamSection sec;
+  sec.A = 1e-4;
+  sec.Iy = sec.Iz = 1e-8;
+  sec.J = 2e-8;
+  sec.orientation = {0, 1, 0};
+  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 8), mat, sec);
+  model.fixed.push_back({"root", "root", {}, true});
+  model.pointMasses.push_back({"tip mass", "tip", 100.0, {}});
+  const double k = 1000.0;
+  model.springs.push_back({"tip spring", "tip", "", {0.0, 0.0, k, 0.0, 0.0, 0.0}});
+  const auto s = Substructure::fromFiniteElementModel(model, world());
+  const auto r = fixtures::solveAtSpeed(s, 0.0, 3);
+  ASSERT_EQ(r.status, eigen::SolveStatus::Converged) << r.reason;
+  const double EI = 2e11 * 1e-8;
+  const double wz = std::sqrt((3.0 * EI + k) / 100.0), wy = std::sqrt(3.0 * EI / 100.0);
+  EXPECT_NEAR(r.modes[0].omega, wy, 1e-6 * wy);
+  EXPECT_NEAR(r.modes[1].omega, wz, 1e-6 * wz);
+  EXPECT_GT(fixtures::translationShare(s, r.modes[1], Component::UZ), 0.999);
+}
+
+TEST(Assembly, MatrixMarketRoundTripIsExact) {
+  const auto s = Substructure::fromFiniteElementModel(spinningBeam(), world());
+  const std::string dir = (std::filesystem::temp_directory_path() / ("cms_mm_roundtrip_np" + std::to_string(world()->getSize()))).string();
+  s.writeMatrixMarket(dir);
+  const auto r = Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world());
+  EXPECT_EQ(r.dofs().rows(), s.dofs().rows());
+  EXPECT_EQ(r.dofs().nodeSets.count("root"), 1u);
+  ASSERT_TRUE(r.spin().has_value());
+  EXPECT_NEAR(r.mass(), s.mass(), 1e-12 * s.mass());
+  // Matrices written with 17 significant digits come back bit for bit.
+  expectSameMatrix(*r.M(), *s.M(), "M");
+  expectSameMatrix(*r.K(), *s.K(), "K");
+  expectSameMatrix(*r.G1(), *s.G1(), "G1");
+  expectSameMatrix(*r.KT1(), *s.KT1(), "KT1");
+  expectSameMatrix(*r.KS1(), *s.KS1(), "KS1");
+}
+
+TEST(Assembly, MalformedMatrixMarketFilesAreReportedOnEveryRank) {
+  const auto s = Substructure::fromFiniteElementModel(spinningBeam(), world());
+  const std::string dir = (std::filesystem::temp_directory_path() / ("cms_mm_bad_np" + std::to_string(world()->getSize()))).string();
+  s.writeMatrixMarket(dir);
+  const std::string K = dir + "/spinning_beam_K.mtx";
+  std::string text;
+  if (world()->getRank() == 0) {
+    std::ifstream in(K);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  auto rewrite = [&](const std::string& content) {
+    world()->barrier();
+    if (world()->getRank() == 0) std::ofstream(K, std::ios::trunc) << content;
+    world()->barrier();
+  };
+  rewrite(text.substr(0, text.rfind('\n', text.size() / 2) + 1));
+  expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "truncated");
+  rewrite(text + "1 1 nan\n");
+  expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "_K.mtx");
+  rewrite("%%MatrixMarket matrix coordinate real general\n3 3 0\n");
+  expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "lays out");
+}
+
+TEST(Assembly, ModelErrorsNameTheSetNodeOrElement) {
+  auto unconnected = spinningSolidBlade();
+  auto mesh = std::make_shared<fem::Mesh>(*unconnected.mesh);
+  mesh->nodeTags.push_back(999999);
+  mesh->coordinates.insert(mesh->coordinates.end(), {5.0, 5.0, 5.0});
+  unconnected.mesh = mesh;
+  expectInputError([&] { fem::assemble(unconnected, world()); }, "node 999999");
+
+  auto missing = spinningSolidBlade();
+  missing.elementSets[0].group = "blades";
+  expectInputError([&] { fem::assemble(missing, world()); }, "blades");
+
+  auto wrongCells = spinningSolidBlade();
+  wrongCells.elementSets.push_back({"root", fem::ElementSet::Kind::Solid, "steel", {}, {}});
+  expectInputError([&] { fem::assemble(wrongCells, world()); }, "Tri6");
+
+  auto badMaterial = spinningSolidBlade();
+  badMaterial.materials["steel"].rho = -1.0;
+  expectInputError([&] { fem::assemble(badMaterial, world()); }, "steel");
+
+  auto inertiaOnSolid = spinningSolidBlade();
+  inertiaOnSolid.pointMasses.push_back({"hub", "tip", 1.0, {1.0, 1.0, 1.0, 0.0, 0.0, 0.0}});
+  expectInputError([&] { fem::assemble(inertiaOnSolid, world()); }, "hub");
+
+  auto rotationOfSolid = spinningSolidBlade();
+  rotationOfSolid.fixed[0] = {"root", "root", {Component::RX}, false};
+  expectInputError([&] { fem::assemble(rotationOfSolid, world()); }, "rx");
+
+  // A free solid under centrifugal load has no static solution.
+  auto free = spinningSolidBlade();
+  free.fixed.clear();
+  EXPECT_THROW(fem::assemble(free, world()), NumericalError);
+}

@@ -1,0 +1,137 @@
+// A Finite Element Model read from YAML (Teuchos' parameter-list format):
+// every key reaches the model, relative mesh paths resolve against the
+// scene's folder, and every malformed entry is refused with its key path.
+#include <gtest/gtest.h>
+
+#include <Teuchos_YamlParameterListCoreHelpers.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/fem/FiniteElementModel.hpp"
+
+#ifndef CMS_TEST_DATA_DIR
+#define CMS_TEST_DATA_DIR "tests/data"
+#endif
+
+using namespace cms;
+using namespace cms::fem;
+
+namespace {
+
+const std::string kBlade = R"(
+Finite Element Model:
+  Name: blade
+  Mesh: meshes/blade_tet10.geo
+  Materials:
+    steel: {Young's Modulus: 2.1e11, Poisson's Ratio: 0.3, Density: 7850}
+  Element Sets:
+    blade: {Type: Solid, Material: steel}
+  Point Masses:
+    tip mass: {Node Set: tip, Mass: 2}
+  Springs:
+    root spring: {Node Set: root, Stiffness: [0, 0, 1000, 0, 0, 0]}
+  Boundary Conditions:
+    clamp: {Node Set: root, Fixed: ux uy}
+  Spin:
+    Axis: [0, 0, 2]
+    Origin: [-0.1, 0, 0]
+    Frame: Rotating
+    Stress Stiffening: false
+)";
+
+FiniteElementModel read(const std::string& yaml) {
+  // Teuchos names the returned list after the document's single top-level key.
+  auto p = Teuchos::getParametersFromYamlString(yaml);
+  return FiniteElementModel::fromParameters(*p, CMS_TEST_DATA_DIR);
+}
+
+/// The YAML of kBlade with one line replaced.
+std::string edit(const std::string& from, const std::string& to) {
+  std::string s = kBlade;
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+void expectRefused(const std::string& yaml, const std::string& needle) {
+  try {
+    read(yaml);
+    ADD_FAILURE() << "accepted; expected an error mentioning \"" << needle << "\"";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a cms::InputError: " << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(FiniteElementModelYaml, EveryKeyReachesTheModel) {
+  const FiniteElementModel m = read(kBlade);
+  EXPECT_EQ(m.name, "blade");
+  ASSERT_TRUE(m.mesh);
+  EXPECT_TRUE(m.mesh->hasGroup("blade"));
+  EXPECT_DOUBLE_EQ(m.materials.at("steel").rho, 7850.0);  // an integer in YAML
+  ASSERT_EQ(m.elementSets.size(), 1u);
+  EXPECT_EQ(m.elementSets[0].kind, ElementSet::Kind::Solid);
+  ASSERT_EQ(m.pointMasses.size(), 1u);
+  EXPECT_EQ(m.pointMasses[0].nodeSet, "tip");
+  ASSERT_EQ(m.springs.size(), 1u);
+  EXPECT_DOUBLE_EQ(m.springs[0].stiffness[2], 1000.0);
+  ASSERT_EQ(m.fixed.size(), 1u);
+  EXPECT_EQ(m.fixed[0].components, (std::vector<Component>{Component::UX, Component::UY}));
+  ASSERT_TRUE(m.spin.has_value());
+  EXPECT_DOUBLE_EQ(m.spin->spin.axis[2], 1.0);  // normalised
+  EXPECT_DOUBLE_EQ(m.spin->spin.origin[0], -0.1);
+  EXPECT_FALSE(m.spin->stressStiffening);
+}
+
+TEST(FiniteElementModelYaml, FrameSetsReadTheirSection) {
+  const std::string yaml = R"(
+Finite Element Model:
+  Mesh: meshes/beam_line.geo
+  Materials:
+    al: {Young's Modulus: 7e10, Poisson's Ratio: 0.33, Density: 2700}
+  Element Sets:
+    beam:
+      Type: Frame
+      Material: al
+      Theory: Timoshenko
+      Area: 1e-4
+      Iy: 1e-9
+      Iz: 2e-9
+      Torsion Constant: 3e-9
+      Shear Factor Y: 0.9
+      Orientation: [0, 1, 0]
+      Rotary Inertia: false
+  Boundary Conditions:
+    root: {Node Set: root}
+)";
+  const FiniteElementModel m = read(yaml);
+  const ElementSet& s = m.elementSets.at(0);
+  EXPECT_EQ(s.theory, BeamTheory::Timoshenko);
+  EXPECT_DOUBLE_EQ(s.section.Iz, 2e-9);
+  EXPECT_DOUBLE_EQ(s.section.shearFactorY, 0.9);
+  EXPECT_DOUBLE_EQ(s.section.shearFactorZ, 5.0 / 6.0);
+  EXPECT_DOUBLE_EQ(s.section.orientation[1], 1.0);
+  EXPECT_FALSE(s.section.rotaryInertia);
+  EXPECT_TRUE(m.fixed.at(0).all);
+}
+
+TEST(FiniteElementModelYaml, MalformedEntriesNameTheirKeyPath) {
+  expectRefused(edit("  Name: blade", "  Nmae: blade"), "unknown key \"Nmae\"");
+  expectRefused(edit("Type: Solid", "Type: Shell"), "Element Sets/blade/Type = \"Shell\"");
+  expectRefused(edit("Density: 7850", "Density: -1"), "steel");
+  expectRefused(edit("Density: 7850", "Density: heavy"), "Density: must be a number");
+  expectRefused(edit("Material: steel}", "Material: titanium}"), "unknown material 'titanium'");
+  expectRefused(edit("Element Sets:\n    blade:", "Element Sets:\n    blades:"), "blades");
+  expectRefused(edit("Fixed: ux uy", "Fixed: ux uw"), "unknown component \"uw\"");
+  expectRefused(edit("Axis: [0, 0, 2]", "Axis: [0, 0, 0]"), "Spin/Axis: must be a nonzero vector");
+  expectRefused(edit("Axis: [0, 0, 2]", "Axis: [0, 2]"), "Spin/Axis: has 2 numbers, needs 3");
+  expectRefused(edit("Frame: Rotating", "Frame: Inertial"), "Spin/Frame = \"Inertial\"");
+  expectRefused(edit("Stiffness: [0, 0, 1000, 0, 0, 0]", "Stiffness: [0, 0, -1000, 0, 0, 0]"),
+                "Stiffness: entry 3");
+  expectRefused(edit("Mesh: meshes/blade_tet10.geo", "Mesh: meshes/missing.msh"), "missing.msh");
+  expectRefused(edit("blade: {Type: Solid, Material: steel}", "blade: {Type: Solid, Material: steel, Area: 1}"),
+                "applies to Frame element sets only");
+  expectRefused(edit("    Stress Stiffening: false", "    Stress Stiffening: 3"), "must be true or false");
+}
