@@ -1,9 +1,9 @@
 // Parallel assembly (doc/architecture.md, "Assembly"; doc/theory.md §9-§10).
 //
-// Ownership: rows belong to contiguous blocks of nodes, elements ("items":
-// frames, solids, point masses, springs) to contiguous blocks of the item
-// list, so the work per rank is balanced and the numbering is independent of
-// the rank count. Each rank assembles its items into CSR arrays over an
+// Ownership: rows belong to the ranks of a coordinate-slab partition of the
+// nodes, elements ("items": frames, solids, point masses, springs) to the
+// rank owning their first node; the numbering (mesh order) is independent of
+// the rank count and rows shared between ranks occur only at slab interfaces. Each rank assembles its items into CSR arrays over an
 // overlapping row map (its owned rows first, then the ghost rows its items
 // touch); Tpetra's exportAndFillComplete sums the ghost rows into their
 // owners. All matrices share one sparsity pattern, computed once.
@@ -234,45 +234,77 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   L.size = next;
   CMS_INPUT_CHECK(L.size == 0, model.name << ": every DOF is fixed; nothing to assemble");
 
-  // 3. Ownership: contiguous node blocks own their rows; contiguous item blocks.
-  const std::int64_t nodeBegin = numNodes * rank / nranks, nodeEnd = numNodes * (rank + 1) / nranks;
-  const long long rowBegin = nodeBegin < numNodes ? L.first[nodeBegin] : L.size;
-  const long long rowEnd = nodeEnd < numNodes ? L.first[nodeEnd] : L.size;
-  const std::size_t itemBegin = items.size() * rank / nranks, itemEnd = items.size() * (rank + 1) / nranks;
+  // 3. Ownership: a coordinate-slab partition of the nodes (sorted along the
+  // mesh's longest extent, cut into equal counts), whose rows each rank owns;
+  // an item belongs to the rank owning its first node, so rows shared between
+  // ranks occur only at the slab interfaces. Gmsh numbers boundary entities'
+  // nodes first, so blocks of node numbers were not compact: 14% of the rows
+  // were ghosts on 2 ranks (doc/benchmarks.md, "Assembly"). Rows keep the
+  // mesh-order numbering, so matrices do not depend on the rank count.
   using GO = GlobalOrdinal;
   using LO = LocalOrdinal;
-  auto ownedMap = Teuchos::rcp(new Map(static_cast<GO>(L.size), static_cast<std::size_t>(rowEnd - rowBegin),
-                                       0, comm));
+  std::vector<int> owner(numNodes, 0);
+  if (nranks > 1) {
+    int axis = 0;
+    double extent[3];
+    for (int c = 0; c < 3; ++c) {
+      double lo = mesh.x(0)[c], hi = lo;
+      for (std::int64_t n = 1; n < numNodes; ++n) {
+        lo = std::min(lo, mesh.x(n)[c]);
+        hi = std::max(hi, mesh.x(n)[c]);
+      }
+      extent[c] = hi - lo;
+      if (extent[c] > extent[axis]) axis = c;
+    }
+    std::vector<std::int64_t> order(numNodes);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
+      return mesh.x(a)[axis] < mesh.x(b)[axis];
+    });
+    for (std::int64_t k = 0; k < numNodes; ++k) owner[order[k]] = static_cast<int>(k * nranks / numNodes);
+  }
+  std::vector<std::size_t> localItems;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::int64_t n0 = items[i].block ? items[i].block->nodes[items[i].cell * items[i].block->nodesPerCell]
+                                           : items[i].cell;
+    if (owner[n0] == rank) localItems.push_back(i);
+  }
+  std::vector<GO> overlapGids;
+  for (std::int64_t n = 0; n < numNodes; ++n)
+    if (owner[n] == rank)
+      for (int c = 0; c < L.componentCount(n); ++c) overlapGids.push_back(static_cast<GO>(L.first[n] + c));
+  const LO numOwned = static_cast<LO>(overlapGids.size());
+  auto ownedMap = Teuchos::rcp(new Map(static_cast<GO>(L.size), Teuchos::ArrayView<const GO>(overlapGids), 0, comm));
 
-  // 4. Each item's global rows (-1 for fixed), then the overlap map.
-  std::vector<std::int64_t> itemDofStart(itemEnd - itemBegin + 1, 0);
+  // 4. Each item's global rows (-1 for fixed), then the overlap map: owned
+  // rows first, then the ghost rows in ascending order.
+  std::vector<std::int64_t> itemDofStart(localItems.size() + 1, 0);
   std::vector<long long> itemDofs;
-  for (std::size_t i = itemBegin; i < itemEnd; ++i) {
-    const Item& it = items[i];
+  for (std::size_t k = 0; k < localItems.size(); ++k) {
+    const Item& it = items[localItems[k]];
     const int nn = itemNodes(it, nodes), nd = itemNodeDofs(it, model);
     for (int a = 0; a < nn; ++a)
       for (int c = 0; c < nd; ++c) itemDofs.push_back(L.row(nodes[a], static_cast<Component>(c)));
-    itemDofStart[i - itemBegin + 1] = static_cast<std::int64_t>(itemDofs.size());
+    itemDofStart[k + 1] = static_cast<std::int64_t>(itemDofs.size());
   }
+  std::vector<LO> rowLid(L.size, -1);  // global row -> overlap lid (one int per row: 4 MB at 10^6)
+  for (LO l = 0; l < numOwned; ++l) rowLid[overlapGids[l]] = l;
   std::vector<long long> ghosts;
   for (long long g : itemDofs)
-    if (g >= 0 && (g < rowBegin || g >= rowEnd)) ghosts.push_back(g);
+    if (g >= 0 && rowLid[g] < 0) ghosts.push_back(g);
   std::sort(ghosts.begin(), ghosts.end());
   ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
-  const LO numOwned = static_cast<LO>(rowEnd - rowBegin);
   const LO numOverlap = numOwned + static_cast<LO>(ghosts.size());
-  std::vector<GO> overlapGids(numOverlap);
-  std::iota(overlapGids.begin(), overlapGids.begin() + numOwned, static_cast<GO>(rowBegin));
-  std::copy(ghosts.begin(), ghosts.end(), overlapGids.begin() + numOwned);
+  for (std::size_t k = 0; k < ghosts.size(); ++k) {
+    rowLid[ghosts[k]] = numOwned + static_cast<LO>(k);
+    overlapGids.push_back(static_cast<GO>(ghosts[k]));
+  }
   auto overlapMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
                                          Teuchos::ArrayView<const GO>(overlapGids), 0, comm));
-  auto lidOf = [&](long long g) -> LO {
-    if (g < 0) return -1;
-    if (g >= rowBegin && g < rowEnd) return static_cast<LO>(g - rowBegin);
-    return numOwned + static_cast<LO>(std::lower_bound(ghosts.begin(), ghosts.end(), g) - ghosts.begin());
-  };
   std::vector<LO> itemLids(itemDofs.size());
-  std::transform(itemDofs.begin(), itemDofs.end(), itemLids.begin(), lidOf);
+  std::transform(itemDofs.begin(), itemDofs.end(), itemLids.begin(),
+                 [&](long long g) { return g < 0 ? LO(-1) : rowLid[g]; });
+  std::vector<LO>().swap(rowLid);
 
   // 5. The shared CSR pattern over the overlap rows (columns: overlap lids).
   Teuchos::ArrayRCP<std::size_t> rowPtr(numOverlap + 1, 0);
@@ -338,6 +370,10 @@ AssembledMatrices assemble(const FiniteElementModel& model,
       if (itemLids[p] >= 0) v[itemLids[p]] += f[p - b];
   };
 
+  out.setupSeconds = secondsSince(t0);
+  out.localItems = static_cast<long long>(localItems.size());
+  out.ghostRows = static_cast<long long>(ghosts.size());
+  const auto tElements = std::chrono::steady_clock::now();
   // 6. Element matrices. Errors are collected and reduced so every rank
   // throws together (a rank's own elements may be the only bad ones).
   const bool spinning = model.spin.has_value();
@@ -378,9 +414,8 @@ AssembledMatrices assemble(const FiniteElementModel& model,
 
   std::string failure;
   bool failureIsInput = false;  // an element's data is bad, not the numerics
-  for (std::size_t i = itemBegin; i < itemEnd && failure.empty(); ++i) {
-    const Item& it = items[i];
-    const std::size_t local = i - itemBegin;
+  for (std::size_t local = 0; local < localItems.size() && failure.empty(); ++local) {
+    const Item& it = items[localItems[local]];
     const int nd = itemNodeDofs(it, model);
     try {
       ItemMatrices m;
@@ -451,26 +486,68 @@ AssembledMatrices assemble(const FiniteElementModel& model,
     throw NumericalError(msg);
   };
   throwIfAnyFailed(failure);
+  out.elementSeconds = secondsSince(tElements);
+  const auto tExport = std::chrono::steady_clock::now();
 
-  // 7. Overlapping rows -> owned rows: each matrix is the shared overlap
-  // pattern with its own values, exported with Tpetra's
-  // exportAndFillComplete (sums the shared rows, builds optimised storage).
+  // 7. Overlapping rows -> owned rows. Tpetra exports the pattern once
+  // (exportAndFillCompleteCrsGraph: the owned rows' union of every rank's
+  // contributions). Each matrix then copies its owned rows locally through
+  // precomputed positions and receives only the ghost rows through an
+  // Export (ADD). Exporting every matrix whole cost 5x the element loop and
+  // grew faster than the mesh (doc/benchmarks.md, "Assembly").
   Tpetra::Export<> exporter(overlapMap, ownedMap);
   using Graph = Tpetra::CrsGraph<>;
-  Teuchos::RCP<const Graph> overlapGraph;
+  Teuchos::RCP<const Graph> ownedGraph, ghostGraph;
   {
     Teuchos::ArrayRCP<LO> colsRcp(cols.size());
     std::copy(cols.begin(), cols.end(), colsRcp.begin());
     auto g = Teuchos::rcp(new Graph(overlapMap, overlapMap, rowPtr, colsRcp));
     g->expertStaticFillComplete(ownedMap, ownedMap);
-    overlapGraph = g;
+    ownedGraph = Tpetra::exportAndFillCompleteCrsGraph<Graph>(Teuchos::rcp_const_cast<const Graph>(g), exporter,
+                                                              ownedMap, ownedMap);
   }
+  // Ghost rows only: their own row map, the overlap lids as columns.
+  auto ghostMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                       Teuchos::ArrayView<const GO>(ghosts.empty() ? nullptr : overlapGids.data() + numOwned,
+                                                                    ghosts.size()),
+                                       0, comm));
+  const std::size_t ghostBegin = rowPtr[numOwned];
+  {
+    Teuchos::ArrayRCP<std::size_t> ghostRowPtr(ghosts.size() + 1);
+    for (std::size_t r = 0; r <= ghosts.size(); ++r) ghostRowPtr[r] = rowPtr[numOwned + r] - ghostBegin;
+    Teuchos::ArrayRCP<LO> ghostCols(cols.size() - ghostBegin);
+    std::copy(cols.begin() + ghostBegin, cols.end(), ghostCols.begin());
+    auto g = Teuchos::rcp(new Graph(ghostMap, overlapMap, ghostRowPtr, ghostCols));
+    g->expertStaticFillComplete(ownedMap, ownedMap);
+    ghostGraph = g;
+  }
+  Tpetra::Export<> ghostExporter(ghostMap, ownedMap);
+  // Position in the owned CSR of each overlap entry of an owned row.
+  const auto local = ownedGraph->getLocalGraphHost();
+  const auto& ownedCols = *ownedGraph->getColMap();
+  std::vector<LO> toOwnedCol(numOverlap);
+  for (LO l = 0; l < numOverlap; ++l) toOwnedCol[l] = ownedCols.getLocalElement(overlapGids[l]);
+  std::vector<std::size_t> ownedPosition(ghostBegin);
+  for (LO r = 0; r < numOwned; ++r) {
+    const LO* b = local.entries.data() + local.row_map(r);
+    const LO* e = local.entries.data() + local.row_map(r + 1);
+    for (std::size_t p = rowPtr[r]; p < rowPtr[r + 1]; ++p)
+      ownedPosition[p] = static_cast<std::size_t>(std::lower_bound(b, e, toOwnedCol[cols[p]]) - local.entries.data());
+  }
+  std::vector<LO>().swap(toOwnedCol);
   auto finish = [&](Values& values) -> Teuchos::RCP<const CrsMatrix> {
-    auto overlap = Teuchos::rcp(new CrsMatrix(overlapGraph, values));
-    values = Values();  // the matrix holds the only reference now
-    if (!overlap->isFillComplete()) overlap->fillComplete(ownedMap, ownedMap);
-    return Tpetra::exportAndFillCompleteCrsMatrix<CrsMatrix>(Teuchos::rcp_const_cast<const CrsMatrix>(overlap),
-                                                             exporter, ownedMap, ownedMap);
+    Values owned("owned", local.entries.extent(0));
+    for (std::size_t p = 0; p < ghostBegin; ++p) owned(ownedPosition[p]) += values(p);
+    Values ghostValues("ghost", values.extent(0) - ghostBegin);
+    for (std::size_t p = ghostBegin; p < values.extent(0); ++p) ghostValues(p - ghostBegin) = values(p);
+    values = Values();
+    CrsMatrix ghost(ghostGraph, ghostValues);
+    if (!ghost.isFillComplete()) ghost.fillComplete(ownedMap, ownedMap);
+    auto A = Teuchos::rcp(new CrsMatrix(ownedGraph, owned));
+    A->resumeFill();
+    A->doExport(ghost, ghostExporter, Tpetra::ADD);
+    A->fillComplete(ownedMap, ownedMap);
+    return A;
   };
   out.map = ownedMap;
   out.M = finish(vM);
@@ -489,6 +566,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   }
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, localMass, Teuchos::outArg(out.mass));
   out.elementCount = static_cast<long long>(numElements);
+  out.exportSeconds = secondsSince(tExport);
   out.assemblySeconds = secondsSince(t0);
 
   // 8. Centrifugal prestress (theory §10): K u1 = f1 per unit Omega^2, then
@@ -510,10 +588,9 @@ AssembledMatrices assemble(const FiniteElementModel& model,
     auto u = uOverlap.getData(0);
     Values vKS("KS1", nnz);
     std::vector<double> ue(6 * 27);
-    for (std::size_t i = itemBegin; i < itemEnd && failure.empty(); ++i) {
-      const Item& it = items[i];
+    for (std::size_t local = 0; local < localItems.size() && failure.empty(); ++local) {
+      const Item& it = items[localItems[local]];
       if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
-      const std::size_t local = i - itemBegin;
       const auto b = itemDofStart[local], e = itemDofStart[local + 1];
       for (auto p = b; p < e; ++p) ue[p - b] = itemLids[p] >= 0 ? u[itemLids[p]] : 0.0;
       try {

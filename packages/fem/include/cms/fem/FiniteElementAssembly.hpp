@@ -31,7 +31,7 @@ struct DofLayout {
 };
 
 /// The assembled matrices of one substructure, all on `map` (rows owned by
-/// contiguous blocks of nodes). Per unit spin speed (null when the model has
+/// the ranks of a coordinate-slab partition of the nodes; not contiguous). Per unit spin speed (null when the model has
 /// no spin, or the term does not apply):
 ///   K(Omega) = K + Omega^2 (KS1 - KT1),  G(Omega) = Omega G1,  f(Omega) = Omega^2 f1.
 struct AssembledMatrices {
@@ -43,6 +43,12 @@ struct AssembledMatrices {
   double mass = 0.0;                   ///< total translational mass (sum of element masses)
   long long elementCount = 0;
   double assemblySeconds = 0.0, prestressSeconds = 0.0;
+  /// assemblySeconds split into phases (this rank): DOF layout, pattern and
+  /// maps; element matrices and scattering; export to the owned rows.
+  double setupSeconds = 0.0, elementSeconds = 0.0, exportSeconds = 0.0;
+  /// This rank's share: items (elements and lumped items) assembled here,
+  /// and ghost rows (rows owned elsewhere that its elements touch).
+  long long localItems = 0, ghostRows = 0;
 };
 
 /// Collective. Throws cms::InputError for a model inconsistent with its mesh
