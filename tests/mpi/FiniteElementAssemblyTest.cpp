@@ -14,6 +14,7 @@
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "ExpectError.hpp"
 #include "BeamModels.hpp"
 #include "SubstructureModes.hpp"
 #include "cms/core/Error.hpp"
@@ -27,6 +28,8 @@
 using namespace cms;
 using fem::Component;
 using substructure::Substructure;
+
+using cms::fixtures::expectInputError;
 
 namespace {
 
@@ -132,16 +135,6 @@ MultiVector rigidField(const Substructure& s, const fem::Vec3& t, const fem::Vec
     }
   }
   return x;
-}
-
-template <class Fn>
-void expectInputError(Fn fn, const std::string& needle) {
-  try {
-    fn();
-    ADD_FAILURE() << "no cms::InputError; expected one mentioning \"" << needle << "\"";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "ExpectError.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/FrameElement.hpp"
 
@@ -25,6 +26,8 @@ void dgesv_(const int* n, const int* nrhs, double* a, const int* lda, int* ipiv,
 }
 
 using namespace cms::fem;
+
+using cms::fixtures::expectInputError;
 
 namespace {
 
@@ -241,16 +244,6 @@ Vector tipDisplacement(const ElementMatrix& k, const Vector& f) {
   dgesv_(&n, &nrhs, a.data(), &n, ipiv, b.data(), &n, &info);
   EXPECT_EQ(info, 0);
   return b;
-}
-
-template <class F>
-void expectInputError(F f, const std::string& key) {
-  try {
-    f();
-    ADD_FAILURE() << "no cms::InputError (expected one naming " << key << ")";
-  } catch (const cms::InputError& err) {
-    EXPECT_NE(std::string(err.what()).find(key), std::string::npos) << err.what();
-  }
 }
 
 }  // namespace

@@ -6,10 +6,13 @@
 #include <cmath>
 #include <string>
 
+#include "ExpectError.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/LumpedElements.hpp"
 
 using namespace cms::fem;
+
+using cms::fixtures::expectInputError;
 
 namespace {
 
@@ -61,16 +64,6 @@ void expectNear(const Mat3& a, const Mat3& b, double tol, const char* what) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       EXPECT_NEAR(a[i][j], b[i][j], tol) << what << " (" << i << ", " << j << ")";
-}
-
-template <class F>
-void expectInputError(F f, const std::string& key) {
-  try {
-    f();
-    ADD_FAILURE() << "no cms::InputError (expected one naming " << key << ")";
-  } catch (const cms::InputError& err) {
-    EXPECT_NE(std::string(err.what()).find(key), std::string::npos) << err.what();
-  }
 }
 
 /// A disc-like body: polar moment Ip about its axis, Id about diameters.
