@@ -55,9 +55,12 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
   CMS_INPUT_CHECK(symmetry != "general" && symmetry != "symmetric" && symmetry != "skew-symmetric",
                   path << ":1: symmetry \"" << symmetry << "\" must be general, symmetric or skew-symmetric");
   long long m = -1, n = -1, nnz = -1;
+  // Tpetra's reader refuses blank lines ("contains no characters"); so do we,
+  // with the line number, on every rank.
   while (std::getline(in, line)) {
     ++lineNo;
-    if (line.empty() || line[0] == '%') continue;
+    CMS_INPUT_CHECK(line.empty(), path << ":" << lineNo << ": blank line (not accepted in Matrix Market data)");
+    if (line[0] == '%') continue;
     std::istringstream size(line);
     std::string extra;
     CMS_INPUT_CHECK(!(size >> m >> n >> nnz) || (size >> extra) || m < 0 || n < 0 || nnz < 0,
@@ -70,7 +73,8 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
   long long count = 0;
   while (std::getline(in, line)) {
     ++lineNo;
-    if (line.empty() || line[0] == '%') continue;
+    CMS_INPUT_CHECK(line.empty(), path << ":" << lineNo << ": blank line (not accepted in Matrix Market data)");
+    if (line[0] == '%') continue;
     const char* s = line.c_str();
     char* end = nullptr;
     const long long i = std::strtoll(s, &end, 10);

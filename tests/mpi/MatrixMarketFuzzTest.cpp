@@ -1,0 +1,130 @@
+// Randomised corruption of a Matrix Market substructure (sidecar and matrix
+// files): reading it must either succeed or throw cms::InputError, the same
+// on every rank; anything else (another exception, a crash, a rank left
+// waiting: a hang caught by CTest's timeout) fails. Seeds are written by the
+// framework itself from a small spinning beam; mutations are deterministic
+// (std::mt19937 seeded by the iteration), count from CMS_FUZZ_ITERATIONS.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultComm.hpp>
+
+#include "BeamModels.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/substructure/Substructure.hpp"
+
+using namespace cms;
+using substructure::Substructure;
+
+namespace {
+
+auto world() { return Teuchos::DefaultComm<int>::getComm(); }
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::string mutate(std::string s, std::mt19937& rng) {
+  auto pick = [&](std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng); };
+  static const char* tokens[] = {"0", "-1", "1e308", "nan", "inf", "99999999999", "2147483648", " ", "\n", "%",
+                                 "#", "x", "1.5", "-0", "18446744073709551616", "\t", "\r\n"};
+  switch (pick(6)) {
+    case 0:  // truncate
+      s.resize(pick(s.size() + 1));
+      break;
+    case 1:  // flip bytes
+      for (std::size_t k = 0, n = 1 + pick(4); k < n && !s.empty(); ++k) s[pick(s.size())] = static_cast<char>(pick(256));
+      break;
+    case 2: {  // replace a number-like token by a nasty one
+      const std::size_t at = pick(s.size() + 1);
+      std::size_t end = at;
+      while (end < s.size() && s[end] != ' ' && s[end] != '\n') ++end;
+      s.replace(at, end - at, tokens[pick(sizeof tokens / sizeof *tokens)]);
+      break;
+    }
+    case 3: {  // delete a line
+      const std::size_t at = s.rfind('\n', pick(s.size() + 1));
+      const std::size_t b = at == std::string::npos ? 0 : at + 1, e = s.find('\n', b);
+      s.erase(b, e == std::string::npos ? std::string::npos : e - b + 1);
+      break;
+    }
+    case 4: {  // duplicate a line
+      const std::size_t b = s.rfind('\n', pick(s.size() + 1));
+      const std::size_t from = b == std::string::npos ? 0 : b + 1, e = s.find('\n', from);
+      const std::string line = s.substr(from, e == std::string::npos ? std::string::npos : e - from + 1);
+      s.insert(from, line);
+      break;
+    }
+    default:  // insert a token
+      s.insert(pick(s.size() + 1), tokens[pick(sizeof tokens / sizeof *tokens)]);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(MatrixMarketFuzz, CorruptedFilesGiveInputErrorOrSucceedOnEveryRank) {
+  fem::BeamSection sec;
+  sec.A = 1e-3;
+  sec.Iy = 1e-7;
+  sec.Iz = 2e-7;
+  sec.J = 2e-7;
+  sec.orientation = {0, 1, 0};
+  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 3), {7e10, 0.33, 2700.0}, sec);
+  model.name = "fuzz";
+  model.fixed.push_back({"root", "root", {}, true});
+  fem::SpinDefinition spin;
+  spin.spin.axis = {0.0, 0.0, 1.0};
+  model.spin = spin;
+  const auto comm = world();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("cms_mm_fuzz_np" + std::to_string(comm->getSize()))).string();
+  // Seeds from a one-rank assembly, so every rank count fuzzes the same bytes.
+  const auto self = comm->split(comm->getRank(), 0);
+  if (comm->getRank() == 0) Substructure::fromFiniteElementModel(model, self).writeMatrixMarket(dir);
+  comm->barrier();
+  const std::vector<std::string> targets = {dir + "/fuzz.cms", dir + "/fuzz_K.mtx", dir + "/fuzz_G1.mtx"};
+  std::vector<std::string> seeds;
+  for (const auto& t : targets) seeds.push_back(slurp(t));
+
+  const char* env = std::getenv("CMS_FUZZ_ITERATIONS");
+  const int iterations = env ? std::atoi(env) : 300;
+  int accepted = 0, refused = 0;
+  for (int i = 0; i < iterations; ++i) {
+    std::mt19937 rng(static_cast<unsigned>(i));
+    const std::size_t which = static_cast<std::size_t>(i) % targets.size();
+    comm->barrier();
+    if (comm->getRank() == 0) {
+      for (std::size_t t = 0; t < targets.size(); ++t)
+        std::ofstream(targets[t], std::ios::binary | std::ios::trunc)
+            << (t == which ? mutate(seeds[t], rng) : seeds[t]);
+    }
+    comm->barrier();
+    int outcome = 0;  // 0 read, 1 InputError, 2 anything else
+    std::string what;
+    try {
+      Substructure::fromMatrixMarket(targets[0], comm);
+    } catch (const InputError& e) {
+      outcome = 1;
+    } catch (const std::exception& e) {
+      outcome = 2;
+      what = e.what();
+    }
+    int lo = 0, hi = 0;
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, outcome, Teuchos::outArg(lo));
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, outcome, Teuchos::outArg(hi));
+    ASSERT_EQ(lo, hi) << "ranks disagree on iteration " << i << " (" << targets[which] << ")";
+    ASSERT_NE(outcome, 2) << "iteration " << i << ", " << targets[which] << ": not an InputError: " << what;
+    (outcome == 0 ? accepted : refused)++;
+    if (std::getenv("CMS_FUZZ_VERBOSE") && comm->getRank() == 0) std::printf("iteration %d: %d\n", i, outcome);
+  }
+  if (comm->getRank() == 0) std::printf("%d corrupted inputs: %d read, %d refused\n", iterations, accepted, refused);
+  EXPECT_GT(refused, iterations / 2);  // the mutations do break most files
+}
