@@ -14,6 +14,7 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
+#include <unordered_map>
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
@@ -304,7 +305,6 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   std::vector<LO> itemLids(itemDofs.size());
   std::transform(itemDofs.begin(), itemDofs.end(), itemLids.begin(),
                  [&](long long g) { return g < 0 ? LO(-1) : rowLid[g]; });
-  std::vector<LO>().swap(rowLid);
 
   // 5. The shared CSR pattern over the overlap rows (columns: overlap lids).
   Teuchos::ArrayRCP<std::size_t> rowPtr(numOverlap + 1, 0);
@@ -489,29 +489,21 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   out.elementSeconds = secondsSince(tElements);
   const auto tExport = std::chrono::steady_clock::now();
 
-  // 7. Overlapping rows -> owned rows. Tpetra exports the pattern once
-  // (exportAndFillCompleteCrsGraph: the owned rows' union of every rank's
-  // contributions). Each matrix then copies its owned rows locally through
-  // precomputed positions and receives only the ghost rows through an
-  // Export (ADD). Exporting every matrix whole cost 5x the element loop and
-  // grew faster than the mesh (doc/benchmarks.md, "Assembly").
+  // 7. Overlapping rows -> owned rows. Only the ghost rows (a slab
+  // interface) cross ranks: their pattern is exported once, merged into the
+  // owned rows' own pattern locally, and each matrix then copies its owned
+  // rows through precomputed positions and receives its ghost rows through
+  // an Export (ADD). Exporting every matrix whole with Tpetra's
+  // exportAndFillComplete, or even just the whole pattern, cost more than the
+  // element loop at 10^6 DOFs (doc/benchmarks.md, "Assembly").
   Tpetra::Export<> exporter(overlapMap, ownedMap);
   using Graph = Tpetra::CrsGraph<>;
-  Teuchos::RCP<const Graph> ownedGraph, ghostGraph;
-  {
-    Teuchos::ArrayRCP<LO> colsRcp(cols.size());
-    std::copy(cols.begin(), cols.end(), colsRcp.begin());
-    auto g = Teuchos::rcp(new Graph(overlapMap, overlapMap, rowPtr, colsRcp));
-    g->expertStaticFillComplete(ownedMap, ownedMap);
-    ownedGraph = Tpetra::exportAndFillCompleteCrsGraph<Graph>(Teuchos::rcp_const_cast<const Graph>(g), exporter,
-                                                              ownedMap, ownedMap);
-  }
-  // Ghost rows only: their own row map, the overlap lids as columns.
   auto ghostMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
                                        Teuchos::ArrayView<const GO>(ghosts.empty() ? nullptr : overlapGids.data() + numOwned,
                                                                     ghosts.size()),
                                        0, comm));
   const std::size_t ghostBegin = rowPtr[numOwned];
+  Teuchos::RCP<const Graph> ghostGraph;
   {
     Teuchos::ArrayRCP<std::size_t> ghostRowPtr(ghosts.size() + 1);
     for (std::size_t r = 0; r <= ghosts.size(); ++r) ghostRowPtr[r] = rowPtr[numOwned + r] - ghostBegin;
@@ -522,21 +514,62 @@ AssembledMatrices assemble(const FiniteElementModel& model,
     ghostGraph = g;
   }
   Tpetra::Export<> ghostExporter(ghostMap, ownedMap);
+  // The owned pattern: columns numbered as in the overlap map (so an owned
+  // row's own entries keep their column lids), then the columns only other
+  // ranks' elements bring, appended.
+  Teuchos::ArrayRCP<std::size_t> ownedRowPtr(numOwned + 1, 0);
+  std::vector<LO> ownedCols;
+  std::vector<GO> colGids(overlapGids);
+  {
+    const auto received = Tpetra::exportAndFillCompleteCrsGraph<Graph>(ghostGraph, ghostExporter, ownedMap, ownedMap);
+    const auto rec = received->getLocalGraphHost();
+    const auto& recCols = *received->getColMap();
+    std::unordered_map<GO, LO> extra;
+    ownedCols.reserve(ghostBegin + rec.entries.extent(0));
+    for (LO r = 0; r < numOwned; ++r) {
+      const std::size_t start = ownedCols.size();
+      ownedCols.insert(ownedCols.end(), cols.begin() + rowPtr[r], cols.begin() + rowPtr[r + 1]);
+      const std::size_t rb = rec.row_map(r), re = rec.row_map(r + 1);
+      for (std::size_t p = rb; p < re; ++p) {
+        const GO g = recCols.getGlobalElement(rec.entries(p));
+        LO l = g < static_cast<GO>(rowLid.size()) ? rowLid[g] : -1;
+        if (l < 0) {
+          auto [it, fresh] = extra.emplace(g, static_cast<LO>(colGids.size()));
+          if (fresh) colGids.push_back(g);
+          l = it->second;
+        }
+        ownedCols.push_back(l);
+      }
+      if (re > rb) {
+        std::sort(ownedCols.begin() + start, ownedCols.end());
+        ownedCols.erase(std::unique(ownedCols.begin() + start, ownedCols.end()), ownedCols.end());
+      }
+      ownedRowPtr[r + 1] = ownedCols.size();
+    }
+  }
+  std::vector<LO>().swap(rowLid);
+  auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                     Teuchos::ArrayView<const GO>(colGids), 0, comm));
   // Position in the owned CSR of each overlap entry of an owned row.
-  const auto local = ownedGraph->getLocalGraphHost();
-  const auto& ownedCols = *ownedGraph->getColMap();
-  std::vector<LO> toOwnedCol(numOverlap);
-  for (LO l = 0; l < numOverlap; ++l) toOwnedCol[l] = ownedCols.getLocalElement(overlapGids[l]);
   std::vector<std::size_t> ownedPosition(ghostBegin);
   for (LO r = 0; r < numOwned; ++r) {
-    const LO* b = local.entries.data() + local.row_map(r);
-    const LO* e = local.entries.data() + local.row_map(r + 1);
+    const LO* b = ownedCols.data() + ownedRowPtr[r];
+    const LO* e = ownedCols.data() + ownedRowPtr[r + 1];
     for (std::size_t p = rowPtr[r]; p < rowPtr[r + 1]; ++p)
-      ownedPosition[p] = static_cast<std::size_t>(std::lower_bound(b, e, toOwnedCol[cols[p]]) - local.entries.data());
+      ownedPosition[p] = static_cast<std::size_t>(std::lower_bound(b, e, cols[p]) - ownedCols.data());
   }
-  std::vector<LO>().swap(toOwnedCol);
+  const std::size_t ownedNnz = ownedCols.size();
+  Teuchos::RCP<const Graph> ownedGraph;
+  {
+    Teuchos::ArrayRCP<LO> c(ownedNnz);
+    std::copy(ownedCols.begin(), ownedCols.end(), c.begin());
+    std::vector<LO>().swap(ownedCols);
+    auto g = Teuchos::rcp(new Graph(ownedMap, colMap, ownedRowPtr, c));
+    g->expertStaticFillComplete(ownedMap, ownedMap);
+    ownedGraph = g;
+  }
   auto finish = [&](Values& values) -> Teuchos::RCP<const CrsMatrix> {
-    Values owned("owned", local.entries.extent(0));
+    Values owned("owned", ownedNnz);
     for (std::size_t p = 0; p < ghostBegin; ++p) owned(ownedPosition[p]) += values(p);
     Values ghostValues("ghost", values.extent(0) - ghostBegin);
     for (std::size_t p = ghostBegin; p < values.extent(0); ++p) ghostValues(p - ghostBegin) = values(p);
