@@ -1,12 +1,13 @@
-// Parallel assembly (doc/architecture.md, "Assembly"; doc/theory.md §9-§10).
+// Parallel assembly (doc/architecture.md, "fem"; doc/theory.md §9-§10).
 //
 // Ownership: rows belong to the ranks of a coordinate-slab partition of the
 // nodes, elements ("items": frames, solids, point masses, springs) to the
 // rank owning their first node; the numbering (mesh order) is independent of
-// the rank count and rows shared between ranks occur only at slab interfaces. Each rank assembles its items into CSR arrays over an
-// overlapping row map (its owned rows first, then the ghost rows its items
-// touch); Tpetra's exportAndFillComplete sums the ghost rows into their
-// owners. All matrices share one sparsity pattern, computed once.
+// the rank count and rows shared between ranks occur only at slab
+// interfaces. All matrices share one sparsity pattern, built (with the
+// exchange of its ghost rows) before any value is computed; element values
+// go straight into the final owned arrays, and only ghost rows travel.
+
 #include "cms/fem/FiniteElementAssembly.hpp"
 
 #include <algorithm>
@@ -340,8 +341,82 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   cols.resize(write);
   cols.shrink_to_fit();
 
-  // Positions of an item's entries in the CSR values: found once per item
-  // (a binary search per entry) and reused by every matrix of that item.
+  // 6. The owned pattern, before any value is computed. Only the ghost rows
+  // (a slab interface) cross ranks: their pattern is exported once and
+  // merged into the owned rows' own pattern locally; element values are then
+  // scattered straight into the owned rows' final arrays and a small ghost
+  // array, which an Export (ADD) sends to the owners. Exporting every matrix whole with Tpetra's
+  // exportAndFillComplete, or even just the whole pattern, cost more than the
+  // element loop at 10^6 DOFs (doc/benchmarks.md, "Assembly").
+  Tpetra::Export<> exporter(overlapMap, ownedMap);
+  using Graph = Tpetra::CrsGraph<>;
+  auto ghostMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                       Teuchos::ArrayView<const GO>(ghosts.empty() ? nullptr : overlapGids.data() + numOwned,
+                                                                    ghosts.size()),
+                                       0, comm));
+  const std::size_t ghostBegin = rowPtr[numOwned];
+  Teuchos::RCP<const Graph> ghostGraph;
+  {
+    Teuchos::ArrayRCP<std::size_t> ghostRowPtr(ghosts.size() + 1);
+    for (std::size_t r = 0; r <= ghosts.size(); ++r) ghostRowPtr[r] = rowPtr[numOwned + r] - ghostBegin;
+    Teuchos::ArrayRCP<LO> ghostCols(cols.size() - ghostBegin);
+    std::copy(cols.begin() + ghostBegin, cols.end(), ghostCols.begin());
+    auto g = Teuchos::rcp(new Graph(ghostMap, overlapMap, ghostRowPtr, ghostCols));
+    g->expertStaticFillComplete(ownedMap, ownedMap);
+    ghostGraph = g;
+  }
+  Tpetra::Export<> ghostExporter(ghostMap, ownedMap);
+  // The owned pattern: columns numbered as in the overlap map (so an owned
+  // row's own entries keep their column lids), then the columns only other
+  // ranks' elements bring, appended.
+  Teuchos::ArrayRCP<std::size_t> ownedRowPtr(numOwned + 1, 0);
+  std::vector<LO> ownedCols;
+  std::vector<GO> colGids(overlapGids);
+  {
+    const auto received = Tpetra::exportAndFillCompleteCrsGraph<Graph>(ghostGraph, ghostExporter, ownedMap, ownedMap);
+    const auto rec = received->getLocalGraphHost();
+    const auto& recCols = *received->getColMap();
+    std::unordered_map<GO, LO> extra;
+    ownedCols.reserve(ghostBegin + rec.entries.extent(0));
+    for (LO r = 0; r < numOwned; ++r) {
+      const std::size_t start = ownedCols.size();
+      ownedCols.insert(ownedCols.end(), cols.begin() + rowPtr[r], cols.begin() + rowPtr[r + 1]);
+      const std::size_t rb = rec.row_map(r), re = rec.row_map(r + 1);
+      for (std::size_t p = rb; p < re; ++p) {
+        const GO g = recCols.getGlobalElement(rec.entries(p));
+        LO l = g < static_cast<GO>(rowLid.size()) ? rowLid[g] : -1;
+        if (l < 0) {
+          auto [it, fresh] = extra.emplace(g, static_cast<LO>(colGids.size()));
+          if (fresh) colGids.push_back(g);
+          l = it->second;
+        }
+        ownedCols.push_back(l);
+      }
+      if (re > rb) {
+        std::sort(ownedCols.begin() + start, ownedCols.end());
+        ownedCols.erase(std::unique(ownedCols.begin() + start, ownedCols.end()), ownedCols.end());
+      }
+      ownedRowPtr[r + 1] = ownedCols.size();
+    }
+  }
+  std::vector<LO>().swap(rowLid);
+  auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                     Teuchos::ArrayView<const GO>(colGids), 0, comm));
+  const std::size_t ownedNnz = ownedCols.size();
+  Teuchos::RCP<const Graph> ownedGraph;
+  {
+    Teuchos::ArrayRCP<LO> c(ownedNnz);
+    std::copy(ownedCols.begin(), ownedCols.end(), c.begin());
+    std::vector<LO>().swap(ownedCols);
+    auto g = Teuchos::rcp(new Graph(ownedMap, colMap, ownedRowPtr, c));
+    g->expertStaticFillComplete(ownedMap, ownedMap);
+    ownedGraph = g;
+  }
+
+  // Positions of an item's entries: found once per item (a binary search per
+  // entry) and reused by every matrix of that item. p >= 0: entry p of the
+  // owned arrays; p <= -2: entry -p-2 of the ghost arrays; -1: fixed DOF.
+  const auto owned = ownedGraph->getLocalGraphHost();
   std::vector<std::int64_t> positions;
   auto locate = [&](std::size_t local) {
     const auto b = itemDofStart[local], e = itemDofStart[local + 1];
@@ -350,19 +425,33 @@ AssembledMatrices assemble(const FiniteElementModel& model,
     for (int i = 0; i < n; ++i) {
       const LO r = itemLids[b + i];
       if (r < 0) continue;
-      const LO* rb = cols.data() + rowPtr[r];
-      const LO* re = cols.data() + rowPtr[r + 1];
+      const bool mine = r < numOwned;
+      const LO* base = mine ? owned.entries.data() : cols.data();
+      const LO* rb = base + (mine ? owned.row_map(r) : rowPtr[r]);
+      const LO* re = base + (mine ? owned.row_map(r + 1) : rowPtr[r + 1]);
       for (int j = 0; j < n; ++j) {
         const LO c = itemLids[b + j];
-        if (c >= 0) positions[static_cast<std::size_t>(i) * n + j] = std::lower_bound(rb, re, c) - cols.data();
+        if (c < 0) continue;
+        const std::int64_t at = std::lower_bound(rb, re, c) - base;
+        positions[static_cast<std::size_t>(i) * n + j] =
+            mine ? at : -2 - (at - static_cast<std::int64_t>(ghostBegin));
       }
     }
   };
   using Values = CrsMatrix::local_matrix_device_type::values_type;  // host memory (Serial node)
-  auto scatter = [&](const ElementMatrix& A, Values& values) {
+  struct Target {
+    Values owned, ghost;
+  };
+  auto target = [&](const char* name) {
+    return Target{Values(std::string(name) + " owned", ownedNnz), Values(std::string(name) + " ghost", cols.size() - ghostBegin)};
+  };
+  auto scatter = [&](const ElementMatrix& A, Target& t) {
     const std::size_t nn = positions.size();
-    for (std::size_t k = 0; k < nn; ++k)
-      if (positions[k] >= 0) values(positions[k]) += A.a[k];
+    for (std::size_t k = 0; k < nn; ++k) {
+      const std::int64_t p = positions[k];
+      if (p >= 0) t.owned(p) += A.a[k];
+      else if (p <= -2) t.ghost(-2 - p) += A.a[k];
+    }
   };
   auto scatterVector = [&](std::size_t local, const std::vector<double>& f, std::vector<double>& v) {
     const auto b = itemDofStart[local], e = itemDofStart[local + 1];
@@ -374,16 +463,15 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   out.localItems = static_cast<long long>(localItems.size());
   out.ghostRows = static_cast<long long>(ghosts.size());
   const auto tElements = std::chrono::steady_clock::now();
-  // 6. Element matrices. Errors are collected and reduced so every rank
+  // 7. Element matrices. Errors are collected and reduced so every rank
   // throws together (a rank's own elements may be the only bad ones).
   const bool spinning = model.spin.has_value();
   const bool rotatingFrame = spinning && model.spin->frame == SpinDefinition::Frame::Rotating;
   const Spin spin = spinning ? model.spin->spin : Spin{};
-  const std::size_t nnz = cols.size();
-  Values vM("M", nnz), vK("K", nnz), vG, vKT;
+  Target vM = target("M"), vK = target("K"), vG, vKT;
   std::vector<double> vf;
-  if (spinning) vG = Values("G1", nnz);
-  if (rotatingFrame) { vKT = Values("KT1", nnz); vf.assign(numOverlap, 0.0); }
+  if (spinning) vG = target("G1");
+  if (rotatingFrame) { vKT = target("KT1"); vf.assign(numOverlap, 0.0); }
   double localMass = 0.0;
 
   auto frameOf = [&](const Item& it) {
@@ -489,94 +577,11 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   out.elementSeconds = secondsSince(tElements);
   const auto tExport = std::chrono::steady_clock::now();
 
-  // 7. Overlapping rows -> owned rows. Only the ghost rows (a slab
-  // interface) cross ranks: their pattern is exported once, merged into the
-  // owned rows' own pattern locally, and each matrix then copies its owned
-  // rows through precomputed positions and receives its ghost rows through
-  // an Export (ADD). Exporting every matrix whole with Tpetra's
-  // exportAndFillComplete, or even just the whole pattern, cost more than the
-  // element loop at 10^6 DOFs (doc/benchmarks.md, "Assembly").
-  Tpetra::Export<> exporter(overlapMap, ownedMap);
-  using Graph = Tpetra::CrsGraph<>;
-  auto ghostMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                       Teuchos::ArrayView<const GO>(ghosts.empty() ? nullptr : overlapGids.data() + numOwned,
-                                                                    ghosts.size()),
-                                       0, comm));
-  const std::size_t ghostBegin = rowPtr[numOwned];
-  Teuchos::RCP<const Graph> ghostGraph;
-  {
-    Teuchos::ArrayRCP<std::size_t> ghostRowPtr(ghosts.size() + 1);
-    for (std::size_t r = 0; r <= ghosts.size(); ++r) ghostRowPtr[r] = rowPtr[numOwned + r] - ghostBegin;
-    Teuchos::ArrayRCP<LO> ghostCols(cols.size() - ghostBegin);
-    std::copy(cols.begin() + ghostBegin, cols.end(), ghostCols.begin());
-    auto g = Teuchos::rcp(new Graph(ghostMap, overlapMap, ghostRowPtr, ghostCols));
-    g->expertStaticFillComplete(ownedMap, ownedMap);
-    ghostGraph = g;
-  }
-  Tpetra::Export<> ghostExporter(ghostMap, ownedMap);
-  // The owned pattern: columns numbered as in the overlap map (so an owned
-  // row's own entries keep their column lids), then the columns only other
-  // ranks' elements bring, appended.
-  Teuchos::ArrayRCP<std::size_t> ownedRowPtr(numOwned + 1, 0);
-  std::vector<LO> ownedCols;
-  std::vector<GO> colGids(overlapGids);
-  {
-    const auto received = Tpetra::exportAndFillCompleteCrsGraph<Graph>(ghostGraph, ghostExporter, ownedMap, ownedMap);
-    const auto rec = received->getLocalGraphHost();
-    const auto& recCols = *received->getColMap();
-    std::unordered_map<GO, LO> extra;
-    ownedCols.reserve(ghostBegin + rec.entries.extent(0));
-    for (LO r = 0; r < numOwned; ++r) {
-      const std::size_t start = ownedCols.size();
-      ownedCols.insert(ownedCols.end(), cols.begin() + rowPtr[r], cols.begin() + rowPtr[r + 1]);
-      const std::size_t rb = rec.row_map(r), re = rec.row_map(r + 1);
-      for (std::size_t p = rb; p < re; ++p) {
-        const GO g = recCols.getGlobalElement(rec.entries(p));
-        LO l = g < static_cast<GO>(rowLid.size()) ? rowLid[g] : -1;
-        if (l < 0) {
-          auto [it, fresh] = extra.emplace(g, static_cast<LO>(colGids.size()));
-          if (fresh) colGids.push_back(g);
-          l = it->second;
-        }
-        ownedCols.push_back(l);
-      }
-      if (re > rb) {
-        std::sort(ownedCols.begin() + start, ownedCols.end());
-        ownedCols.erase(std::unique(ownedCols.begin() + start, ownedCols.end()), ownedCols.end());
-      }
-      ownedRowPtr[r + 1] = ownedCols.size();
-    }
-  }
-  std::vector<LO>().swap(rowLid);
-  auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                     Teuchos::ArrayView<const GO>(colGids), 0, comm));
-  // Position in the owned CSR of each overlap entry of an owned row.
-  std::vector<std::size_t> ownedPosition(ghostBegin);
-  for (LO r = 0; r < numOwned; ++r) {
-    const LO* b = ownedCols.data() + ownedRowPtr[r];
-    const LO* e = ownedCols.data() + ownedRowPtr[r + 1];
-    for (std::size_t p = rowPtr[r]; p < rowPtr[r + 1]; ++p)
-      ownedPosition[p] = static_cast<std::size_t>(std::lower_bound(b, e, cols[p]) - ownedCols.data());
-  }
-  const std::size_t ownedNnz = ownedCols.size();
-  Teuchos::RCP<const Graph> ownedGraph;
-  {
-    Teuchos::ArrayRCP<LO> c(ownedNnz);
-    std::copy(ownedCols.begin(), ownedCols.end(), c.begin());
-    std::vector<LO>().swap(ownedCols);
-    auto g = Teuchos::rcp(new Graph(ownedMap, colMap, ownedRowPtr, c));
-    g->expertStaticFillComplete(ownedMap, ownedMap);
-    ownedGraph = g;
-  }
-  auto finish = [&](Values& values) -> Teuchos::RCP<const CrsMatrix> {
-    Values owned("owned", ownedNnz);
-    for (std::size_t p = 0; p < ghostBegin; ++p) owned(ownedPosition[p]) += values(p);
-    Values ghostValues("ghost", values.extent(0) - ghostBegin);
-    for (std::size_t p = ghostBegin; p < values.extent(0); ++p) ghostValues(p - ghostBegin) = values(p);
-    values = Values();
-    CrsMatrix ghost(ghostGraph, ghostValues);
+  auto finish = [&](Target& t) -> Teuchos::RCP<const CrsMatrix> {
+    CrsMatrix ghost(ghostGraph, t.ghost);
     if (!ghost.isFillComplete()) ghost.fillComplete(ownedMap, ownedMap);
-    auto A = Teuchos::rcp(new CrsMatrix(ownedGraph, owned));
+    auto A = Teuchos::rcp(new CrsMatrix(ownedGraph, t.owned));
+    t = Target();
     A->resumeFill();
     A->doExport(ghost, ghostExporter, Tpetra::ADD);
     A->fillComplete(ownedMap, ownedMap);
@@ -619,7 +624,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
     MultiVector uOverlap(overlapMap, 1);
     uOverlap.doImport(*u1, Tpetra::Import<>(ownedMap, overlapMap), Tpetra::INSERT);
     auto u = uOverlap.getData(0);
-    Values vKS("KS1", nnz);
+    Target vKS = target("KS1");
     std::vector<double> ue(6 * 27);
     for (std::size_t local = 0; local < localItems.size() && failure.empty(); ++local) {
       const Item& it = items[localItems[local]];
