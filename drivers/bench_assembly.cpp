@@ -16,8 +16,6 @@
 //   bench_assembly                                   # 1e4 .. 1e6 DOFs
 //   bench_assembly --nx=30,300 --csv=asm.csv
 //   mpiexec -n 2 bench_assembly --prestress-max-dofs=400000
-#include <sys/resource.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -31,6 +29,7 @@
 #include <Teuchos_Time.hpp>
 #include <Tpetra_Core.hpp>
 
+#include "PeakMemory.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
 
@@ -38,16 +37,9 @@
 #define CMS_BENCH_DIR "drivers/bench"
 #endif
 
-namespace {
-double peakRssMiB() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_maxrss / 1024.0;
-}
-}  // namespace
-
 int main(int argc, char* argv[]) {
   using namespace cms;
+  using drivers::peakRssMiB;
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;

@@ -15,8 +15,6 @@
 //   bench_eigen                                  # 1e3 .. 1e6 DOFs
 //   bench_eigen --max-dofs=100000 --csv=eig.csv
 //   mpiexec -n 2 bench_eigen --max-dofs=1000000
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -29,17 +27,13 @@
 #include <Teuchos_Time.hpp>
 #include <Tpetra_Core.hpp>
 
+#include "PeakMemory.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
 #include "cms/fem/RotatingChain.hpp"
 
 namespace {
-double peakRssMiB() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_maxrss / 1024.0;
-}
 
 struct Row {
   long long dofs;
@@ -52,6 +46,7 @@ struct Row {
 
 int main(int argc, char* argv[]) {
   using namespace cms;
+  using drivers::peakRssMiB;
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
