@@ -23,9 +23,9 @@ namespace {
 
 using fem::Component;
 
-/// Rows owned by contiguous blocks of nodes: the same rule as the assembly,
-/// so a substructure read back from its Matrix Market files has its rows on
-/// the same ranks as when it was assembled.
+/// Rows owned by contiguous blocks of nodes (Matrix Market files carry no
+/// coordinates-based partition; the rows may sit on other ranks than when
+/// the substructure was assembled, which changes nothing but the layout).
 Teuchos::RCP<const Map> nodeBlockMap(const DofTable& t, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const long long n = static_cast<long long>(t.nodes());
   const int r = comm->getRank(), p = comm->getSize();
@@ -106,10 +106,12 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
 double Substructure::translationMass(const Substructure& s) {
   MultiVector ones(s.map_, 1), Mx(s.map_, 1);
   {
+    // Rows of an assembled substructure are not contiguous per rank (slab
+    // partition): ask the map for each row's global index.
     auto v = ones.getDataNonConst(0);
-    const long long first = s.map_->getMinGlobalIndex();
+    const Map& map = *s.map_;
     for (long i = 0; i < static_cast<long>(v.size()); ++i)
-      v[i] = s.dofs_.components[first + i] == Component::UX ? 1.0 : 0.0;
+      v[i] = s.dofs_.components[map.getGlobalElement(static_cast<LocalOrdinal>(i))] == Component::UX ? 1.0 : 0.0;
   }
   s.M_->apply(ones, Mx);
   Teuchos::Array<double> dot(1);
