@@ -117,7 +117,6 @@ int itemNodeDofs(const Item& it, const FiniteElementModel& model) {
 struct ItemMatrices {
   ElementMatrix M, K;
   SpinMatrices spin;  ///< G1, KT1, f1 (empty when no spin)
-  ElementMatrix Ks;   ///< geometric stiffness (second pass)
 };
 
 }  // namespace
@@ -345,9 +344,10 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   // (a slab interface) cross ranks: their pattern is exported once and
   // merged into the owned rows' own pattern locally; element values are then
   // scattered straight into the owned rows' final arrays and a small ghost
-  // array, which an Export (ADD) sends to the owners. Exporting every matrix whole with Tpetra's
-  // exportAndFillComplete, or even just the whole pattern, cost more than the
-  // element loop at 10^6 DOFs (doc/benchmarks.md, "Assembly").
+  // array, which an Export (ADD) sends to the owners. Exporting every matrix
+  // whole with Tpetra's exportAndFillComplete, or even just the whole
+  // pattern, cost more than the element loop at 10^6 DOFs
+  // (doc/benchmarks.md, "Assembly").
   Tpetra::Export<> exporter(overlapMap, ownedMap);
   using Graph = Tpetra::CrsGraph<>;
   auto ghostMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
@@ -472,7 +472,6 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   std::vector<double> vf;
   if (spinning) vG = target("G1");
   if (rotatingFrame) { vKT = target("KT1"); vf.assign(numOverlap, 0.0); }
-  double localMass = 0.0;
 
   auto frameOf = [&](const Item& it) {
     const auto& set = model.elementSets[it.set];
@@ -512,7 +511,6 @@ AssembledMatrices assemble(const FiniteElementModel& model,
           const FrameElement fe = frameOf(it);
           m.K = frameStiffness(fe);
           m.M = frameMass(fe);
-          localMass += fe.material.rho * fe.section.A * fe.length();
           if (rotatingFrame) m.spin = frameSpinMatrices(fe, spin);
           else if (spinning) m.spin.G1 = frameStationaryGyroscopic(fe, spin.axis);
           break;
@@ -521,7 +519,6 @@ AssembledMatrices assemble(const FiniteElementModel& model,
           const SolidElement se = solidOf(it);
           m.K = solidStiffness(se);
           m.M = solidMass(se);
-          localMass += se.material.rho * solidVolume(se);
           if (rotatingFrame) m.spin = solidSpinMatrices(se, spin);
           break;
         }
@@ -529,7 +526,6 @@ AssembledMatrices assemble(const FiniteElementModel& model,
           const PointMass p = pointMassOf(it);
           m.M = pointMassMatrix(p, nd);
           m.K = ElementMatrix(nd);
-          localMass += p.m;
           if (rotatingFrame) m.spin = pointMassSpinMatrices(p, spin, nd);
           else if (spinning && nd == 6) m.spin.G1 = pointMassStationaryGyroscopic(p, spin.axis);
           break;
@@ -602,7 +598,6 @@ AssembledMatrices assemble(const FiniteElementModel& model,
     f1->doExport(fOverlap, exporter, Tpetra::ADD);
     out.f1 = f1;
   }
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, localMass, Teuchos::outArg(out.mass));
   out.elementCount = static_cast<long long>(numElements);
   out.exportSeconds = secondsSince(tExport);
   out.assemblySeconds = secondsSince(t0);

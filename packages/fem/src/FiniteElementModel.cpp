@@ -275,14 +275,10 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     std::string word;
     while (is >> word) {
       if (word == "all") { f.all = true; continue; }
-      bool known = false;
-      for (int c = 0; c < 6; ++c)
-        if (word == componentName(static_cast<Component>(c))) {
-          f.components.push_back(static_cast<Component>(c));
-          known = true;
-        }
-      CMS_INPUT_CHECK(!known, sub << "/Fixed: unknown component \"" << word
+      Component c;
+      CMS_INPUT_CHECK(!parseComponent(word, c), sub << "/Fixed: unknown component \"" << word
                                   << "\"; use \"all\" or ux uy uz rx ry rz");
+      f.components.push_back(c);
     }
     CMS_INPUT_CHECK(!f.all && f.components.empty(), sub << "/Fixed: names no component");
     m.fixed.push_back(f);

@@ -50,15 +50,6 @@ bool knownMatrix(const std::string& name) {
   return false;
 }
 
-bool parseComponent(const std::string& s, Component& c) {
-  for (int i = 0; i < 6; ++i)
-    if (s == componentName(static_cast<Component>(i))) {
-      c = static_cast<Component>(i);
-      return true;
-    }
-  return false;
-}
-
 /// One record: its tokens and where it is, for messages.
 class Record {
 public:
@@ -275,6 +266,15 @@ void writeMatrixSubstructureFile(const MatrixSubstructureFile& file, const std::
   }
   out.close();
   check(!out, "write failed");
+}
+
+bool parseComponent(const std::string& s, Component& c) {
+  for (int i = 0; i < 6; ++i)
+    if (s == componentName(static_cast<Component>(i))) {
+      c = static_cast<Component>(i);
+      return true;
+    }
+  return false;
 }
 
 }  // namespace cms::fem

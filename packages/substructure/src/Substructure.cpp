@@ -103,6 +103,15 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
 
 }  // namespace
 
+void Substructure::finishConstruction() {
+  // K2 = KS1 - KT1 (theory §9): formed once, so that each speed of a sweep
+  // costs one matrix addition.
+  if (!KS1_.is_null() && !KT1_.is_null()) K2_ = Tpetra::MatrixMatrix::add(1.0, false, *KS1_, -1.0, false, *KT1_);
+  else if (!KS1_.is_null()) K2_ = KS1_;
+  else if (!KT1_.is_null()) K2_ = Tpetra::MatrixMatrix::add(-1.0, false, *KT1_, 0.0, false, *KT1_);
+  mass_ = translationMass(*this);
+}
+
 double Substructure::translationMass(const Substructure& s) {
   MultiVector ones(s.map_, 1), Mx(s.map_, 1);
   {
@@ -154,7 +163,7 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   for (const auto& e : model.elementSets) elementGroups.insert(e.group);
   for (const auto& g : mesh.groups)
     if (!elementGroups.count(g.name)) t.nodeSets[g.name] = mesh.nodeSet(g.name);
-  s.mass_ = translationMass(s);
+  s.finishConstruction();
   return s;
 }
 
@@ -204,7 +213,7 @@ Substructure Substructure::fromMatrixMarket(const std::string& sidecarPath,
   s.G1_ = read("G1");
   s.KT1_ = read("KT1");
   s.KS1_ = read("KS1");
-  s.mass_ = translationMass(s);
+  s.finishConstruction();
   return s;
 }
 
@@ -278,10 +287,7 @@ GyroscopicMatrices Substructure::atSpeed(double omega) const {
   g.M = M_;
   g.K = K_;
   const double w2 = omega * omega;
-  if (w2 != 0.0 && !KS1_.is_null())
-    g.K = Tpetra::MatrixMatrix::add(1.0, false, *g.K, w2, false, *KS1_);
-  if (w2 != 0.0 && !KT1_.is_null())
-    g.K = Tpetra::MatrixMatrix::add(1.0, false, *g.K, -w2, false, *KT1_);
+  if (w2 != 0.0 && !K2_.is_null()) g.K = Tpetra::MatrixMatrix::add(1.0, false, *K_, w2, false, *K2_);
   if (!G1_.is_null()) {
     auto G = Teuchos::rcp(new CrsMatrix(*G1_, Teuchos::Copy));
     G->resumeFill();

@@ -40,7 +40,6 @@ struct AssembledMatrices {
   Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1;
   Teuchos::RCP<const MultiVector> f1;  ///< centrifugal load per Omega^2
   Teuchos::RCP<const MultiVector> u1;  ///< static response K u1 = f1 (prestress)
-  double mass = 0.0;                   ///< total translational mass (sum of element masses)
   long long elementCount = 0;
   double assemblySeconds = 0.0, prestressSeconds = 0.0;
   /// assemblySeconds split into phases (this rank): DOF layout, pattern and

@@ -29,6 +29,8 @@ namespace cms::fem {
 /// Components of a node's displacement: translations, then small rotations.
 enum class Component : int { UX = 0, UY = 1, UZ = 2, RX = 3, RY = 4, RZ = 5 };
 const char* componentName(Component c);
+/// The component named s ("ux" .. "rz"); false if s names none.
+bool parseComponent(const std::string& s, Component& c);
 
 struct MatrixSubstructureFile {
   std::string path;                                 ///< the sidecar itself

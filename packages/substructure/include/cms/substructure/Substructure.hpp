@@ -78,11 +78,13 @@ public:
 
 private:
   static double translationMass(const Substructure& s);
+  void finishConstruction();  ///< K2_ and mass_ from the matrices
 
   std::string name_ = "substructure";
   Teuchos::RCP<const Map> map_;
   DofTable dofs_;
   Teuchos::RCP<const CrsMatrix> M_, K_, G1_, KT1_, KS1_;
+  Teuchos::RCP<const CrsMatrix> K2_;  ///< KS1 - KT1 (null without either)
   std::optional<fem::SpinDefinition> spin_;
   double mass_ = 0.0;
 };
