@@ -209,6 +209,34 @@ TEST(Assembly, TipMassAndSpringMatchTheSingleDofClosedForm) {
   EXPECT_GT(fixtures::translationShare(s, r.modes[1], Component::UZ), 0.999);
 }
 
+// The centrifugal prestress against the closed form of a rotating bar:
+// clamped at the axis, axial force N(x) = rho A Omega^2 (L^2 - x^2) / 2, tip
+// displacement u(L) = rho Omega^2 L^3 / (3 E). Linear axial interpolation
+// with consistent loads is nodally exact in 1D, so the bound is rounding
+// (1e-10 relative).
+TEST(Assembly, CentrifugalPrestressMatchesTheRotatingBarClosedForm) {
+  fem::BeamSection sec;
+  sec.A = 1e-3;
+  sec.Iy = sec.Iz = 1e-7;
+  sec.J = 2e-7;
+  sec.orientation = {0, 1, 0};
+  const double L = 2.0, E = 7e10, rho = 2700.0;
+  auto model = fixtures::frameModel(fixtures::lineMesh(L, 16), {E, 0.33, rho}, sec);
+  model.fixed.push_back({"root", "root", {}, true});
+  fem::SpinDefinition spin;
+  spin.spin.axis = {0.0, 0.0, 1.0};
+  model.spin = spin;
+  const auto a = fem::assemble(model, world());
+  ASSERT_FALSE(a.u1.is_null());
+  const long long tipRow = a.layout.row(16, Component::UX);
+  double tip = 0.0, local = 0.0;
+  const LocalOrdinal lid = a.map->getLocalElement(tipRow);
+  if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local = a.u1->getData(0)[lid];
+  Teuchos::reduceAll(*world(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(tip));
+  const double exact = rho * L * L * L / (3.0 * E);
+  EXPECT_NEAR(tip, exact, 1e-10 * exact);
+}
+
 TEST(Assembly, MatrixMarketRoundTripIsExact) {
   const auto s = Substructure::fromFiniteElementModel(spinningBeam(), world());
   const std::string dir = (std::filesystem::temp_directory_path() / ("cms_mm_roundtrip_np" + std::to_string(world()->getSize()))).string();
@@ -276,6 +304,26 @@ TEST(Assembly, ModelErrorsNameTheSetNodeOrElement) {
   auto rotationOfSolid = spinningSolidBlade();
   rotationOfSolid.fixed[0] = {"root", "root", {Component::RX}, false};
   expectInputError([&] { fem::assemble(rotationOfSolid, world()); }, "rx");
+
+  auto allFixed = spinningBeam();
+  allFixed.fixed.push_back({"everything", "beam", {}, true});
+  expectInputError([&] { fem::assemble(allFixed, world()); }, "every DOF is fixed");
+
+  auto stationarySolid = spinningSolidBlade();
+  stationarySolid.spin->frame = fem::SpinDefinition::Frame::Stationary;
+  expectInputError([&] { fem::assemble(stationarySolid, world()); }, "stationary-frame");
+
+  auto stationaryFlatBeam = spinningBeam();  // Iy != Iz: not axisymmetric
+  stationaryFlatBeam.spin->frame = fem::SpinDefinition::Frame::Stationary;
+  stationaryFlatBeam.spin->spin.axis = {1.0, 0.0, 0.0};
+  expectInputError([&] { fem::assemble(stationaryFlatBeam, world()); }, "Iy =");
+
+  auto unpairedSpring = spinningBeam();
+  unpairedSpring.springs.push_back({"joint", "ends", "tip", {1e6, 1e6, 1e6, 0, 0, 0}});
+  expectInputError([&] { fem::assemble(unpairedSpring, world()); }, "must have the same size");
+
+  const auto beam = Substructure::fromFiniteElementModel(spinningBeam(), world());
+  expectInputError([&] { beam.writeMatrixMarket("/proc/cms-cannot-write-here"); }, "cannot write");
 
   // A free solid under centrifugal load has no static solution.
   auto free = spinningSolidBlade();

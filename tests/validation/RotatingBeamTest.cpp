@@ -9,6 +9,7 @@
 //    the closed-form forward and backward whirl frequencies.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <Teuchos_DefaultComm.hpp>
@@ -125,13 +126,10 @@ TEST(ClampedCantilever, FrequencyConvergesAtFourthOrder) {
   }
 }
 
-// A Rayleigh shaft (Euler-Bernoulli bending with rotary inertia, no shear)
-// simply supported at both ends, spinning about its own axis, in the
-// stationary frame: FE whirl frequencies converge to the closed form
-// (SpinningRayleighShaft::exactWhirl). 40 elements: discretisation error of
-// the second mode ~ (h k)^4 / 720 < 1e-7; asserted 1e-6 relative.
-TEST(SpinningShaft, StationaryFrameWhirlMatchesRayleighBeamClosedForm) {
-  fem::ShaftProperties props;  // L = 1, r = 0.02, steel
+namespace {
+/// The simply supported steel Rayleigh shaft of the closed form, along x,
+/// spinning about its own axis in the given frame.
+substructure::Substructure rayleighShaft(const fem::ShaftProperties& props, fem::SpinDefinition::Frame frame) {
   const double r = props.radius, pi = std::acos(-1.0);
   fem::IsotropicMaterial steel{props.youngsModulus, 0.3, props.density};
   fem::BeamSection sec;
@@ -144,11 +142,49 @@ TEST(SpinningShaft, StationaryFrameWhirlMatchesRayleighBeamClosedForm) {
   model.fixed = {ends, axial};
   fem::SpinDefinition spin;
   spin.spin.axis = {1.0, 0.0, 0.0};
-  spin.frame = fem::SpinDefinition::Frame::Stationary;
+  spin.frame = frame;
   spin.stressStiffening = false;
   model.spin = spin;
-  const auto shaft = substructure::Substructure::fromFiniteElementModel(model, world());
+  return substructure::Substructure::fromFiniteElementModel(model, world());
+}
+}  // namespace
 
+// The same shaft described in its spinning frame (Coriolis G1, spin
+// softening KT1, the rigid-body rotary terms of theory §9.3): an axisymmetric
+// rotor seen from a frame turning with it whirls at the stationary-frame
+// frequencies shifted by the spin, |omega_FW - Omega| and omega_BW + Omega.
+// This checks the rotating-frame matrices against the closed form; at
+// Omega = 2 omega_1 spin softening makes K indefinite, so the general
+// (non-symmetric) solver path is exercised too. Same 1e-6 as above.
+TEST(SpinningShaft, RotatingFrameWhirlIsTheStationaryOneShiftedBySpin) {
+  fem::ShaftProperties props;
+  const auto shaft = rayleighShaft(props, fem::SpinDefinition::Frame::Rotating);
+  const double w1 = fem::SpinningRayleighShaft::exactWhirl(props, 1, 0.0).first;
+  for (double fraction : {0.5, 2.0}) {
+    const double Omega = fraction * w1;
+    std::vector<double> expected;
+    for (int k = 1; k <= 3; ++k) {
+      const auto [forward, backward] = fem::SpinningRayleighShaft::exactWhirl(props, k, Omega);
+      expected.push_back(std::abs(forward - Omega));
+      expected.push_back(backward + Omega);
+    }
+    std::sort(expected.begin(), expected.end());
+    const auto res = fixtures::solveAtSpeed(shaft, Omega, 4);
+    ASSERT_EQ(res.status, eigen::SolveStatus::Converged) << res.reason;
+    ASSERT_EQ(res.modes.size(), 4u);
+    for (int m = 0; m < 4; ++m)
+      EXPECT_NEAR(res.modes[m].omega, expected[m], 1e-6 * expected[m]) << "Omega = " << Omega << ", mode " << m;
+  }
+}
+
+// A Rayleigh shaft (Euler-Bernoulli bending with rotary inertia, no shear)
+// simply supported at both ends, spinning about its own axis, in the
+// stationary frame: FE whirl frequencies converge to the closed form
+// (SpinningRayleighShaft::exactWhirl). 40 elements: discretisation error of
+// the second mode ~ (h k)^4 / 720 < 1e-7; asserted 1e-6 relative.
+TEST(SpinningShaft, StationaryFrameWhirlMatchesRayleighBeamClosedForm) {
+  fem::ShaftProperties props;  // L = 1, r = 0.02, steel
+  const auto shaft = rayleighShaft(props, fem::SpinDefinition::Frame::Stationary);
   const double w1 = fem::SpinningRayleighShaft::exactWhirl(props, 1, 0.0).first;
   for (double fraction : {0.0, 0.5, 2.0}) {
     const double Omega = fraction * w1;
