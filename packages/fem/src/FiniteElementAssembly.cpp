@@ -27,6 +27,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/HeldDofs.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/fem/FrameElement.hpp"
 #include "cms/fem/LumpedElements.hpp"
@@ -133,7 +134,8 @@ long long DofLayout::row(std::int64_t node, Component c) const {
 }
 
 AssembledMatrices assemble(const FiniteElementModel& model,
-                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                           const PrestressConditions& prestress) {
   const auto t0 = std::chrono::steady_clock::now();
   model.validate();
   const Mesh& mesh = *model.mesh;
@@ -604,9 +606,53 @@ AssembledMatrices assemble(const FiniteElementModel& model,
 
   // 8. Centrifugal prestress (theory §10): K u1 = f1 per unit Omega^2, then
   // the geometric stiffness of the element stresses of u1.
+  CMS_INPUT_CHECK(!prestress.empty() && !(rotatingFrame && model.spin->stressStiffening),
+                  model.name << ": prestress conditions given, but the model has no rotating-frame "
+                                "spin with stress stiffening");
   if (rotatingFrame && model.spin->stressStiffening) {
     const auto t1 = std::chrono::steady_clock::now();
-    SparseDirectSolver solver(out.K, "CHOLMOD");
+    // Held DOFs and children's loads (theory §10.2): rows resolved here,
+    // where the layout is known. A held DOF the model already fixes has no
+    // row and needs no hold.
+    auto rowOf = [&](const PrestressConditions::NodalValue& v, const char* what) {
+      CMS_INPUT_CHECK(v.node < 0 || v.node >= numNodes,
+                      model.name << ": prestress " << what << " at node index " << v.node << " (mesh has "
+                                 << numNodes << " nodes)");
+      CMS_INPUT_CHECK(!(L.present[v.node] & (1u << static_cast<int>(v.component))),
+                      model.name << ": prestress " << what << " on " << componentName(v.component) << " at "
+                                 << nodeName(mesh, v.node) << ", which has no such DOF");
+      return L.row(v.node, v.component);
+    };
+    std::vector<long long> heldRows;
+    std::vector<PrestressConditions::NodalValue> heldDofs;
+    for (const auto& h : prestress.held) {
+      // A hold on a component the node does not carry is no constraint.
+      if (h.node >= 0 && h.node < numNodes && !(L.present[h.node] & (1u << static_cast<int>(h.component))))
+        continue;
+      const long long r = rowOf(h, "hold");
+      if (r < 0 || std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
+      heldRows.push_back(r);
+      heldDofs.push_back(h);
+    }
+    auto f = Teuchos::rcp(new MultiVector(*out.f1, Teuchos::Copy));
+    {
+      auto fv = f->getDataNonConst(0);
+      for (const auto& l : prestress.loads) {
+        const long long r = rowOf(l, "load");
+        const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(r));
+        if (r >= 0 && lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += l.value;
+      }
+    }
+    Teuchos::RCP<const CrsMatrix> Ksolve = out.K;
+    auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
+    if (!heldRows.empty()) {
+      // Held rows and columns replaced by the identity, held loads zeroed:
+      // u1 = 0 there, the rest is the supported problem.
+      const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
+      Ksolve = holdDofs(*out.K, rows, 1.0);
+      zeroHeldRows(*fSolve, rows);
+    }
+    SparseDirectSolver solver(Ksolve, "CHOLMOD");
     const auto outcome = solver.factor();
     if (outcome != SparseDirectSolver::Outcome::Factored)
       throw NumericalError(model.name + ": the centrifugal prestress needs a stiffness matrix that is "
@@ -614,8 +660,24 @@ AssembledMatrices assemble(const FiniteElementModel& model,
                            "CHOLMOD: " + solver.failure() +
                            ". Add boundary conditions or set \"Stress Stiffening\" to false");
     auto u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
-    solver.solve(*out.f1, *u1);
+    solver.solve(*fSolve, *u1);
     out.u1 = u1;
+    if (!heldRows.empty()) {
+      MultiVector r(ownedMap, 1);
+      out.K->apply(*u1, r);
+      r.update(-1.0, *f, 1.0);
+      auto rv = r.getData(0);
+      std::vector<double> local(heldRows.size(), 0.0), global(heldRows.size(), 0.0);
+      for (std::size_t i = 0; i < heldRows.size(); ++i) {
+        const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(heldRows[i]));
+        if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local[i] = rv[lid];
+      }
+      Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
+      for (std::size_t i = 0; i < heldDofs.size(); ++i) {
+        out.reactions1.push_back(heldDofs[i]);
+        out.reactions1.back().value = global[i];
+      }
+    }
     MultiVector uOverlap(overlapMap, 1);
     uOverlap.doImport(*u1, Tpetra::Import<>(ownedMap, overlapMap), Tpetra::INSERT);
     auto u = uOverlap.getData(0);

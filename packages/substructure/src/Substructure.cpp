@@ -135,8 +135,9 @@ long long DofTable::row(std::int64_t node, Component c) const {
 }
 
 Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel& model,
-                                                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
-  fem::AssembledMatrices a = fem::assemble(model, comm);
+                                                  const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                                                  const fem::PrestressConditions& prestress) {
+  fem::AssembledMatrices a = fem::assemble(model, comm, prestress);
   Substructure s;
   s.name_ = model.name;
   s.map_ = a.map;
@@ -146,6 +147,7 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   s.KT1_ = a.KT1;
   s.KS1_ = a.KS1;
   s.spin_ = model.spin;
+  s.reactions1_ = a.reactions1;
   const fem::Mesh& mesh = *model.mesh;
   DofTable& t = s.dofs_;
   t.nodeIds.assign(mesh.nodeTags.begin(), mesh.nodeTags.end());

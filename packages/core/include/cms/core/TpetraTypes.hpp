@@ -7,6 +7,7 @@
 #include <Tpetra_Map_fwd.hpp>
 #include <Tpetra_MultiVector_fwd.hpp>
 #include <Tpetra_Operator_fwd.hpp>
+#include <Tpetra_Vector_fwd.hpp>
 
 namespace cms {
 using LocalOrdinal = ::Tpetra::Details::DefaultTypes::local_ordinal_type;
@@ -14,5 +15,6 @@ using GlobalOrdinal = ::Tpetra::Details::DefaultTypes::global_ordinal_type;
 using Map = ::Tpetra::Map<>;
 using CrsMatrix = ::Tpetra::CrsMatrix<double>;
 using MultiVector = ::Tpetra::MultiVector<double>;
+using Vector = ::Tpetra::Vector<double>;
 using Operator = ::Tpetra::Operator<double>;
 }  // namespace cms

@@ -30,6 +30,23 @@ struct DofLayout {
   long long row(std::int64_t node, Component c) const;
 };
 
+/// Extra conditions of the centrifugal prestress solve K u1 = f1 (theory
+/// §10.2), set by the synthesis layer for a substructure that is part of a
+/// structure: DOFs held only during that static solve (a child's attachment,
+/// a free body's statically determinate reference) and loads per unit
+/// Omega^2 that its children pass on to it (their root reactions). The
+/// matrices keep every DOF.
+struct PrestressConditions {
+  struct NodalValue {
+    std::int64_t node = 0;  ///< mesh node index (mesh order, not the tag)
+    Component component = Component::UX;
+    double value = 0.0;     ///< load per unit Omega^2 (unused for a held DOF)
+  };
+  std::vector<NodalValue> held;   ///< components the node does not carry are ignored
+  std::vector<NodalValue> loads;
+  bool empty() const { return held.empty() && loads.empty(); }
+};
+
 /// The assembled matrices of one substructure, all on `map` (rows owned by
 /// the ranks of a coordinate-slab partition of the nodes; not contiguous). Per unit spin speed (null when the model has
 /// no spin, or the term does not apply):
@@ -40,6 +57,10 @@ struct AssembledMatrices {
   Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1;
   Teuchos::RCP<const MultiVector> f1;  ///< centrifugal load per Omega^2
   Teuchos::RCP<const MultiVector> u1;  ///< static response K u1 = f1 (prestress)
+  /// Per held DOF of the PrestressConditions (same order; DOFs the model
+  /// already fixes are skipped): the force the hold exerts on the
+  /// substructure per unit Omega^2, r = K u1 - f1 - loads. Identical on every rank.
+  std::vector<PrestressConditions::NodalValue> reactions1;
   long long elementCount = 0;
   double assemblySeconds = 0.0, prestressSeconds = 0.0;
   /// assemblySeconds split into phases (this rank): DOF layout, pattern and
@@ -51,9 +72,11 @@ struct AssembledMatrices {
 };
 
 /// Collective. Throws cms::InputError for a model inconsistent with its mesh
-/// (naming the set, node or element tag) and cms::NumericalError for an
-/// inverted element or an unconstrained prestress problem.
+/// (naming the set, node or element tag; also a held or loaded DOF the node
+/// does not have) and cms::NumericalError for an inverted element or an
+/// unconstrained prestress problem.
 AssembledMatrices assemble(const FiniteElementModel& model,
-                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                           const PrestressConditions& prestress = PrestressConditions());
 
 }  // namespace cms::fem

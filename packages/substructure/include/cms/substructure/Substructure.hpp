@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cms/core/TpetraTypes.hpp"
+#include "cms/fem/FiniteElementAssembly.hpp"
 #include "cms/fem/FiniteElementModel.hpp"
 
 namespace Teuchos { template <class T> class Comm; }
@@ -40,9 +41,12 @@ struct GyroscopicMatrices {
 
 class Substructure {
 public:
-  /// Assembles the model (collective); see fem::assemble for errors.
+  /// Assembles the model (collective); see fem::assemble for errors. The
+  /// prestress conditions hold a child's attachment and add its children's
+  /// reactions during the centrifugal prestress solve (theory §10.2).
   static Substructure fromFiniteElementModel(const fem::FiniteElementModel& model,
-                                             const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+                                             const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                                             const fem::PrestressConditions& prestress = {});
   /// Reads a sidecar and its Matrix Market files (collective). Throws
   /// cms::InputError naming the file: unreadable or malformed matrix,
   /// dimensions that differ from the sidecar's DOF count, M or K missing,
@@ -65,12 +69,16 @@ public:
   Teuchos::RCP<const CrsMatrix> G1() const { return G1_; }
   Teuchos::RCP<const CrsMatrix> KT1() const { return KT1_; }
   Teuchos::RCP<const CrsMatrix> KS1() const { return KS1_; }
+  /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
+  Teuchos::RCP<const CrsMatrix> K2() const { return K2_; }
   /// The spin the per-unit-speed matrices refer to (none: not rotating).
   const std::optional<fem::SpinDefinition>& spin() const { return spin_; }
   /// The mass moving with a unit rigid translation along x of the rows,
   /// u^T M u: the total mass of an unsupported substructure; supports take
   /// away what sits on their fixed DOFs.
   double mass() const { return mass_; }
+  /// The prestress holds' reactions per unit Omega^2 (fem::AssembledMatrices::reactions1).
+  const std::vector<fem::PrestressConditions::NodalValue>& prestressReactions() const { return reactions1_; }
 
   /// M, G(Omega), K(Omega) (theory §9); Omega = 0 gives G = 0 and K. New
   /// matrices are formed only when a speed-dependent term is present.
@@ -87,6 +95,7 @@ private:
   Teuchos::RCP<const CrsMatrix> K2_;  ///< KS1 - KT1 (null without either)
   std::optional<fem::SpinDefinition> spin_;
   double mass_ = 0.0;
+  std::vector<fem::PrestressConditions::NodalValue> reactions1_;
 };
 
 }  // namespace cms::substructure

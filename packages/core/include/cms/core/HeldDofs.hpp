@@ -1,0 +1,21 @@
+// Holding DOFs at zero without renumbering: a copy of a matrix whose held
+// rows and columns are zero except the diagonal. With diagonal 1 for K and 0
+// for M, a solve or an eigenproblem on the copies is the problem with those
+// DOFs fixed, and its solutions are exactly zero there (the prestress solve of
+// a child held at its attachment, fixed-interface vectors; doc/theory.md §11).
+#pragma once
+
+#include <vector>
+
+#include "cms/core/TpetraTypes.hpp"
+
+namespace cms {
+
+/// Collective. `rows` are global rows of A's row map (the same list on every
+/// rank, any order, duplicates allowed). A must be fill-complete.
+Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows, double diagonal);
+
+/// Zero the held rows of every column of X (owned rows only).
+void zeroHeldRows(MultiVector& X, const std::vector<GlobalOrdinal>& rows);
+
+}  // namespace cms

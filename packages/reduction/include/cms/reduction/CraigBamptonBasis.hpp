@@ -1,0 +1,17 @@
+// Craig-Bampton (Craig & Bampton 1968): fixed-interface normal modes (the
+// substructure's attachment and its children's interfaces all held) plus the
+// static constraint modes of the children's interface DOFs, psi_g = e_g -
+// K_ii^-1 K_ig. With no modes it is Guyan's static condensation onto the
+// interface. The attachment to the parent needs no constraint modes here:
+// its motion is the interface transform's rigid part (doc/theory.md §11.2).
+#pragma once
+
+#include "cms/reduction/RitzBasis.hpp"
+
+namespace cms::reduction {
+
+/// Constraint modes first (one per interface row), then `modes` eigenvectors.
+RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
+                            double eigensolverTolerance, double dependenceTolerance);
+
+}  // namespace cms::reduction

@@ -1,0 +1,18 @@
+// Exact substructure modes: the lowest eigenvectors of K phi = omega^2 M phi
+// at rest with the given DOFs held (the attachment to the parent, and for
+// Craig-Bampton the children's interfaces too), by Anasazi's Block
+// Krylov-Schur on the shift-invert operator K_held^-1 M_held in the M inner
+// product (block size 2, so double eigenvalues of symmetric rotors are both
+// found), or by LAPACK when the substructure is small (doc/theory.md §11.3).
+#pragma once
+
+#include <vector>
+
+#include "cms/reduction/RitzBasis.hpp"
+
+namespace cms::reduction {
+
+RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+                              int count, double eigensolverTolerance, double dependenceTolerance);
+
+}  // namespace cms::reduction

@@ -1,0 +1,168 @@
+#include "cms/reduction/FixedInterfaceModes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include <AnasaziBasicEigenproblem.hpp>
+#include <AnasaziBlockKrylovSchurSolMgr.hpp>
+#include <AnasaziTpetraAdapter.hpp>
+#include <Teuchos_LAPACK.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Operator.hpp>
+
+#include "HeldStiffness.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/core/HashRandom.hpp"
+#include "cms/core/HeldDofs.hpp"
+
+namespace cms::reduction {
+
+namespace {
+
+/// Y = K_held^-1 M_held X: self-adjoint in the M_held inner product, its
+/// eigenvalues 1 / omega^2 (and 0 on the held DOFs).
+class ShiftInvert : public Tpetra::Operator<double> {
+public:
+  ShiftInvert(const detail::HeldStiffness& K, Teuchos::RCP<const CrsMatrix> M) : K_(K), M_(std::move(M)) {}
+  Teuchos::RCP<const Map> getDomainMap() const override { return M_->getDomainMap(); }
+  Teuchos::RCP<const Map> getRangeMap() const override { return M_->getRangeMap(); }
+  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, double alpha = 1.0,
+             double beta = 0.0) const override {
+    MultiVector MX(X.getMap(), X.getNumVectors()), Z(X.getMap(), X.getNumVectors());
+    M_->apply(X, MX);
+    K_.solve(MX, Z);
+    Y.update(alpha, Z, beta);
+  }
+
+private:
+  const detail::HeldStiffness& K_;
+  Teuchos::RCP<const CrsMatrix> M_;
+};
+
+/// Dense path for small substructures: gather K and M on the free rows to
+/// every rank and call LAPACK dsygv; returns the lowest `count` vectors.
+Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+                                     int count, std::vector<double>& omega) {
+  const auto map = s.map();
+  const long long n = s.dofs().rows();
+  const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
+  std::vector<GlobalOrdinal> freeRows;
+  for (long long g = 0; g < n; ++g)
+    if (!heldSet.count(g)) freeRows.push_back(g);
+  const int nf = static_cast<int>(freeRows.size());
+  MultiVector E(map, nf), KE(map, nf), ME(map, nf);
+  for (int j = 0; j < nf; ++j) {
+    const auto l = map->getLocalElement(freeRows[j]);
+    if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) E.replaceLocalValue(l, j, 1.0);
+  }
+  s.K()->apply(E, KE);
+  s.M()->apply(E, ME);
+  auto rep = Teuchos::rcp(new Map(static_cast<GlobalOrdinal>(n), 0, map->getComm(), Tpetra::LocallyReplicated));
+  Tpetra::Import<> imp(map, rep);
+  MultiVector Kr(rep, nf), Mr(rep, nf);
+  Kr.doImport(KE, imp, Tpetra::INSERT);
+  Mr.doImport(ME, imp, Tpetra::INSERT);
+  std::vector<double> A(static_cast<std::size_t>(nf) * nf), B(A.size());
+  for (int j = 0; j < nf; ++j) {
+    auto kc = Kr.getData(j), mc = Mr.getData(j);
+    for (int i = 0; i < nf; ++i) A[i + j * nf] = kc[freeRows[i]], B[i + j * nf] = mc[freeRows[i]];
+  }
+  for (int j = 0; j < nf; ++j)
+    for (int i = 0; i < j; ++i) {
+      A[i + j * nf] = A[j + i * nf] = 0.5 * (A[i + j * nf] + A[j + i * nf]);
+      B[i + j * nf] = B[j + i * nf] = 0.5 * (B[i + j * nf] + B[j + i * nf]);
+    }
+  Teuchos::LAPACK<int, double> lapack;
+  std::vector<double> w(nf), work(std::max(1, 3 * nf));
+  int info = 0;
+  lapack.SYGV(1, 'V', 'U', nf, A.data(), nf, B.data(), nf, w.data(), work.data(), static_cast<int>(work.size()),
+              &info);
+  if (info != 0)
+    throw NumericalError(s.name() + ": fixed-interface eigenproblem failed (LAPACK dsygv info " +
+                         std::to_string(info) + "; K or M not definite on the free DOFs)");
+  auto V = Teuchos::rcp(new MultiVector(map, count));
+  omega.resize(count);
+  for (int j = 0; j < count; ++j) {
+    omega[j] = std::sqrt(std::max(0.0, w[j]));
+    for (int i = 0; i < nf; ++i) {
+      const auto l = map->getLocalElement(freeRows[i]);
+      if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) V->replaceLocalValue(l, j, A[i + j * nf]);
+    }
+  }
+  return V;
+}
+
+}  // namespace
+
+RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+                              int count, double eigTol, double depTol) {
+  RitzBasis basis;
+  basis.kind = "Modes";
+  if (count == 0) return basis;
+  const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
+  const long long nfree = s.dofs().rows() - static_cast<long long>(heldSet.size());
+  const std::vector<GlobalOrdinal> heldRows(heldSet.begin(), heldSet.end());
+  Teuchos::RCP<MultiVector> V;
+  std::vector<double> omega;
+  std::ostringstream report;
+  if (nfree <= 400 || (count > nfree / 4 && nfree <= 3000)) {
+    V = denseModes(s, heldRows, count, omega);
+    report << "LAPACK dsygv on " << nfree << " free DOFs";
+  } else {
+    detail::HeldStiffness K(s, heldRows);
+    Teuchos::RCP<const CrsMatrix> Mh = holdDofs(*s.M(), heldRows, 0.0);
+    auto op = Teuchos::rcp(new ShiftInvert(K, Mh));
+    const int bs = 2;
+    auto X0 = Teuchos::rcp(new MultiVector(s.map(), bs));
+    for (std::size_t l = 0; l < s.map()->getNodeNumElements(); ++l)
+      for (int j = 0; j < bs; ++j)
+        X0->replaceLocalValue(l, j, hashSigned(static_cast<std::uint64_t>(s.map()->getGlobalElement(l)), 17 + j));
+    zeroHeldRows(*X0, heldRows);
+    using Problem = Anasazi::BasicEigenproblem<double, MultiVector, Operator>;
+    auto problem = Teuchos::rcp(new Problem(op, Mh, X0));
+    problem->setHermitian(true);
+    problem->setNEV(count);
+    TEUCHOS_TEST_FOR_EXCEPTION(!problem->setProblem(), std::logic_error, "Anasazi rejected the problem set-up");
+    Teuchos::ParameterList pl;
+    pl.set("Which", std::string("LM"));
+    pl.set("Block Size", bs);
+    pl.set("Num Blocks", static_cast<int>(std::min<long long>(std::max(2 * count / bs + 10, 20), nfree / bs - 1)));
+    pl.set("Maximum Restarts", 300);
+    pl.set("Convergence Tolerance", eigTol);
+    pl.set("Verbosity", static_cast<int>(Anasazi::Errors));
+    Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+    const auto ret = mgr.solve();
+    const auto& sol = problem->getSolution();
+    report << "Anasazi Block Krylov-Schur (K^-1 M, block 2): " << sol.numVecs << " of " << count
+           << " converged in " << mgr.getNumIters() << " restarts";
+    if (ret != Anasazi::Converged || sol.numVecs < count)
+      throw NumericalError(s.name() + ": fixed-interface modes did not converge (" + report.str() + ")");
+    // Lowest frequencies first: largest 1 / omega^2.
+    std::vector<int> order(sol.numVecs);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return sol.Evals[a].realpart > sol.Evals[b].realpart; });
+    V = Teuchos::rcp(new MultiVector(s.map(), count));
+    for (int j = 0; j < count; ++j) {
+      V->getVectorNonConst(j)->assign(*sol.Evecs->getVector(order[j]));
+      omega.push_back(1.0 / std::sqrt(std::max(sol.Evals[order[j]].realpart, 1e-300)));
+    }
+  }
+  std::vector<std::string> labels(count);
+  for (int j = 0; j < count; ++j) {
+    std::ostringstream os;
+    os << "mode " << (j + 1) << " (" << omega[j] / (2 * M_PI) << " Hz)";
+    labels[j] = os.str();
+  }
+  appendOrthonormal(*s.M(), *V, labels, depTol, count, basis);
+  basis.eigensolverReport = report.str();
+  return basis;
+}
+
+}  // namespace cms::reduction

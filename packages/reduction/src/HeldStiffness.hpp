@@ -1,0 +1,32 @@
+// Internal to the reduction package: K with a set of DOFs held at zero
+// (cms::holdDofs), factored once by CHOLMOD and solved many times: the
+// static solves of admissible vectors and constraint modes and the inverse
+// of the fixed-interface eigenproblem.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cms/core/SparseDirectSolver.hpp"
+#include "cms/substructure/Substructure.hpp"
+
+namespace cms::reduction::detail {
+
+class HeldStiffness {
+public:
+  /// Throws cms::NumericalError naming the substructure when K with `held`
+  /// fixed is not positive definite (an unrestrained substructure).
+  HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held);
+  /// X = K_held^-1 B with B's held rows ignored (set to zero): X is zero there.
+  void solve(const MultiVector& B, MultiVector& X) const;
+  const std::vector<GlobalOrdinal>& held() const { return held_; }
+  Teuchos::RCP<const CrsMatrix> matrix() const { return K_; }
+
+private:
+  std::vector<GlobalOrdinal> held_;
+  Teuchos::RCP<const CrsMatrix> K_;
+  std::unique_ptr<SparseDirectSolver> solver_;
+};
+
+}  // namespace cms::reduction::detail

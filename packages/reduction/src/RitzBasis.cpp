@@ -1,0 +1,164 @@
+// Ritz bases of one substructure (doc/theory.md §11.3): the dispatcher, the
+// in-order M-orthonormalisation that makes nested sets nested subspaces, and
+// the substructure frequency estimates of the paper's truncation guide.
+#include "cms/reduction/RitzBasis.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <Teuchos_LAPACK.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/reduction/AdmissibleVectors.hpp"
+#include "cms/reduction/CraigBamptonBasis.hpp"
+#include "cms/reduction/FixedInterfaceModes.hpp"
+
+namespace cms::reduction {
+
+int RitzBasis::size() const {
+  return vectors.is_null() ? 0 : static_cast<int>(vectors->getNumVectors());
+}
+
+Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
+  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Reduction"));
+    Teuchos::setStringToIntegralParameter<int>(
+        "Basis", "Admissible", "Admissible, Modes, Craig-Bampton, Guyan or Full (doc/theory.md §11.3)",
+        Teuchos::tuple<std::string>("Admissible", "Modes", "Craig-Bampton", "Guyan", "Full"), pl.get());
+    pl->set("Vectors", 6,
+            "Admissible: static and Krylov vectors; Modes, Craig-Bampton: eigenvectors (Craig-Bampton adds "
+            "one constraint mode per interface DOF); ignored by Guyan and Full");
+    pl->set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("interfaces", "uniform", "centrifugal", "tip")),
+            "Admissible: static load patterns, in order: interfaces (unit forces and moments at the "
+            "children's attachments), uniform (mass-weighted x, y, z), centrifugal (spin only), tip "
+            "(unit x, y, z at the node farthest from the attachment)");
+    pl->set("Dependence Tolerance", 1e-8,
+            "A candidate whose M-norm after projection on the kept columns falls below this fraction of "
+            "its norm is dropped as dependent (reported)");
+    pl->set("Eigensolver Tolerance", 1e-10, "Modes, Craig-Bampton: Anasazi convergence tolerance");
+    return pl;
+  }();
+  return valid;
+}
+
+void appendOrthonormal(const CrsMatrix& M, const MultiVector& candidates, const std::vector<std::string>& labels,
+                       double tolerance, int maxColumns, RitzBasis& basis) {
+  const auto map = candidates.getMap();
+  std::vector<Teuchos::RCP<Vector>> kept, Mkept;
+  if (!basis.vectors.is_null()) {
+    for (std::size_t j = 0; j < basis.vectors->getNumVectors(); ++j) {
+      kept.push_back(Teuchos::rcp(new Vector(*basis.vectors->getVector(j), Teuchos::Copy)));
+      Mkept.push_back(Teuchos::rcp(new Vector(map)));
+      M.apply(*kept.back(), *Mkept.back());
+    }
+  }
+  const std::size_t before = kept.size();
+  Vector c(map), Mc(map);
+  for (std::size_t j = 0; j < candidates.getNumVectors() && static_cast<int>(kept.size()) < maxColumns; ++j) {
+    c.assign(*candidates.getVector(j));
+    M.apply(c, Mc);
+    const double norm0 = std::sqrt(std::max(0.0, c.dot(Mc)));
+    if (!(norm0 > 0.0)) {
+      basis.dropped.push_back(labels[j] + " (zero M-norm: the pattern has no mass on free DOFs)");
+      continue;
+    }
+    // Classical Gram-Schmidt twice ("twice is enough", Giraud et al. 2005):
+    // orthogonal to working precision whatever the conditioning.
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t k = 0; k < kept.size(); ++k) c.update(-Mkept[k]->dot(c), *kept[k], 1.0);
+    }
+    M.apply(c, Mc);
+    const double norm = std::sqrt(std::max(0.0, c.dot(Mc)));
+    if (!(norm > tolerance * norm0)) {
+      std::ostringstream os;
+      os << labels[j] << " (relative norm " << norm / norm0 << " after projection, tolerance " << tolerance << ")";
+      basis.dropped.push_back(os.str());
+      continue;
+    }
+    c.scale(1.0 / norm);
+    Mc.scale(1.0 / norm);
+    kept.push_back(Teuchos::rcp(new Vector(c, Teuchos::Copy)));
+    Mkept.push_back(Teuchos::rcp(new Vector(Mc, Teuchos::Copy)));
+    basis.labels.push_back(labels[j]);
+  }
+  if (kept.size() == before) return;
+  auto V = Teuchos::rcp(new MultiVector(map, kept.size()));
+  for (std::size_t k = 0; k < kept.size(); ++k) V->getVectorNonConst(k)->assign(*kept[k]);
+  basis.vectors = V;
+}
+
+RitzBasis buildRitzBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary,
+                         const Teuchos::ParameterList& params) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Teuchos::ParameterList p(params);
+  try {
+    p.validateParametersAndSetDefaults(*validParameters());
+  } catch (const std::exception& e) {
+    throw InputError(s.name() + ": \"Reduction\": " + std::string(e.what()));
+  }
+  const std::string kind = p.get<std::string>("Basis");
+  const int vectors = p.get<int>("Vectors");
+  CMS_INPUT_CHECK(vectors < 0, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " must be >= 0");
+  const long long freeRows = s.dofs().rows() - static_cast<long long>(boundary.held.size());
+  RitzBasis basis;
+  if (kind == "Full") {
+    basis.kind = kind;
+    basis.full = true;
+  } else if (kind == "Admissible") {
+    CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
+                                                 << "substructure has only " << freeRows << " free DOFs");
+    const auto patterns = p.get<Teuchos::Array<std::string>>("Load Patterns");
+    basis = admissibleVectors(s, boundary, std::vector<std::string>(patterns.begin(), patterns.end()), vectors,
+                              p.get<double>("Dependence Tolerance"));
+  } else if (kind == "Modes") {
+    CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
+                                                 << "substructure has only " << freeRows << " free DOFs");
+    basis = fixedInterfaceModes(s, boundary.held, vectors, p.get<double>("Eigensolver Tolerance"),
+                                p.get<double>("Dependence Tolerance"));
+  } else {
+    const int modes = kind == "Guyan" ? 0 : vectors;
+    basis = craigBamptonBasis(s, boundary, modes, p.get<double>("Eigensolver Tolerance"),
+                              p.get<double>("Dependence Tolerance"));
+  }
+  basis.kind = kind;
+  basis.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return basis;
+}
+
+std::vector<double> estimateFrequencies(const substructure::Substructure& s, const RitzBasis& basis) {
+  if (basis.vectors.is_null()) return {};
+  const MultiVector& V = *basis.vectors;
+  const int k = static_cast<int>(V.getNumVectors());
+  MultiVector KV(V.getMap(), k), MV(V.getMap(), k);
+  s.K()->apply(V, KV);
+  s.M()->apply(V, MV);
+  // Small dense projections, replicated: column dot products.
+  std::vector<double> Kr(k * k), Mr(k * k);
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      Kr[i + j * k] = V.getVector(i)->dot(*KV.getVector(j));
+      Mr[i + j * k] = V.getVector(i)->dot(*MV.getVector(j));
+    }
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < i; ++j) {
+      Kr[i + j * k] = Kr[j + i * k] = 0.5 * (Kr[i + j * k] + Kr[j + i * k]);
+      Mr[i + j * k] = Mr[j + i * k] = 0.5 * (Mr[i + j * k] + Mr[j + i * k]);
+    }
+  Teuchos::LAPACK<int, double> lapack;
+  std::vector<double> w(k), work(std::max(1, 3 * k));
+  int info = 0;
+  lapack.SYGV(1, 'N', 'U', k, Kr.data(), k, Mr.data(), k, w.data(), work.data(), static_cast<int>(work.size()),
+              &info);
+  if (info != 0) throw NumericalError(s.name() + ": Rayleigh-Ritz estimate failed (LAPACK dsygv info " +
+                                      std::to_string(info) + ")");
+  std::vector<double> omega(k);
+  for (int i = 0; i < k; ++i) omega[i] = std::sqrt(std::max(0.0, w[i]));
+  return omega;
+}
+
+}  // namespace cms::reduction

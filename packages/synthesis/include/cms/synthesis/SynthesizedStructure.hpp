@@ -1,0 +1,160 @@
+// Component-mode synthesis of a structure (doc/theory.md §11): every
+// substructure's physical DOFs are written through an interface transform as
+//
+//   u_s = X_s a_s + V_s eta_s,    a_s = H_s u_parent(s)          (§11.2)
+//
+// (the rigid motion of its attachment frame, driven by the parent's own
+// coordinates, plus its Ritz coordinates), so the structure's coordinates q
+// are [w_OC, theta_C (free C only), eta of each substructure in tree order]
+// and u_s = T_s q with a sparse T_s. The structure's matrices are
+// sum_s T_s^T A_s T_s for every per-unit-speed piece A_s, kept apart per
+// spin parameter so that a speed sweep does no re-projection:
+//
+//   G(s) = sum_i s_i G_i,     K(s) = K_0 + sum_{i<=j} s_i s_j K_ij.
+//
+// With Full bases (no truncation) the same code gives the truth model: the
+// monolithic FE model with each attachment's DOFs slaved to its parent.
+#pragma once
+
+#include <complex>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "cms/core/DenseMatrix.hpp"
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/GyroscopicSystem.hpp"
+#include "cms/eigen/SparseGyroscopicSystem.hpp"
+#include "cms/reduction/RitzBasis.hpp"
+#include "cms/synthesis/Structure.hpp"
+
+namespace Teuchos { template <class T> class Comm; }
+
+namespace cms::synthesis {
+
+/// One spin rate of the structure: C's frame, or an R or A relative spin.
+struct SpeedParameter {
+  std::string name;      ///< the substructure that declares it
+  double nominal = 0.0;  ///< rad/s
+};
+
+/// The substructures assembled (in parallel, with the centrifugal prestress
+/// of each computed with its attachment held and its children's reactions
+/// applied, leaves first: doc/theory.md §11.4) and their interfaces
+/// resolved. Independent of the bases, so one assembly serves every
+/// reduction strategy and the truth.
+class AssembledStructure {
+public:
+  /// Collective. Throws cms::InputError naming the substructure for an
+  /// inconsistent description (see StructureDescription::validate, plus:
+  /// attachment nodes missing or without rotations, a RigidFit set that
+  /// cannot fix a rotation, a combination with periodic coefficients).
+  static AssembledStructure assemble(const StructureDescription& description,
+                                     const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+
+  struct Part;  ///< one substructure, assembled (Synthesis.cpp)
+  const std::vector<std::shared_ptr<Part>>& parts() const { return parts_; }
+  const std::vector<SpeedParameter>& speeds() const { return speeds_; }
+  std::vector<double> nominalSpeeds() const;
+  bool freeFloating() const { return free_; }
+  Teuchos::RCP<const Teuchos::Comm<int>> comm() const { return comm_; }
+  /// Names and physical DOF counts, tree order.
+  std::vector<std::pair<std::string, long long>> substructureDofs() const;
+  double assemblySeconds() const { return seconds_; }
+
+private:
+  std::vector<std::shared_ptr<Part>> parts_;  ///< pre-order: parents before children
+  std::vector<SpeedParameter> speeds_;
+  bool free_ = false;
+  Teuchos::RCP<const Teuchos::Comm<int>> comm_;
+  double seconds_ = 0.0;
+};
+
+/// Per substructure: what its basis is and what it costs.
+struct SubstructureReduction {
+  std::string name, kind;   ///< kind: "C", "R", "E", "A"
+  std::string basis;        ///< "Admissible", ..., "Full", "rigid" (R)
+  long long physicalDofs = 0;
+  int coordinates = 0;      ///< columns of q it owns
+  int attachmentDofs = 0;   ///< held DOFs (its attachment or reference)
+  std::vector<std::string> labels, dropped;
+  std::string eigensolverReport;
+  double seconds = 0.0;     ///< basis construction
+  /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
+  /// held (rad/s): the paper's truncation guide. Empty for Full and R.
+  std::vector<double> frequencyEstimates;
+};
+
+/// The modes of the synthesised structure at one set of speeds.
+struct StructureModes {
+  eigen::GyroscopicResult result;
+  std::string path;  ///< "dense" or "sparse", and why
+  std::vector<double> speeds;
+  double seconds = 0.0;
+};
+
+/// What a mode is made of (doc/theory.md §11.6).
+struct ModeCharacter {
+  /// Share of the mode's kinetic energy (u_s^H M_s u_s) in each
+  /// substructure, tree order; sums to 1.
+  std::vector<double> kineticShare;
+  /// Share of q^H M q in the free C's six rigid-body coordinates (0 when C
+  /// is clamped).
+  double rigidShare = 0.0;
+  /// A rigid motion of the free structure that is fixed in inertial space,
+  /// seen from the spinning frame at the frame rate (rigidShare > 0.99 and
+  /// omega = C's spin rate to 1e-4, the accuracy of a defective double
+  /// eigenvalue): a kinematic artefact, not a vibration.
+  bool frameArtefact = false;
+};
+
+class SynthesizedStructure {
+public:
+  /// Every substructure reduced by its own "Reduction" parameters
+  /// (`truth`: every basis Full). Collective.
+  static SynthesizedStructure synthesize(const AssembledStructure& structure, bool truth = false);
+  /// One "Reduction" list per substructure (tree order, as parts()).
+  static SynthesizedStructure synthesize(const AssembledStructure& structure,
+                                         const std::vector<Teuchos::ParameterList>& reductions);
+
+  long long size() const;  ///< n, the number of coordinates q
+  const std::vector<SubstructureReduction>& reductions() const { return reports_; }
+  const std::vector<SpeedParameter>& speeds() const { return structure_->speeds(); }
+  double synthesisSeconds() const { return seconds_; }
+
+  /// The distributed M, G(s), K(s) (row map: the coordinates' map).
+  eigen::SparseGyroscopicSystem system(const std::vector<double>& speeds) const;
+  /// The same, gathered to every rank (n up to a few thousand).
+  eigen::GyroscopicSystem denseSystem(const std::vector<double>& speeds) const;
+
+  /// "Solver": Auto (dense when n <= "Dense Limit", else sparse), Dense or
+  /// Sparse; "Number of Modes"; "Dense Solver" and "Sparse Solver" sublists
+  /// passed to eigen::DenseGyroscopicSolver / SparseGyroscopicSolver.
+  static Teuchos::RCP<const Teuchos::ParameterList> validSolveParameters();
+  StructureModes solve(const std::vector<double>& speeds, const Teuchos::ParameterList& params) const;
+
+  /// Physical displacements of each substructure (u_s = T_s q, real and
+  /// imaginary parts as two columns) of mode `m` of `modes`. Collective.
+  std::vector<Teuchos::RCP<MultiVector>> expand(const StructureModes& modes, int m) const;
+  /// Energy shares and artefact flags of every mode (collective).
+  std::vector<ModeCharacter> characterise(const StructureModes& modes) const;
+
+private:
+  std::shared_ptr<const AssembledStructure> structure_;
+  Teuchos::RCP<const Map> map_;
+  std::vector<Teuchos::RCP<const CrsMatrix>> T_;  ///< per part: u_s = T_s q
+  Teuchos::RCP<const CrsMatrix> M_, K0_;
+  std::vector<Teuchos::RCP<const CrsMatrix>> G_;  ///< per speed parameter
+  struct KTerm {
+    int i, j;
+    Teuchos::RCP<const CrsMatrix> K;
+  };
+  std::vector<KTerm> K2_;
+  std::vector<SubstructureReduction> reports_;
+  double seconds_ = 0.0;
+};
+
+}  // namespace cms::synthesis

@@ -1,0 +1,444 @@
+// Assembly of the substructures of a structure and their interfaces
+// (doc/theory.md §11.1-§11.4): frames and spin parameters from the tree,
+// attachment maps H_s (parent DOFs -> attachment frame motion), the held
+// DOFs of each child, the centrifugal prestress leaves first with each
+// child's root reaction passed to its parent, and the rigid rotors' matrices.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <sstream>
+
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_LAPACK.hpp>
+
+#include "PartData.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/fem/LumpedElements.hpp"
+
+namespace cms::synthesis {
+
+using fem::Component;
+using fem::Vec3;
+
+namespace detail {
+
+std::array<double, 6> rigidRow(const Vec3& r, int component) {
+  // u = u_P + theta x r: row `component` of [I, -[r]x; 0, I].
+  std::array<double, 6> x{};
+  switch (component) {
+    case 0: x[0] = 1, x[4] = r[2], x[5] = -r[1]; break;
+    case 1: x[1] = 1, x[5] = r[0], x[3] = -r[2]; break;
+    case 2: x[2] = 1, x[3] = r[1], x[4] = -r[0]; break;
+    default: x[component] = 1; break;
+  }
+  return x;
+}
+
+}  // namespace detail
+
+namespace {
+
+double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 unit(const Vec3& a) {
+  const double n = norm(a);
+  return {a[0] / n, a[1] / n, a[2] / n};
+}
+
+Vec3 nodePosition(const fem::Mesh& mesh, std::int64_t n) {
+  return {mesh.coordinates[3 * n], mesh.coordinates[3 * n + 1], mesh.coordinates[3 * n + 2]};
+}
+
+/// Node indices of a named set of a model's mesh, with the error naming both.
+std::vector<std::int64_t> nodeSet(const SubstructureSpec& s, const std::string& set, const char* role) {
+  const fem::Mesh& mesh = *s.model->mesh;
+  const bool known = std::any_of(mesh.groups.begin(), mesh.groups.end(),
+                                 [&](const fem::PhysicalGroup& g) { return g.name == set; });
+  CMS_INPUT_CHECK(!known, "substructure '" << s.name << "': " << role << " node set '" << set
+                                           << "' is not a physical group of " << mesh.source);
+  auto nodes = mesh.nodeSet(set);
+  CMS_INPUT_CHECK(nodes.empty(), "substructure '" << s.name << "': " << role << " node set '" << set << "' is empty");
+  return nodes;
+}
+
+Vec3 centroid(const fem::Mesh& mesh, const std::vector<std::int64_t>& nodes) {
+  Vec3 c{0, 0, 0};
+  for (auto n : nodes)
+    for (int d = 0; d < 3; ++d) c[d] += mesh.coordinates[3 * n + d];
+  for (double& v : c) v /= static_cast<double>(nodes.size());
+  return c;
+}
+
+/// H for a Node attachment (u_P = u_n + theta_n x (P - x_n), theta_P = theta_n)
+/// or a RigidFit (least-squares rigid motion of the set's translations).
+std::array<std::vector<detail::NodalCoefficient>, 6> attachmentMap(const SubstructureSpec& child,
+                                                                  const SubstructureSpec& parent, Vec3& point) {
+  const fem::Mesh& mesh = *parent.model->mesh;
+  const auto nodes = nodeSet(parent, child.attachment.parentNodes, ("attachment of '" + child.name + "':").c_str());
+  std::array<std::vector<detail::NodalCoefficient>, 6> H;
+  if (child.attachment.type == Attachment::Type::Node) {
+    CMS_INPUT_CHECK(nodes.size() != 1, "substructure '" << child.name << "': Node attachment set '"
+                                                        << child.attachment.parentNodes << "' of '" << parent.name
+                                                        << "' has " << nodes.size() << " nodes, not one "
+                                                        << "(use RigidFit for a set)");
+    const auto n = nodes.front();
+    point = child.attachment.point.value_or(nodePosition(mesh, n));
+    const Vec3 r = sub(point, nodePosition(mesh, n));
+    for (int c = 0; c < 6; ++c) {
+      const auto x = detail::rigidRow(r, c);  // u_P,c in terms of the node's (u, theta)
+      for (int k = 0; k < 6; ++k)
+        if (x[k] != 0.0) H[c].push_back({n, static_cast<Component>(k), x[k]});
+    }
+    return H;
+  }
+  point = child.attachment.point.value_or(centroid(mesh, nodes));
+  // a = N^-1 sum_i A_i^T u_i, A_i = [I, -[r_i]x] (the rows of rigidRow).
+  double N[36] = {0};
+  for (auto n : nodes) {
+    const Vec3 r = sub(nodePosition(mesh, n), point);
+    for (int c = 0; c < 3; ++c) {
+      const auto x = detail::rigidRow(r, c);
+      for (int a = 0; a < 6; ++a)
+        for (int b = 0; b < 6; ++b) N[a + 6 * b] += x[a] * x[b];
+    }
+  }
+  double E[36];
+  std::copy(N, N + 36, E);
+  double w[6], work[64];
+  int info = 0;
+  Teuchos::LAPACK<int, double> lapack;
+  lapack.SYEV('N', 'U', 6, E, 6, w, work, 64, &info);
+  CMS_INPUT_CHECK(info != 0 || !(w[0] > 1e-10 * w[5]),
+                  "substructure '" << child.name << "': the RigidFit nodes '" << child.attachment.parentNodes << "' of '"
+                                   << parent.name << "' (" << nodes.size()
+                                   << " nodes) cannot fix a rigid motion: they are collinear or coincident");
+  // Inverse of N by Cholesky.
+  int ipiv[6];
+  double Ninv[36];
+  std::copy(N, N + 36, Ninv);
+  lapack.GETRF(6, 6, Ninv, 6, ipiv, &info);
+  lapack.GETRI(6, Ninv, 6, ipiv, work, 64, &info);
+  for (auto n : nodes) {
+    const Vec3 r = sub(nodePosition(mesh, n), point);
+    for (int c = 0; c < 3; ++c) {
+      const auto x = detail::rigidRow(r, c);
+      for (int a = 0; a < 6; ++a) {
+        double v = 0;
+        for (int b = 0; b < 6; ++b) v += Ninv[a + 6 * b] * x[b];
+        if (v != 0.0) H[a].push_back({n, static_cast<Component>(c), v});
+      }
+    }
+  }
+  return H;
+}
+
+/// Six statically determinate translation DOFs of a free body's reference
+/// set (greedy: each adds a rigid motion the previous ones do not fix).
+std::vector<detail::NodalCoefficient> referenceDofs(const fem::Mesh& mesh, const std::vector<std::int64_t>& nodes,
+                                                    const Vec3& point, const std::string& who) {
+  std::vector<std::array<double, 6>> kept;
+  std::vector<detail::NodalCoefficient> out;
+  double scale = 0;
+  for (auto n : nodes) scale = std::max(scale, norm(sub(nodePosition(mesh, n), point)));
+  for (auto n : nodes)
+    for (int c = 0; c < 3 && out.size() < 6; ++c) {
+      auto x = detail::rigidRow(sub(nodePosition(mesh, n), point), c);
+      for (int pass = 0; pass < 2; ++pass)
+        for (const auto& q : kept) {
+          double d = 0;
+          for (int k = 0; k < 6; ++k) d += q[k] * x[k];
+          for (int k = 0; k < 6; ++k) x[k] -= d * q[k];
+        }
+      double nx = 0;
+      for (double v : x) nx += v * v;
+      nx = std::sqrt(nx);
+      if (nx < 1e-6 * std::max(1.0, scale)) continue;
+      for (double& v : x) v /= nx;
+      kept.push_back(x);
+      out.push_back({n, static_cast<Component>(c), 1.0});
+    }
+  CMS_INPUT_CHECK(out.size() < 6, who << ": the free reference nodes cannot fix a rigid motion (collinear or "
+                                         "coincident); give one node with rotations or three non-collinear nodes");
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> AssembledStructure::nominalSpeeds() const {
+  std::vector<double> s;
+  for (const auto& p : speeds_) s.push_back(p.nominal);
+  return s;
+}
+
+std::vector<std::pair<std::string, long long>> AssembledStructure::substructureDofs() const {
+  std::vector<std::pair<std::string, long long>> out;
+  for (const auto& p : parts_) out.emplace_back(p->spec.name, p->sub ? p->sub->dofs().rows() : 6);
+  return out;
+}
+
+AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
+                                                const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const auto t0 = std::chrono::steady_clock::now();
+  d.validate();
+  AssembledStructure out;
+  out.comm_ = comm;
+  out.free_ = !d.freeReference.empty();
+
+  // 1. Tree order (pre-order from C) and parts.
+  const int nsub = static_cast<int>(d.substructures.size());
+  std::vector<std::vector<int>> children(nsub);
+  int root = -1;
+  for (int i = 0; i < nsub; ++i) {
+    if (d.substructures[i].kind == SubstructureKind::Central) root = i;
+    else children[d.find(d.substructures[i].parent)].push_back(i);
+  }
+  std::vector<int> order, partOf(nsub, -1);
+  std::function<void(int)> visit = [&](int i) {
+    partOf[i] = static_cast<int>(order.size());
+    order.push_back(i);
+    for (int c : children[i]) visit(c);
+  };
+  visit(root);
+  for (int i : order) {
+    auto p = std::make_shared<Part>();
+    p->spec = d.substructures[i];
+    p->parent = p->spec.parent.empty() ? -1 : partOf[d.find(p->spec.parent)];
+    for (int c : children[i]) p->children.push_back(partOf[c]);
+    out.parts_.push_back(p);
+  }
+  auto& parts = out.parts_;
+  auto who = [](const Part& p) { return "substructure '" + p.spec.name + "' (" + toString(p.spec.kind) + ")"; };
+
+  // 2. Frames and spin parameters (§11.1): C's spin is the frame of C and of
+  // every E below it; an A spins in its own frame (Rotating: its attachment
+  // must be immovable) or in its parent's (Stationary: axisymmetric, parent
+  // frame not spinning); an R spins relative to its parent's frame.
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    Part& p = *parts[k];
+    const Part* parent = p.parent >= 0 ? parts[p.parent].get() : nullptr;
+    if (p.spec.kind != SubstructureKind::Central) {
+      // Attachment point and map (the parent's model exists: R has no children).
+      p.H = attachmentMap(p.spec, parent->spec, p.point);
+    }
+    if (p.spec.spin) {
+      p.speedParam = static_cast<int>(out.speeds_.size());
+      out.speeds_.push_back({p.spec.name, p.spec.spin->rate});
+    }
+    const Frame inherited = parent ? parent->frame : Frame();
+    switch (p.spec.kind) {
+      case SubstructureKind::Central:
+        if (p.spec.spin) {
+          p.frame.spinning = true;
+          p.frame.axis = unit(p.spec.spin->axis);
+          p.frame.origin = p.spec.spin->origin;
+          p.frame.coefficients = {{p.speedParam, 1.0}};
+          p.frame.stressStiffening = p.spec.spin->stressStiffening;
+        }
+        break;
+      case SubstructureKind::Elastic:
+        CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                        who(p) << ": attached to the stationary-frame rotor '" << parent->spec.name
+                               << "', it would spin with it: its coefficients are periodic (not supported)");
+        p.frame = inherited;
+        break;
+      case SubstructureKind::Rigid:
+        CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                        who(p) << ": a rotor on the stationary-frame rotor '" << parent->spec.name
+                               << "' has periodic coefficients (not supported)");
+        p.frame = inherited;  // the wheel's transport frame
+        break;
+      case SubstructureKind::Rotating: {
+        const Vec3 a = unit(p.spec.spin->axis);
+        if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
+          CMS_INPUT_CHECK(inherited.spinning,
+                          who(p) << ": a stationary-frame rotor on a spinning parent ('" << parent->spec.name
+                                 << "'); supported: a stationary-frame rotor on a non-spinning parent, or a "
+                                    "rotating-frame rotor on an immovable attachment");
+          p.frame.spinning = true;
+          p.frame.kind = fem::SpinDefinition::Frame::Stationary;
+          p.frame.axis = a;
+          p.frame.origin = p.point;
+          p.frame.coefficients = {{p.speedParam, 1.0}};
+          p.frame.stressStiffening = false;
+        } else {
+          CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                          who(p) << ": a rotating-frame rotor on the stationary-frame rotor '" << parent->spec.name
+                                 << "' (not supported)");
+          p.frame.spinning = true;
+          p.frame.axis = a;
+          p.frame.origin = p.point;
+          p.frame.coefficients = inherited.coefficients;
+          p.frame.coefficients.push_back({p.speedParam, 1.0});
+          p.frame.stressStiffening = p.spec.spin->stressStiffening;
+          if (inherited.spinning) {
+            // Absolute spin (Omega_parent + omega) e about one fixed line:
+            // a steady frame only if the two axes are one line.
+            const double scale = std::max(1.0, norm(sub(p.point, inherited.origin)));
+            CMS_INPUT_CHECK(norm(cross(a, inherited.axis)) > 1e-9 ||
+                                norm(cross(sub(p.point, inherited.origin), inherited.axis)) > 1e-9 * scale,
+                            who(p) << ": its spin axis is not the axis of its spinning parent's frame ('"
+                                   << parent->spec.name << "'): the coefficients would be periodic");
+          }
+        }
+        break;
+      }
+    }
+  }
+
+  // 3. Held DOFs (attachment of an elastic child; a free C's reference) as
+  // nodal DOFs, before assembly.
+  for (auto& pp : parts) {
+    Part& p = *pp;
+    if (p.spec.kind == SubstructureKind::Rigid) continue;
+    const fem::Mesh& mesh = *p.spec.model->mesh;
+    if (p.spec.kind == SubstructureKind::Central) {
+      if (!out.free_) continue;
+      const auto nodes = nodeSet(p.spec, d.freeReference, "free reference");
+      p.point = nodes.size() == 1 ? nodePosition(mesh, nodes.front()) : centroid(mesh, nodes);
+      p.floating = true;
+      if (nodes.size() == 1) {
+        for (int c = 0; c < 6; ++c) p.heldDofs.push_back({nodes.front(), static_cast<Component>(c), 1.0});
+      } else {
+        p.heldDofs = referenceDofs(mesh, nodes, p.point, who(p));
+      }
+      continue;
+    }
+    for (auto n : nodeSet(p.spec, p.spec.attachment.childNodes, "attachment"))
+      for (int c = 0; c < 6; ++c) p.heldDofs.push_back({n, static_cast<Component>(c), 1.0});
+  }
+
+  // 4. Rigid rotors: M on a = (u_P, theta), the parent frame's transport
+  // terms (a point mass with inertia J, theory §9.3) and the wheel's own
+  // gyroscopic and frame-coupling terms (§11.5).
+  for (auto& pp : parts) {
+    Part& p = *pp;
+    if (p.spec.kind != SubstructureKind::Rigid) continue;
+    const Vec3 a = unit(p.spec.spin->axis);
+    const auto& r = p.spec.rotor;
+    fem::PointMass pm;
+    pm.m = r.mass;
+    pm.x = p.point;
+    double J[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) J[i][j] = r.transverseInertia * ((i == j) - a[i] * a[j]) + r.axialInertia * a[i] * a[j];
+    pm.inertia = {J[0][0], J[1][1], J[2][2], J[0][1], J[1][2], J[0][2]};
+    p.rotor.M = fem::pointMassMatrix(pm, 6);
+    const fem::ElementMatrix Gw = fem::pointMassStationaryGyroscopic(pm, a);
+    p.rotor.G.push_back({p.speedParam, Gw});
+    if (p.frame.spinning) {
+      const fem::SpinMatrices sm = fem::pointMassSpinMatrices(pm, fem::Spin{p.frame.axis, p.frame.origin}, 6);
+      for (auto [i, ci] : p.frame.coefficients) {
+        fem::ElementMatrix G = sm.G1;
+        for (double& v : G.a) v *= ci;
+        p.rotor.G.push_back({i, G});
+        for (auto [j, cj] : p.frame.coefficients) {
+          if (j < i) continue;
+          fem::ElementMatrix K = sm.KT1;
+          for (double& v : K.a) v *= -(i == j ? ci * cj : 2.0 * ci * cj);
+          p.rotor.K.push_back({i, j, K});
+        }
+        // theta-theta coupling of the wheel's momentum h = Ia w with the
+        // frame's rotation: -Ia (sym(e a^T) - (e.a) I) per unit Omega w.
+        const Vec3& e = p.frame.axis;
+        const double ea = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
+        fem::ElementMatrix K(6);
+        for (int x = 0; x < 3; ++x)
+          for (int y = 0; y < 3; ++y)
+            K(3 + x, 3 + y) = -ci * r.axialInertia * (0.5 * (e[x] * a[y] + a[x] * e[y]) - (x == y ? ea : 0.0));
+        p.rotor.K.push_back({std::min(i, p.speedParam), std::max(i, p.speedParam), K});
+      }
+      // Its centrifugal force on the parent's prestress, through H^T.
+      Part& parent = *parts[p.parent];
+      if (parent.frame.kind == fem::SpinDefinition::Frame::Rotating && parent.frame.stressStiffening)
+        for (int k = 0; k < 6; ++k)
+          for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * sm.f1[k]});
+    }
+  }
+
+  // 5. Assembly, leaves first (reverse pre-order): each elastic part's
+  // model gets its frame's spin; its prestress holds its attachment and
+  // carries its children's reactions (§11.4).
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+    Part& p = **it;
+    if (p.spec.kind == SubstructureKind::Rigid) continue;
+    fem::FiniteElementModel model = *p.spec.model;
+    model.name = p.spec.name;
+    if (p.frame.spinning)
+      model.spin = fem::SpinDefinition{fem::Spin{p.frame.axis, p.frame.origin}, p.frame.kind,
+                                       p.frame.stressStiffening};
+    fem::PrestressConditions pc;
+    const bool prestressed = p.frame.spinning && p.frame.kind == fem::SpinDefinition::Frame::Rotating &&
+                             p.frame.stressStiffening;
+    if (prestressed) {
+      for (const auto& h : p.heldDofs) pc.held.push_back({h.node, h.component, 0.0});
+      pc.loads = p.childLoads;
+    }
+    p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+    // This part's reaction, as generalised forces on its attachment
+    // coordinates a (F_a = -X^T r), passed to the parent through H^T.
+    if (p.parent < 0 || !prestressed) continue;
+    Part& parent = *parts[p.parent];
+    const bool sameFrame = parent.frame.coefficients == p.frame.coefficients;
+    if (!sameFrame) continue;  // an A on an immovable attachment: the support takes it
+    std::array<double, 6> Fa{};
+    const fem::Mesh& mesh = *p.spec.model->mesh;
+    for (const auto& r : p.sub->prestressReactions()) {
+      const auto x = detail::rigidRow(sub(nodePosition(mesh, r.node), p.point), static_cast<int>(r.component));
+      for (int k = 0; k < 6; ++k) Fa[k] -= x[k] * r.value;
+    }
+    for (int k = 0; k < 6; ++k)
+      for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * Fa[k]});
+  }
+  // 6. Resolve nodal DOFs to rows now that every layout is known.
+  for (auto& pp : parts) {
+    Part& p = *pp;
+    if (p.sub) {
+      const auto& t = p.sub->dofs();
+      for (const auto& h : p.heldDofs) {
+        const long long r = t.row(h.node, h.component);
+        if (r >= 0) p.held.push_back(static_cast<GlobalOrdinal>(r));
+      }
+      std::sort(p.held.begin(), p.held.end());
+      p.held.erase(std::unique(p.held.begin(), p.held.end()), p.held.end());
+      if (p.floating)
+        CMS_INPUT_CHECK(p.held.size() != 6,
+                        who(p) << ": the free reference '" << d.freeReference << "' gives " << p.held.size()
+                               << " DOFs, not the six of a rigid motion (one node needs rotations)");
+    }
+    if (p.parent < 0) continue;
+    const Part& parent = *parts[p.parent];
+    const auto& t = parent.sub->dofs();
+    bool rotations = false;
+    for (int k = 0; k < 6; ++k)
+      for (const auto& h : p.H[k]) {
+        const long long r = t.row(h.node, h.component);
+        if (h.component >= Component::RX && r >= 0) rotations = true;
+        if (r >= 0) p.Hrows[k].push_back({static_cast<GlobalOrdinal>(r), h.coefficient});
+      }
+    if (p.spec.attachment.type == Attachment::Type::Node) {
+      const auto n = p.H[3].empty() ? -1 : p.H[3].front().node;
+      bool anyRow = false;
+      for (int k = 0; k < 6; ++k) anyRow = anyRow || !p.Hrows[k].empty();
+      CMS_INPUT_CHECK(anyRow && !rotations && n >= 0 && t.row(n, Component::RX) < 0 && t.row(n, Component::RY) < 0 &&
+                          t.row(n, Component::RZ) < 0 && t.row(n, Component::UX) >= 0,
+                      who(p) << ": the parent node in '" << p.spec.attachment.parentNodes << "' of '"
+                             << parent.spec.name << "' has no rotational DOFs; a solid needs a RigidFit attachment");
+    }
+    if (p.spec.kind == SubstructureKind::Rotating && p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
+      bool moves = false;
+      for (int k = 0; k < 6; ++k) moves = moves || !p.Hrows[k].empty();
+      CMS_INPUT_CHECK(moves, who(p) << ": spins in its own frame relative to '" << parent.spec.name
+                                    << "', whose attachment moves: the coefficients are periodic. Supported: "
+                                       "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "
+                                       "axisymmetric rotor on a non-spinning parent");
+    }
+  }
+  out.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace cms::synthesis

@@ -1,0 +1,69 @@
+// Internal to the synthesis package: one substructure of an assembled
+// structure with its frame, attachment and interface data (theory §11).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "cms/fem/FiniteElementAssembly.hpp"
+#include "cms/substructure/Substructure.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+namespace cms::synthesis {
+
+namespace detail {
+
+/// A coefficient on a (mesh node index, component) DOF: H before the
+/// parent's layout is known.
+struct NodalCoefficient {
+  std::int64_t node = 0;
+  fem::Component component = fem::Component::UX;
+  double coefficient = 0.0;
+};
+
+/// Row `component` (0..5: ux uy uz rx ry rz) of the rigid motion
+/// u = u_P + theta x r, theta = theta_P of a point at r from P, as
+/// coefficients of a = (u_P, theta_P): [I, -[r]x; 0, I].
+std::array<double, 6> rigidRow(const fem::Vec3& r, int component);
+
+}  // namespace detail
+
+/// The frame a substructure's matrices refer to, and its absolute speed as
+/// a combination sum_i c_i s_i of the speed parameters.
+struct Frame {
+  bool spinning = false;
+  fem::SpinDefinition::Frame kind = fem::SpinDefinition::Frame::Rotating;
+  fem::Vec3 axis{0, 0, 1}, origin{0, 0, 0};
+  std::vector<std::pair<int, double>> coefficients;
+  bool stressStiffening = true;
+};
+
+struct AssembledStructure::Part {
+  SubstructureSpec spec;
+  int parent = -1;  ///< index in parts(), -1 for C
+  std::vector<int> children;
+  std::optional<substructure::Substructure> sub;  ///< C, E, A
+  Frame frame;
+  int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
+  fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)
+  bool floating = false;     ///< free C: a = the six rigid-body coordinates
+  /// a_k = sum H[k] over the parent's DOFs, nodal and then as parent rows.
+  std::array<std::vector<detail::NodalCoefficient>, 6> H;
+  std::array<std::vector<std::pair<GlobalOrdinal, double>>, 6> Hrows;
+  /// Held DOFs (attachment or reference), nodal and as rows (sorted).
+  std::vector<detail::NodalCoefficient> heldDofs;
+  std::vector<GlobalOrdinal> held;
+  /// Prestress loads per unit Omega^2 from its children (their reactions).
+  std::vector<fem::PrestressConditions::NodalValue> childLoads;
+  /// R only: 6 x 6 matrices on a = (u_P, theta_P).
+  struct Rotor {
+    fem::ElementMatrix M;
+    std::vector<std::pair<int, fem::ElementMatrix>> G;           ///< per speed parameter
+    std::vector<std::tuple<int, int, fem::ElementMatrix>> K;     ///< K_ij, i <= j
+  } rotor;
+};
+
+}  // namespace cms::synthesis

@@ -1,0 +1,513 @@
+// The interface transforms T_s and the projected structure matrices
+// (doc/theory.md §11.2-§11.3).
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "PartData.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/core/HeldDofs.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+#include "cms/eigen/SparseGyroscopicSolver.hpp"
+
+namespace cms::synthesis {
+
+namespace {
+
+using Row = std::vector<std::pair<GlobalOrdinal, double>>;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// The requested rows of a distributed matrix, on every rank (collective).
+std::map<GlobalOrdinal, Row> gatherRows(const CrsMatrix& T, const std::set<GlobalOrdinal>& rows) {
+  const auto& comm = *T.getRowMap()->getComm();
+  const auto& colMap = *T.getColMap();
+  std::vector<double> mine;  // row, count, (col, value)...: ids stay exact below 2^53
+  for (GlobalOrdinal g : rows) {
+    const LocalOrdinal l = T.getRowMap()->getLocalElement(g);
+    if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+    const std::size_t n = T.getNumEntriesInLocalRow(l);
+    Teuchos::Array<LocalOrdinal> c(n);
+    Teuchos::Array<double> v(n);
+    std::size_t got = 0;
+    T.getLocalRowCopy(l, c(), v(), got);
+    mine.push_back(static_cast<double>(g));
+    mine.push_back(static_cast<double>(got));
+    for (std::size_t k = 0; k < got; ++k) {
+      mine.push_back(static_cast<double>(colMap.getGlobalElement(c[k])));
+      mine.push_back(v[k]);
+    }
+  }
+  const int p = comm.getSize(), r = comm.getRank();
+  std::vector<long long> counts(p, 0), all(p, 0);
+  counts[r] = static_cast<long long>(mine.size());
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, p, counts.data(), all.data());
+  const long long total = std::accumulate(all.begin(), all.end(), 0LL);
+  std::vector<double> buf(total, 0.0), sum(total, 0.0);
+  const long long off = std::accumulate(all.begin(), all.begin() + r, 0LL);
+  std::copy(mine.begin(), mine.end(), buf.begin() + off);
+  if (total > 0) Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, static_cast<int>(total), buf.data(), sum.data());
+  std::map<GlobalOrdinal, Row> out;
+  for (long long i = 0; i < total;) {
+    const auto g = static_cast<GlobalOrdinal>(sum[i]);
+    const auto n = static_cast<long long>(sum[i + 1]);
+    Row& row = out[g];
+    for (long long k = 0; k < n; ++k)
+      row.push_back({static_cast<GlobalOrdinal>(sum[i + 2 + 2 * k]), sum[i + 3 + 2 * k]});
+    i += 2 + 2 * n;
+  }
+  return out;
+}
+
+/// A fill-complete matrix from explicit rows (global row -> entries) on
+/// `rowMap`, with the given domain and range maps.
+Teuchos::RCP<CrsMatrix> fromRows(const Teuchos::RCP<const Map>& rowMap, const std::vector<Row>& rows,
+                                 const Teuchos::RCP<const Map>& domain, const Teuchos::RCP<const Map>& range) {
+  Teuchos::Array<std::size_t> counts(rows.size());
+  for (std::size_t l = 0; l < rows.size(); ++l) counts[l] = rows[l].size();
+  auto A = Teuchos::rcp(new CrsMatrix(rowMap, counts()));
+  for (std::size_t l = 0; l < rows.size(); ++l) {
+    if (rows[l].empty()) continue;
+    Teuchos::Array<GlobalOrdinal> c(rows[l].size());
+    Teuchos::Array<double> v(rows[l].size());
+    for (std::size_t k = 0; k < rows[l].size(); ++k) c[k] = rows[l][k].first, v[k] = rows[l][k].second;
+    A->insertGlobalValues(rowMap->getGlobalElement(static_cast<LocalOrdinal>(l)), c(), v());
+  }
+  A->fillComplete(domain, range);
+  return A;
+}
+
+/// sum of coefficient * row, merged by column.
+Row combine(const std::vector<std::pair<double, const Row*>>& terms) {
+  std::map<GlobalOrdinal, double> acc;
+  for (auto [c, r] : terms)
+    for (auto [g, v] : *r) acc[g] += c * v;
+  Row out;
+  for (auto [g, v] : acc)
+    if (v != 0.0) out.push_back({g, v});
+  return out;
+}
+
+/// T^T A T (collective).
+Teuchos::RCP<const CrsMatrix> project(const CrsMatrix& A, const CrsMatrix& T) {
+  CrsMatrix AT(A.getRowMap(), 0);
+  Tpetra::MatrixMatrix::Multiply(A, false, T, false, AT);
+  auto P = Teuchos::rcp(new CrsMatrix(T.getDomainMap(), 0));
+  Tpetra::MatrixMatrix::Multiply(T, true, AT, false, *P);
+  return P;
+}
+
+Teuchos::RCP<const CrsMatrix> addScaled(const Teuchos::RCP<const CrsMatrix>& acc, double c,
+                                        const Teuchos::RCP<const CrsMatrix>& P) {
+  if (acc.is_null()) {
+    if (c == 1.0) return P;
+    return Tpetra::MatrixMatrix::add(c, false, *P, 0.0, false, *P);
+  }
+  return Tpetra::MatrixMatrix::add(1.0, false, *acc, c, false, *P);
+}
+
+Teuchos::RCP<const CrsMatrix> zeroMatrix(const Teuchos::RCP<const Map>& map) {
+  auto Z = Teuchos::rcp(new CrsMatrix(map, 0));
+  Z->fillComplete(map, map);
+  return Z;
+}
+
+/// A 6 x 6 element matrix as a CrsMatrix on `map` (all rows on rank 0).
+Teuchos::RCP<const CrsMatrix> smallMatrix(const Teuchos::RCP<const Map>& map, const fem::ElementMatrix& E) {
+  std::vector<Row> rows(map->getNodeNumElements());
+  for (std::size_t l = 0; l < rows.size(); ++l) {
+    const auto i = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    for (int j = 0; j < E.n; ++j)
+      if (E(static_cast<int>(i), j) != 0.0) rows[l].push_back({j, E(static_cast<int>(i), j)});
+  }
+  return fromRows(map, rows, map, map);
+}
+
+DenseMatrix toDense(const CrsMatrix& A) {
+  const auto n = static_cast<int>(A.getGlobalNumRows());
+  std::vector<double> mine(static_cast<std::size_t>(n) * n, 0.0), all(mine.size(), 0.0);
+  const auto& rowMap = *A.getRowMap();
+  const auto& colMap = *A.getColMap();
+  Teuchos::Array<LocalOrdinal> c;
+  Teuchos::Array<double> v;
+  for (LocalOrdinal l = 0; l < static_cast<LocalOrdinal>(rowMap.getNodeNumElements()); ++l) {
+    const std::size_t k = A.getNumEntriesInLocalRow(l);
+    c.resize(k), v.resize(k);
+    std::size_t got = 0;
+    A.getLocalRowCopy(l, c(), v(), got);
+    const auto i = rowMap.getGlobalElement(l);
+    for (std::size_t e = 0; e < got; ++e) mine[i + static_cast<std::size_t>(n) * colMap.getGlobalElement(c[e])] += v[e];
+  }
+  Teuchos::reduceAll(*rowMap.getComm(), Teuchos::REDUCE_SUM, static_cast<int>(mine.size()), mine.data(), all.data());
+  DenseMatrix D(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) D(i, j) = all[i + static_cast<std::size_t>(n) * j];
+  return D;
+}
+
+}  // namespace
+
+long long SynthesizedStructure::size() const { return static_cast<long long>(map_->getGlobalNumElements()); }
+
+SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure, bool truth) {
+  std::vector<Teuchos::ParameterList> reductions;
+  for (const auto& p : structure.parts()) {
+    Teuchos::ParameterList r = p->spec.reduction;
+    if (truth) r.set("Basis", std::string("Full"));
+    reductions.push_back(r);
+  }
+  return synthesize(structure, reductions);
+}
+
+SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure,
+                                                      const std::vector<Teuchos::ParameterList>& reductions) {
+  const auto t0 = Clock::now();
+  const auto& parts = structure.parts();
+  CMS_INPUT_CHECK(reductions.size() != parts.size(), "synthesis: " << reductions.size() << " reduction lists for "
+                                                                   << parts.size() << " substructures");
+  auto comm = structure.comm();
+  SynthesizedStructure out;
+  out.structure_ = std::make_shared<AssembledStructure>(structure);
+
+  // 1. Bases (each substructure independently: §11.3).
+  std::vector<reduction::RitzBasis> bases(parts.size());
+  out.reports_.resize(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& p = *parts[k];
+    SubstructureReduction& rep = out.reports_[k];
+    rep.name = p.spec.name;
+    rep.kind = toString(p.spec.kind);
+    if (!p.sub) {
+      rep.basis = "rigid";
+      rep.physicalDofs = 6;
+      continue;
+    }
+    reduction::SubstructureBoundary b;
+    b.held = p.held;
+    for (int c : p.children) {
+      std::set<GlobalOrdinal> rows;
+      std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads(6);
+      for (int a = 0; a < 6; ++a)
+        for (auto [g, v] : parts[c]->Hrows[a]) rows.insert(g), loads[a].push_back({g, v});
+      b.interfaces.emplace_back(rows.begin(), rows.end());
+      b.interfaceLoads.push_back(loads);
+    }
+    bases[k] = reduction::buildRitzBasis(*p.sub, b, reductions[k]);
+    rep.basis = bases[k].kind;
+    rep.physicalDofs = p.sub->dofs().rows();
+    rep.attachmentDofs = static_cast<int>(p.held.size());
+    rep.labels = bases[k].labels;
+    rep.dropped = bases[k].dropped;
+    rep.eigensolverReport = bases[k].eigensolverReport;
+    rep.seconds = bases[k].seconds;
+    if (!bases[k].full && bases[k].size() > 0) rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases[k]);
+  }
+
+  // 2. Coordinates: [w_OC, theta_C (free C)], then each part's own.
+  std::vector<GlobalOrdinal> offset(parts.size(), 0);
+  GlobalOrdinal n = structure.freeFloating() ? 6 : 0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    offset[k] = n;
+    const auto& p = *parts[k];
+    int own = 0;
+    if (p.sub) own = bases[k].full ? static_cast<int>(p.sub->dofs().rows() - p.held.size()) : bases[k].size();
+    out.reports_[k].coordinates = own;
+    n += own;
+  }
+  CMS_INPUT_CHECK(n == 0, "synthesis: the structure has no coordinates (every basis is empty)");
+  out.map_ = Teuchos::rcp(new Map(n, 0, comm));
+
+  // 3. Interface transforms, parents first: u_s = X_s a_s + V_s eta_s with
+  // a_s = H_s T_parent q (rows of T_parent gathered to every rank).
+  out.T_.resize(parts.size());
+  const auto nparam = structure.speeds().size();
+  std::vector<Teuchos::RCP<const CrsMatrix>> G(nparam);
+  std::map<std::pair<int, int>, Teuchos::RCP<const CrsMatrix>> K2;
+  Teuchos::RCP<const CrsMatrix> M, K0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& p = *parts[k];
+    std::array<Row, 6> A;
+    bool hasA = false;
+    if (p.floating) {
+      for (int a = 0; a < 6; ++a) A[a] = {{a, 1.0}};
+      hasA = true;
+    } else if (p.parent >= 0) {
+      std::set<GlobalOrdinal> need;
+      for (int a = 0; a < 6; ++a)
+        for (auto [g, v] : p.Hrows[a]) need.insert(g);
+      const auto Tp = gatherRows(*out.T_[p.parent], need);
+      for (int a = 0; a < 6; ++a) {
+        std::vector<std::pair<double, const Row*>> terms;
+        for (auto [g, v] : p.Hrows[a]) {
+          auto it = Tp.find(g);
+          if (it != Tp.end()) terms.push_back({v, &it->second});
+        }
+        A[a] = combine(terms);
+        hasA = hasA || !A[a].empty();
+      }
+    }
+    if (!p.sub) {  // rigid rotor: its DOFs are a itself
+      auto rmap = Teuchos::rcp(new Map(6, comm->getRank() == 0 ? 6 : 0, 0, comm));
+      std::vector<Row> rows(rmap->getNodeNumElements());
+      for (std::size_t l = 0; l < rows.size(); ++l) rows[l] = A[rmap->getGlobalElement(static_cast<LocalOrdinal>(l))];
+      out.T_[k] = fromRows(rmap, rows, out.map_, rmap);
+      const auto& T = *out.T_[k];
+      M = addScaled(M, 1.0, project(*smallMatrix(rmap, p.rotor.M), T));
+      for (const auto& [i, Gi] : p.rotor.G) G[i] = addScaled(G[i], 1.0, project(*smallMatrix(rmap, Gi), T));
+      for (const auto& [i, j, Kij] : p.rotor.K)
+        K2[{i, j}] = addScaled(K2[{i, j}], 1.0, project(*smallMatrix(rmap, Kij), T));
+      continue;
+    }
+    const auto& sub = *p.sub;
+    const auto& t = sub.dofs();
+    const auto smap = sub.map();
+    std::vector<std::int64_t> nodeOf(t.rows());
+    for (std::size_t nd = 0; nd < t.nodes(); ++nd)
+      for (long long r = t.offsets[nd]; r < t.offsets[nd + 1]; ++r) nodeOf[r] = static_cast<std::int64_t>(nd);
+    const std::size_t nloc = smap->getNodeNumElements();
+    std::vector<Row> rows(nloc);
+    const auto& basis = bases[k];
+    Teuchos::ArrayRCP<const double> V;
+    std::vector<Teuchos::ArrayRCP<const double>> cols;
+    if (!basis.full)
+      for (int j = 0; j < basis.size(); ++j) cols.push_back(basis.vectors->getData(j));
+    for (std::size_t l = 0; l < nloc; ++l) {
+      const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
+      std::vector<std::pair<double, const Row*>> terms;
+      Row own;
+      if (hasA) {
+        const auto nd = nodeOf[g];
+        const fem::Vec3 r{t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
+                          t.coordinates[3 * nd + 2] - p.point[2]};
+        const auto x = detail::rigidRow(r, static_cast<int>(t.components[g]));
+        for (int a = 0; a < 6; ++a)
+          if (x[a] != 0.0 && !A[a].empty()) terms.push_back({x[a], &A[a]});
+      }
+      const bool isHeld = std::binary_search(p.held.begin(), p.held.end(), g);
+      if (basis.full) {
+        if (!isHeld) {
+          const auto before = std::lower_bound(p.held.begin(), p.held.end(), g) - p.held.begin();
+          own.push_back({offset[k] + g - before, 1.0});
+        }
+      } else if (!isHeld) {
+        for (std::size_t j = 0; j < cols.size(); ++j)
+          if (cols[j][l] != 0.0) own.push_back({offset[k] + static_cast<GlobalOrdinal>(j), cols[j][l]});
+      }
+      terms.push_back({1.0, &own});
+      rows[l] = combine(terms);
+    }
+    out.T_[k] = fromRows(smap, rows, out.map_, smap);
+    const auto& T = *out.T_[k];
+    M = addScaled(M, 1.0, project(*sub.M(), T));
+    K0 = addScaled(K0, 1.0, project(*sub.K(), T));
+    if (p.frame.spinning) {
+      Teuchos::RCP<const CrsMatrix> PG, PK;
+      if (!sub.G1().is_null()) PG = project(*sub.G1(), T);
+      if (!sub.K2().is_null()) PK = project(*sub.K2(), T);
+      for (auto [i, ci] : p.frame.coefficients) {
+        if (!PG.is_null()) G[i] = addScaled(G[i], ci, PG);
+        if (PK.is_null()) continue;
+        for (auto [j, cj] : p.frame.coefficients) {
+          if (j < i) continue;
+          K2[{i, j}] = addScaled(K2[{i, j}], i == j ? ci * cj : 2.0 * ci * cj, PK);
+        }
+      }
+    }
+  }
+  out.M_ = M;
+  out.K0_ = K0.is_null() ? zeroMatrix(out.map_) : K0;
+  if (structure.freeFloating()) {
+    // The elastic stiffness does no work on the rigid-body coordinates of a
+    // free structure (K X = 0): made exact, because its rounding,
+    // eps ||K||, would otherwise split the defective (Jordan) rigid-body
+    // eigenvalues of a spinning free body by sqrt(eps ||K|| / ||K_T||)
+    // (doc/theory.md §11.6).
+    out.K0_ = holdDofs(*out.K0_, {0, 1, 2, 3, 4, 5}, 0.0);
+  }
+  out.G_ = G;
+  for (auto& [ij, Kij] : K2) out.K2_.push_back({ij.first, ij.second, Kij});
+  out.seconds_ = since(t0);
+  return out;
+}
+
+eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<double>& s) const {
+  CMS_INPUT_CHECK(s.size() != structure_->speeds().size(),
+                  "synthesis: " << s.size() << " speeds given, the structure has " << structure_->speeds().size());
+  eigen::SparseGyroscopicSystem sys;
+  sys.M = M_;
+  Teuchos::RCP<const CrsMatrix> G, K = K0_;
+  for (std::size_t i = 0; i < G_.size(); ++i)
+    if (!G_[i].is_null() && s[i] != 0.0) G = addScaled(G, s[i], G_[i]);
+  for (const auto& t : K2_) {
+    const double c = s[t.i] * s[t.j];
+    if (c != 0.0) K = addScaled(K, c, t.K);
+  }
+  sys.G = G.is_null() ? zeroMatrix(map_) : G;
+  sys.K = K;
+  return sys;
+}
+
+eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<double>& s) const {
+  const auto sys = system(s);
+  eigen::GyroscopicSystem d;
+  d.M = toDense(*sys.M);
+  d.G = toDense(*sys.G);
+  d.K = toDense(*sys.K);
+  return d;
+}
+
+Teuchos::RCP<const Teuchos::ParameterList> SynthesizedStructure::validSolveParameters() {
+  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Solve"));
+    Teuchos::setStringToIntegralParameter<int>(
+        "Solver", "Auto", "Auto (Dense up to \"Dense Limit\" coordinates, else Sparse), Dense or Sparse",
+        Teuchos::tuple<std::string>("Auto", "Dense", "Sparse"), pl.get());
+    pl->set("Dense Limit", 1500, "Largest n solved by the dense LAPACK path under Auto");
+    pl->set("Number of Modes", 10, "Lowest modes to return");
+    pl->sublist("Dense Solver").disableRecursiveValidation();
+    pl->sublist("Sparse Solver").disableRecursiveValidation();
+    return pl;
+  }();
+  return valid;
+}
+
+StructureModes SynthesizedStructure::solve(const std::vector<double>& s, const Teuchos::ParameterList& params) const {
+  const auto t0 = Clock::now();
+  Teuchos::ParameterList p(params);
+  try {
+    p.validateParametersAndSetDefaults(*validSolveParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("synthesis solve parameters: ") + e.what());
+  }
+  const std::string solver = p.get<std::string>("Solver");
+  const int limit = p.get<int>("Dense Limit");
+  const int nev = p.get<int>("Number of Modes");
+  CMS_INPUT_CHECK(nev < 1, "synthesis solve parameters: \"Number of Modes\" = " << nev << " must be >= 1");
+  StructureModes out;
+  out.speeds = s;
+  const long long n = size();
+  const bool dense = solver == "Dense" || (solver == "Auto" && n <= limit);
+  std::ostringstream why;
+  if (dense) {
+    why << "dense (n = " << n << (solver == "Dense" ? ", requested)" : " <= Dense Limit)");
+    Teuchos::ParameterList dp = p.sublist("Dense Solver");
+    dp.set("Number of Modes", static_cast<int>(std::min<long long>(nev, n)));
+    out.result = eigen::DenseGyroscopicSolver(dp).solve(denseSystem(s));
+  } else {
+    why << "sparse (n = " << n << (solver == "Sparse" ? ", requested)" : " > Dense Limit)");
+    Teuchos::ParameterList sp = p.sublist("Sparse Solver");
+    sp.set("Number of Modes", nev);
+    out.result = eigen::SparseGyroscopicSolver(sp).solve(system(s));
+  }
+  out.path = why.str();
+  out.seconds = since(t0);
+  return out;
+}
+
+std::vector<Teuchos::RCP<MultiVector>> SynthesizedStructure::expand(const StructureModes& modes, int m) const {
+  const auto& q = modes.result.modes.at(m).q;
+  const std::size_t nloc = map_->getNodeNumElements();
+  const bool replicated = static_cast<long long>(q.size()) == size();
+  MultiVector x(map_, 2);
+  for (std::size_t l = 0; l < nloc; ++l) {
+    const std::size_t i = replicated ? static_cast<std::size_t>(map_->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+    x.replaceLocalValue(l, 0, q.at(i).real());
+    x.replaceLocalValue(l, 1, q.at(i).imag());
+  }
+  std::vector<Teuchos::RCP<MultiVector>> out;
+  for (const auto& T : T_) {
+    auto u = Teuchos::rcp(new MultiVector(T->getRangeMap(), 2));
+    T->apply(x, *u);
+    out.push_back(u);
+  }
+  return out;
+}
+
+std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureModes& modes) const {
+  const auto& parts = structure_->parts();
+  double frameRate = 0.0;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (parts[k]->spec.kind == SubstructureKind::Central && parts[k]->speedParam >= 0)
+      frameRate = std::abs(modes.speeds.at(parts[k]->speedParam));
+  // Rigid-coordinate block of M (free C), on every rank.
+  std::set<GlobalOrdinal> rigidRows;
+  if (structure_->freeFloating())
+    for (GlobalOrdinal g = 0; g < 6; ++g) rigidRows.insert(g);
+  const auto Mrr = gatherRows(*M_, rigidRows);
+  std::vector<ModeCharacter> out;
+  for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
+    const auto& mode = modes.result.modes[m];
+    ModeCharacter c;
+    const auto u = expand(modes, static_cast<int>(m));
+    double total = 0.0;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      MultiVector Mu(u[k]->getMap(), 2);
+      if (parts[k]->sub) {
+        parts[k]->sub->M()->apply(*u[k], Mu);
+      } else {
+        const auto rmap = u[k]->getMap();
+        auto Mr = smallMatrix(rmap, parts[k]->rotor.M);
+        Mr->apply(*u[k], Mu);
+      }
+      Teuchos::Array<double> d(2);
+      u[k]->dot(Mu, d());
+      c.kineticShare.push_back(d[0] + d[1]);
+      total += d[0] + d[1];
+    }
+    for (double& v : c.kineticShare) v = total > 0.0 ? v / total : 0.0;
+    if (structure_->freeFloating()) {
+      // a = q_r^H M_rr q_r and the elastic part e = q_e^H M_ee q_e =
+      // q^H M q - 2 Re(q_r^H (M q)_r) + a: both non-negative, unlike the
+      // cross terms, so a / (a + e) is a share.
+      MultiVector x(map_, 2), Mx(map_, 2);
+      const bool replicated = static_cast<long long>(mode.q.size()) == size();
+      for (std::size_t l = 0; l < map_->getNodeNumElements(); ++l) {
+        const std::size_t i = replicated ? static_cast<std::size_t>(map_->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+        x.replaceLocalValue(l, 0, mode.q[i].real());
+        x.replaceLocalValue(l, 1, mode.q[i].imag());
+      }
+      M_->apply(x, Mx);
+      double local[24] = {0}, global[24] = {0};
+      for (GlobalOrdinal g = 0; g < 6; ++g) {
+        const auto l = map_->getLocalElement(g);
+        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+        local[4 * g] = x.getData(0)[l], local[4 * g + 1] = x.getData(1)[l];
+        local[4 * g + 2] = Mx.getData(0)[l], local[4 * g + 3] = Mx.getData(1)[l];
+      }
+      Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, 24, local, global);
+      Teuchos::Array<double> qMq(2);
+      x.dot(Mx, qMq());
+      std::complex<double> qr[6], aa = 0.0, rMq = 0.0;
+      for (int g = 0; g < 6; ++g) {
+        qr[g] = {global[4 * g], global[4 * g + 1]};
+        rMq += std::conj(qr[g]) * std::complex<double>(global[4 * g + 2], global[4 * g + 3]);
+      }
+      for (const auto& [i, row] : Mrr)
+        for (auto [j, v] : row)
+          if (j < 6) aa += std::conj(qr[i]) * v * qr[j];
+      const double rigid = aa.real(), elastic = std::max(0.0, qMq[0] + qMq[1] - 2.0 * rMq.real() + rigid);
+      c.rigidShare = rigid + elastic > 0.0 ? rigid / (rigid + elastic) : 0.0;
+      c.frameArtefact = frameRate > 0.0 && c.rigidShare > 0.99 &&
+                        std::abs(mode.omega - frameRate) <= 1e-4 * frameRate;
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace cms::synthesis

@@ -1,0 +1,107 @@
+// Meshes and models built in code for the synthesis validations: a Hex8 box
+// (a rigid-ish body when stiff) and straight frame segments with named end
+// and middle nodes (hubs and booms).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cms/fem/FiniteElementModel.hpp"
+#include "cms/fem/Mesh.hpp"
+
+namespace cms::fixtures {
+
+inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::vector<std::int64_t>& nodes) {
+  fem::PhysicalGroup g{name, 0, static_cast<int>(mesh.groups.size()) + 1, {}};
+  fem::CellBlock b;
+  b.type = fem::CellType::Point1;
+  b.gmshType = 15;
+  b.nodesPerCell = 1;
+  for (auto n : nodes) {
+    b.nodes.push_back(n);
+    b.cellTags.push_back(100000 + static_cast<std::size_t>(n));
+  }
+  g.blocks.push_back(b);
+  mesh.groups.push_back(g);
+}
+
+/// [-a/2, a/2] x [-b/2, b/2] x [-c/2, c/2] in n^3 Hex8 cells (n even):
+/// groups "solid", "center" (the centre node) and "reference" (the centre
+/// and its neighbours along +x and +y: three non-collinear nodes).
+inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n) {
+  auto mesh = std::make_shared<fem::Mesh>();
+  mesh->source = "box mesh (in code)";
+  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * k)); };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        mesh->nodeTags.push_back(static_cast<std::size_t>(id(i, j, k) + 1));
+        mesh->coordinates.insert(mesh->coordinates.end(),
+                                 {a * (double(i) / n - 0.5), b * (double(j) / n - 0.5), c * (double(k) / n - 0.5)});
+      }
+  fem::PhysicalGroup solid{"solid", 3, 1, {}};
+  fem::CellBlock hex;
+  hex.type = fem::CellType::Hex8;
+  hex.gmshType = 5;
+  hex.nodesPerCell = 8;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        hex.nodes.insert(hex.nodes.end(), {id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
+                                           id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1),
+                                           id(i, j + 1, k + 1)});
+        hex.cellTags.push_back(hex.cellTags.size() + 1);
+      }
+  solid.blocks.push_back(hex);
+  mesh->groups.push_back(solid);
+  const int h = n / 2;
+  addPointGroup(*mesh, "center", {id(h, h, h)});
+  addPointGroup(*mesh, "reference", {id(h, h, h), id(h + 1, h, h), id(h, h + 1, h)});
+  return mesh;
+}
+
+inline fem::FiniteElementModel solidModel(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat) {
+  fem::FiniteElementModel m;
+  m.name = "solid";
+  m.mesh = std::move(mesh);
+  m.materials["material"] = mat;
+  fem::ElementSet set;
+  set.group = "solid";
+  set.kind = fem::ElementSet::Kind::Solid;
+  set.material = "material";
+  m.elementSets.push_back(set);
+  return m;
+}
+
+/// Frame elements along a straight segment from p0 to p1 (`elements` even):
+/// groups "beam", "start", "end", "mid" and "ends".
+inline std::shared_ptr<fem::Mesh> segmentMesh(const std::array<double, 3>& p0, const std::array<double, 3>& p1,
+                                              int elements, std::size_t firstTag = 1) {
+  auto mesh = std::make_shared<fem::Mesh>();
+  mesh->source = "segment mesh (in code)";
+  for (int i = 0; i <= elements; ++i) {
+    const double t = double(i) / elements;
+    mesh->nodeTags.push_back(firstTag + static_cast<std::size_t>(i));
+    for (int d = 0; d < 3; ++d) mesh->coordinates.push_back(p0[d] + t * (p1[d] - p0[d]));
+  }
+  fem::PhysicalGroup beam{"beam", 1, 1, {}};
+  fem::CellBlock lines;
+  lines.type = fem::CellType::Line2;
+  lines.gmshType = 1;
+  lines.nodesPerCell = 2;
+  for (int e = 0; e < elements; ++e) {
+    lines.nodes.insert(lines.nodes.end(), {e, e + 1});
+    lines.cellTags.push_back(static_cast<std::size_t>(e + 1));
+  }
+  beam.blocks.push_back(lines);
+  mesh->groups.push_back(beam);
+  addPointGroup(*mesh, "start", {0});
+  addPointGroup(*mesh, "end", {elements});
+  addPointGroup(*mesh, "mid", {elements / 2});
+  addPointGroup(*mesh, "ends", {0, elements});
+  return mesh;
+}
+
+}  // namespace cms::fixtures
