@@ -168,6 +168,8 @@ std::vector<detail::NodalCoefficient> referenceDofs(const fem::Mesh& mesh, const
 
 }  // namespace
 
+const SubstructureSpec& AssembledStructure::substructure(std::size_t k) const { return parts_.at(k)->spec; }
+
 std::vector<double> AssembledStructure::nominalSpeeds() const {
   std::vector<double> s;
   for (const auto& p : speeds_) s.push_back(p.nominal);

@@ -55,7 +55,11 @@ public:
   static AssembledStructure assemble(const StructureDescription& description,
                                      const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
 
-  struct Part;  ///< one substructure, assembled (Synthesis.cpp)
+  std::size_t numSubstructures() const { return parts_.size(); }
+  /// The k-th substructure's description, tree order (pre-order from C).
+  const SubstructureSpec& substructure(std::size_t k) const;
+
+  struct Part;  ///< one substructure, assembled (AssembledStructure.cpp)
   const std::vector<std::shared_ptr<Part>>& parts() const { return parts_; }
   const std::vector<SpeedParameter>& speeds() const { return speeds_; }
   std::vector<double> nominalSpeeds() const;

@@ -1,0 +1,54 @@
+// How good a reduced model is: its frequencies and mode shapes against the
+// truth model of the same structure (every substructure with a Full basis),
+// and the inclusion principle between two nested reductions (seed eqs.
+// (28)-(29); doc/theory.md §6 and §11.7). Numbers are reported, never
+// adjusted: a violation is a finding.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+namespace cms::analysis {
+
+struct ModeAccuracy {
+  int index = 0;
+  double omega = 0.0, truthOmega = 0.0;  ///< rad/s
+  double relativeError = 0.0;            ///< (omega - truth) / truth (absolute / scale for rigid modes)
+  /// Modal assurance criterion of the expanded physical shapes, against
+  /// the span of the truth modes of the same frequency (a repeated
+  /// frequency of a symmetric rotor has no unique mode shape): 1 = same shape.
+  double mac = 0.0;
+};
+
+struct TruthComparison {
+  std::vector<ModeAccuracy> modes;
+  double maxRelativeError = 0.0, meanRelativeError = 0.0, worstMac = 1.0;
+};
+
+/// Pairs the lowest `count` modes of each in frequency order (both must have
+/// at least `count`; throws cms::InputError otherwise). The two structures
+/// must come from the same AssembledStructure. Collective.
+TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
+                                 const synthesis::StructureModes& reducedModes,
+                                 const synthesis::SynthesizedStructure& truth,
+                                 const synthesis::StructureModes& truthModes, int count);
+
+struct InclusionViolation {
+  int index = 0;  ///< r (0-based)
+  std::string inequality;  ///< which of fine[r] <= coarse[r] <= fine[r+1] failed
+  double amount = 0.0;     ///< by how much, relative to coarse[r]
+};
+
+/// Checks fine[r] <= coarse[r] (1 + relTol) and coarse[r] <= fine[r+1] (1 + relTol)
+/// for every r where both sides were computed (ascending frequencies of the
+/// coarse model and of the model with one more vector). Meaningful only when
+/// K > 0 at that speed (the hyperbolic case, theory §6); the caller decides.
+std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse, const std::vector<double>& fine,
+                                               double relTol = 1e-9);
+
+/// omega of each mode, ascending (as returned by the solvers).
+std::vector<double> frequencies(const synthesis::StructureModes& modes);
+
+}  // namespace cms::analysis

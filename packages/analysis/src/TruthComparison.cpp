@@ -1,0 +1,126 @@
+#include "cms/analysis/TruthComparison.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include <Teuchos_Array.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
+
+#include "cms/core/Error.hpp"
+
+namespace cms::analysis {
+
+namespace {
+
+using cplx = std::complex<double>;
+using Shape = std::vector<Teuchos::RCP<MultiVector>>;  // per substructure, (re, im)
+
+/// u^H v over every substructure's rows (collective).
+cplx inner(const Shape& u, const Shape& v) {
+  cplx s = 0.0;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    Teuchos::Array<double> d(2);
+    const auto ur = u[k]->getVector(0), ui = u[k]->getVector(1), vr = v[k]->getVector(0), vi = v[k]->getVector(1);
+    s += cplx(ur->dot(*vr) + ui->dot(*vi), ur->dot(*vi) - ui->dot(*vr));
+  }
+  return s;
+}
+
+/// x = G^-1 b for a small Hermitian positive definite G (Gaussian elimination
+/// with partial pivoting).
+std::vector<cplx> solveSmall(std::vector<std::vector<cplx>> G, std::vector<cplx> b) {
+  const std::size_t n = b.size();
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t p = c;
+    for (std::size_t r = c + 1; r < n; ++r)
+      if (std::abs(G[r][c]) > std::abs(G[p][c])) p = r;
+    std::swap(G[c], G[p]);
+    std::swap(b[c], b[p]);
+    if (std::abs(G[c][c]) == 0.0) continue;
+    for (std::size_t r = c + 1; r < n; ++r) {
+      const cplx f = G[r][c] / G[c][c];
+      for (std::size_t k = c; k < n; ++k) G[r][k] -= f * G[c][k];
+      b[r] -= f * b[c];
+    }
+  }
+  std::vector<cplx> x(n);
+  for (std::size_t i = n; i-- > 0;) {
+    cplx s = b[i];
+    for (std::size_t k = i + 1; k < n; ++k) s -= G[i][k] * x[k];
+    x[i] = std::abs(G[i][i]) > 0.0 ? s / G[i][i] : 0.0;
+  }
+  return x;
+}
+
+}  // namespace
+
+std::vector<double> frequencies(const synthesis::StructureModes& modes) {
+  std::vector<double> w;
+  for (const auto& m : modes.result.modes) w.push_back(m.omega);
+  return w;
+}
+
+TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
+                                 const synthesis::StructureModes& rm,
+                                 const synthesis::SynthesizedStructure& truth,
+                                 const synthesis::StructureModes& tm, int count) {
+  CMS_INPUT_CHECK(count < 1 || static_cast<int>(rm.result.modes.size()) < count ||
+                      static_cast<int>(tm.result.modes.size()) < count,
+                  "compareWithTruth: " << count << " modes asked; the reduced model has " << rm.result.modes.size()
+                                       << " and the truth " << tm.result.modes.size());
+  double scale = 0.0;
+  for (int m = 0; m < count; ++m) scale = std::max(scale, tm.result.modes[m].omega);
+  scale = std::max(scale, 1e-300);
+  std::vector<Shape> truthShapes(count);
+  for (int m = 0; m < count; ++m) truthShapes[m] = truth.expand(tm, m);
+  TruthComparison out;
+  double sum = 0.0;
+  for (int m = 0; m < count; ++m) {
+    ModeAccuracy a;
+    a.index = m;
+    a.omega = rm.result.modes[m].omega;
+    a.truthOmega = tm.result.modes[m].omega;
+    const bool rigid = a.truthOmega < 1e-6 * scale;
+    a.relativeError = (a.omega - a.truthOmega) / (rigid ? scale : a.truthOmega);
+    // The truth modes of (numerically) the same frequency as truth mode m.
+    std::vector<int> cluster;
+    for (int t = 0; t < count; ++t)
+      if (std::abs(tm.result.modes[t].omega - a.truthOmega) <= 1e-6 * std::max(a.truthOmega, 1e-6 * scale))
+        cluster.push_back(t);
+    const Shape u = reduced.expand(rm, m);
+    std::vector<std::vector<cplx>> G(cluster.size(), std::vector<cplx>(cluster.size()));
+    std::vector<cplx> b(cluster.size());
+    for (std::size_t i = 0; i < cluster.size(); ++i) {
+      b[i] = inner(truthShapes[cluster[i]], u);
+      for (std::size_t j = 0; j < cluster.size(); ++j) G[i][j] = inner(truthShapes[cluster[i]], truthShapes[cluster[j]]);
+    }
+    const auto x = solveSmall(G, b);
+    cplx proj = 0.0;
+    for (std::size_t i = 0; i < cluster.size(); ++i) proj += std::conj(b[i]) * x[i];
+    const double uu = inner(u, u).real();
+    a.mac = uu > 0.0 ? std::min(1.0, proj.real() / uu) : 0.0;
+    out.maxRelativeError = std::max(out.maxRelativeError, std::abs(a.relativeError));
+    out.worstMac = std::min(out.worstMac, a.mac);
+    sum += std::abs(a.relativeError);
+    out.modes.push_back(a);
+  }
+  out.meanRelativeError = sum / count;
+  return out;
+}
+
+std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse, const std::vector<double>& fine,
+                                               double relTol) {
+  std::vector<InclusionViolation> v;
+  for (std::size_t r = 0; r < coarse.size() && r < fine.size(); ++r) {
+    const double tol = relTol * std::max(std::abs(coarse[r]), 1e-300);
+    if (fine[r] > coarse[r] + tol)
+      v.push_back({static_cast<int>(r), "fine[r] <= coarse[r]", (fine[r] - coarse[r]) / coarse[r]});
+    if (r + 1 < fine.size() && coarse[r] > fine[r + 1] + tol)
+      v.push_back({static_cast<int>(r), "coarse[r] <= fine[r+1]", (coarse[r] - fine[r + 1]) / coarse[r]});
+  }
+  return v;
+}
+
+}  // namespace cms::analysis

@@ -1,0 +1,153 @@
+// The validation structure of doc/theory.md §11.7: a hub (C, a stiff frame
+// beam along x from -h to h) carrying two flexible booms (E, frame beams
+// from +-h to +-(h + L)), the whole spinning about z through the hub centre.
+// Also the same structure as one monolithic frame model (one mesh, the booms'
+// roots merged with the hub's ends), for the truth-versus-monolithic check,
+// and a dense copy of a distributed matrix for small reference solves.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <Teuchos_Comm.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "StructureModels.hpp"
+#include "cms/core/DenseMatrix.hpp"
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/synthesis/Structure.hpp"
+
+namespace cms::fixtures {
+
+struct HubBoom {
+  double h = 0.5, L = 3.0;
+  int hubElements = 4, boomElements = 8;
+  fem::IsotropicMaterial hubMaterial{2.0e11, 0.3, 7800.0}, boomMaterial{7.0e10, 0.33, 2700.0};
+  fem::BeamSection hubSection{4e-3, 2e-6, 2e-6, 4e-6};
+  fem::BeamSection boomSection{2e-4, 3e-9, 6e-9, 5e-9};
+  double Omega = 2.0;  ///< rad/s (the first boom frequency is about 4 rad/s)
+
+  fem::FiniteElementModel frame(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat,
+                                const fem::BeamSection& sec, const std::string& name) const {
+    fem::FiniteElementModel m;
+    m.name = name;
+    m.mesh = std::move(mesh);
+    m.materials["material"] = mat;
+    fem::ElementSet set;
+    set.group = "beam";
+    set.kind = fem::ElementSet::Kind::Frame;
+    set.material = "material";
+    set.section = sec;
+    set.section.orientation = {0.0, 0.0, 1.0};
+    m.elementSets.push_back(set);
+    return m;
+  }
+
+  /// free: hub free-floating about its centre node; else clamped there.
+  synthesis::StructureDescription structure(bool free, const std::string& basis, int vectors) const {
+    using namespace synthesis;
+    StructureDescription d;
+    SubstructureSpec C;
+    C.name = "hub";
+    C.kind = SubstructureKind::Central;
+    auto hub = frame(segmentMesh({-h, 0, 0}, {h, 0, 0}, hubElements), hubMaterial, hubSection, "hub");
+    if (!free) hub.fixed.push_back({"centre", "mid", {}, true});
+    C.model = std::make_shared<fem::FiniteElementModel>(hub);
+    C.spin = SpinRate{{0, 0, 1}, {0, 0, 0}, Omega};
+    C.reduction.set("Basis", basis);
+    C.reduction.set("Vectors", std::min(vectors, 6));
+    d.substructures.push_back(C);
+    for (int side : {+1, -1}) {
+      SubstructureSpec E;
+      E.name = side > 0 ? "boom+" : "boom-";
+      E.kind = SubstructureKind::Elastic;
+      E.parent = "hub";
+      E.attachment.type = Attachment::Type::Node;
+      E.attachment.parentNodes = side > 0 ? "end" : "start";
+      E.attachment.childNodes = "start";
+      E.model = std::make_shared<fem::FiniteElementModel>(
+          frame(segmentMesh({side * h, 0, 0}, {side * (h + L), 0, 0}, boomElements, 100), boomMaterial, boomSection,
+                E.name));
+      E.reduction.set("Basis", basis);
+      E.reduction.set("Vectors", vectors);
+      d.substructures.push_back(E);
+    }
+    if (free) d.freeReference = "mid";
+    return d;
+  }
+
+  /// One frame model of the whole: nodes along x, groups "hub" and "booms"
+  /// (element sets) and "centre" (node set).
+  fem::FiniteElementModel monolithic(bool free) const {
+    auto mesh = std::make_shared<fem::Mesh>();
+    mesh->source = "hub and booms, one mesh (in code)";
+    std::vector<double> xs;
+    for (int i = 0; i <= boomElements; ++i) xs.push_back(-(h + L) + L * i / boomElements);
+    for (int i = 1; i <= hubElements; ++i) xs.push_back(-h + 2 * h * i / hubElements);
+    for (int i = 1; i <= boomElements; ++i) xs.push_back(h + L * i / boomElements);
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      mesh->nodeTags.push_back(i + 1);
+      mesh->coordinates.insert(mesh->coordinates.end(), {xs[i], 0.0, 0.0});
+    }
+    auto lineGroup = [&](const std::string& name, int tag, const std::vector<int>& elements) {
+      fem::PhysicalGroup g{name, 1, tag, {}};
+      fem::CellBlock b;
+      b.type = fem::CellType::Line2;
+      b.gmshType = 1;
+      b.nodesPerCell = 2;
+      for (int e : elements) {
+        b.nodes.insert(b.nodes.end(), {e, e + 1});
+        b.cellTags.push_back(static_cast<std::size_t>(e + 1));
+      }
+      g.blocks.push_back(b);
+      mesh->groups.push_back(g);
+    };
+    std::vector<int> hubEls, boomEls;
+    for (int e = 0; e < static_cast<int>(xs.size()) - 1; ++e)
+      (e >= boomElements && e < boomElements + hubElements ? hubEls : boomEls).push_back(e);
+    lineGroup("hub", 1, hubEls);
+    lineGroup("booms", 2, boomEls);
+    addPointGroup(*mesh, "centre", {boomElements + hubElements / 2});
+    fem::FiniteElementModel m;
+    m.name = "monolithic";
+    m.mesh = mesh;
+    m.materials["hub"] = hubMaterial;
+    m.materials["boom"] = boomMaterial;
+    for (auto [group, mat, sec] : {std::tuple{"hub", "hub", hubSection}, std::tuple{"booms", "boom", boomSection}}) {
+      fem::ElementSet set;
+      set.group = group;
+      set.kind = fem::ElementSet::Kind::Frame;
+      set.material = mat;
+      set.section = sec;
+      set.section.orientation = {0.0, 0.0, 1.0};
+      m.elementSets.push_back(set);
+    }
+    if (!free) m.fixed.push_back({"centre", "centre", {}, true});
+    m.spin = fem::SpinDefinition{fem::Spin{{0, 0, 1}, {0, 0, 0}}, fem::SpinDefinition::Frame::Rotating, true};
+    return m;
+  }
+};
+
+/// A distributed matrix as a dense one on every rank (small matrices only).
+inline DenseMatrix denseOf(const CrsMatrix& A) {
+  const auto n = static_cast<int>(A.getGlobalNumRows());
+  const auto map = A.getRowMap();
+  MultiVector E(A.getDomainMap(), n), AE(A.getRangeMap(), n);
+  for (std::size_t l = 0; l < A.getDomainMap()->getNodeNumElements(); ++l)
+    E.replaceLocalValue(l, A.getDomainMap()->getGlobalElement(static_cast<LocalOrdinal>(l)), 1.0);
+  A.apply(E, AE);
+  auto rep = Teuchos::rcp(new Map(static_cast<GlobalOrdinal>(n), 0, map->getComm(), Tpetra::LocallyReplicated));
+  MultiVector R(rep, n);
+  R.doImport(AE, Tpetra::Import<>(A.getRangeMap(), rep), Tpetra::INSERT);
+  DenseMatrix D(n, n);
+  for (int j = 0; j < n; ++j) {
+    auto c = R.getData(j);
+    for (int i = 0; i < n; ++i) D(i, j) = c[i];
+  }
+  return D;
+}
+
+}  // namespace cms::fixtures
