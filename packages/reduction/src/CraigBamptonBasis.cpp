@@ -45,7 +45,7 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
   }
   if (modes > 0) {
     RitzBasis phi = fixedInterfaceModes(s, heldAll, modes, eigTol, depTol);
-    appendOrthonormal(*s.M(), *phi.vectors, phi.labels, depTol, basis.size() + modes, basis);
+    appendOrthonormal(*s.M(), *phi.vectors, phi.labels, depTol, basis.size() + phi.size(), basis);
     basis.eigensolverReport = phi.eigensolverReport;
     basis.dropped.insert(basis.dropped.end(), phi.dropped.begin(), phi.dropped.end());
   }

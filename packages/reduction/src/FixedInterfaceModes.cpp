@@ -45,10 +45,22 @@ private:
   Teuchos::RCP<const CrsMatrix> M_;
 };
 
+/// The number of modes to keep so that a repeated eigenvalue (a symmetric
+/// section, an axisymmetric rotor) is never cut: with `count` of the
+/// ascending eigenvalues lambda kept, add those equal to the last to 1e-8.
+/// Otherwise the basis would hold an arbitrary vector of the eigenspace,
+/// which changes with rounding (and the rank count).
+int completeCluster(const std::vector<double>& lambda, int count, int available) {
+  while (count > 0 && count < available &&
+         std::abs(lambda[count] - lambda[count - 1]) <= 1e-8 * std::abs(lambda[count - 1]))
+    ++count;
+  return count;
+}
+
 /// Dense path for small substructures: gather K and M on the free rows to
 /// every rank and call LAPACK dsygv; returns the lowest `count` vectors.
 Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
-                                     int count, std::vector<double>& omega) {
+                                     int& count, std::vector<double>& omega) {
   const auto map = s.map();
   const long long n = s.dofs().rows();
   const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
@@ -86,6 +98,7 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
   if (info != 0)
     throw NumericalError(s.name() + ": fixed-interface eigenproblem failed (LAPACK dsygv info " +
                          std::to_string(info) + "; K or M not definite on the free DOFs)");
+  count = completeCluster(w, count, nf);
   auto V = Teuchos::rcp(new MultiVector(map, count));
   omega.resize(count);
   for (int j = 0; j < count; ++j) {
@@ -102,6 +115,7 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
 
 RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
                               int count, double eigTol, double depTol) {
+  const int requested = count;
   RitzBasis basis;
   basis.kind = "Modes";
   if (count == 0) return basis;
@@ -127,7 +141,9 @@ RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::ve
     using Problem = Anasazi::BasicEigenproblem<double, MultiVector, Operator>;
     auto problem = Teuchos::rcp(new Problem(op, Mh, X0));
     problem->setHermitian(true);
-    problem->setNEV(count);
+    // A few more than asked, to see whether the last one is repeated.
+    const int nev = static_cast<int>(std::min<long long>(count + 4, nfree - 1));
+    problem->setNEV(nev);
     TEUCHOS_TEST_FOR_EXCEPTION(!problem->setProblem(), std::logic_error, "Anasazi rejected the problem set-up");
     Teuchos::ParameterList pl;
     pl.set("Which", std::string("LM"));
@@ -139,21 +155,26 @@ RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::ve
     Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
     const auto ret = mgr.solve();
     const auto& sol = problem->getSolution();
-    report << "Anasazi Block Krylov-Schur (K^-1 M, block 2): " << sol.numVecs << " of " << count
+    report << "Anasazi Block Krylov-Schur (K^-1 M, block 2): " << sol.numVecs << " of " << nev
            << " converged in " << mgr.getNumIters() << " restarts";
-    if (ret != Anasazi::Converged || sol.numVecs < count)
+    if (ret != Anasazi::Converged || sol.numVecs < nev)
       throw NumericalError(s.name() + ": fixed-interface modes did not converge (" + report.str() + ")");
     // Lowest frequencies first: largest 1 / omega^2.
     std::vector<int> order(sol.numVecs);
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return sol.Evals[a].realpart > sol.Evals[b].realpart; });
+    std::vector<double> lambda(sol.numVecs);
+    for (int j = 0; j < sol.numVecs; ++j) lambda[j] = 1.0 / std::max(sol.Evals[order[j]].realpart, 1e-300);
+    count = completeCluster(lambda, count, sol.numVecs);
     V = Teuchos::rcp(new MultiVector(s.map(), count));
     for (int j = 0; j < count; ++j) {
       V->getVectorNonConst(j)->assign(*sol.Evecs->getVector(order[j]));
       omega.push_back(1.0 / std::sqrt(std::max(sol.Evals[order[j]].realpart, 1e-300)));
     }
   }
+  if (count > requested)
+    report << "; " << requested << " modes asked, " << count << " kept so as not to split a repeated eigenvalue";
   std::vector<std::string> labels(count);
   for (int j = 0; j < count; ++j) {
     std::ostringstream os;

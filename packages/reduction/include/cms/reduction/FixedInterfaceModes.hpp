@@ -4,6 +4,8 @@
 // Krylov-Schur on the shift-invert operator K_held^-1 M_held in the M inner
 // product (block size 2, so double eigenvalues of symmetric rotors are both
 // found), or by LAPACK when the substructure is small (doc/theory.md §11.3).
+// A repeated eigenvalue is never split: when the last mode asked for has
+// copies (to 1e-8), they are all kept, and the report says so.
 #pragma once
 
 #include <vector>
