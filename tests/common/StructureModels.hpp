@@ -28,8 +28,9 @@ inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::v
 }
 
 /// [-a/2, a/2] x [-b/2, b/2] x [-c/2, c/2] in n^3 Hex8 cells (n even):
-/// groups "solid", "center" (the centre node) and "reference" (the centre
-/// and its neighbours along +x and +y: three non-collinear nodes).
+/// groups "solid", "center" (the centre node), "reference" (the centre
+/// and its neighbours along +x and +y: three non-collinear nodes) and
+/// "corner" (the node at +a/2, +b/2, +c/2).
 inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n) {
   auto mesh = std::make_shared<fem::Mesh>();
   mesh->source = "box mesh (in code)";
@@ -59,6 +60,7 @@ inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n) {
   const int h = n / 2;
   addPointGroup(*mesh, "center", {id(h, h, h)});
   addPointGroup(*mesh, "reference", {id(h, h, h), id(h + 1, h, h), id(h, h + 1, h)});
+  addPointGroup(*mesh, "corner", {id(n, n, n)});
   return mesh;
 }
 

@@ -170,6 +170,10 @@ std::vector<detail::NodalCoefficient> referenceDofs(const fem::Mesh& mesh, const
 
 const SubstructureSpec& AssembledStructure::substructure(std::size_t k) const { return parts_.at(k)->spec; }
 
+const substructure::Substructure* AssembledStructure::assembled(std::size_t k) const {
+  return parts_.at(k)->sub ? &*parts_.at(k)->sub : nullptr;
+}
+
 std::vector<double> AssembledStructure::nominalSpeeds() const {
   std::vector<double> s;
   for (const auto& p : speeds_) s.push_back(p.nominal);

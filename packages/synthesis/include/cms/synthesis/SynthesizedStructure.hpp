@@ -58,6 +58,8 @@ public:
   std::size_t numSubstructures() const { return parts_.size(); }
   /// The k-th substructure's description, tree order (pre-order from C).
   const SubstructureSpec& substructure(std::size_t k) const;
+  /// Its assembled matrices and DOF table (null for a rigid rotor).
+  const substructure::Substructure* assembled(std::size_t k) const;
 
   struct Part;  ///< one substructure, assembled (AssembledStructure.cpp)
   const std::vector<std::shared_ptr<Part>>& parts() const { return parts_; }
