@@ -31,7 +31,8 @@ inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::v
 /// groups "solid", "center" (the centre node), "reference" (the centre
 /// and its neighbours along +x and +y: three non-collinear nodes) and
 /// "corner" (the node at +a/2, +b/2, +c/2).
-inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n) {
+inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n,
+                                          const std::array<double, 3>& centre = {0.0, 0.0, 0.0}) {
   auto mesh = std::make_shared<fem::Mesh>();
   mesh->source = "box mesh (in code)";
   auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * k)); };
@@ -40,7 +41,8 @@ inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n) {
       for (int i = 0; i <= n; ++i) {
         mesh->nodeTags.push_back(static_cast<std::size_t>(id(i, j, k) + 1));
         mesh->coordinates.insert(mesh->coordinates.end(),
-                                 {a * (double(i) / n - 0.5), b * (double(j) / n - 0.5), c * (double(k) / n - 0.5)});
+                                 {centre[0] + a * (double(i) / n - 0.5), centre[1] + b * (double(j) / n - 0.5),
+                                  centre[2] + c * (double(k) / n - 0.5)});
       }
   fem::PhysicalGroup solid{"solid", 3, 1, {}};
   fem::CellBlock hex;

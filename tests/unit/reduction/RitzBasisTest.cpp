@@ -1,0 +1,172 @@
+// Ritz bases of one substructure (doc/theory.md §11.3): M-orthonormal, zero
+// on the held DOFs, nested when vectors are added, dependent candidates
+// dropped and reported, repeated eigenvalues kept whole, and the
+// Rayleigh-Ritz frequency estimates of the truncation guide.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "ExpectError.hpp"
+#include "HubBoomStructure.hpp"
+#include "cms/reduction/RitzBasis.hpp"
+
+using namespace cms;
+using namespace cms::reduction;
+
+namespace {
+
+auto world() { return Teuchos::DefaultComm<int>::getComm(); }
+
+/// A free-free beam along x held at its start node (a child's attachment),
+/// square section (repeated bending frequencies), 16 elements.
+struct Cantilever {
+  substructure::Substructure sub;
+  SubstructureBoundary boundary;
+};
+
+Cantilever cantilever(bool square = true, int elements = 16) {
+  fixtures::HubBoom hb;
+  fem::BeamSection sec{1e-3, 1e-7, square ? 1e-7 : 3e-7, 2e-7};
+  auto model = hb.frame(fixtures::segmentMesh({0, 0, 0}, {2, 0, 0}, elements), {7e10, 0.33, 2700}, sec, "cantilever");
+  Cantilever c{substructure::Substructure::fromFiniteElementModel(model, world()), {}};
+  for (int comp = 0; comp < 6; ++comp)
+    c.boundary.held.push_back(c.sub.dofs().row(0, static_cast<fem::Component>(comp)));
+  return c;
+}
+
+Teuchos::ParameterList params(const std::string& basis, int vectors) {
+  Teuchos::ParameterList p("Reduction");
+  p.set("Basis", basis);
+  p.set("Vectors", vectors);
+  return p;
+}
+
+/// max |V^T M V - I| and max |V(held rows)|.
+std::pair<double, double> orthonormalityAndHeld(const Cantilever& c, const RitzBasis& b) {
+  const auto& V = *b.vectors;
+  MultiVector MV(V.getMap(), V.getNumVectors());
+  c.sub.M()->apply(V, MV);
+  double orth = 0;
+  for (std::size_t i = 0; i < V.getNumVectors(); ++i)
+    for (std::size_t j = 0; j < V.getNumVectors(); ++j)
+      orth = std::max(orth, std::abs(V.getVector(i)->dot(*MV.getVector(j)) - (i == j ? 1.0 : 0.0)));
+  double held = 0;
+  for (GlobalOrdinal g : c.boundary.held) {
+    const auto l = V.getMap()->getLocalElement(g);
+    if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+    for (std::size_t j = 0; j < V.getNumVectors(); ++j) held = std::max(held, std::abs(V.getData(j)[l]));
+  }
+  double global = 0;
+  Teuchos::reduceAll(*world(), Teuchos::REDUCE_MAX, 1, &held, &global);
+  return {orth, global};
+}
+
+/// Largest principal angle's sine between span(A) and span(B) with A's
+/// columns M-orthonormal and span(A) expected inside span(B): max over A's
+/// columns of the M-norm of the part outside span(B).
+double outside(const Cantilever& c, const MultiVector& A, const MultiVector& B) {
+  MultiVector MB(B.getMap(), B.getNumVectors());
+  c.sub.M()->apply(B, MB);
+  double worst = 0;
+  for (std::size_t j = 0; j < A.getNumVectors(); ++j) {
+    Vector r(*A.getVector(j), Teuchos::Copy), Mr(r.getMap());
+    for (std::size_t k = 0; k < B.getNumVectors(); ++k) r.update(-MB.getVector(k)->dot(r), *B.getVector(k), 1.0);
+    c.sub.M()->apply(r, Mr);
+    worst = std::max(worst, std::sqrt(std::max(0.0, r.dot(Mr))));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(RitzBasis, EveryKindIsOrthonormalZeroOnHeldDofsAndNested) {
+  const auto c = cantilever();
+  for (const std::string kind : {"Admissible", "Modes", "Craig-Bampton"}) {
+    SCOPED_TRACE(kind);
+    const auto small = buildRitzBasis(c.sub, c.boundary, params(kind, 5));
+    const auto large = buildRitzBasis(c.sub, c.boundary, params(kind, 9));
+    ASSERT_GE(small.size(), 5);
+    ASSERT_GE(large.size(), 9);
+    const auto [orth, held] = orthonormalityAndHeld(c, large);
+    EXPECT_LT(orth, 1e-12);
+    EXPECT_EQ(held, 0.0);  // exactly: the admissible vectors' geometric boundary conditions
+    // Nested subspaces: span(small) inside span(large), to rounding.
+    EXPECT_LT(outside(c, *small.vectors, *large.vectors), 1e-8);
+  }
+}
+
+TEST(RitzBasis, NearlyDependentCandidatesAreDroppedAndReported) {
+  const auto c = cantilever();
+  // Two identical load patterns: the second static shape is the first.
+  auto p = params("Admissible", 8);
+  p.set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("tip", "tip", "uniform")));
+  const auto b = buildRitzBasis(c.sub, c.boundary, p);
+  EXPECT_EQ(b.size(), 8);
+  int droppedTip = 0;
+  for (const auto& d : b.dropped)
+    if (d.find("static: tip") == 0) ++droppedTip;
+  EXPECT_EQ(droppedTip, 3) << "the repeated tip x, y, z shapes";
+  const auto [orth, held] = orthonormalityAndHeld(c, b);
+  EXPECT_LT(orth, 1e-12);
+}
+
+TEST(RitzBasis, RepeatedEigenvaluesAreNeverSplit) {
+  // Square section: the bending frequencies come in equal pairs. Asking for
+  // an odd count keeps the whole pair (and the report says so); a
+  // rectangular section has no pairs and gives exactly what was asked.
+  const auto sq = cantilever(true);
+  const auto b = buildRitzBasis(sq.sub, sq.boundary, params("Modes", 1));
+  EXPECT_EQ(b.size(), 2);
+  EXPECT_NE(b.eigensolverReport.find("not to split a repeated eigenvalue"), std::string::npos) << b.eigensolverReport;
+  const auto rect = cantilever(false);
+  EXPECT_EQ(buildRitzBasis(rect.sub, rect.boundary, params("Modes", 1)).size(), 1);
+}
+
+TEST(RitzBasis, FrequencyEstimatesBoundTheSubstructureModesFromAbove) {
+  // Rayleigh-Ritz on its own exact modes reproduces them; on admissible
+  // vectors it bounds them from above (the paper's truncation guide).
+  const auto c = cantilever(false);
+  const auto modes = buildRitzBasis(c.sub, c.boundary, params("Modes", 6));
+  const auto exact = estimateFrequencies(c.sub, modes);
+  const auto adm = estimateFrequencies(c.sub, buildRitzBasis(c.sub, c.boundary, params("Admissible", 6)));
+  ASSERT_EQ(exact.size(), 6u);
+  // Euler-Bernoulli cantilever: omega_1 = 1.8751^2 sqrt(E I / (rho A L^4)).
+  const double w1 = 1.8751040687 * 1.8751040687 * std::sqrt(7e10 * 1e-7 / (2700 * 1e-3 * 16.0));
+  EXPECT_NEAR(exact[0] / w1, 1.0, 1e-4);  // 16 Hermite elements: h^4 error ~ 1e-7, plus rotary inertia ~ 1e-5
+  for (int r = 0; r < 6; ++r) EXPECT_GE(adm[r], exact[r] * (1 - 1e-10)) << "mode " << r;
+}
+
+TEST(RitzBasis, LargeSubstructuresUseAnasazi) {
+  // 100 elements: 600 free DOFs, past the dense limit of 400.
+  const double w1 = 1.8751040687 * 1.8751040687 * std::sqrt(7e10 * 1e-7 / (2700 * 1e-3 * 16.0));
+  const auto rect = cantilever(false, 100);
+  const auto b = buildRitzBasis(rect.sub, rect.boundary, params("Modes", 6));
+  EXPECT_NE(b.eigensolverReport.find("Anasazi"), std::string::npos) << b.eigensolverReport;
+  EXPECT_EQ(b.size(), 6);
+  const auto [orth, held] = orthonormalityAndHeld(rect, b);
+  EXPECT_LT(orth, 1e-10);
+  EXPECT_EQ(held, 0.0);
+  EXPECT_NEAR(estimateFrequencies(rect.sub, b)[0] / w1, 1.0, 1e-4);
+  const auto sq = cantilever(true, 100);
+  EXPECT_EQ(buildRitzBasis(sq.sub, sq.boundary, params("Modes", 3)).size(), 4);
+}
+
+TEST(RitzBasis, BadParametersNameTheKey) {
+  const auto c = cantilever();
+  fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, params("Admissible", 97)); }, "only 96 free DOFs");
+  fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, params("Admissible", -1)); }, "Vectors");
+  auto p = params("Admissible", 3);
+  p.set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("wind")));
+  fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, p); }, "unknown pattern \"wind\"");
+  auto q = params("Admissible", 3);
+  q.set("Vector Count", 3);
+  fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, q); }, "Vector Count");
+  // An unrestrained substructure (nothing held): K is singular.
+  SubstructureBoundary none;
+  EXPECT_THROW(buildRitzBasis(c.sub, none, params("Admissible", 3)), NumericalError);
+}
