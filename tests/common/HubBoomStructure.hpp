@@ -15,6 +15,7 @@
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "BeamModels.hpp"
 #include "StructureModels.hpp"
 #include "cms/core/DenseMatrix.hpp"
 #include "cms/core/TpetraTypes.hpp"
@@ -30,19 +31,12 @@ struct HubBoom {
   fem::BeamSection boomSection{2e-4, 3e-9, 6e-9, 5e-9};
   double Omega = 2.0;  ///< rad/s (the first boom frequency is about 4 rad/s)
 
+  /// A frame model of a segment mesh, local z along global z.
   fem::FiniteElementModel frame(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat,
-                                const fem::BeamSection& sec, const std::string& name) const {
-    fem::FiniteElementModel m;
+                                fem::BeamSection sec, const std::string& name) const {
+    sec.orientation = {0.0, 0.0, 1.0};
+    auto m = frameModel(std::move(mesh), mat, sec);
     m.name = name;
-    m.mesh = std::move(mesh);
-    m.materials["material"] = mat;
-    fem::ElementSet set;
-    set.group = "beam";
-    set.kind = fem::ElementSet::Kind::Frame;
-    set.material = "material";
-    set.section = sec;
-    set.section.orientation = {0.0, 0.0, 1.0};
-    m.elementSets.push_back(set);
     return m;
   }
 

@@ -45,6 +45,18 @@ StructureModes solve(const SynthesizedStructure& s, int modes = kModes) {
   return s.solve({hb.Omega}, p);
 }
 
+/// The same basis kind and vector count for every substructure.
+std::vector<Teuchos::ParameterList> everywhere(const AssembledStructure& a, const std::string& basis, int k) {
+  std::vector<Teuchos::ParameterList> red;
+  for (std::size_t q = 0; q < a.numSubstructures(); ++q) {
+    Teuchos::ParameterList r("Reduction");
+    r.set("Basis", basis);
+    r.set("Vectors", k);
+    red.push_back(r);
+  }
+  return red;
+}
+
 /// The elastic frequencies (above 1.5 Omega: past the rigid-body and frame
 /// modes of the free structure) of a result, ascending.
 std::vector<double> elastic(const eigen::GyroscopicResult& r, bool free) {
@@ -99,15 +111,7 @@ TEST(HubBoom, ClampedReductionsConvergeFromAboveAndInterlace) {
     SCOPED_TRACE(basis);
     std::vector<double> previous;
     for (int k : {3, 5, 8, 12}) {
-      std::vector<Teuchos::ParameterList> red;
-      for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
-        const SubstructureSpec& sp = structure.substructure(q);
-        Teuchos::ParameterList r("Reduction");
-        r.set("Basis", basis);
-        r.set("Vectors", k);
-        red.push_back(r);
-      }
-      const auto s = SynthesizedStructure::synthesize(structure, red);
+      const auto s = SynthesizedStructure::synthesize(structure, everywhere(structure, basis, k));
       if (s.size() < kModes) continue;
       const auto m = solve(s);
       const auto w = analysis::frequencies(m);
@@ -154,15 +158,7 @@ TEST(HubBoom, FreeReductionsConvergeToTruth) {
     SCOPED_TRACE(basis);
     double first = -1, last = -1;
     for (int k : {4, 12}) {
-      std::vector<Teuchos::ParameterList> red;
-      for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
-        const SubstructureSpec& sp = structure.substructure(q);
-        Teuchos::ParameterList r("Reduction");
-        r.set("Basis", basis);
-        r.set("Vectors", k);
-        red.push_back(r);
-      }
-      const auto s = SynthesizedStructure::synthesize(structure, red);
+      const auto s = SynthesizedStructure::synthesize(structure, everywhere(structure, basis, k));
       const auto w = elastic(solve(s, 20).result, true);
       ASSERT_GE(w.size(), 4u);
       double err = 0;
@@ -216,15 +212,7 @@ TEST(HubBoom, BasisComparisonTableMatchesDoc) {
   std::map<std::string, std::vector<double>> computed;
   for (const std::string basis : {"Guyan", "Admissible", "Modes", "Craig-Bampton"}) {
     for (int k : basis == "Guyan" ? std::vector<int>{0} : std::vector<int>{2, 4, 6, 8, 12}) {
-      std::vector<Teuchos::ParameterList> red;
-      for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
-        const SubstructureSpec& sp = structure.substructure(q);
-        Teuchos::ParameterList r("Reduction");
-        r.set("Basis", basis);
-        r.set("Vectors", k);
-        red.push_back(r);
-      }
-      const auto s = SynthesizedStructure::synthesize(structure, red);
+      const auto s = SynthesizedStructure::synthesize(structure, everywhere(structure, basis, k));
       if (s.size() < 6) continue;
       const auto m = solve(s, static_cast<int>(std::min<long long>(s.size(), kModes)));
       const auto c = analysis::compareWithTruth(s, m, truth, t, 6);

@@ -17,6 +17,7 @@
 #include <Tpetra_Operator.hpp>
 
 #include "HeldStiffness.hpp"
+#include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HashRandom.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -85,16 +86,8 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
     auto kc = Kr.getData(j), mc = Mr.getData(j);
     for (int i = 0; i < nf; ++i) A[i + j * nf] = kc[freeRows[i]], B[i + j * nf] = mc[freeRows[i]];
   }
-  for (int j = 0; j < nf; ++j)
-    for (int i = 0; i < j; ++i) {
-      A[i + j * nf] = A[j + i * nf] = 0.5 * (A[i + j * nf] + A[j + i * nf]);
-      B[i + j * nf] = B[j + i * nf] = 0.5 * (B[i + j * nf] + B[j + i * nf]);
-    }
-  Teuchos::LAPACK<int, double> lapack;
-  std::vector<double> w(nf), work(std::max(1, 3 * nf));
-  int info = 0;
-  lapack.SYGV(1, 'V', 'U', nf, A.data(), nf, B.data(), nf, w.data(), work.data(), static_cast<int>(work.size()),
-              &info);
+  std::vector<double> w;
+  const int info = detail::symmetricEigen(A, B, nf, true, w);
   if (info != 0)
     throw NumericalError(s.name() + ": fixed-interface eigenproblem failed (LAPACK dsygv info " +
                          std::to_string(info) + "; K or M not definite on the free DOFs)");

@@ -13,6 +13,7 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/reduction/AdmissibleVectors.hpp"
 #include "cms/reduction/CraigBamptonBasis.hpp"
@@ -144,16 +145,8 @@ std::vector<double> estimateFrequencies(const substructure::Substructure& s, con
       Kr[i + j * k] = V.getVector(i)->dot(*KV.getVector(j));
       Mr[i + j * k] = V.getVector(i)->dot(*MV.getVector(j));
     }
-  for (int i = 0; i < k; ++i)
-    for (int j = 0; j < i; ++j) {
-      Kr[i + j * k] = Kr[j + i * k] = 0.5 * (Kr[i + j * k] + Kr[j + i * k]);
-      Mr[i + j * k] = Mr[j + i * k] = 0.5 * (Mr[i + j * k] + Mr[j + i * k]);
-    }
-  Teuchos::LAPACK<int, double> lapack;
-  std::vector<double> w(k), work(std::max(1, 3 * k));
-  int info = 0;
-  lapack.SYGV(1, 'N', 'U', k, Kr.data(), k, Mr.data(), k, w.data(), work.data(), static_cast<int>(work.size()),
-              &info);
+  std::vector<double> w;
+  const int info = detail::symmetricEigen(Kr, Mr, k, false, w);
   if (info != 0) throw NumericalError(s.name() + ": Rayleigh-Ritz estimate failed (LAPACK dsygv info " +
                                       std::to_string(info) + ")");
   std::vector<double> omega(k);
