@@ -27,31 +27,33 @@ inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::v
   mesh.groups.push_back(g);
 }
 
-/// [-a/2, a/2] x [-b/2, b/2] x [-c/2, c/2] in n^3 Hex8 cells (n even):
-/// groups "solid", "center" (the centre node), "reference" (the centre
-/// and its neighbours along +x and +y: three non-collinear nodes) and
-/// "corner" (the node at +a/2, +b/2, +c/2).
-inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n,
+/// [-a/2, a/2] x [-b/2, b/2] x [-c/2, c/2] (moved to `centre`) in
+/// nx x ny x nz Hex8 cells (even counts): groups "solid", "center" (the
+/// centre node), "reference" (the centre and its neighbours along +x and +y:
+/// three non-collinear nodes), "corner" (the node at +a/2, +b/2, +c/2), and
+/// the end faces "xmin" and "xmax".
+inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, std::array<int, 3> n,
                                           const std::array<double, 3>& centre = {0.0, 0.0, 0.0}) {
   auto mesh = std::make_shared<fem::Mesh>();
   mesh->source = "box mesh (in code)";
-  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * k)); };
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
+  const auto [nx, ny, nz] = n;
+  auto id = [&](int i, int j, int k) { return static_cast<std::int64_t>(i + (nx + 1) * (j + (ny + 1) * k)); };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
         mesh->nodeTags.push_back(static_cast<std::size_t>(id(i, j, k) + 1));
         mesh->coordinates.insert(mesh->coordinates.end(),
-                                 {centre[0] + a * (double(i) / n - 0.5), centre[1] + b * (double(j) / n - 0.5),
-                                  centre[2] + c * (double(k) / n - 0.5)});
+                                 {centre[0] + a * (double(i) / nx - 0.5), centre[1] + b * (double(j) / ny - 0.5),
+                                  centre[2] + c * (double(k) / nz - 0.5)});
       }
   fem::PhysicalGroup solid{"solid", 3, 1, {}};
   fem::CellBlock hex;
   hex.type = fem::CellType::Hex8;
   hex.gmshType = 5;
   hex.nodesPerCell = 8;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
         hex.nodes.insert(hex.nodes.end(), {id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
                                            id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1),
                                            id(i, j + 1, k + 1)});
@@ -59,11 +61,21 @@ inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n,
       }
   solid.blocks.push_back(hex);
   mesh->groups.push_back(solid);
-  const int h = n / 2;
-  addPointGroup(*mesh, "center", {id(h, h, h)});
-  addPointGroup(*mesh, "reference", {id(h, h, h), id(h + 1, h, h), id(h, h + 1, h)});
-  addPointGroup(*mesh, "corner", {id(n, n, n)});
+  const int hx = nx / 2, hy = ny / 2, hz = nz / 2;
+  addPointGroup(*mesh, "center", {id(hx, hy, hz)});
+  addPointGroup(*mesh, "reference", {id(hx, hy, hz), id(hx + 1, hy, hz), id(hx, hy + 1, hz)});
+  addPointGroup(*mesh, "corner", {id(nx, ny, nz)});
+  std::vector<std::int64_t> xmin, xmax;
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j) xmin.push_back(id(0, j, k)), xmax.push_back(id(nx, j, k));
+  addPointGroup(*mesh, "xmin", xmin);
+  addPointGroup(*mesh, "xmax", xmax);
   return mesh;
+}
+
+inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n,
+                                          const std::array<double, 3>& centre = {0.0, 0.0, 0.0}) {
+  return boxMesh(a, b, c, {n, n, n}, centre);
 }
 
 inline fem::FiniteElementModel solidModel(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat) {

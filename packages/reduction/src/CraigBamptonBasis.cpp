@@ -11,6 +11,27 @@
 
 namespace cms::reduction {
 
+Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+                                          const std::vector<GlobalOrdinal>& unitRows) {
+  // psi = e_g + K_held^-1 (-K e_g): the held solve zeroes every held row of
+  // the correction, so psi is 1 at g and 0 at the other held rows.
+  const auto map = s.map();
+  const int nb = static_cast<int>(unitRows.size());
+  MultiVector E(map, nb), KE(map, nb);
+  auto Psi = Teuchos::rcp(new MultiVector(map, nb));
+  for (int j = 0; j < nb; ++j) {
+    if (unitRows[j] < 0) continue;
+    const auto l = map->getLocalElement(unitRows[j]);
+    if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) E.replaceLocalValue(l, j, 1.0);
+  }
+  s.K()->apply(E, KE);
+  KE.scale(-1.0);
+  detail::HeldStiffness K(s, held);
+  K.solve(KE, *Psi);
+  Psi->update(1.0, E, 1.0);
+  return Psi;
+}
+
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
                             double eigTol, double depTol) {
   std::set<GlobalOrdinal> interface;
@@ -22,26 +43,12 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
   RitzBasis basis;
   basis.kind = modes == 0 ? "Guyan" : "Craig-Bampton";
   if (!interface.empty()) {
-    // psi = e_g + K_held^-1 (-K e_g): the held solve zeroes every interface
-    // row of the correction, so psi is 1 at g and 0 at the other interface
-    // and attachment rows.
-    const auto map = s.map();
-    const int nb = static_cast<int>(interface.size());
-    MultiVector E(map, nb), KE(map, nb), Psi(map, nb);
+    std::vector<GlobalOrdinal> unit(interface.begin(), interface.end());
     std::vector<std::string> labels;
-    int j = 0;
-    for (GlobalOrdinal g : interface) {
-      const auto l = map->getLocalElement(g);
-      if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) E.replaceLocalValue(l, j, 1.0);
-      labels.push_back("constraint mode of row " + std::to_string(g));
-      ++j;
-    }
-    s.K()->apply(E, KE);
-    KE.scale(-1.0);
-    detail::HeldStiffness K(s, heldAll);
-    K.solve(KE, Psi);
-    Psi.update(1.0, E, 1.0);
-    appendOrthonormal(*s.M(), Psi, labels, depTol, nb, basis);
+    for (GlobalOrdinal g : unit) labels.push_back("constraint mode of row " + std::to_string(g));
+    const auto Psi = constraintModes(s, heldAll, unit);
+    const int nb = static_cast<int>(unit.size());
+    appendOrthonormal(*s.M(), *Psi, labels, depTol, nb, basis);
   }
   if (modes > 0) {
     RitzBasis phi = fixedInterfaceModes(s, heldAll, modes, eigTol, depTol);

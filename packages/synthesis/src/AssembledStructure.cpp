@@ -37,6 +37,17 @@ std::array<double, 6> rigidRow(const Vec3& r, int component) {
 
 }  // namespace detail
 
+std::vector<double> AssembledStructure::Part::attachmentRow(const fem::Vec3& x, std::int64_t node, int component) const {
+  if (!boolean()) {
+    const auto r = detail::rigidRow({x[0] - point[0], x[1] - point[1], x[2] - point[2]}, component);
+    return std::vector<double>(r.begin(), r.end());
+  }
+  std::vector<double> row(booleanDofs.size(), 0.0);
+  for (std::size_t k = 0; k < booleanDofs.size(); ++k)
+    if (booleanDofs[k].first == node && static_cast<int>(booleanDofs[k].second) == component) row[k] = 1.0;
+  return row;
+}
+
 namespace {
 
 double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
@@ -75,11 +86,11 @@ Vec3 centroid(const fem::Mesh& mesh, const std::vector<std::int64_t>& nodes) {
 
 /// H for a Node attachment (u_P = u_n + theta_n x (P - x_n), theta_P = theta_n)
 /// or a RigidFit (least-squares rigid motion of the set's translations).
-std::array<std::vector<detail::NodalCoefficient>, 6> attachmentMap(const SubstructureSpec& child,
-                                                                  const SubstructureSpec& parent, Vec3& point) {
+std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const SubstructureSpec& child,
+                                                                const SubstructureSpec& parent, Vec3& point) {
   const fem::Mesh& mesh = *parent.model->mesh;
   const auto nodes = nodeSet(parent, child.attachment.parentNodes, ("attachment of '" + child.name + "':").c_str());
-  std::array<std::vector<detail::NodalCoefficient>, 6> H;
+  std::vector<std::vector<detail::NodalCoefficient>> H(6);
   if (child.attachment.type == Attachment::Type::Node) {
     CMS_INPUT_CHECK(nodes.size() != 1, "substructure '" << child.name << "': Node attachment set '"
                                                         << child.attachment.parentNodes << "' of '" << parent.name
@@ -133,6 +144,39 @@ std::array<std::vector<detail::NodalCoefficient>, 6> attachmentMap(const Substru
       }
     }
   }
+  return H;
+}
+
+/// A Boolean (primal) interface: every node of the child's set is matched to
+/// the parent node at the same position; a_k are the parent's DOFs there.
+std::vector<std::vector<detail::NodalCoefficient>> booleanMap(
+    const SubstructureSpec& child, const SubstructureSpec& parent, Vec3& point,
+    std::vector<std::pair<std::int64_t, Component>>& childDofs) {
+  const fem::Mesh& pm = *parent.model->mesh;
+  const fem::Mesh& cm = *child.model->mesh;
+  const auto pn = nodeSet(parent, child.attachment.parentNodes, ("interface of '" + child.name + "':").c_str());
+  const auto cn = nodeSet(child, child.attachment.childNodes, "interface");
+  double extent = 0;
+  for (auto n : pn)
+    for (int d = 0; d < 3; ++d) extent = std::max(extent, std::abs(pm.coordinates[3 * n + d]));
+  const double tol = 1e-9 * std::max(1.0, extent);
+  std::vector<std::vector<detail::NodalCoefficient>> H;
+  for (auto c : cn) {
+    const Vec3 x = nodePosition(cm, c);
+    std::int64_t match = -1;
+    for (auto n : pn)
+      if (norm(sub(nodePosition(pm, n), x)) <= tol) match = n;
+    CMS_INPUT_CHECK(match < 0, "substructure '" << child.name << "': Boolean interface node " << cm.nodeTags[c]
+                                                << " at (" << x[0] << ", " << x[1] << ", " << x[2]
+                                                << ") has no node of '" << parent.name << "' set '"
+                                                << child.attachment.parentNodes
+                                                << "' at the same position (the meshes must be compatible)");
+    for (int k = 0; k < 6; ++k) {
+      H.push_back({{match, static_cast<Component>(k), 1.0}});
+      childDofs.push_back({c, static_cast<Component>(k)});
+    }
+  }
+  point = centroid(cm, cn);
   return H;
 }
 
@@ -228,7 +272,10 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
     const Part* parent = p.parent >= 0 ? parts[p.parent].get() : nullptr;
     if (p.spec.kind != SubstructureKind::Central) {
       // Attachment point and map (the parent's model exists: R has no children).
-      p.H = attachmentMap(p.spec, parent->spec, p.point);
+      if (p.spec.attachment.type == Attachment::Type::Boolean)
+        p.H = booleanMap(p.spec, parent->spec, p.point, p.booleanDofs);
+      else
+        p.H = attachmentMap(p.spec, parent->spec, p.point);
     }
     if (p.spec.spin) {
       p.speedParam = static_cast<int>(out.speeds_.size());
@@ -360,7 +407,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
       // Its centrifugal force on the parent's prestress, through H^T.
       Part& parent = *parts[p.parent];
       if (parent.frame.kind == fem::SpinDefinition::Frame::Rotating && parent.frame.stressStiffening)
-        for (int k = 0; k < 6; ++k)
+        for (std::size_t k = 0; k < 6; ++k)
           for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * sm.f1[k]});
     }
   }
@@ -384,20 +431,26 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
       pc.loads = p.childLoads;
     }
     p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+    if (prestressed && p.boolean())
+      out.notes_.push_back(who(p) + ": centrifugal prestress solved with its Boolean interface held and the "
+                           "reactions passed to '" + parts[p.parent]->spec.name +
+                           "'; the stress that the interface's own deformation causes in it is not included "
+                           "(exact for point attachments; doc/theory.md §11.4)");
     // This part's reaction, as generalised forces on its attachment
     // coordinates a (F_a = -X^T r), passed to the parent through H^T.
     if (p.parent < 0 || !prestressed) continue;
     Part& parent = *parts[p.parent];
     const bool sameFrame = parent.frame.coefficients == p.frame.coefficients;
     if (!sameFrame) continue;  // an A on an immovable attachment: the support takes it
-    std::array<double, 6> Fa{};
+    std::vector<double> Fa(p.H.size(), 0.0);
     const fem::Mesh& mesh = *p.spec.model->mesh;
     for (const auto& r : p.sub->prestressReactions()) {
-      const auto x = detail::rigidRow(sub(nodePosition(mesh, r.node), p.point), static_cast<int>(r.component));
-      for (int k = 0; k < 6; ++k) Fa[k] -= x[k] * r.value;
+      const auto x = p.attachmentRow(nodePosition(mesh, r.node), r.node, static_cast<int>(r.component));
+      for (std::size_t k = 0; k < Fa.size(); ++k) Fa[k] -= x[k] * r.value;
     }
-    for (int k = 0; k < 6; ++k)
-      for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * Fa[k]});
+    for (std::size_t k = 0; k < Fa.size(); ++k)
+      if (Fa[k] != 0.0)  // a Boolean interface's rotations at solid nodes carry nothing
+        for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * Fa[k]});
   }
   // 6. Resolve nodal DOFs to rows now that every layout is known.
   for (auto& pp : parts) {
@@ -419,7 +472,8 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
     const Part& parent = *parts[p.parent];
     const auto& t = parent.sub->dofs();
     bool rotations = false;
-    for (int k = 0; k < 6; ++k)
+    p.Hrows.assign(p.H.size(), {});
+    for (std::size_t k = 0; k < p.H.size(); ++k)
       for (const auto& h : p.H[k]) {
         const long long r = t.row(h.node, h.component);
         if (h.component >= Component::RX && r >= 0) rotations = true;
@@ -428,15 +482,30 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
     if (p.spec.attachment.type == Attachment::Type::Node) {
       const auto n = p.H[3].empty() ? -1 : p.H[3].front().node;
       bool anyRow = false;
-      for (int k = 0; k < 6; ++k) anyRow = anyRow || !p.Hrows[k].empty();
+      for (const auto& h : p.Hrows) anyRow = anyRow || !h.empty();
       CMS_INPUT_CHECK(anyRow && !rotations && n >= 0 && t.row(n, Component::RX) < 0 && t.row(n, Component::RY) < 0 &&
                           t.row(n, Component::RZ) < 0 && t.row(n, Component::UX) >= 0,
                       who(p) << ": the parent node in '" << p.spec.attachment.parentNodes << "' of '"
                              << parent.spec.name << "' has no rotational DOFs; a solid needs a RigidFit attachment");
     }
+    if (p.boolean()) {
+      // Each child DOF needs a parent DOF: a component the parent's node does
+      // not carry (a frame child on a solid parent) would be clamped silently.
+      const auto& ct = p.sub->dofs();
+      for (std::size_t k = 0; k < p.booleanDofs.size(); ++k) {
+        const auto [cnode, comp] = p.booleanDofs[k];
+        const auto pnode = p.H[k].front().node;
+        const bool parentHasNode = t.offsets[pnode + 1] > t.offsets[pnode];
+        CMS_INPUT_CHECK(ct.row(cnode, comp) >= 0 && t.row(pnode, comp) < 0 && parentHasNode &&
+                            comp >= Component::RX && t.row(pnode, Component::RX) < 0 &&
+                            t.row(pnode, Component::RY) < 0 && t.row(pnode, Component::RZ) < 0,
+                        who(p) << ": Boolean interface node " << ct.nodeIds[cnode] << " has rotations, the node of '"
+                               << parent.spec.name << "' it meets has none (use a Node or RigidFit attachment)");
+      }
+    }
     if (p.spec.kind == SubstructureKind::Rotating && p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
       bool moves = false;
-      for (int k = 0; k < 6; ++k) moves = moves || !p.Hrows[k].empty();
+      for (const auto& h : p.Hrows) moves = moves || !h.empty();
       CMS_INPUT_CHECK(moves, who(p) << ": spins in its own frame relative to '" << parent.spec.name
                                     << "', whose attachment moves: the coefficients are periodic. Supported: "
                                        "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <tuple>
 #include <utility>
@@ -50,9 +51,16 @@ struct AssembledStructure::Part {
   int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
   fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)
   bool floating = false;     ///< free C: a = the six rigid-body coordinates
-  /// a_k = sum H[k] over the parent's DOFs, nodal and then as parent rows.
-  std::array<std::vector<detail::NodalCoefficient>, 6> H;
-  std::array<std::vector<std::pair<GlobalOrdinal, double>>, 6> Hrows;
+  /// a_k = sum H[k] over the parent's DOFs, nodal and then as parent rows
+  /// (6 rows for a point attachment, one per shared DOF for Boolean).
+  std::vector<std::vector<detail::NodalCoefficient>> H;
+  std::vector<std::vector<std::pair<GlobalOrdinal, double>>> Hrows;
+  /// Boolean attachment: the child's (node, component) that a_k is.
+  std::vector<std::pair<std::int64_t, fem::Component>> booleanDofs;
+  bool boolean() const { return !booleanDofs.empty(); }
+  /// Row of X (u_child = X a + ...) for the child's DOF (node at x, component):
+  /// the rigid motion of a point at x - P, or the Boolean injection.
+  std::vector<double> attachmentRow(const fem::Vec3& x, std::int64_t node, int component) const;
   /// Held DOFs (attachment or reference), nodal and as rows (sorted).
   std::vector<detail::NodalCoefficient> heldDofs;
   std::vector<GlobalOrdinal> held;

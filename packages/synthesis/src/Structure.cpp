@@ -55,6 +55,8 @@ void StructureDescription::validate() const {
                       who << ": axial inertia " << s.rotor.axialInertia << " exceeds twice the transverse inertia "
                           << s.rotor.transverseInertia << " (no rigid body has such inertias)");
       CMS_INPUT_CHECK(!s.spin, who << ": a rigid rotor needs \"Spin\" (axis and rate)");
+      CMS_INPUT_CHECK(s.attachment.type == Attachment::Type::Boolean,
+                      who << ": a rigid rotor attaches at a point (Node or RigidFit), not by a Boolean interface");
     } else {
       CMS_INPUT_CHECK(!s.model, who << ": needs a finite element model");
       CMS_INPUT_CHECK(s.model->spin.has_value(),

@@ -23,6 +23,7 @@
 #include "cms/core/HeldDofs.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
+#include "cms/reduction/CraigBamptonBasis.hpp"
 
 namespace cms::synthesis {
 
@@ -201,9 +202,10 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     b.held = p.held;
     for (int c : p.children) {
       std::set<GlobalOrdinal> rows;
-      std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads(6);
-      for (int a = 0; a < 6; ++a)
-        for (auto [g, v] : parts[c]->Hrows[a]) rows.insert(g), loads[a].push_back({g, v});
+      const auto& Hc = parts[c]->Hrows;
+      std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads(Hc.size());
+      for (std::size_t a = 0; a < Hc.size(); ++a)
+        for (auto [g, v] : Hc[a]) rows.insert(g), loads[a].push_back({g, v});
       b.interfaces.emplace_back(rows.begin(), rows.end());
       b.interfaceLoads.push_back(loads);
     }
@@ -241,17 +243,17 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   Teuchos::RCP<const CrsMatrix> M, K0;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const auto& p = *parts[k];
-    std::array<Row, 6> A;
+    std::vector<Row> A(p.floating ? 6 : p.Hrows.size());
     bool hasA = false;
     if (p.floating) {
       for (int a = 0; a < 6; ++a) A[a] = {{a, 1.0}};
       hasA = true;
     } else if (p.parent >= 0) {
       std::set<GlobalOrdinal> need;
-      for (int a = 0; a < 6; ++a)
-        for (auto [g, v] : p.Hrows[a]) need.insert(g);
+      for (const auto& h : p.Hrows)
+        for (auto [g, v] : h) need.insert(g);
       const auto Tp = gatherRows(*out.T_[p.parent], need);
-      for (int a = 0; a < 6; ++a) {
+      for (std::size_t a = 0; a < A.size(); ++a) {
         std::vector<std::pair<double, const Row*>> terms;
         for (auto [g, v] : p.Hrows[a]) {
           auto it = Tp.find(g);
@@ -282,15 +284,38 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     const std::size_t nloc = smap->getNodeNumElements();
     std::vector<Row> rows(nloc);
     const auto& basis = bases[k];
-    Teuchos::ArrayRCP<const double> V;
     std::vector<Teuchos::ArrayRCP<const double>> cols;
     if (!basis.full)
       for (int j = 0; j < basis.size(); ++j) cols.push_back(basis.vectors->getData(j));
+    // A Boolean interface's motion enters the child through its static
+    // constraint modes (reduced) or by injection on the shared rows (Full).
+    std::vector<Teuchos::ArrayRCP<const double>> psi;
+    std::map<GlobalOrdinal, int> injected;
+    Teuchos::RCP<MultiVector> Psi;
+    if (p.boolean()) {
+      std::vector<GlobalOrdinal> unit;
+      for (auto [node, comp] : p.booleanDofs) unit.push_back(static_cast<GlobalOrdinal>(t.row(node, comp)));
+      if (basis.full) {
+        for (std::size_t a = 0; a < unit.size(); ++a)
+          if (unit[a] >= 0) injected[unit[a]] = static_cast<int>(a);
+      } else {
+        Psi = reduction::constraintModes(sub, p.held, unit);
+        for (std::size_t a = 0; a < unit.size(); ++a) psi.push_back(Psi->getData(a));
+      }
+    }
     for (std::size_t l = 0; l < nloc; ++l) {
       const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
       std::vector<std::pair<double, const Row*>> terms;
       Row own;
-      if (hasA) {
+      if (hasA && p.boolean()) {
+        if (basis.full) {
+          const auto it = injected.find(g);
+          if (it != injected.end() && !A[it->second].empty()) terms.push_back({1.0, &A[it->second]});
+        } else {
+          for (std::size_t a = 0; a < psi.size(); ++a)
+            if (psi[a][l] != 0.0 && !A[a].empty()) terms.push_back({psi[a][l], &A[a]});
+        }
+      } else if (hasA) {
         const auto nd = nodeOf[g];
         const fem::Vec3 r{t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
                           t.coordinates[3 * nd + 2] - p.point[2]};

@@ -10,6 +10,13 @@
 
 namespace cms::reduction {
 
+/// Static constraint modes with every row of `held` fixed: column k is 1 at
+/// unitRows[k] (which must be held), 0 at the other held rows, and the static
+/// response K_ii^-1 (-K_ik) elsewhere; a column with unitRows[k] < 0 is zero.
+/// Collective.
+Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+                                          const std::vector<GlobalOrdinal>& unitRows);
+
 /// Constraint modes first (one per interface row), then `modes` eigenvectors.
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
                             double eigensolverTolerance, double dependenceTolerance);

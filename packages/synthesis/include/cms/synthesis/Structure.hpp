@@ -38,12 +38,18 @@ struct Attachment {
     Node,
     /// A set of parent nodes whose translations are fitted by a rigid motion
     /// in the least-squares sense (RBE3-like: the parent is not stiffened).
-    RigidFit
+    RigidFit,
+    /// Compatible meshes: every node of the child's set coincides with a node
+    /// of the parent's set and shares its DOFs (primal assembly). The child's
+    /// interface motion is extended inside it by static constraint modes
+    /// (Craig-Bampton) unless its basis is Full.
+    Boolean
   };
   Type type = Type::Node;
   std::string parentNodes;  ///< node set of the parent (Node: exactly one node)
   /// Node set of an elastic child moving rigidly with the attachment frame
-  /// (RBE2-like; for a frame node, its six DOFs). Unused for R.
+  /// (RBE2-like; for a frame node, its six DOFs), or sharing the parent's
+  /// DOFs (Boolean). Unused for R.
   std::string childNodes;
   /// The attachment point P (the rotor's centre for R). Default: the parent
   /// node (Node) or the centroid of the parent nodes (RigidFit).

@@ -70,6 +70,9 @@ public:
   /// Names and physical DOF counts, tree order.
   std::vector<std::pair<std::string, long long>> substructureDofs() const;
   double assemblySeconds() const { return seconds_; }
+  /// Approximations made, one line each (naming the substructure): report
+  /// them with every result.
+  const std::vector<std::string>& notes() const { return notes_; }
 
 private:
   std::vector<std::shared_ptr<Part>> parts_;  ///< pre-order: parents before children
@@ -77,6 +80,7 @@ private:
   bool free_ = false;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   double seconds_ = 0.0;
+  std::vector<std::string> notes_;
 };
 
 /// Per substructure: what its basis is and what it costs.
