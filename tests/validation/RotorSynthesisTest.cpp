@@ -112,6 +112,30 @@ TEST(RotatingBlade, OnAClampedHubMatchesWrightTable) {
   }
 }
 
+TEST(RotatingBlade, SpinsAddOnACoaxialSpinningHub) {
+  // The hub's frame spins at 2 rad/s and the blade at 4 rad/s relative to it
+  // about the same axis: the blade's frame turns at 6, the cross terms
+  // 2 s_C s_A of K make it so (Wright's T = 6 row); scaling both speeds by 2
+  // gives T = 12 without re-projection.
+  auto d = bladeOnClampedHub("Full", 0);
+  d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 2.0};
+  d.substructures[1].spin->rate = 4.0;
+  const auto a = AssembledStructure::assemble(d, world());
+  const auto s = SynthesizedStructure::synthesize(a);
+  ASSERT_EQ(a.speeds().size(), 2u);
+  const double rows[2][4] = {{1.0, 7.3604, 26.8091, 66.6840}, {2.0, 13.1702, 37.6031, 79.6145}};
+  for (const auto& row : rows) {
+    Teuchos::ParameterList p;
+    p.set("Number of Modes", 10);
+    const auto m = s.solve({2.0 * row[0], 4.0 * row[0]}, p);
+    std::vector<double> flap;
+    for (int i = 0; i < static_cast<int>(m.result.modes.size()) && flap.size() < 3; ++i)
+      if (zShare(s, a, m, i, 1, *a.assembled(1)) > 0.99) flap.push_back(m.result.modes[i].omega);
+    ASSERT_EQ(flap.size(), 3u);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(flap[k], row[k + 1], 5e-4 * row[k + 1]) << "scale " << row[0];
+  }
+}
+
 namespace {
 
 /// A flexible support beam (C, clamped at x = -1) carrying at x = 0 either

@@ -379,18 +379,40 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) J[i][j] = r.transverseInertia * ((i == j) - a[i] * a[j]) + r.axialInertia * a[i] * a[j];
     pm.inertia = {J[0][0], J[1][1], J[2][2], J[0][1], J[1][2], J[0][2]};
-    p.rotor.M = fem::pointMassMatrix(pm, 6);
-    const fem::ElementMatrix Gw = fem::pointMassStationaryGyroscopic(pm, a);
+    // With a free spin angle phi: omega_z = w + phi' + a'.(Omega e + w_rel)
+    // adds Ia phi'^2 / 2 + Ia phi' a.theta' (mass) and Ia Omega phi' (a x e).theta
+    // (gyroscopic, per unit frame speed) to the Lagrangian (theory §11.5).
+    const int n = r.spinCoordinate ? 7 : 6;
+    auto grow = [n](const fem::ElementMatrix& E) {
+      fem::ElementMatrix F(n);
+      for (int i = 0; i < E.n; ++i)
+        for (int j = 0; j < E.n; ++j) F(i, j) = E(i, j);
+      return F;
+    };
+    p.rotor.M = grow(fem::pointMassMatrix(pm, 6));
+    if (r.spinCoordinate) {
+      p.rotor.M(6, 6) = r.axialInertia;
+      for (int i = 0; i < 3; ++i) p.rotor.M(6, 3 + i) = p.rotor.M(3 + i, 6) = r.axialInertia * a[i];
+    }
+    const fem::ElementMatrix Gw = grow(fem::pointMassStationaryGyroscopic(pm, a));
     p.rotor.G.push_back({p.speedParam, Gw});
     if (p.frame.spinning) {
       const fem::SpinMatrices sm = fem::pointMassSpinMatrices(pm, fem::Spin{p.frame.axis, p.frame.origin}, 6);
       for (auto [i, ci] : p.frame.coefficients) {
-        fem::ElementMatrix G = sm.G1;
+        fem::ElementMatrix G = grow(sm.G1);
         for (double& v : G.a) v *= ci;
+        if (r.spinCoordinate) {
+          // L has phi' c.theta with c = Ia (a x e): F(theta, phi) = c, G = F^T - F.
+          const Vec3 c = cross(a, p.frame.axis);
+          for (int x = 0; x < 3; ++x) {
+            G(6, 3 + x) += ci * r.axialInertia * c[x];
+            G(3 + x, 6) -= ci * r.axialInertia * c[x];
+          }
+        }
         p.rotor.G.push_back({i, G});
         for (auto [j, cj] : p.frame.coefficients) {
           if (j < i) continue;
-          fem::ElementMatrix K = sm.KT1;
+          fem::ElementMatrix K = grow(sm.KT1);
           for (double& v : K.a) v *= -(i == j ? ci * cj : 2.0 * ci * cj);
           p.rotor.K.push_back({i, j, K});
         }
@@ -398,7 +420,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
         // frame's rotation: -Ia (sym(e a^T) - (e.a) I) per unit Omega w.
         const Vec3& e = p.frame.axis;
         const double ea = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
-        fem::ElementMatrix K(6);
+        fem::ElementMatrix K(n);
         for (int x = 0; x < 3; ++x)
           for (int y = 0; y < 3; ++y)
             K(3 + x, 3 + y) = -ci * r.axialInertia * (0.5 * (e[x] * a[y] + a[x] * e[y]) - (x == y ? ea : 0.0));

@@ -66,7 +66,8 @@ struct AssembledStructure::Part {
   std::vector<GlobalOrdinal> held;
   /// Prestress loads per unit Omega^2 from its children (their reactions).
   std::vector<fem::PrestressConditions::NodalValue> childLoads;
-  /// R only: 6 x 6 matrices on a = (u_P, theta_P).
+  /// R only: 6 x 6 matrices on a = (u_P, theta_P), 7 x 7 with the spin
+  /// angle last when it is a coordinate.
   struct Rotor {
     fem::ElementMatrix M;
     std::vector<std::pair<int, fem::ElementMatrix>> G;           ///< per speed parameter

@@ -226,7 +226,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   for (std::size_t k = 0; k < parts.size(); ++k) {
     offset[k] = n;
     const auto& p = *parts[k];
-    int own = 0;
+    int own = p.spec.kind == SubstructureKind::Rigid && p.spec.rotor.spinCoordinate ? 1 : 0;
     if (p.sub) own = bases[k].full ? static_cast<int>(p.sub->dofs().rows() - p.held.size()) : bases[k].size();
     out.reports_[k].coordinates = own;
     n += own;
@@ -263,10 +263,14 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
         hasA = hasA || !A[a].empty();
       }
     }
-    if (!p.sub) {  // rigid rotor: its DOFs are a itself
-      auto rmap = Teuchos::rcp(new Map(6, comm->getRank() == 0 ? 6 : 0, 0, comm));
+    if (!p.sub) {  // rigid rotor: its DOFs are a itself, and its spin angle if free
+      const int nr = p.rotor.M.n;
+      auto rmap = Teuchos::rcp(new Map(nr, comm->getRank() == 0 ? nr : 0, 0, comm));
       std::vector<Row> rows(rmap->getNodeNumElements());
-      for (std::size_t l = 0; l < rows.size(); ++l) rows[l] = A[rmap->getGlobalElement(static_cast<LocalOrdinal>(l))];
+      for (std::size_t l = 0; l < rows.size(); ++l) {
+        const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
+        rows[l] = g < 6 ? A[g] : Row{{offset[k], 1.0}};
+      }
       out.T_[k] = fromRows(rmap, rows, out.map_, rmap);
       const auto& T = *out.T_[k];
       M = addScaled(M, 1.0, project(*smallMatrix(rmap, p.rotor.M), T));

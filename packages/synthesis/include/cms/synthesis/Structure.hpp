@@ -61,6 +61,10 @@ struct RigidRotor {
   double mass = 0.0;
   double transverseInertia = 0.0;  ///< about axes through P normal to the spin axis
   double axialInertia = 0.0;       ///< about the spin axis (h = axialInertia * spin rate)
+  /// false: a motor holds the relative spin rate (the angle is prescribed);
+  /// true: the wheel turns freely on its bearing and its spin angle theta_R
+  /// is a coordinate of q (the paper's q; a zero frequency of its own).
+  bool spinCoordinate = false;
 };
 
 /// A steady spin. For C: the rotation of the structure's frame (axis through
