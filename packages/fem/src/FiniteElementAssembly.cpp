@@ -623,59 +623,73 @@ AssembledMatrices assemble(const FiniteElementModel& model,
                                  << nodeName(mesh, v.node) << ", which has no such DOF");
       return L.row(v.node, v.component);
     };
-    std::vector<long long> heldRows;
-    std::vector<PrestressConditions::NodalValue> heldDofs;
-    for (const auto& h : prestress.held) {
-      // A hold on a component the node does not carry is no constraint.
-      if (h.node >= 0 && h.node < numNodes && !(L.present[h.node] & (1u << static_cast<int>(h.component))))
-        continue;
-      const long long r = rowOf(h, "hold");
-      if (r < 0 || std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
-      heldRows.push_back(r);
-      heldDofs.push_back(h);
-    }
-    auto f = Teuchos::rcp(new MultiVector(*out.f1, Teuchos::Copy));
-    {
-      auto fv = f->getDataNonConst(0);
-      for (const auto& l : prestress.loads) {
-        const long long r = rowOf(l, "load");
-        const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(r));
-        if (r >= 0 && lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += l.value;
+    Teuchos::RCP<MultiVector> u1;
+    if (!prestress.displacement.empty()) {
+      // The structure solved the coupled static problem (theory §11.4): use
+      // its u1 on this substructure's rows.
+      CMS_INPUT_CHECK(static_cast<long long>(prestress.displacement.size()) != L.size,
+                      model.name << ": prestress displacement has " << prestress.displacement.size()
+                                 << " entries for " << L.size << " DOFs");
+      u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
+      auto uv = u1->getDataNonConst(0);
+      for (std::size_t l = 0; l < ownedMap->getNodeNumElements(); ++l)
+        uv[l] = prestress.displacement[ownedMap->getGlobalElement(static_cast<LocalOrdinal>(l))];
+      out.u1 = u1;
+    } else {
+      std::vector<long long> heldRows;
+      std::vector<PrestressConditions::NodalValue> heldDofs;
+      for (const auto& h : prestress.held) {
+        // A hold on a component the node does not carry is no constraint.
+        if (h.node >= 0 && h.node < numNodes && !(L.present[h.node] & (1u << static_cast<int>(h.component))))
+          continue;
+        const long long r = rowOf(h, "hold");
+        if (r < 0 || std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
+        heldRows.push_back(r);
+        heldDofs.push_back(h);
       }
-    }
-    Teuchos::RCP<const CrsMatrix> Ksolve = out.K;
-    auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
-    if (!heldRows.empty()) {
-      // Held rows and columns replaced by the identity, held loads zeroed:
-      // u1 = 0 there, the rest is the supported problem.
-      const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
-      Ksolve = holdDofs(*out.K, rows, 1.0);
-      zeroHeldRows(*fSolve, rows);
-    }
-    SparseDirectSolver solver(Ksolve, "CHOLMOD");
-    const auto outcome = solver.factor();
-    if (outcome != SparseDirectSolver::Outcome::Factored)
-      throw NumericalError(model.name + ": the centrifugal prestress needs a stiffness matrix that is "
-                           "positive definite (a substructure restrained against rigid-body motion); "
-                           "CHOLMOD: " + solver.failure() +
-                           ". Add boundary conditions or set \"Stress Stiffening\" to false");
-    auto u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
-    solver.solve(*fSolve, *u1);
-    out.u1 = u1;
-    if (!heldRows.empty()) {
-      MultiVector r(ownedMap, 1);
-      out.K->apply(*u1, r);
-      r.update(-1.0, *f, 1.0);
-      auto rv = r.getData(0);
-      std::vector<double> local(heldRows.size(), 0.0), global(heldRows.size(), 0.0);
-      for (std::size_t i = 0; i < heldRows.size(); ++i) {
-        const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(heldRows[i]));
-        if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local[i] = rv[lid];
+      auto f = Teuchos::rcp(new MultiVector(*out.f1, Teuchos::Copy));
+      {
+        auto fv = f->getDataNonConst(0);
+        for (const auto& l : prestress.loads) {
+          const long long r = rowOf(l, "load");
+          const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(r));
+          if (r >= 0 && lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += l.value;
+        }
       }
-      Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
-      for (std::size_t i = 0; i < heldDofs.size(); ++i) {
-        out.reactions1.push_back(heldDofs[i]);
-        out.reactions1.back().value = global[i];
+      Teuchos::RCP<const CrsMatrix> Ksolve = out.K;
+      auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
+      if (!heldRows.empty()) {
+        // Held rows and columns replaced by the identity, held loads zeroed:
+        // u1 = 0 there, the rest is the supported problem.
+        const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
+        Ksolve = holdDofs(*out.K, rows, 1.0);
+        zeroHeldRows(*fSolve, rows);
+      }
+      SparseDirectSolver solver(Ksolve, "CHOLMOD");
+      const auto outcome = solver.factor();
+      if (outcome != SparseDirectSolver::Outcome::Factored)
+        throw NumericalError(model.name + ": the centrifugal prestress needs a stiffness matrix that is "
+                             "positive definite (a substructure restrained against rigid-body motion); "
+                             "CHOLMOD: " + solver.failure() +
+                             ". Add boundary conditions or set \"Stress Stiffening\" to false");
+      u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
+      solver.solve(*fSolve, *u1);
+      out.u1 = u1;
+      if (!heldRows.empty()) {
+        MultiVector r(ownedMap, 1);
+        out.K->apply(*u1, r);
+        r.update(-1.0, *f, 1.0);
+        auto rv = r.getData(0);
+        std::vector<double> local(heldRows.size(), 0.0), global(heldRows.size(), 0.0);
+        for (std::size_t i = 0; i < heldRows.size(); ++i) {
+          const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(heldRows[i]));
+          if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local[i] = rv[lid];
+        }
+        Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
+        for (std::size_t i = 0; i < heldDofs.size(); ++i) {
+          out.reactions1.push_back(heldDofs[i]);
+          out.reactions1.back().value = global[i];
+        }
       }
     }
     MultiVector uOverlap(overlapMap, 1);

@@ -148,6 +148,7 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   s.KS1_ = a.KS1;
   s.spin_ = model.spin;
   s.reactions1_ = a.reactions1;
+  s.f1_ = a.f1;
   const fem::Mesh& mesh = *model.mesh;
   DofTable& t = s.dofs_;
   t.nodeIds.assign(mesh.nodeTags.begin(), mesh.nodeTags.end());

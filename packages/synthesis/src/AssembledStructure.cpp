@@ -11,9 +11,15 @@
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_LAPACK.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
 
 #include "PartData.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/HeldDofs.hpp"
+#include "cms/core/SparseDirectSolver.hpp"
 #include "cms/fem/LumpedElements.hpp"
 
 namespace cms::synthesis {
@@ -427,6 +433,8 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
         p.rotor.K.push_back({std::min(i, p.speedParam), std::max(i, p.speedParam), K});
       }
       // Its centrifugal force on the parent's prestress, through H^T.
+      p.rotor.f1.assign(sm.f1.begin(), sm.f1.end());
+      p.rotor.f1.resize(n, 0.0);
       Part& parent = *parts[p.parent];
       if (parent.frame.kind == fem::SpinDefinition::Frame::Rotating && parent.frame.stressStiffening)
         for (std::size_t k = 0; k < 6; ++k)
@@ -453,11 +461,6 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
       pc.loads = p.childLoads;
     }
     p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
-    if (prestressed && p.boolean())
-      out.notes_.push_back(who(p) + ": centrifugal prestress solved with its Boolean interface held and the "
-                           "reactions passed to '" + parts[p.parent]->spec.name +
-                           "'; the stress that the interface's own deformation causes in it is not included "
-                           "(exact for point attachments; doc/theory.md §11.4)");
     // This part's reaction, as generalised forces on its attachment
     // coordinates a (F_a = -X^T r), passed to the parent through H^T.
     if (p.parent < 0 || !prestressed) continue;
@@ -533,6 +536,64 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
                                        "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "
                                        "axisymmetric rotor on a non-spinning parent");
     }
+  }
+  // 7. A Boolean interface deforms, so holding it in the child's prestress
+  // solve is not exact (K Psi != 0): solve the coupled static problem of
+  // the frame family on the truth model and give each of its substructures
+  // its own part of u1 (theory §11.4). Costs a second assembly of the family.
+  for (const auto& pb : parts) {
+    if (!pb->boolean() || !pb->prestressed()) continue;
+    const auto family = pb->frame.coefficients;
+    bool done = false;
+    for (const auto& q : parts) done = done || (q->prestressSolvedGlobally && q->frame.coefficients == family);
+    if (done) continue;
+    const auto truth = SynthesizedStructure::synthesize(out, true);
+    const auto& T = truth.transforms();
+    auto K = truth.system(std::vector<double>(out.speeds_.size(), 0.0)).K;
+    if (out.free_) K = holdDofs(*K, {0, 1, 2, 3, 4, 5}, 1.0);
+    MultiVector f(truth.coordinateMap(), 1);
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const Part& q = *parts[k];
+      if (q.frame.coefficients != family) continue;
+      if (q.prestressed()) {
+        T[k]->apply(*q.sub->f1(), f, Teuchos::TRANS, 1.0, 1.0);
+      } else if (q.spec.kind == SubstructureKind::Rigid && !q.rotor.f1.empty()) {
+        MultiVector fr(T[k]->getRangeMap(), 1);
+        for (std::size_t l = 0; l < fr.getLocalLength(); ++l)
+          fr.replaceLocalValue(l, 0, q.rotor.f1[T[k]->getRangeMap()->getGlobalElement(static_cast<LocalOrdinal>(l))]);
+        T[k]->apply(fr, f, Teuchos::TRANS, 1.0, 1.0);
+      }
+    }
+    if (out.free_) zeroHeldRows(f, {0, 1, 2, 3, 4, 5});
+    SparseDirectSolver solver(K, "CHOLMOD");
+    if (solver.factor() != SparseDirectSolver::Outcome::Factored)
+      throw NumericalError("structure: the coupled centrifugal prestress needs a positive definite stiffness "
+                           "(CHOLMOD: " + solver.failure() + ")");
+    MultiVector q1(truth.coordinateMap(), 1);
+    solver.solve(f, q1);
+    int count = 0;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      Part& q = *parts[k];
+      if (!q.prestressed() || q.frame.coefficients != family) continue;
+      const auto map = T[k]->getRangeMap();
+      MultiVector u(map, 1);
+      T[k]->apply(q1, u);
+      const auto n = static_cast<GlobalOrdinal>(q.sub->dofs().rows());
+      auto rep = Teuchos::rcp(new Map(n, 0, comm, Tpetra::LocallyReplicated));
+      MultiVector ur(rep, 1);
+      ur.doImport(u, Tpetra::Import<>(map, rep), Tpetra::INSERT);
+      fem::FiniteElementModel model = *q.spec.model;
+      model.name = q.spec.name;
+      model.spin = fem::SpinDefinition{fem::Spin{q.frame.axis, q.frame.origin}, q.frame.kind, true};
+      fem::PrestressConditions pc;
+      auto v = ur.getData(0);
+      pc.displacement.assign(v.begin(), v.end());
+      q.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+      q.prestressSolvedGlobally = true;
+      ++count;
+    }
+    out.notes_.push_back("centrifugal prestress of " + std::to_string(count) + " substructures joined by Boolean "
+                         "interfaces solved as one static problem (they were assembled twice)");
   }
   out.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -64,6 +64,7 @@ struct AssembledStructure::Part {
   /// Held DOFs (attachment or reference), nodal and as rows (sorted).
   std::vector<detail::NodalCoefficient> heldDofs;
   std::vector<GlobalOrdinal> held;
+  bool prestressSolvedGlobally = false;  ///< step 7 of assemble (Boolean interfaces)
   /// Prestress loads per unit Omega^2 from its children (their reactions).
   std::vector<fem::PrestressConditions::NodalValue> childLoads;
   /// R only: 6 x 6 matrices on a = (u_P, theta_P), 7 x 7 with the spin
@@ -72,7 +73,11 @@ struct AssembledStructure::Part {
     fem::ElementMatrix M;
     std::vector<std::pair<int, fem::ElementMatrix>> G;           ///< per speed parameter
     std::vector<std::tuple<int, int, fem::ElementMatrix>> K;     ///< K_ij, i <= j
+    std::vector<double> f1;  ///< centrifugal load on a per unit frame speed^2 (spinning frame)
   } rotor;
+  bool prestressed() const {
+    return sub && frame.spinning && frame.kind == fem::SpinDefinition::Frame::Rotating && frame.stressStiffening;
+  }
 };
 
 }  // namespace cms::synthesis

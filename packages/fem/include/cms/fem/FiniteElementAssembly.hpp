@@ -44,7 +44,10 @@ struct PrestressConditions {
   };
   std::vector<NodalValue> held;   ///< components the node does not carry are ignored
   std::vector<NodalValue> loads;
-  bool empty() const { return held.empty() && loads.empty(); }
+  /// When not empty: u1 itself, one value per free DOF in layout order (the
+  /// structure solved the coupled static problem); no solve, no reactions.
+  std::vector<double> displacement;
+  bool empty() const { return held.empty() && loads.empty() && displacement.empty(); }
 };
 
 /// The assembled matrices of one substructure, all on `map` (rows owned by

@@ -69,6 +69,8 @@ public:
   Teuchos::RCP<const CrsMatrix> G1() const { return G1_; }
   Teuchos::RCP<const CrsMatrix> KT1() const { return KT1_; }
   Teuchos::RCP<const CrsMatrix> KS1() const { return KS1_; }
+  /// Centrifugal load per unit Omega^2 (rotating frame; null otherwise).
+  Teuchos::RCP<const MultiVector> f1() const { return f1_; }
   /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
   Teuchos::RCP<const CrsMatrix> K2() const { return K2_; }
   /// The spin the per-unit-speed matrices refer to (none: not rotating).
@@ -93,6 +95,7 @@ private:
   DofTable dofs_;
   Teuchos::RCP<const CrsMatrix> M_, K_, G1_, KT1_, KS1_;
   Teuchos::RCP<const CrsMatrix> K2_;  ///< KS1 - KT1 (null without either)
+  Teuchos::RCP<const MultiVector> f1_;
   std::optional<fem::SpinDefinition> spin_;
   double mass_ = 0.0;
   std::vector<fem::PrestressConditions::NodalValue> reactions1_;

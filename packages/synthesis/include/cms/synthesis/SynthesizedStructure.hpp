@@ -146,6 +146,11 @@ public:
   static Teuchos::RCP<const Teuchos::ParameterList> validSolveParameters();
   StructureModes solve(const std::vector<double>& speeds, const Teuchos::ParameterList& params) const;
 
+  /// u_s = T_s q for each substructure, tree order (a rigid rotor's rows are
+  /// its a = (u_P, theta_P), and its spin angle if free).
+  const std::vector<Teuchos::RCP<const CrsMatrix>>& transforms() const { return T_; }
+  Teuchos::RCP<const Map> coordinateMap() const { return map_; }
+
   /// Physical displacements of each substructure (u_s = T_s q, real and
   /// imaginary parts as two columns) of mode `m` of `modes`. Collective.
   std::vector<Teuchos::RCP<MultiVector>> expand(const StructureModes& modes, int m) const;
