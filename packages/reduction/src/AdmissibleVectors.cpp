@@ -9,6 +9,7 @@
 
 #include "HeldStiffness.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/HeldDofs.hpp"
 
 namespace cms::reduction {
 
@@ -161,6 +162,89 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
       break;
     }
   }
+  return basis;
+}
+
+RitzBasis polynomialVectors(const substructure::Substructure& s, const SubstructureBoundary& boundary, int count,
+                            double tol) {
+  RitzBasis basis;
+  basis.kind = "Polynomial";
+  if (count == 0) return basis;
+  CMS_INPUT_CHECK(boundary.held.empty(),
+                  s.name() << ": \"Basis: Polynomial\" needs an attachment (or a free body's reference) to "
+                              "start from; a substructure clamped by its own supports should use Admissible");
+  const auto& t = s.dofs();
+  const auto nodeOf = rowNodes(t);
+  auto x = [&](std::int64_t n, int d) { return t.coordinates[3 * n + d]; };
+  double o[3] = {0, 0, 0};
+  for (GlobalOrdinal g : boundary.held)
+    for (int d = 0; d < 3; ++d) o[d] += x(nodeOf[g], d) / static_cast<double>(boundary.held.size());
+  double axis[3] = {0, 0, 0}, L = 0;
+  for (std::size_t n = 0; n < t.nodes(); ++n) {
+    double r[3], r2 = 0;
+    for (int d = 0; d < 3; ++d) r[d] = x(static_cast<std::int64_t>(n), d) - o[d], r2 += r[d] * r[d];
+    if (std::sqrt(r2) > L) {
+      L = std::sqrt(r2);
+      for (int d = 0; d < 3; ++d) axis[d] = r[d];
+    }
+  }
+  CMS_INPUT_CHECK(!(L > 0), s.name() << ": \"Basis: Polynomial\": every node is at the attachment");
+  for (double& v : axis) v /= L;
+  // Two transverse directions: t1 normal to the axis and to the coordinate
+  // axis least aligned with it, t2 = axis x t1.
+  int least = 0;
+  for (int d = 1; d < 3; ++d)
+    if (std::abs(axis[d]) < std::abs(axis[least])) least = d;
+  double e[3] = {0, 0, 0};
+  e[least] = 1;
+  auto crossp = [](const double* a, const double* b, double* c) {
+    c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  double t1[3], t2[3], n1[3], n2[3];
+  crossp(axis, e, t1);
+  const double nt = std::sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+  for (double& v : t1) v /= nt;
+  crossp(axis, t1, t2);
+  crossp(axis, t1, n1);  // rotation of a bending along t1: slope about axis x t1
+  crossp(axis, t2, n2);
+  const auto map = s.map();
+  const std::size_t nloc = map->getNodeNumElements();
+  const int degrees = (count + 3) / 4 + 1;
+  MultiVector C(map, 4 * degrees);
+  std::vector<std::string> labels;
+  for (int k = 1; k <= degrees; ++k) {
+    labels.push_back("polynomial: bending s^" + std::to_string(k + 1) + " (1)");
+    labels.push_back("polynomial: bending s^" + std::to_string(k + 1) + " (2)");
+    labels.push_back("polynomial: axial s^" + std::to_string(k));
+    labels.push_back("polynomial: torsion s^" + std::to_string(k));
+  }
+  for (std::size_t l = 0; l < nloc; ++l) {
+    const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    const auto n = nodeOf[g];
+    const int c = static_cast<int>(t.components[g]);
+    double r[3], sAxis = 0;
+    for (int d = 0; d < 3; ++d) r[d] = x(n, d) - o[d], sAxis += r[d] * axis[d];
+    const double sv = sAxis / L;
+    double rp[3], tw[3];  // the part of r normal to the axis, and axis x rp
+    for (int d = 0; d < 3; ++d) rp[d] = r[d] - sAxis * axis[d];
+    crossp(axis, rp, tw);
+    for (int k = 1; k <= degrees; ++k) {
+      const int j = 4 * (k - 1);
+      const double p = std::pow(sv, k), dp = (k + 1) * std::pow(sv, k) / L;  // s^k, d(s^(k+1))/dx
+      if (c < 3) {
+        C.replaceLocalValue(l, j, std::pow(sv, k + 1) * t1[c]);
+        C.replaceLocalValue(l, j + 1, std::pow(sv, k + 1) * t2[c]);
+        C.replaceLocalValue(l, j + 2, p * axis[c]);
+        C.replaceLocalValue(l, j + 3, p * tw[c]);
+      } else {
+        C.replaceLocalValue(l, j, dp * n1[c - 3]);
+        C.replaceLocalValue(l, j + 1, dp * n2[c - 3]);
+        C.replaceLocalValue(l, j + 3, p * axis[c - 3]);
+      }
+    }
+  }
+  zeroHeldRows(C, boundary.held);
+  appendOrthonormal(*s.M(), C, labels, tol, count, basis);
   return basis;
 }
 

@@ -29,10 +29,11 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
   static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Reduction"));
     Teuchos::setStringToIntegralParameter<int>(
-        "Basis", "Admissible", "Admissible, Modes, Craig-Bampton, Guyan or Full (doc/theory.md §11.3)",
-        Teuchos::tuple<std::string>("Admissible", "Modes", "Craig-Bampton", "Guyan", "Full"), pl.get());
+        "Basis", "Admissible",
+        "Admissible, Polynomial, Modes, Craig-Bampton, Guyan or Full (doc/theory.md §11.3)",
+        Teuchos::tuple<std::string>("Admissible", "Polynomial", "Modes", "Craig-Bampton", "Guyan", "Full"), pl.get());
     pl->set("Vectors", 6,
-            "Admissible: static and Krylov vectors; Modes, Craig-Bampton: eigenvectors (Craig-Bampton adds "
+            "Admissible: static and Krylov vectors; Polynomial: polynomial functions; Modes, Craig-Bampton: eigenvectors (Craig-Bampton adds "
             "one constraint mode per interface DOF); ignored by Guyan and Full");
     pl->set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("interfaces", "uniform", "centrifugal", "tip")),
             "Admissible: static load patterns, in order: interfaces (unit forces and moments at the "
@@ -116,6 +117,10 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     const auto patterns = p.get<Teuchos::Array<std::string>>("Load Patterns");
     basis = admissibleVectors(s, boundary, std::vector<std::string>(patterns.begin(), patterns.end()), vectors,
                               p.get<double>("Dependence Tolerance"));
+  } else if (kind == "Polynomial") {
+    CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
+                                                 << "substructure has only " << freeRows << " free DOFs");
+    basis = polynomialVectors(s, boundary, vectors, p.get<double>("Dependence Tolerance"));
   } else if (kind == "Modes") {
     CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
                                                  << "substructure has only " << freeRows << " free DOFs");

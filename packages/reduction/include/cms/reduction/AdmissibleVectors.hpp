@@ -19,4 +19,14 @@ namespace cms::reduction {
 RitzBasis admissibleVectors(const substructure::Substructure& s, const SubstructureBoundary& boundary,
                             const std::vector<std::string>& patterns, int count, double dependenceTolerance);
 
+/// Polynomial admissible functions evaluated at the nodes (beam-like
+/// substructures; doc/theory.md §11.3): along the axis from the held nodes'
+/// centroid to the farthest node, s = distance along it / its length; for
+/// degree k = 1, 2, ...: bending s^(k+1) in the two transverse directions
+/// (frame rotations their slopes), axial s^k, torsion s^k (a rotation about
+/// the axis). They vanish at the attachment (s = 0) to first order, and the
+/// held rows are zeroed exactly. Needs held DOFs (an attachment).
+RitzBasis polynomialVectors(const substructure::Substructure& s, const SubstructureBoundary& boundary, int count,
+                            double dependenceTolerance);
+
 }  // namespace cms::reduction

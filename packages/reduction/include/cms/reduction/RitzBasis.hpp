@@ -10,6 +10,8 @@
 //   Admissible      static deflections under load patterns, continued by
 //                   load-dependent Ritz (Krylov) vectors K^-1 M x (Wilson):
 //                   the paper's proposal, no eigenproblem solved
+//   Polynomial      polynomial admissible functions along the substructure's
+//                   axis, evaluated at the nodes (beam-like substructures)
 //   Modes           the lowest eigenvectors with the held DOFs fixed and the
 //                   children's attachments free (the "common practice")
 //   Craig-Bampton   eigenvectors with the children's attachments fixed too,
