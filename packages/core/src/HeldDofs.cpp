@@ -5,10 +5,17 @@
 #include <Teuchos_Array.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
+
+#include <algorithm>
 
 namespace cms {
 
-Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows, double diagonal) {
+namespace {
+
+/// diagonal(row): the value a held row gets.
+template <class Diagonal>
+Teuchos::RCP<CrsMatrix> hold(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows, Diagonal diagonal) {
   const std::unordered_set<GlobalOrdinal> held(rows.begin(), rows.end());
   auto B = Teuchos::rcp(new CrsMatrix(A, Teuchos::Copy));
   if (held.empty()) return B;
@@ -29,7 +36,7 @@ Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrd
     for (std::size_t k = 0; k < got; ++k) {
       const GlobalOrdinal gc = colMap.getGlobalElement(cols[k]);
       if (rowHeld || held.count(gc)) {
-        vals[k] = (rowHeld && gc == gr) ? diagonal : 0.0;
+        vals[k] = (rowHeld && gc == gr) ? diagonal(vals[k]) : 0.0;
         changed = true;
       }
     }
@@ -37,6 +44,19 @@ Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrd
   }
   B->fillComplete(A.getDomainMap(), A.getRangeMap());
   return B;
+}
+
+}  // namespace
+
+Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows, double diagonal) {
+  return hold(A, rows, [diagonal](double) { return diagonal; });
+}
+
+Teuchos::RCP<CrsMatrix> holdDofsScaled(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows) {
+  Vector d(A.getRowMap());
+  A.getLocalDiagCopy(d);
+  const double largest = std::max(d.normInf(), 1e-300);
+  return hold(A, rows, [largest](double own) { return own > 0.0 ? own : largest; });
 }
 
 void zeroHeldRows(MultiVector& X, const std::vector<GlobalOrdinal>& rows) {

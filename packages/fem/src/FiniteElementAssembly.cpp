@@ -662,7 +662,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
         // Held rows and columns replaced by the identity, held loads zeroed:
         // u1 = 0 there, the rest is the supported problem.
         const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
-        Ksolve = holdDofs(*out.K, rows, 1.0);
+        Ksolve = holdDofsScaled(*out.K, rows);
         zeroHeldRows(*fSolve, rows);
       }
       SparseDirectSolver solver(Ksolve, "CHOLMOD");

@@ -10,7 +10,7 @@ namespace cms::reduction::detail {
 
 HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held)
     : held_(std::move(held)) {
-  K_ = holdDofs(*s.K(), held_, 1.0);
+  K_ = holdDofsScaled(*s.K(), held_);
   solver_ = std::make_unique<SparseDirectSolver>(K_, "CHOLMOD");
   if (solver_->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "

@@ -550,7 +550,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
     const auto truth = SynthesizedStructure::synthesize(out, true);
     const auto& T = truth.transforms();
     auto K = truth.system(std::vector<double>(out.speeds_.size(), 0.0)).K;
-    if (out.free_) K = holdDofs(*K, {0, 1, 2, 3, 4, 5}, 1.0);
+    if (out.free_) K = holdDofsScaled(*K, {0, 1, 2, 3, 4, 5});
     MultiVector f(truth.coordinateMap(), 1);
     for (std::size_t k = 0; k < parts.size(); ++k) {
       const Part& q = *parts[k];

@@ -15,6 +15,13 @@ namespace cms {
 /// rank, any order, duplicates allowed). A must be fill-complete.
 Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows, double diagonal);
 
+/// The same for a stiffness to be factored: each held row keeps A's own
+/// diagonal entry (or, where that is not positive, the largest diagonal
+/// magnitude of A), so holding DOFs does not ruin the pivot ratio that
+/// tells a definite matrix from one definite only by rounding (a unit
+/// diagonal beside entries of 1e16 would).
+Teuchos::RCP<CrsMatrix> holdDofsScaled(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows);
+
 /// Zero the held rows of every column of X (owned rows only).
 void zeroHeldRows(MultiVector& X, const std::vector<GlobalOrdinal>& rows);
 
