@@ -441,7 +441,16 @@ StructureModes SynthesizedStructure::solve(const std::vector<double>& s, const T
     why << "sparse (n = " << n << (solver == "Sparse" ? ", requested)" : " > Dense Limit)");
     Teuchos::ParameterList sp = p.sublist("Sparse Solver");
     sp.set("Number of Modes", nev);
-    out.result = eigen::SparseGyroscopicSolver(sp).solve(system(s));
+    const auto sys = system(s);
+    if (structure_->freeFloating() && !sp.isParameter("Shift")) {
+      // K of a free structure is singular: shift the transform by s = tau^2
+      // > 0 (theory §5), tau = 1e-3 sqrt(||K|| / ||M||), which regularises
+      // Q(+-tau) without changing which modes come first (the lowest |lambda|).
+      const double tau = 1e-3 * std::sqrt(sys.K->getFrobeniusNorm() / sys.M->getFrobeniusNorm());
+      sp.set("Shift", tau * tau);
+      why << ", free structure: automatic Shift " << tau * tau;
+    }
+    out.result = eigen::SparseGyroscopicSolver(sp).solve(sys);
   }
   out.path = why.str();
   out.seconds = since(t0);
