@@ -1,23 +1,44 @@
-// Straight frame models built in code (no mesh file): a line of 2-node frame
-// elements along +x with physical groups "beam" (the elements), "root"
-// (node at x = 0), "tip" (node at x = L) and "ends" (both). Used by the
-// rotating-blade and spinning-shaft validations and the assembly tests.
+// Straight frame models built in code (no mesh file): lines of 2-node frame
+// elements with physical groups "beam" (the elements), "start", "end",
+// "mid", "ends" (and for lineMesh along +x, "root" and "tip"). Used by the
+// rotating-blade, spinning-shaft and synthesis validations and the assembly
+// tests.
 #pragma once
 
 #include <memory>
+#include <array>
 #include <string>
+#include <vector>
 
 #include "cms/fem/FiniteElementModel.hpp"
 #include "cms/fem/Mesh.hpp"
 
 namespace cms::fixtures {
 
-inline std::shared_ptr<fem::Mesh> lineMesh(double length, int elements) {
+inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::vector<std::int64_t>& nodes) {
+  fem::PhysicalGroup g{name, 0, static_cast<int>(mesh.groups.size()) + 1, {}};
+  fem::CellBlock b;
+  b.type = fem::CellType::Point1;
+  b.gmshType = 15;
+  b.nodesPerCell = 1;
+  for (auto n : nodes) {
+    b.nodes.push_back(n);
+    b.cellTags.push_back(100000 + static_cast<std::size_t>(n));
+  }
+  g.blocks.push_back(b);
+  mesh.groups.push_back(g);
+}
+
+/// Frame elements along a straight segment from p0 to p1 (`elements` even):
+/// groups "beam", "start", "end", "mid" and "ends".
+inline std::shared_ptr<fem::Mesh> segmentMesh(const std::array<double, 3>& p0, const std::array<double, 3>& p1,
+                                              int elements, std::size_t firstTag = 1) {
   auto mesh = std::make_shared<fem::Mesh>();
-  mesh->source = "line mesh (in code)";
+  mesh->source = "segment mesh (in code)";
   for (int i = 0; i <= elements; ++i) {
-    mesh->nodeTags.push_back(static_cast<std::size_t>(i + 1));
-    mesh->coordinates.insert(mesh->coordinates.end(), {length * i / elements, 0.0, 0.0});
+    const double t = double(i) / elements;
+    mesh->nodeTags.push_back(firstTag + static_cast<std::size_t>(i));
+    for (int d = 0; d < 3; ++d) mesh->coordinates.push_back(p0[d] + t * (p1[d] - p0[d]));
   }
   fem::PhysicalGroup beam{"beam", 1, 1, {}};
   fem::CellBlock lines;
@@ -30,22 +51,20 @@ inline std::shared_ptr<fem::Mesh> lineMesh(double length, int elements) {
   }
   beam.blocks.push_back(lines);
   mesh->groups.push_back(beam);
-  auto points = [&](const std::string& name, int tag, std::initializer_list<std::int64_t> nodes) {
-    fem::PhysicalGroup g{name, 0, tag, {}};
-    fem::CellBlock b;
-    b.type = fem::CellType::Point1;
-    b.gmshType = 15;
-    b.nodesPerCell = 1;
-    for (auto n : nodes) {
-      b.nodes.push_back(n);
-      b.cellTags.push_back(static_cast<std::size_t>(elements + 1 + n));
-    }
-    g.blocks.push_back(b);
-    mesh->groups.push_back(g);
-  };
-  points("root", 2, {0});
-  points("tip", 3, {elements});
-  points("ends", 4, {0, elements});
+  addPointGroup(*mesh, "start", {0});
+  addPointGroup(*mesh, "end", {elements});
+  addPointGroup(*mesh, "mid", {elements / 2});
+  addPointGroup(*mesh, "ends", {0, elements});
+  return mesh;
+}
+
+/// The segment from the origin to (length, 0, 0), with the groups above
+/// plus "root" (x = 0) and "tip" (x = L).
+inline std::shared_ptr<fem::Mesh> lineMesh(double length, int elements) {
+  auto mesh = segmentMesh({0.0, 0.0, 0.0}, {length, 0.0, 0.0}, elements);
+  mesh->source = "line mesh (in code)";
+  addPointGroup(*mesh, "root", {0});
+  addPointGroup(*mesh, "tip", {elements});
   return mesh;
 }
 

@@ -1,6 +1,6 @@
-// Meshes and models built in code for the synthesis validations: a Hex8 box
-// (a rigid-ish body when stiff) and straight frame segments with named end
-// and middle nodes (hubs and booms).
+// Solid meshes and models built in code for the synthesis validations: a
+// Hex8 box (a rigid-ish body when stiff, or half of a split bar). Frame
+// segments are in BeamModels.hpp.
 #pragma once
 
 #include <array>
@@ -8,24 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "BeamModels.hpp"
 #include "cms/fem/FiniteElementModel.hpp"
 #include "cms/fem/Mesh.hpp"
 
 namespace cms::fixtures {
-
-inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::vector<std::int64_t>& nodes) {
-  fem::PhysicalGroup g{name, 0, static_cast<int>(mesh.groups.size()) + 1, {}};
-  fem::CellBlock b;
-  b.type = fem::CellType::Point1;
-  b.gmshType = 15;
-  b.nodesPerCell = 1;
-  for (auto n : nodes) {
-    b.nodes.push_back(n);
-    b.cellTags.push_back(100000 + static_cast<std::size_t>(n));
-  }
-  g.blocks.push_back(b);
-  mesh.groups.push_back(g);
-}
 
 /// [-a/2, a/2] x [-b/2, b/2] x [-c/2, c/2] (moved to `centre`) in
 /// nx x ny x nz Hex8 cells (even counts): groups "solid", "center" (the
@@ -89,35 +76,6 @@ inline fem::FiniteElementModel solidModel(std::shared_ptr<const fem::Mesh> mesh,
   set.material = "material";
   m.elementSets.push_back(set);
   return m;
-}
-
-/// Frame elements along a straight segment from p0 to p1 (`elements` even):
-/// groups "beam", "start", "end", "mid" and "ends".
-inline std::shared_ptr<fem::Mesh> segmentMesh(const std::array<double, 3>& p0, const std::array<double, 3>& p1,
-                                              int elements, std::size_t firstTag = 1) {
-  auto mesh = std::make_shared<fem::Mesh>();
-  mesh->source = "segment mesh (in code)";
-  for (int i = 0; i <= elements; ++i) {
-    const double t = double(i) / elements;
-    mesh->nodeTags.push_back(firstTag + static_cast<std::size_t>(i));
-    for (int d = 0; d < 3; ++d) mesh->coordinates.push_back(p0[d] + t * (p1[d] - p0[d]));
-  }
-  fem::PhysicalGroup beam{"beam", 1, 1, {}};
-  fem::CellBlock lines;
-  lines.type = fem::CellType::Line2;
-  lines.gmshType = 1;
-  lines.nodesPerCell = 2;
-  for (int e = 0; e < elements; ++e) {
-    lines.nodes.insert(lines.nodes.end(), {e, e + 1});
-    lines.cellTags.push_back(static_cast<std::size_t>(e + 1));
-  }
-  beam.blocks.push_back(lines);
-  mesh->groups.push_back(beam);
-  addPointGroup(*mesh, "start", {0});
-  addPointGroup(*mesh, "end", {elements});
-  addPointGroup(*mesh, "mid", {elements / 2});
-  addPointGroup(*mesh, "ends", {0, elements});
-  return mesh;
 }
 
 }  // namespace cms::fixtures

@@ -24,6 +24,7 @@
 #include <Teuchos_DefaultComm.hpp>
 
 #include "StructureModels.hpp"
+#include "cms/core/Error.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 using namespace cms;
@@ -167,4 +168,19 @@ TEST(DualSpin, WheelMomentumShiftsNutation) {
     EXPECT_TRUE(found) << "no mode near the dual-spin nutation " << wn;
   }
   EXPECT_EQ(zeros[1], zeros[0] + 1);
+}
+
+TEST(FreeBody, SpinAboutAnAxisOffTheCentreOfMassIsRefused) {
+  // No steady spin exists: the structure says so instead of linearising.
+  auto d = freeBox({0, 0, 1}, "Full");
+  d.substructures[0].spin->origin = {0.1, 0.0, 0.0};
+  try {
+    AssembledStructure::assemble(d, Teuchos::DefaultComm<int>::getComm());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("centre of mass"), std::string::npos) << e.what();
+  }
+  // A tilted axis through the centre of mass is not principal either.
+  d = freeBox({0, 0.6, 0.8}, "Full");
+  EXPECT_THROW(AssembledStructure::assemble(d, Teuchos::DefaultComm<int>::getComm()), InputError);
 }

@@ -15,6 +15,7 @@
 #include <Tpetra_Import.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
 
 #include "PartData.hpp"
 #include "cms/core/Error.hpp"
@@ -477,6 +478,22 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
       if (Fa[k] != 0.0)  // a Boolean interface's rotations at solid nodes carry nothing
         for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * Fa[k]});
   }
+  // A free structure spins steadily only about a principal axis through its
+  // centre of mass: otherwise its centrifugal loads do not balance and the
+  // reference carries a reaction (theory §11.4). There is then no steady
+  // state to linearise about: refuse rather than answer.
+  if (out.free_ && parts.front()->prestressed()) {
+    const Part& c = *parts.front();
+    double reaction = 0.0, load = c.sub->f1()->getVector(0)->norm2();
+    for (const auto& r : c.sub->prestressReactions()) reaction = std::max(reaction, std::abs(r.value));
+    for (const auto& l : c.childLoads) load += std::abs(l.value);
+    CMS_INPUT_CHECK(reaction > 1e-6 * load,
+                    who(c) << ": the free structure's centrifugal loads do not balance (reaction " << reaction
+                           << " at the reference, loads " << load << ", per (rad/s)^2): the spin axis is not a "
+                              "principal axis through the centre of mass, so there is no steady spin to "
+                              "linearise about");
+  }
+
   // 6. Resolve nodal DOFs to rows now that every layout is known.
   for (auto& pp : parts) {
     Part& p = *pp;
