@@ -30,6 +30,7 @@ struct HubBoom {
   fem::BeamSection hubSection{4e-3, 2e-6, 2e-6, 4e-6};
   fem::BeamSection boomSection{2e-4, 3e-9, 6e-9, 5e-9};
   double Omega = 2.0;  ///< rad/s (the first boom frequency is about 4 rad/s)
+  double tipMass = 0.0;  ///< kg, a point mass at each boom tip (0: none)
 
   /// A frame model of a segment mesh, local z along global z.
   fem::FiniteElementModel frame(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat,
@@ -65,6 +66,11 @@ struct HubBoom {
       E.model = std::make_shared<fem::FiniteElementModel>(
           frame(segmentMesh({side * h, 0, 0}, {side * (h + L), 0, 0}, boomElements, 100), boomMaterial, boomSection,
                 E.name));
+      if (tipMass > 0) {
+        auto withTip = *E.model;
+        withTip.pointMasses.push_back({"tip mass", "end", tipMass, {}});
+        E.model = std::make_shared<fem::FiniteElementModel>(withTip);
+      }
       E.reduction.set("Basis", basis);
       E.reduction.set("Vectors", vectors);
       d.substructures.push_back(E);
@@ -105,6 +111,7 @@ struct HubBoom {
     lineGroup("hub", 1, hubEls);
     lineGroup("booms", 2, boomEls);
     addPointGroup(*mesh, "centre", {boomElements + hubElements / 2});
+    addPointGroup(*mesh, "tips", {0, static_cast<std::int64_t>(xs.size()) - 1});
     fem::FiniteElementModel m;
     m.name = "monolithic";
     m.mesh = mesh;
@@ -120,6 +127,7 @@ struct HubBoom {
       m.elementSets.push_back(set);
     }
     if (!free) m.fixed.push_back({"centre", "centre", {}, true});
+    if (tipMass > 0) m.pointMasses.push_back({"tip masses", "tips", tipMass, {}});
     m.spin = fem::SpinDefinition{fem::Spin{{0, 0, 1}, {0, 0, 0}}, fem::SpinDefinition::Frame::Rotating, true};
     return m;
   }
