@@ -1,0 +1,338 @@
+// cms: run a scene — a structure of substructures with rotating parts — by
+// component-mode synthesis (doc/user-guide.md, "The cms driver").
+//
+//   cms modes [SCENE]     the structure's lowest modes at the scene's speeds:
+//                         frequencies (Hz, rad/s), stability, residuals, the
+//                         share of each substructure in each mode, and each
+//                         substructure's own frequency estimates (the
+//                         paper's truncation guide)
+//   cms compare [SCENE]   the same structure reduced by every strategy
+//                         (Guyan; Admissible, Modes, Craig-Bampton at several
+//                         vector counts) against its truth model: reduced
+//                         DOFs, times, peak memory, max and mean frequency
+//                         error, worst MAC — the table to choose a strategy from
+//
+// Without SCENE the built-in spacecraft (drivers/scenes/spacecraft.yaml) runs.
+// Results go to --output (default ./cms-results, or the scene's "Output"
+// directory): <name>.json and CSV tables, written to a temporary name and
+// renamed, so a failed run leaves no partial file.
+//
+// Exit codes: 0 success, 2 bad input (scene, options), 3 numerical breakdown,
+// 4 a solve did not converge, 5 internal error.
+//
+// Sample runs:
+//   cms modes
+//   cms modes drivers/scenes/spacecraft.yaml --output=/tmp/sc
+//   mpiexec -n 2 cms compare --counts=2,4,8
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include <Teuchos_CommandLineProcessor.hpp>
+#include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_GlobalMPISession.hpp>
+
+#include "PeakMemory.hpp"
+#include "cms/analysis/TruthComparison.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/scene/Scene.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+namespace {
+
+using namespace cms;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// A file written under a temporary name and renamed on commit(), so that a
+/// failed run leaves nothing half-written (rank 0 only).
+class AtomicFile {
+public:
+  explicit AtomicFile(std::filesystem::path path) : path_(std::move(path)), tmp_(path_.string() + ".tmp") {
+    out_.open(tmp_);
+    CMS_INPUT_CHECK(!out_, path_.string() << ": cannot write");
+    out_ << std::setprecision(12);
+  }
+  std::ofstream& stream() { return out_; }
+  void commit() {
+    out_.close();
+    std::filesystem::rename(tmp_, path_);
+  }
+  ~AtomicFile() {
+    if (out_.is_open()) {
+      out_.close();
+      std::filesystem::remove(tmp_);
+    }
+  }
+
+private:
+  std::filesystem::path path_;
+  std::string tmp_;
+  std::ofstream out_;
+};
+
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (c == '\n') { o += "\\n"; continue; }
+    o += c;
+  }
+  return o + "\"";
+}
+
+std::vector<double> scaledSpeeds(const synthesis::AssembledStructure& a, double factor) {
+  auto s = a.nominalSpeeds();
+  for (double& v : s) v *= factor;
+  return s;
+}
+
+/// 1. modes
+int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool root) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto t0 = Clock::now();
+  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const double tAssemble = since(t0);
+  if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble << " s] assembled "
+                      << structure.numSubstructures() << " substructures\n" << std::defaultfloat;
+  const auto t1 = Clock::now();
+  const auto s = synthesis::SynthesizedStructure::synthesize(structure);
+  const double tReduce = since(t1);
+  if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble + tReduce << " s] reduced and coupled: "
+                      << s.size() << " coordinates\n" << std::defaultfloat;
+  const auto speeds = scaledSpeeds(structure, sc.speedFactor);
+  const auto modes = s.solve(speeds, sc.solve);
+  const auto character = s.characterise(modes);
+  if (!root) return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
+
+  std::cout << "[" << std::fixed << std::setprecision(2) << since(t0) << " s] solved (" << modes.path << ")\n\n"
+            << std::defaultfloat;
+  // Substructures and their truncation guide.
+  std::cout << "substructure  kind  DOFs      basis          coords  lowest own frequencies (Hz, attachment held)\n";
+  const auto& reps = s.reductions();
+  for (const auto& r : reps) {
+    std::cout << std::left << std::setw(14) << r.name << std::setw(6) << r.kind << std::setw(10) << r.physicalDofs
+              << std::setw(15) << r.basis << std::setw(8) << r.coordinates << std::right;
+    for (std::size_t k = 0; k < std::min<std::size_t>(4, r.frequencyEstimates.size()); ++k)
+      std::cout << std::setprecision(5) << r.frequencyEstimates[k] / (2 * M_PI) << ' ';
+    std::cout << '\n';
+  }
+  for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';
+  std::cout << "\nspeeds (rad/s):";
+  for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
+  std::cout << "\nsolver: " << modes.result.solver << (modes.result.reason.empty() ? "" : " (" + modes.result.reason + ")")
+            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual   largest share\n";
+  for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
+    const auto& md = modes.result.modes[m];
+    std::size_t top = 0;
+    for (std::size_t k = 1; k < character[m].kineticShare.size(); ++k)
+      if (character[m].kineticShare[k] > character[m].kineticShare[top]) top = k;
+    std::cout << std::setw(5) << m + 1 << std::setw(12) << std::setprecision(6) << md.hz << std::setw(12) << md.omega
+              << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
+              << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual << "  "
+              << reps[top].name << " " << std::setprecision(3) << character[m].kineticShare[top]
+              << (character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "")
+              << '\n';
+  }
+  // Files.
+  std::filesystem::create_directories(outDir);
+  if (sc.csv) {
+    AtomicFile f(outDir / (sc.name + "-modes.csv"));
+    f.stream() << "mode,hz,rad_per_s,growth_rate,stability,residual,frame_artefact";
+    for (const auto& r : reps) f.stream() << ",share_" << r.name;
+    f.stream() << '\n';
+    for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
+      const auto& md = modes.result.modes[m];
+      f.stream() << m + 1 << ',' << md.hz << ',' << md.omega << ',' << md.growthRate << ',' << toString(md.stability)
+                 << ',' << md.residual << ',' << character[m].frameArtefact;
+      for (double v : character[m].kineticShare) f.stream() << ',' << v;
+      f.stream() << '\n';
+    }
+    f.commit();
+  }
+  if (sc.json) {
+    AtomicFile f(outDir / (sc.name + ".json"));
+    auto& o = f.stream();
+    o << "{\n  \"scene\": " << jsonString(sc.path) << ",\n  \"name\": " << jsonString(sc.name)
+      << ",\n  \"units\": {\"length\": \"m\", \"mass\": \"kg\", \"time\": \"s\", \"frequency\": \"Hz and rad/s\"}"
+      << ",\n  \"version\": \"" << CMS_VERSION << "\",\n  \"ranks\": " << comm->getSize()
+      << ",\n  \"timings_s\": {\"assembly\": " << tAssemble << ", \"reduction_and_synthesis\": " << tReduce
+      << ", \"solve\": " << modes.seconds << "},\n  \"peak_memory_mib\": " << drivers::peakRssMiB()
+      << ",\n  \"speeds\": [";
+    for (std::size_t i = 0; i < speeds.size(); ++i)
+      o << (i ? ", " : "") << "{\"name\": " << jsonString(structure.speeds()[i].name) << ", \"rad_per_s\": " << speeds[i] << "}";
+    o << "],\n  \"notes\": [";
+    for (std::size_t i = 0; i < structure.notes().size(); ++i) o << (i ? ", " : "") << jsonString(structure.notes()[i]);
+    o << "],\n  \"substructures\": [\n";
+    for (std::size_t k = 0; k < reps.size(); ++k) {
+      const auto& r = reps[k];
+      o << "    {\"name\": " << jsonString(r.name) << ", \"kind\": \"" << r.kind << "\", \"physical_dofs\": " << r.physicalDofs
+        << ", \"basis\": " << jsonString(r.basis) << ", \"coordinates\": " << r.coordinates
+        << ", \"attachment_dofs\": " << r.attachmentDofs << ", \"basis_seconds\": " << r.seconds
+        << ", \"frequency_estimates_hz\": [";
+      for (std::size_t j = 0; j < r.frequencyEstimates.size(); ++j)
+        o << (j ? ", " : "") << r.frequencyEstimates[j] / (2 * M_PI);
+      o << "], \"dropped\": [";
+      for (std::size_t j = 0; j < r.dropped.size(); ++j) o << (j ? ", " : "") << jsonString(r.dropped[j]);
+      o << "]}" << (k + 1 < reps.size() ? "," : "") << '\n';
+    }
+    o << "  ],\n  \"solver\": " << jsonString(modes.result.solver) << ",\n  \"path\": " << jsonString(modes.path)
+      << ",\n  \"status\": " << jsonString(toString(modes.result.status)) << ",\n  \"reason\": "
+      << jsonString(modes.result.reason) << ",\n  \"modes\": [\n";
+    for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
+      const auto& md = modes.result.modes[m];
+      o << "    {\"hz\": " << md.hz << ", \"rad_per_s\": " << md.omega << ", \"growth_rate\": " << md.growthRate
+        << ", \"stability\": " << jsonString(toString(md.stability)) << ", \"residual\": " << md.residual
+        << ", \"frame_artefact\": " << (character[m].frameArtefact ? "true" : "false") << ", \"kinetic_share\": [";
+      for (std::size_t k = 0; k < character[m].kineticShare.size(); ++k)
+        o << (k ? ", " : "") << character[m].kineticShare[k];
+      o << "]}" << (m + 1 < modes.result.modes.size() ? "," : "") << '\n';
+    }
+    o << "  ]\n}\n";
+    f.commit();
+  }
+  std::cout << "\nwrote " << (outDir / sc.name).string() << (sc.json ? ".json " : " ") << (sc.csv ? "(and -modes.csv)" : "")
+            << '\n';
+  return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
+}
+
+/// 2. compare
+int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, const std::vector<int>& counts, bool root) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto speeds = scaledSpeeds(structure, sc.speedFactor);
+  const int nModes = sc.solve.get<int>("Number of Modes");
+  auto tt = Clock::now();
+  const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+  const auto truthModes = truth.solve(speeds, sc.solve);
+  const double truthSeconds = since(tt);
+  CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
+                  "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);
+  struct Row {
+    std::string basis;
+    int vectors;
+    long long dofs;
+    double reduce, solve, memory;
+    analysis::TruthComparison c;
+  };
+  std::vector<Row> rows;
+  for (const std::string basis : {"Guyan", "Admissible", "Modes", "Craig-Bampton"}) {
+    for (int k : basis == "Guyan" ? std::vector<int>{0} : counts) {
+      std::vector<Teuchos::ParameterList> red;
+      for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
+        Teuchos::ParameterList r("Reduction");
+        r.set("Basis", basis);
+        r.set("Vectors", k);
+        red.push_back(r);
+      }
+      const auto t1 = Clock::now();
+      try {
+        const auto s = synthesis::SynthesizedStructure::synthesize(structure, red);
+        const double tr = since(t1);
+        if (s.size() < nModes) continue;
+        const auto m = s.solve(speeds, sc.solve);
+        if (static_cast<int>(m.result.modes.size()) < nModes) continue;
+        rows.push_back({basis, k, s.size(), tr, m.seconds, drivers::peakRssMiB(),
+                        analysis::compareWithTruth(s, m, truth, truthModes, nModes)});
+      } catch (const InputError& e) {
+        if (root) std::cout << "skipped " << basis << " with " << k << " vectors: " << e.what() << '\n';
+      }
+      if (root && !rows.empty())
+        std::cout << "[" << basis << " " << k << "] " << rows.back().dofs << " DOFs, max error "
+                  << rows.back().c.maxRelativeError << '\n';
+    }
+  }
+  if (!root) return ExitSuccess;
+  std::cout << "\ntruth: " << truth.size() << " coordinates, " << truthSeconds << " s (" << truthModes.path
+            << ")\nlowest " << nModes << " modes compared\n\n"
+            << "strategy        vectors  DOFs    reduce s  solve s   peak MiB  max rel err  mean rel err  worst MAC\n";
+  for (const auto& r : rows)
+    std::cout << std::left << std::setw(16) << r.basis << std::right << std::setw(7) << r.vectors << std::setw(7)
+              << r.dofs << std::setw(10) << std::setprecision(3) << r.reduce << std::setw(10) << r.solve
+              << std::setw(10) << std::setprecision(4) << r.memory << std::setw(13) << r.c.maxRelativeError
+              << std::setw(14) << r.c.meanRelativeError << std::setw(11) << r.c.worstMac << '\n';
+  std::filesystem::create_directories(outDir);
+  AtomicFile f(outDir / (sc.name + "-compare.csv"));
+  f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,mean_rel_error,"
+                "worst_mac,truth_dofs,truth_s\n";
+  for (const auto& r : rows)
+    f.stream() << r.basis << ',' << r.vectors << ',' << r.dofs << ',' << r.reduce << ',' << r.solve << ',' << r.memory
+               << ',' << r.c.maxRelativeError << ',' << r.c.meanRelativeError << ',' << r.c.worstMac << ','
+               << truth.size() << ',' << truthSeconds << '\n';
+  f.commit();
+  std::cout << "\nwrote " << (outDir / (sc.name + "-compare.csv")).string() << '\n';
+  return ExitSuccess;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  Teuchos::GlobalMPISession mpi(&argc, &argv, nullptr);
+  const bool root = Teuchos::DefaultComm<int>::getComm()->getRank() == 0;
+  try {
+    // 1. The subcommand and options.
+    std::string command = argc > 1 ? argv[1] : "";
+    if (command == "--version") {
+      if (root) std::cout << "cms " << CMS_VERSION << '\n';
+      return ExitSuccess;
+    }
+    if (command.empty() || command == "--help" || command == "-h" || (command != "modes" && command != "compare")) {
+      if (root)
+        std::cout << "usage: cms modes|compare [SCENE] [options]   (cms modes --help for the options)\n"
+                     "  modes    the structure's lowest modes at the scene's speeds\n"
+                     "  compare  every reduction strategy against the truth model\n"
+                     "  SCENE    a YAML scene (default: the built-in spacecraft, "
+                  << CMS_SCENE_DIR << "/spacecraft.yaml)\n";
+      return command.empty() || command == "--help" || command == "-h" ? ExitSuccess : ExitInputError;
+    }
+    std::string scenePath = std::string(CMS_SCENE_DIR) + "/spacecraft.yaml";
+    int first = 2;
+    if (argc > 2 && argv[2][0] != '-') scenePath = argv[first++];
+    std::string output, countsText = "2,4,8";
+    Teuchos::CommandLineProcessor clp(false, true);
+    clp.setDocString("cms modes|compare [SCENE] [options]: see doc/user-guide.md");
+    clp.setOption("output", &output, "results directory (default: the scene's, else ./cms-results)");
+    clp.setOption("counts", &countsText, "compare: vectors per substructure, comma-separated");
+    std::vector<char*> rest{argv[0]};
+    for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
+    const auto parsed = clp.parse(static_cast<int>(rest.size()), rest.data());
+    if (parsed == Teuchos::CommandLineProcessor::PARSE_HELP_PRINTED) return ExitSuccess;
+    if (parsed != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
+    std::vector<int> counts;
+    {
+      std::istringstream is(countsText);
+      std::string item;
+      while (std::getline(is, item, ',')) {
+        char* end = nullptr;
+        const long v = std::strtol(item.c_str(), &end, 10);
+        CMS_INPUT_CHECK(item.empty() || *end != '\0' || v < 1 || v > 100000,
+                        "--counts: \"" << item << "\" is not a positive integer");
+        counts.push_back(static_cast<int>(v));
+      }
+    }
+    // 2. The scene, checked before anything is computed.
+    const scene::Scene sc = scene::Scene::read(scenePath);
+    const std::filesystem::path outDir =
+        !output.empty() ? output : (!sc.outputDirectory.empty() ? sc.outputDirectory : "cms-results");
+    if (root)
+      std::cout << "cms " << command << ": scene " << sc.path << " (\"" << sc.name << "\", units " << sc.units
+                << ", " << sc.structure.substructures.size() << " substructures, "
+                << Teuchos::DefaultComm<int>::getComm()->getSize() << " rank(s))\n";
+    // 3. Run.
+    return command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
+  } catch (const InputError& e) {
+    if (root) std::cerr << "cms: bad input: " << e.what() << '\n';
+    return ExitInputError;
+  } catch (const NumericalError& e) {
+    if (root) std::cerr << "cms: numerical breakdown: " << e.what() << '\n';
+    return ExitNumericalError;
+  } catch (const std::exception& e) {
+    if (root) std::cerr << "cms: internal error (please report): " << e.what() << '\n';
+    return ExitInternalError;
+  }
+}

@@ -1,0 +1,304 @@
+#include "cms/scene/Scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <Teuchos_XMLParameterListCoreHelpers.hpp>
+#include <Teuchos_YamlParameterListCoreHelpers.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/core/ParameterReading.hpp"
+#include "cms/reduction/RitzBasis.hpp"
+
+namespace cms::scene {
+
+namespace {
+
+using Teuchos::ParameterList;
+using synthesis::Attachment;
+using synthesis::SubstructureKind;
+using synthesis::SubstructureSpec;
+
+ParameterList sceneKeys() {
+  ParameterList p("Scene");
+  p.set("Name", "", "a name for the outputs (default: the file's stem)");
+  p.set("Units", "SI", "SI only: m, kg, s, N, rad; frequencies are reported in Hz and rad/s");
+  p.sublist("Substructures").disableRecursiveValidation();
+  p.set("Free Reference", "", "the central substructure's node set it floats about (empty: clamped)");
+  ParameterList& a = p.sublist("Analysis");
+  a.set("Number of Modes", 10, "lowest modes to compute");
+  a.set("Solver", "Auto", "Auto, Dense or Sparse");
+  a.set("Dense Limit", 1500, "largest number of coordinates solved densely under Auto");
+  a.set("Speed Factor", 1.0, "multiplies every nominal spin rate");
+  ParameterList& o = p.sublist("Output");
+  o.set("Directory", "", "where results go (relative to the scene); empty: the command line's choice");
+  o.set("JSON", true, "write <name>.json");
+  o.set("CSV", true, "write <name>-modes.csv (and the other tables)");
+  return p;
+}
+
+ParameterList substructureKeys() {
+  ParameterList p("Substructure");
+  p.set("Kind", "", "C (central), E (elastic), A (elastic, spinning relative to its parent), R (rigid rotor)");
+  p.set("Parent", "", "the substructure it is attached to (not for C)");
+  ParameterList& at = p.sublist("Attachment");
+  at.set("Type", "Node", "Node, RigidFit or Boolean");
+  at.set("Parent Nodes", "", "node set of the parent");
+  at.set("Nodes", "", "its own node set moving with the attachment (not for R)");
+  at.set("Point", Teuchos::Array<double>(3, 0.0), "attachment point (default: the parent node or set centroid)");
+  ParameterList& beam = p.sublist("Beam");
+  beam.set("From", Teuchos::Array<double>(3, 0.0), "first end (node set \"start\")");
+  beam.set("To", Teuchos::Array<double>(3, 0.0), "second end (node set \"end\"; \"mid\" the middle node)");
+  beam.set("Elements", 8, "number of frame elements (even)");
+  beam.set("Young's Modulus", 0.0, "E (Pa)");
+  beam.set("Poisson's Ratio", 0.3, "nu");
+  beam.set("Density", 0.0, "rho (kg/m^3)");
+  beam.set("Area", 0.0, "A (m^2)");
+  beam.set("Iy", 0.0, "second moment about local y (m^4)");
+  beam.set("Iz", 0.0, "second moment about local z (m^4)");
+  beam.set("Torsion Constant", 0.0, "J (m^4)");
+  beam.set("Orientation", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 1.0)),
+           "a vector in the local x-y plane");
+  beam.set("Clamp", "", "node set clamped (start, end, mid or ends; empty: none)");
+  beam.set("Tip Mass", 0.0, "point mass at \"end\" (kg)");
+  p.sublist("Finite Element Model").disableRecursiveValidation();
+  ParameterList& rotor = p.sublist("Rotor");
+  rotor.set("Mass", 0.0, "kg");
+  rotor.set("Transverse Inertia", 0.0, "kg m^2");
+  rotor.set("Axial Inertia", 0.0, "kg m^2");
+  rotor.set("Free", false, "true: turns freely (its angle a coordinate); false: a motor holds its rate");
+  ParameterList& spin = p.sublist("Spin");
+  spin.set("Axis", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 1.0)), "spin axis");
+  spin.set("Origin", Teuchos::Array<double>(3, 0.0), "C: a point of the axis (A, R: the attachment point)");
+  spin.set("Rate", 0.0, "nominal rate (rad/s)");
+  spin.set("Frame", "Rotating", "A: Rotating (own frame) or Stationary (axisymmetric, parent's frame)");
+  spin.set("Stress Stiffening", true, "centrifugal prestress in rotating frames");
+  p.sublist("Reduction").disableRecursiveValidation();
+  return p;
+}
+
+fem::Vec3 vec3(const ParameterList& p, const std::string& key, const std::string& path,
+               std::optional<std::vector<double>> fallback = std::nullopt) {
+  const auto v = getNumbers(p, key, path, 3, fallback);
+  return {v[0], v[1], v[2]};
+}
+
+/// A straight frame beam from the "Beam" keys: the mesh of a segment with
+/// node sets start, end, mid, ends, and its frame model.
+std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const std::string& name,
+                                                   const std::string& path) {
+  checkKeys(b, substructureKeys().sublist("Beam"), path);
+  const fem::Vec3 p0 = vec3(b, "From", path), p1 = vec3(b, "To", path);
+  const double n = getNumber(b, "Elements", path, 8.0);
+  CMS_INPUT_CHECK(n < 2 || n > 1e6 || std::floor(n) != n || static_cast<long long>(n) % 2,
+                  path << "/Elements = " << n << " must be an even integer from 2 to 1e6");
+  const int elements = static_cast<int>(n);
+  const double length = std::sqrt(std::pow(p1[0] - p0[0], 2) + std::pow(p1[1] - p0[1], 2) + std::pow(p1[2] - p0[2], 2));
+  CMS_INPUT_CHECK(!(length > 0), path << ": \"From\" and \"To\" coincide");
+  auto mesh = std::make_shared<fem::Mesh>();
+  mesh->source = path;
+  for (int i = 0; i <= elements; ++i) {
+    mesh->nodeTags.push_back(static_cast<std::size_t>(i + 1));
+    for (int d = 0; d < 3; ++d) mesh->coordinates.push_back(p0[d] + (p1[d] - p0[d]) * i / elements);
+  }
+  fem::PhysicalGroup beam{"beam", 1, 1, {}};
+  fem::CellBlock lines;
+  lines.type = fem::CellType::Line2, lines.gmshType = 1, lines.nodesPerCell = 2;
+  for (int e = 0; e < elements; ++e) {
+    lines.nodes.insert(lines.nodes.end(), {e, e + 1});
+    lines.cellTags.push_back(static_cast<std::size_t>(e + 1));
+  }
+  beam.blocks.push_back(lines);
+  mesh->groups.push_back(beam);
+  auto points = [&](const std::string& g, std::vector<std::int64_t> nodes) {
+    fem::PhysicalGroup pg{g, 0, static_cast<int>(mesh->groups.size()) + 1, {}};
+    fem::CellBlock blk;
+    blk.type = fem::CellType::Point1, blk.gmshType = 15, blk.nodesPerCell = 1;
+    for (auto v : nodes) blk.nodes.push_back(v), blk.cellTags.push_back(static_cast<std::size_t>(elements + 2 + v));
+    pg.blocks.push_back(blk);
+    mesh->groups.push_back(pg);
+  };
+  points("start", {0});
+  points("end", {elements});
+  points("mid", {elements / 2});
+  points("ends", {0, elements});
+  auto m = std::make_shared<fem::FiniteElementModel>();
+  m->name = name;
+  m->mesh = mesh;
+  fem::IsotropicMaterial mat{getNumber(b, "Young's Modulus", path), getNumber(b, "Poisson's Ratio", path, 0.3),
+                             getNumber(b, "Density", path)};
+  mat.validate(path.c_str());
+  m->materials["beam"] = mat;
+  fem::ElementSet set;
+  set.group = "beam";
+  set.kind = fem::ElementSet::Kind::Frame;
+  set.material = "beam";
+  set.section.A = getNumber(b, "Area", path);
+  set.section.Iy = getNumber(b, "Iy", path);
+  set.section.Iz = getNumber(b, "Iz", path);
+  set.section.J = getNumber(b, "Torsion Constant", path);
+  set.section.orientation = vec3(b, "Orientation", path, std::vector<double>{0, 0, 1});
+  set.section.validate(path.c_str());
+  m->elementSets.push_back(set);
+  const std::string clamp = getString(b, "Clamp", path, std::string());
+  if (!clamp.empty()) {
+    CMS_INPUT_CHECK(clamp != "start" && clamp != "end" && clamp != "mid" && clamp != "ends",
+                    path << "/Clamp = \"" << clamp << "\": must be start, end, mid or ends");
+    m->fixed.push_back({"clamp", clamp, {}, true});
+  }
+  const double tip = getNumber(b, "Tip Mass", path, 0.0);
+  CMS_INPUT_CHECK(tip < 0, path << "/Tip Mass = " << tip << " must be >= 0");
+  if (tip > 0) m->pointMasses.push_back({"tip mass", "end", tip, {}});
+  return m;
+}
+
+SubstructureSpec substructure(const ParameterList& p, const std::string& name, const std::string& path,
+                              const std::string& baseDir) {
+  checkKeys(p, substructureKeys(), path);
+  SubstructureSpec s;
+  s.name = name;
+  const std::string kind = getString(p, "Kind", path);
+  if (kind == "C") s.kind = SubstructureKind::Central;
+  else if (kind == "E") s.kind = SubstructureKind::Elastic;
+  else if (kind == "A") s.kind = SubstructureKind::Rotating;
+  else if (kind == "R") s.kind = SubstructureKind::Rigid;
+  else CMS_INPUT_CHECK(true, path << "/Kind = \"" << kind << "\": must be C, E, A or R");
+  s.parent = getString(p, "Parent", path, std::string());
+  if (p.isSublist("Attachment")) {
+    const auto& a = p.sublist("Attachment");
+    const std::string ap = path + "/Attachment";
+    checkKeys(a, substructureKeys().sublist("Attachment"), ap);
+    const std::string type = getString(a, "Type", ap, std::string("Node"));
+    if (type == "Node") s.attachment.type = Attachment::Type::Node;
+    else if (type == "RigidFit") s.attachment.type = Attachment::Type::RigidFit;
+    else if (type == "Boolean") s.attachment.type = Attachment::Type::Boolean;
+    else CMS_INPUT_CHECK(true, ap << "/Type = \"" << type << "\": must be Node, RigidFit or Boolean");
+    s.attachment.parentNodes = getString(a, "Parent Nodes", ap);
+    s.attachment.childNodes = getString(a, "Nodes", ap, std::string());
+    if (a.isParameter("Point")) s.attachment.point = vec3(a, "Point", ap);
+  }
+  const int sources = p.isSublist("Beam") + p.isSublist("Finite Element Model") + p.isSublist("Rotor");
+  CMS_INPUT_CHECK(sources != 1, path << ": give exactly one of \"Beam\", \"Finite Element Model\" and \"Rotor\"");
+  if (p.isSublist("Beam")) s.model = beamModel(p.sublist("Beam"), name, path + "/Beam");
+  if (p.isSublist("Finite Element Model")) {
+    try {
+      auto m = fem::FiniteElementModel::fromParameters(p.sublist("Finite Element Model"), baseDir);
+      m.name = name;
+      s.model = std::make_shared<fem::FiniteElementModel>(m);
+    } catch (const InputError& e) {
+      throw InputError(path + "/Finite Element Model: " + e.what());
+    }
+  }
+  if (p.isSublist("Rotor")) {
+    const auto& r = p.sublist("Rotor");
+    const std::string rp = path + "/Rotor";
+    checkKeys(r, substructureKeys().sublist("Rotor"), rp);
+    s.rotor = {getNumber(r, "Mass", rp), getNumber(r, "Transverse Inertia", rp), getNumber(r, "Axial Inertia", rp),
+               getBool(r, "Free", rp, false)};
+  }
+  if (p.isSublist("Spin")) {
+    const auto& sp = p.sublist("Spin");
+    const std::string spp = path + "/Spin";
+    checkKeys(sp, substructureKeys().sublist("Spin"), spp);
+    synthesis::SpinRate rate;
+    rate.axis = vec3(sp, "Axis", spp, std::vector<double>{0, 0, 1});
+    rate.origin = vec3(sp, "Origin", spp, std::vector<double>{0, 0, 0});
+    rate.rate = getNumber(sp, "Rate", spp);
+    const std::string frame = getString(sp, "Frame", spp, std::string("Rotating"));
+    CMS_INPUT_CHECK(frame != "Rotating" && frame != "Stationary",
+                    spp << "/Frame = \"" << frame << "\": must be Rotating or Stationary");
+    rate.frame = frame == "Rotating" ? fem::SpinDefinition::Frame::Rotating : fem::SpinDefinition::Frame::Stationary;
+    rate.stressStiffening = getBool(sp, "Stress Stiffening", spp, true);
+    s.spin = rate;
+  }
+  if (p.isSublist("Reduction")) {
+    s.reduction = p.sublist("Reduction");
+    try {
+      Teuchos::ParameterList check(s.reduction);
+      check.validateParametersAndSetDefaults(*reduction::validParameters());
+    } catch (const std::exception& e) {
+      throw InputError(path + "/Reduction: " + e.what());
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
+  const std::string top = path + ": Scene";
+  checkKeys(p, sceneKeys(), top);
+  Scene scene;
+  scene.path = path;
+  scene.name = getString(p, "Name", top, std::filesystem::path(path).stem().string());
+  if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
+  scene.units = getString(p, "Units", top, std::string("SI"));
+  CMS_INPUT_CHECK(scene.units != "SI", top << "/Units = \"" << scene.units << "\": only SI is supported");
+  const std::string baseDir = std::filesystem::path(path).parent_path().string();
+  CMS_INPUT_CHECK(!p.isSublist("Substructures"), top << ": missing \"Substructures\"");
+  const auto& subs = p.sublist("Substructures");
+  for (auto it = subs.begin(); it != subs.end(); ++it) {
+    const std::string name = subs.name(it);
+    CMS_INPUT_CHECK(!subs.isSublist(name), top << "/Substructures/" << name << ": must be a list of keys");
+    scene.structure.substructures.push_back(
+        substructure(subs.sublist(name), name, top + "/Substructures/" + name, baseDir.empty() ? "." : baseDir));
+  }
+  scene.structure.freeReference = getString(p, "Free Reference", top, std::string());
+  if (p.isSublist("Analysis")) {
+    const auto& a = p.sublist("Analysis");
+    const std::string ap = top + "/Analysis";
+    checkKeys(a, sceneKeys().sublist("Analysis"), ap);
+    const double modes = getNumber(a, "Number of Modes", ap, 10.0);
+    CMS_INPUT_CHECK(modes < 1 || std::floor(modes) != modes || modes > 1e5,
+                    ap << "/Number of Modes = " << modes << " must be an integer from 1 to 1e5");
+    scene.solve.set("Number of Modes", static_cast<int>(modes));
+    const std::string solver = getString(a, "Solver", ap, std::string("Auto"));
+    CMS_INPUT_CHECK(solver != "Auto" && solver != "Dense" && solver != "Sparse",
+                    ap << "/Solver = \"" << solver << "\": must be Auto, Dense or Sparse");
+    scene.solve.set("Solver", solver);
+    scene.solve.set("Dense Limit", static_cast<int>(getNumber(a, "Dense Limit", ap, 1500.0)));
+    scene.speedFactor = getNumber(a, "Speed Factor", ap, 1.0);
+  } else {
+    scene.solve.set("Number of Modes", 10);
+  }
+  if (p.isSublist("Output")) {
+    const auto& o = p.sublist("Output");
+    const std::string op = top + "/Output";
+    checkKeys(o, sceneKeys().sublist("Output"), op);
+    const std::string dir = getString(o, "Directory", op, std::string());
+    if (!dir.empty())
+      scene.outputDirectory = std::filesystem::path(dir).is_absolute()
+                                  ? dir
+                                  : (std::filesystem::path(baseDir.empty() ? "." : baseDir) / dir).string();
+    scene.json = getBool(o, "JSON", op, true);
+    scene.csv = getBool(o, "CSV", op, true);
+  }
+  try {
+    scene.structure.validate();
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return scene;
+}
+
+Scene Scene::read(const std::string& path) {
+  {
+    std::ifstream in(path);
+    CMS_INPUT_CHECK(!in, path << ": cannot open the scene file");
+  }
+  Teuchos::RCP<ParameterList> p;
+  try {
+    const bool xml = std::filesystem::path(path).extension() == ".xml";
+    p = xml ? Teuchos::getParametersFromXmlFile(path) : Teuchos::getParametersFromYamlFile(path);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    if (what.size() > 600) what = what.substr(0, 600) + "...";
+    throw InputError(path + ": not a valid scene file (" + what + ")");
+  }
+  CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
+  return fromParameters(*p, path);
+}
+
+}  // namespace cms::scene
