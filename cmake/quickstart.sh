@@ -20,7 +20,7 @@ cmake --build "$build" -j "$jobs"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 
 if [ "$what" = demo ]; then
-  exec "$build/drivers/campbell"
+  exec "$build/drivers/cms" modes
 else
   cd "$build"
   exec ctest -LE slow --output-on-failure -j "$jobs"

@@ -17,8 +17,10 @@ struct ModeAccuracy {
   double omega = 0.0, truthOmega = 0.0;  ///< rad/s
   double relativeError = 0.0;            ///< (omega - truth) / truth (absolute / scale for rigid modes)
   /// Modal assurance criterion of the expanded physical shapes, against
-  /// the span of the truth modes of the same frequency (a repeated
-  /// frequency of a symmetric rotor has no unique mode shape): 1 = same shape.
+  /// the span of the truth modes of the same frequency — within
+  /// max(1e-6, 2 |relativeError|), since a repeated or close pair of a
+  /// symmetric structure has no unique shape at that accuracy (all
+  /// rigid-body zeros together): 1 = same shape.
   double mac = 0.0;
 };
 
