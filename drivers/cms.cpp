@@ -6,6 +6,14 @@
 //                         share of each substructure in each mode, and each
 //                         substructure's own frequency estimates (the
 //                         paper's truncation guide)
+//   cms campbell [SCENE]  a speed sweep of the reduced model (every spin rate
+//                         scaled from 0 to --max-factor times its nominal
+//                         value, no re-projection): modes tracked across
+//                         speeds by MAC (not by sorting, so crossings and
+//                         veerings stay right), critical speeds where a
+//                         tracked frequency meets an engine order of the
+//                         first spin rate, and the speed ranges where any
+//                         mode is unstable
 //   cms compare [SCENE]   the same structure reduced by every strategy
 //                         (Guyan; Admissible, Modes, Craig-Bampton at several
 //                         vector counts) against its truth model: reduced
@@ -24,6 +32,7 @@
 //   cms modes
 //   cms modes drivers/scenes/spacecraft.yaml --output=/tmp/sc
 //   mpiexec -n 2 cms compare --counts=2,4,8
+//   cms campbell --steps=41 --max-factor=3 --orders=1,2
 
 #include <chrono>
 #include <cmath>
@@ -32,6 +41,13 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <complex>
+#include <tuple>
+
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
 
 #include <Teuchos_CommandLineProcessor.hpp>
 #include <Teuchos_DefaultComm.hpp>
@@ -201,6 +217,133 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
 }
 
+/// M-weighted MAC of two modes of the same coordinates (q replicated on every
+/// rank by the dense path, or this rank's rows by the sparse path).
+double modalAssurance(const synthesis::SynthesizedStructure& s, const eigen::GyroscopicMode& a,
+                      const eigen::GyroscopicMode& b) {
+  const auto sys = s.system(std::vector<double>(s.speeds().size(), 0.0));
+  const auto map = sys.M->getRowMap();
+  const bool replicated = static_cast<long long>(a.q.size()) == s.size();
+  MultiVector x(map, 4), Mx(map, 4);
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+    const std::size_t i = replicated ? static_cast<std::size_t>(map->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+    x.replaceLocalValue(l, 0, a.q[i].real());
+    x.replaceLocalValue(l, 1, a.q[i].imag());
+    x.replaceLocalValue(l, 2, b.q[i].real());
+    x.replaceLocalValue(l, 3, b.q[i].imag());
+  }
+  sys.M->apply(x, Mx);
+  auto dot = [&](int i, int j) { return x.getVector(i)->dot(*Mx.getVector(j)); };
+  // a^H M b = (ar.M br + ai.M bi) + i (ar.M bi - ai.M br)
+  const std::complex<double> ab(dot(0, 2) + dot(1, 3), dot(0, 3) - dot(1, 2));
+  const double aa = dot(0, 0) + dot(1, 1), bb = dot(2, 2) + dot(3, 3);
+  return aa > 0 && bb > 0 ? std::norm(ab) / (aa * bb) : 0.0;
+}
+
+/// 3. campbell
+int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int steps, double maxFactor,
+                const std::vector<int>& orders, bool root) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
+  CMS_INPUT_CHECK(!(maxFactor > 0), "--max-factor = " << maxFactor << " must be positive");
+  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  CMS_INPUT_CHECK(structure.speeds().empty(), sc.path << ": nothing spins in this scene: no Campbell diagram");
+  const auto s = synthesis::SynthesizedStructure::synthesize(structure);
+  const auto nominal = structure.nominalSpeeds();
+  const auto t0 = Clock::now();
+  // Tracks: frequency (Hz) and stability of one mode followed across speeds.
+  struct Track {
+    std::vector<double> hz;
+    std::vector<std::string> stability;
+    eigen::GyroscopicMode last;
+  };
+  std::vector<Track> tracks;
+  std::vector<double> factors;
+  int notConverged = 0;
+  std::vector<std::pair<double, double>> unstable;  // factor ranges
+  for (int k = 0; k < steps; ++k) {
+    const double f = maxFactor * k / (steps - 1);
+    factors.push_back(f);
+    std::vector<double> speeds(nominal);
+    for (double& v : speeds) v *= f * sc.speedFactor;
+    const auto m = s.solve(speeds, sc.solve);
+    notConverged += m.result.status != eigen::SolveStatus::Converged;
+    bool anyUnstable = false;
+    for (const auto& md : m.result.modes)
+      anyUnstable = anyUnstable || md.stability == eigen::Stability::Flutter ||
+                    md.stability == eigen::Stability::Divergence;
+    if (anyUnstable) {
+      if (!unstable.empty() && unstable.back().second == factors[k > 0 ? k - 1 : 0] && k > 0) unstable.back().second = f;
+      else unstable.push_back({f, f});
+    }
+    const auto& modes = m.result.modes;
+    if (tracks.empty()) {
+      for (const auto& md : modes) tracks.push_back({{md.hz}, {toString(md.stability)}, md});
+      continue;
+    }
+    // Greedy assignment by decreasing MAC.
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (std::size_t t = 0; t < tracks.size(); ++t)
+      for (std::size_t j = 0; j < modes.size(); ++j) pairs.push_back({modalAssurance(s, tracks[t].last, modes[j]),
+                                                                      static_cast<int>(t), static_cast<int>(j)});
+    std::sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
+    std::vector<bool> trackDone(tracks.size(), false), modeDone(modes.size(), false);
+    for (const auto& [mac, t, j] : pairs) {
+      if (trackDone[t] || modeDone[j]) continue;
+      trackDone[t] = modeDone[j] = true;
+      tracks[t].hz.push_back(modes[j].hz);
+      tracks[t].stability.push_back(toString(modes[j].stability));
+      tracks[t].last = modes[j];
+    }
+    for (std::size_t t = 0; t < tracks.size(); ++t)
+      if (!trackDone[t]) tracks[t].hz.push_back(std::nan("")), tracks[t].stability.push_back("lost");
+  }
+  if (!root) return notConverged ? ExitNotConverged : ExitSuccess;
+  const double ref = nominal.front() * sc.speedFactor;  // engine orders of the first spin rate
+  std::cout << "[" << std::setprecision(3) << since(t0) << " s] " << steps << " speeds, " << s.size()
+            << " coordinates, no re-projection\n\nfactor";
+  for (std::size_t i = 0; i < nominal.size(); ++i) std::cout << "  " << structure.speeds()[i].name << "(rad/s)";
+  for (std::size_t t = 0; t < tracks.size(); ++t) std::cout << "  track" << t + 1 << "(Hz)";
+  std::cout << '\n';
+  for (int k = 0; k < steps; ++k) {
+    std::cout << std::setw(6) << std::setprecision(3) << factors[k];
+    for (double v : nominal) std::cout << std::setw(14) << std::setprecision(5) << v * factors[k] * sc.speedFactor;
+    for (const auto& tr : tracks)
+      std::cout << std::setw(13) << std::setprecision(6) << tr.hz[k]
+                << (tr.stability[k] == "stable" || tr.stability[k] == "rigid" ? " " : "*");
+    std::cout << '\n';
+  }
+  std::cout << "(* unstable or lost)\n\ncritical speeds of '" << structure.speeds().front().name << "' (rad/s):\n";
+  for (int order : orders)
+    for (std::size_t t = 0; t < tracks.size(); ++t)
+      for (int k = 1; k < steps; ++k) {
+        const double w0 = ref * factors[k - 1] * order, w1 = ref * factors[k] * order;
+        const double a = tracks[t].hz[k - 1] * 2 * M_PI - w0, b = tracks[t].hz[k] * 2 * M_PI - w1;
+        if (std::isfinite(a) && std::isfinite(b) && a * b < 0 && tracks[t].hz[k] > 0) {
+          const double x = a / (a - b), speed = ref * (factors[k - 1] + x * (factors[k] - factors[k - 1]));
+          std::cout << "  " << order << "X crosses track " << t + 1 << " at " << speed << " rad/s ("
+                    << speed * 60 / (2 * M_PI) << " rpm)\n";
+        }
+      }
+  for (const auto& [a, b] : unstable)
+    std::cout << "unstable from factor " << a << " to " << b << " (" << ref * a << " to " << ref * b << " rad/s)\n";
+  std::filesystem::create_directories(outDir);
+  AtomicFile f(outDir / (sc.name + "-campbell.csv"));
+  f.stream() << "factor";
+  for (const auto& p : structure.speeds()) f.stream() << "," << p.name << "_rad_per_s";
+  for (std::size_t t = 0; t < tracks.size(); ++t) f.stream() << ",track" << t + 1 << "_hz,track" << t + 1 << "_stability";
+  f.stream() << '\n';
+  for (int k = 0; k < steps; ++k) {
+    f.stream() << factors[k];
+    for (double v : nominal) f.stream() << ',' << v * factors[k] * sc.speedFactor;
+    for (const auto& tr : tracks) f.stream() << ',' << tr.hz[k] << ',' << tr.stability[k];
+    f.stream() << '\n';
+  }
+  f.commit();
+  std::cout << "\nwrote " << (outDir / (sc.name + "-campbell.csv")).string() << '\n';
+  return notConverged ? ExitNotConverged : ExitSuccess;
+}
+
 /// 2. compare
 int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, const std::vector<int>& counts, bool root) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
@@ -281,11 +424,13 @@ int main(int argc, char* argv[]) {
       if (root) std::cout << "cms " << CMS_VERSION << '\n';
       return ExitSuccess;
     }
-    if (command.empty() || command == "--help" || command == "-h" || (command != "modes" && command != "compare")) {
+    if (command.empty() || command == "--help" || command == "-h" ||
+        (command != "modes" && command != "compare" && command != "campbell")) {
       if (root)
-        std::cout << "usage: cms modes|compare [SCENE] [options]   (cms modes --help for the options)\n"
-                     "  modes    the structure's lowest modes at the scene's speeds\n"
-                     "  compare  every reduction strategy against the truth model\n"
+        std::cout << "usage: cms modes|compare|campbell [SCENE] [options]   (cms modes --help for the options)\n"
+                     "  modes     the structure's lowest modes at the scene's speeds\n"
+                     "  compare   every reduction strategy against the truth model\n"
+                     "  campbell  a speed sweep with modes tracked by MAC and critical speeds\n"
                      "  SCENE    a YAML scene (default: the built-in spacecraft, "
                   << CMS_SCENE_DIR << "/spacecraft.yaml)\n";
       return command.empty() || command == "--help" || command == "-h" ? ExitSuccess : ExitInputError;
@@ -293,28 +438,35 @@ int main(int argc, char* argv[]) {
     std::string scenePath = std::string(CMS_SCENE_DIR) + "/spacecraft.yaml";
     int first = 2;
     if (argc > 2 && argv[2][0] != '-') scenePath = argv[first++];
-    std::string output, countsText = "2,4,8";
+    std::string output, countsText = "2,4,8", ordersText = "1";
+    int steps = 21;
+    double maxFactor = 2.0;
     Teuchos::CommandLineProcessor clp(false, true);
     clp.setDocString("cms modes|compare [SCENE] [options]: see doc/user-guide.md");
     clp.setOption("output", &output, "results directory (default: the scene's, else ./cms-results)");
     clp.setOption("counts", &countsText, "compare: vectors per substructure, comma-separated");
+    clp.setOption("steps", &steps, "campbell: number of speeds (>= 2)");
+    clp.setOption("max-factor", &maxFactor, "campbell: top speed as a multiple of the nominal rates");
+    clp.setOption("orders", &ordersText, "campbell: engine orders of the first spin rate, comma-separated");
     std::vector<char*> rest{argv[0]};
     for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
     const auto parsed = clp.parse(static_cast<int>(rest.size()), rest.data());
     if (parsed == Teuchos::CommandLineProcessor::PARSE_HELP_PRINTED) return ExitSuccess;
     if (parsed != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
-    std::vector<int> counts;
-    {
-      std::istringstream is(countsText);
+    auto integers = [](const std::string& text, const char* option) {
+      std::vector<int> out;
+      std::istringstream is(text);
       std::string item;
       while (std::getline(is, item, ',')) {
         char* end = nullptr;
         const long v = std::strtol(item.c_str(), &end, 10);
         CMS_INPUT_CHECK(item.empty() || *end != '\0' || v < 1 || v > 100000,
-                        "--counts: \"" << item << "\" is not a positive integer");
-        counts.push_back(static_cast<int>(v));
+                        option << ": \"" << item << "\" is not a positive integer");
+        out.push_back(static_cast<int>(v));
       }
-    }
+      return out;
+    };
+    const std::vector<int> counts = integers(countsText, "--counts"), orders = integers(ordersText, "--orders");
     // 2. The scene, checked before anything is computed.
     const scene::Scene sc = scene::Scene::read(scenePath);
     const std::filesystem::path outDir =
@@ -324,6 +476,7 @@ int main(int argc, char* argv[]) {
                 << ", " << sc.structure.substructures.size() << " substructures, "
                 << Teuchos::DefaultComm<int>::getComm()->getSize() << " rank(s))\n";
     // 3. Run.
+    if (command == "campbell") return runCampbell(sc, outDir, steps, maxFactor, orders, root);
     return command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
   } catch (const InputError& e) {
     if (root) std::cerr << "cms: bad input: " << e.what() << '\n';

@@ -109,7 +109,7 @@ TEST(Scene, UnreadableFilesAreInputErrors) {
 
 TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  for (const std::string name : {"spacecraft"}) {
+  for (const std::string name : {"spacecraft", "rotating-blade", "shaft-on-support", "rotor-chain"}) {
     SCOPED_TRACE(name);
     const auto sc = scene::Scene::read(std::string(CMS_SCENE_DIR) + "/" + name + ".yaml");
     const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
@@ -139,4 +139,17 @@ TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {
     }
     EXPECT_EQ(i, m.result.modes.size());
   }
+}
+
+TEST(SceneRegression, RotatingBladeSceneMatchesWrightTable) {
+  // The example scene is the validated blade (theory §10.1): flapwise
+  // 7.3604, 26.8091, 66.6840 rad/s at T = 6 (modes 1, 3 and 5 here; the
+  // others are lead-lag), to the mesh issue's 5e-4.
+  const auto sc = scene::Scene::read(std::string(CMS_SCENE_DIR) + "/rotating-blade.yaml");
+  const auto a = synthesis::AssembledStructure::assemble(sc.structure, Teuchos::DefaultComm<int>::getComm());
+  const auto m = synthesis::SynthesizedStructure::synthesize(a).solve(a.nominalSpeeds(), sc.solve);
+  ASSERT_GE(m.result.modes.size(), 5u);
+  EXPECT_NEAR(m.result.modes[0].omega / 7.3604, 1.0, 5e-4);
+  EXPECT_NEAR(m.result.modes[2].omega / 26.8091, 1.0, 5e-4);
+  EXPECT_NEAR(m.result.modes[4].omega / 66.6840, 1.0, 5e-4);
 }
