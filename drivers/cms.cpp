@@ -442,7 +442,7 @@ int main(int argc, char* argv[]) {
     int steps = 21;
     double maxFactor = 2.0;
     Teuchos::CommandLineProcessor clp(false, true);
-    clp.setDocString("cms modes|compare [SCENE] [options]: see doc/user-guide.md");
+    clp.setDocString("cms modes|compare|campbell [SCENE] [options]: see doc/user-guide.md");
     clp.setOption("output", &output, "results directory (default: the scene's, else ./cms-results)");
     clp.setOption("counts", &countsText, "compare: vectors per substructure, comma-separated");
     clp.setOption("steps", &steps, "campbell: number of speeds (>= 2)");

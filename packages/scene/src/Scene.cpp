@@ -284,14 +284,28 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
 }
 
 Scene Scene::read(const std::string& path) {
-  {
-    std::ifstream in(path);
-    CMS_INPUT_CHECK(!in, path << ": cannot open the scene file");
+  std::ifstream in(path);
+  CMS_INPUT_CHECK(!in, path << ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (std::filesystem::path(path).extension() == ".xml") {
+    Teuchos::RCP<ParameterList> p;
+    try {
+      p = Teuchos::getParametersFromXmlString(text.str());
+    } catch (const std::exception& e) {
+      std::string what = e.what();
+      throw InputError(path + ": not a valid scene file (" + what.substr(0, 600) + ")");
+    }
+    CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
+    return fromParameters(*p, path);
   }
+  return parse(text.str(), path);
+}
+
+Scene Scene::parse(const std::string& text, const std::string& path) {
   Teuchos::RCP<ParameterList> p;
   try {
-    const bool xml = std::filesystem::path(path).extension() == ".xml";
-    p = xml ? Teuchos::getParametersFromXmlFile(path) : Teuchos::getParametersFromYamlFile(path);
+    p = Teuchos::getParametersFromYamlString(text);
   } catch (const std::exception& e) {
     std::string what = e.what();
     if (what.size() > 600) what = what.substr(0, 600) + "...";

@@ -34,6 +34,9 @@ struct Scene {
   /// Reads and checks the scene; throws cms::InputError naming the file and
   /// the key path (or the YAML parser's line) for anything malformed.
   static Scene read(const std::string& path);
+  /// The same from the text of a scene file (`path` for messages and
+  /// relative paths).
+  static Scene parse(const std::string& text, const std::string& path);
   /// The same from a ParameterList (`path` only for messages and relative
   /// paths).
   static Scene fromParameters(const Teuchos::ParameterList& scene, const std::string& path);
