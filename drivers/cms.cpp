@@ -14,6 +14,13 @@
 //                         tracked frequency meets an engine order of the
 //                         first spin rate, and the speed ranges where any
 //                         mode is unstable
+//   cms truncate [SCENE]  a convergence study: starting from --start vectors
+//                         per substructure, add --step vectors at a time to
+//                         the substructure whose addition lowers the error
+//                         against the truth most per added coordinate, until
+//                         the lowest "Number of Modes" are within
+//                         --accuracy; each step checks the inclusion
+//                         principle; ends with the suggested counts
 //   cms compare [SCENE]   the same structure reduced by every strategy
 //                         (Guyan; Admissible, Modes, Craig-Bampton at several
 //                         vector counts) against its truth model: reduced
@@ -33,6 +40,7 @@
 //   cms modes drivers/scenes/spacecraft.yaml --output=/tmp/sc
 //   mpiexec -n 2 cms compare --counts=2,4,8
 //   cms campbell --steps=41 --max-factor=3 --orders=1,2
+//   cms truncate --accuracy=1e-4
 
 #include <chrono>
 #include <cmath>
@@ -42,6 +50,7 @@
 #include <iostream>
 #include <sstream>
 #include <complex>
+#include <limits>
 #include <tuple>
 
 #include <Tpetra_CrsMatrix.hpp>
@@ -344,6 +353,119 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
   return notConverged ? ExitNotConverged : ExitSuccess;
 }
 
+/// 4. truncate
+int runTruncate(const scene::Scene& sc, const std::filesystem::path& outDir, int start, int step, double accuracy,
+                bool root) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  CMS_INPUT_CHECK(start < 0 || step < 1, "--start must be >= 0 and --step >= 1");
+  CMS_INPUT_CHECK(!(accuracy > 0), "--accuracy = " << accuracy << " must be positive");
+  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto speeds = scaledSpeeds(structure, sc.speedFactor);
+  const int nModes = sc.solve.get<int>("Number of Modes");
+  const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+  const auto truthModes = truth.solve(speeds, sc.solve);
+  CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
+                  "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);
+  // The substructures whose count can change: those with an Admissible,
+  // Polynomial, Modes or Craig-Bampton basis.
+  const std::size_t ns = structure.numSubstructures();
+  std::vector<Teuchos::ParameterList> red(ns);
+  std::vector<int> count(ns, 0);
+  std::vector<bool> tunable(ns, false);
+  std::vector<long long> limit(ns, 0);
+  for (std::size_t q = 0; q < ns; ++q) {
+    red[q] = structure.substructure(q).reduction;
+    red[q].setName("Reduction");
+    const std::string basis = red[q].get<std::string>("Basis", "Admissible");
+    tunable[q] = structure.assembled(q) && basis != "Full" && basis != "Guyan";
+    if (tunable[q]) {
+      limit[q] = structure.assembled(q)->dofs().rows() - 6;
+      count[q] = static_cast<int>(std::min<long long>(start, limit[q]));
+      red[q].set("Vectors", count[q]);
+    }
+  }
+  auto evaluate = [&](const std::vector<Teuchos::ParameterList>& r, long long& dofs, std::vector<double>& w) {
+    const auto s = synthesis::SynthesizedStructure::synthesize(structure, r);
+    dofs = s.size();
+    if (dofs < nModes) return std::numeric_limits<double>::infinity();
+    const auto m = s.solve(speeds, sc.solve);
+    if (static_cast<int>(m.result.modes.size()) < nModes) return std::numeric_limits<double>::infinity();
+    w = analysis::frequencies(m);
+    return analysis::compareWithTruth(s, m, truth, truthModes, nModes).maxRelativeError;
+  };
+  const bool definite = truthModes.result.solver.find("Meirovitch") != std::string::npos;
+  long long dofs = 0;
+  std::vector<double> w;
+  double error = evaluate(red, dofs, w);
+  std::ostringstream table;
+  table << "step,changed,dofs,max_rel_error,inclusion_violations";
+  for (std::size_t q = 0; q < ns; ++q) table << ",vectors_" << structure.substructure(q).name;
+  table << '\n';
+  auto row = [&](int k, const std::string& changed, int violations) {
+    table << k << ',' << changed << ',' << dofs << ',' << error << ',' << violations;
+    for (std::size_t q = 0; q < ns; ++q) table << ',' << count[q];
+    table << '\n';
+    if (root)
+      std::cout << std::setw(4) << k << "  " << std::left << std::setw(12) << changed << std::right << std::setw(7)
+                << dofs << std::setw(13) << std::setprecision(4) << error << std::setw(6) << violations << '\n';
+  };
+  if (root)
+    std::cout << "truth: " << truth.size() << " coordinates; target: the lowest " << nModes << " within "
+              << accuracy << (definite ? "" : " (K not positive definite: no inclusion bound, not checked)")
+              << "\n\nstep  added to      DOFs  max rel err  incl.\n";
+  row(0, "(start)", 0);
+  int totalViolations = 0;
+  for (int k = 1; error > accuracy && k <= 200; ++k) {
+    int best = -1;
+    double bestGain = -1, bestError = error;
+    long long bestDofs = dofs;
+    std::vector<double> bestW;
+    for (std::size_t q = 0; q < ns; ++q) {
+      if (!tunable[q] || count[q] + step > limit[q]) continue;
+      auto trial = red;
+      trial[q].set("Vectors", count[q] + step);
+      long long d = 0;
+      std::vector<double> tw;
+      double e = std::numeric_limits<double>::infinity();
+      try {
+        e = evaluate(trial, d, tw);
+      } catch (const InputError&) {
+        continue;
+      }
+      const double gain = (std::min(error, 1e300) - e) / std::max<long long>(1, d - dofs);
+      if (best < 0 || gain > bestGain) best = static_cast<int>(q), bestGain = gain, bestError = e, bestDofs = d, bestW = tw;
+    }
+    if (best < 0) break;
+    // Inclusion principle between the nested models (K > 0 only).
+    int violations = 0;
+    if (definite && !w.empty()) {
+      const auto v = analysis::checkInclusion(w, bestW);
+      violations = static_cast<int>(v.size());
+      for (const auto& x : v)
+        if (root)
+          std::cout << "  finding: inclusion principle violated at mode " << x.index + 1 << " (" << x.inequality
+                    << ", by " << x.amount << ") when adding to " << structure.substructure(best).name << '\n';
+    }
+    totalViolations += violations;
+    count[best] += step;
+    red[best].set("Vectors", count[best]);
+    error = bestError, dofs = bestDofs, w = bestW;
+    row(k, structure.substructure(best).name, violations);
+  }
+  if (!root) return ExitSuccess;
+  std::cout << "\n" << (error <= accuracy ? "reached " : "NOT reached: ") << "max relative error " << error
+            << " with " << dofs << " coordinates (truth: " << truth.size() << ")\nsuggested vectors:";
+  for (std::size_t q = 0; q < ns; ++q)
+    if (tunable[q]) std::cout << ' ' << structure.substructure(q).name << " = " << count[q];
+  std::cout << "\ninclusion-principle violations: " << totalViolations << '\n';
+  std::filesystem::create_directories(outDir);
+  AtomicFile f(outDir / (sc.name + "-truncate.csv"));
+  f.stream() << table.str();
+  f.commit();
+  std::cout << "wrote " << (outDir / (sc.name + "-truncate.csv")).string() << '\n';
+  return error <= accuracy ? ExitSuccess : ExitNotConverged;
+}
+
 /// 2. compare
 int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, const std::vector<int>& counts, bool root) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
@@ -425,12 +547,13 @@ int main(int argc, char* argv[]) {
       return ExitSuccess;
     }
     if (command.empty() || command == "--help" || command == "-h" ||
-        (command != "modes" && command != "compare" && command != "campbell")) {
+        (command != "modes" && command != "compare" && command != "campbell" && command != "truncate")) {
       if (root)
-        std::cout << "usage: cms modes|compare|campbell [SCENE] [options]   (cms modes --help for the options)\n"
+        std::cout << "usage: cms modes|compare|campbell|truncate [SCENE] [options]   (cms modes --help for the options)\n"
                      "  modes     the structure's lowest modes at the scene's speeds\n"
                      "  compare   every reduction strategy against the truth model\n"
                      "  campbell  a speed sweep with modes tracked by MAC and critical speeds\n"
+                     "  truncate  vectors added where they help most, to a requested accuracy\n"
                      "  SCENE    a YAML scene (default: the built-in spacecraft, "
                   << CMS_SCENE_DIR << "/spacecraft.yaml)\n";
       return command.empty() || command == "--help" || command == "-h" ? ExitSuccess : ExitInputError;
@@ -439,15 +562,18 @@ int main(int argc, char* argv[]) {
     int first = 2;
     if (argc > 2 && argv[2][0] != '-') scenePath = argv[first++];
     std::string output, countsText = "2,4,8", ordersText = "1";
-    int steps = 21;
-    double maxFactor = 2.0;
+    int steps = 21, start = 2, step = 2;
+    double maxFactor = 2.0, accuracy = 1e-3;
     Teuchos::CommandLineProcessor clp(false, true);
-    clp.setDocString("cms modes|compare|campbell [SCENE] [options]: see doc/user-guide.md");
+    clp.setDocString("cms modes|compare|campbell|truncate [SCENE] [options]: see doc/user-guide.md");
     clp.setOption("output", &output, "results directory (default: the scene's, else ./cms-results)");
     clp.setOption("counts", &countsText, "compare: vectors per substructure, comma-separated");
     clp.setOption("steps", &steps, "campbell: number of speeds (>= 2)");
     clp.setOption("max-factor", &maxFactor, "campbell: top speed as a multiple of the nominal rates");
     clp.setOption("orders", &ordersText, "campbell: engine orders of the first spin rate, comma-separated");
+    clp.setOption("start", &start, "truncate: vectors per substructure to start from");
+    clp.setOption("step", &step, "truncate: vectors added per step");
+    clp.setOption("accuracy", &accuracy, "truncate: target max relative error of the lowest modes");
     std::vector<char*> rest{argv[0]};
     for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
     const auto parsed = clp.parse(static_cast<int>(rest.size()), rest.data());
@@ -477,6 +603,7 @@ int main(int argc, char* argv[]) {
                 << Teuchos::DefaultComm<int>::getComm()->getSize() << " rank(s))\n";
     // 3. Run.
     if (command == "campbell") return runCampbell(sc, outDir, steps, maxFactor, orders, root);
+    if (command == "truncate") return runTruncate(sc, outDir, start, step, accuracy, root);
     return command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
   } catch (const InputError& e) {
     if (root) std::cerr << "cms: bad input: " << e.what() << '\n';
