@@ -439,7 +439,7 @@ int runTruncate(const scene::Scene& sc, const std::filesystem::path& outDir, int
     // Inclusion principle between the nested models (K > 0 only).
     int violations = 0;
     if (definite && !w.empty()) {
-      const auto v = analysis::checkInclusion(w, bestW);
+      const auto v = analysis::checkInclusion(w, bestW, 1e-9, static_cast<int>(bestDofs - dofs));
       violations = static_cast<int>(v.size());
       for (const auto& x : v)
         if (root)

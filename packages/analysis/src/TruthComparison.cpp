@@ -117,14 +117,17 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
 }
 
 std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse, const std::vector<double>& fine,
-                                               double relTol) {
+                                               double relTol, int added) {
+  CMS_INPUT_CHECK(added < 1, "checkInclusion: " << added << " added coordinates; must be >= 1");
   std::vector<InclusionViolation> v;
+  const std::size_t k = static_cast<std::size_t>(added);
   for (std::size_t r = 0; r < coarse.size() && r < fine.size(); ++r) {
     const double tol = relTol * std::max(std::abs(coarse[r]), 1e-300);
     if (fine[r] > coarse[r] + tol)
       v.push_back({static_cast<int>(r), "fine[r] <= coarse[r]", (fine[r] - coarse[r]) / coarse[r]});
-    if (r + 1 < fine.size() && coarse[r] > fine[r + 1] + tol)
-      v.push_back({static_cast<int>(r), "coarse[r] <= fine[r+1]", (coarse[r] - fine[r + 1]) / coarse[r]});
+    if (r + k < fine.size() && coarse[r] > fine[r + k] + tol)
+      v.push_back({static_cast<int>(r), "coarse[r] <= fine[r+" + std::to_string(k) + "]",
+                   (coarse[r] - fine[r + k]) / coarse[r]});
   }
   return v;
 }

@@ -39,16 +39,18 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
 
 struct InclusionViolation {
   int index = 0;  ///< r (0-based)
-  std::string inequality;  ///< which of fine[r] <= coarse[r] <= fine[r+1] failed
+  std::string inequality;  ///< which of fine[r] <= coarse[r] <= fine[r+k] failed
   double amount = 0.0;     ///< by how much, relative to coarse[r]
 };
 
-/// Checks fine[r] <= coarse[r] (1 + relTol) and coarse[r] <= fine[r+1] (1 + relTol)
+/// Checks fine[r] <= coarse[r] (1 + relTol) and coarse[r] <= fine[r+k] (1 + relTol)
 /// for every r where both sides were computed (ascending frequencies of the
-/// coarse model and of the model with one more vector). Meaningful only when
-/// K > 0 at that speed (the hyperbolic case, theory §6); the caller decides.
+/// coarse model and of a model whose basis contains it plus k more
+/// coordinates; k = 1 is seed eqs. (28)-(29), larger k the same minimax
+/// argument applied k times). Meaningful only when K > 0 at that speed (the
+/// hyperbolic case, theory §6); the caller decides.
 std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse, const std::vector<double>& fine,
-                                               double relTol = 1e-9);
+                                               double relTol = 1e-9, int added = 1);
 
 /// omega of each mode, ascending (as returned by the solvers).
 std::vector<double> frequencies(const synthesis::StructureModes& modes);
