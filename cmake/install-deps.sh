@@ -13,6 +13,7 @@ packages=(
   libgtest-dev                                      # GoogleTest
   gmsh libgmsh-dev                                  # meshes: the Gmsh SDK and command
   calculix-ccx                                      # a peer FE code to compare with (benchmarks)
+  python3-matplotlib                                # plots of the cms driver (--plot)
   liblapack-dev libblas-dev libopenblas0-pthread   # optimised BLAS/LAPACK through Debian's alternatives
 )
 

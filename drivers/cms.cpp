@@ -30,7 +30,9 @@
 // Without SCENE the built-in spacecraft (drivers/scenes/spacecraft.yaml) runs.
 // Results go to --output (default ./cms-results, or the scene's "Output"
 // directory): <name>.json and CSV tables, written to a temporary name and
-// renamed, so a failed run leaves no partial file.
+// renamed, so a failed run leaves no partial file. With --plot, the CSV
+// tables of campbell, compare and truncate are also drawn as PNG by
+// drivers/plot_results.py (Debian's python3-matplotlib).
 //
 // Exit codes: 0 success, 2 bad input (scene, options), 3 numerical breakdown,
 // 4 a solve did not converge, 5 internal error.
@@ -100,6 +102,20 @@ private:
   std::string tmp_;
   std::ofstream out_;
 };
+
+/// --plot: drivers/plot_results.py with Debian's python3-matplotlib, when present.
+bool plotRequested = false;
+void plot(const std::string& kind, const std::filesystem::path& csv) {
+  if (!plotRequested) return;
+  const auto png = std::filesystem::path(csv).replace_extension(".png");
+  const std::string cmd = std::string(CMS_PYTHON) + " '" + CMS_SCRIPT_DIR + "/plot_results.py' " + kind + " '" +
+                          csv.string() + "' '" + png.string() + "'";
+  if (std::system(cmd.c_str()) == 0)
+    std::cout << "plotted " << png.string() << '\n';
+  else
+    std::cout << "no plot: " << cmd << " failed (plots need Debian's python3-matplotlib: "
+              << "apt-get install python3-matplotlib)\n";
+}
 
 std::string jsonString(const std::string& s) {
   std::string o = "\"";
@@ -350,6 +366,7 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
   }
   f.commit();
   std::cout << "\nwrote " << (outDir / (sc.name + "-campbell.csv")).string() << '\n';
+  plot("campbell", outDir / (sc.name + "-campbell.csv"));
   return notConverged ? ExitNotConverged : ExitSuccess;
 }
 
@@ -463,6 +480,7 @@ int runTruncate(const scene::Scene& sc, const std::filesystem::path& outDir, int
   f.stream() << table.str();
   f.commit();
   std::cout << "wrote " << (outDir / (sc.name + "-truncate.csv")).string() << '\n';
+  plot("truncate", outDir / (sc.name + "-truncate.csv"));
   return error <= accuracy ? ExitSuccess : ExitNotConverged;
 }
 
@@ -531,6 +549,7 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
                << truth.size() << ',' << truthSeconds << '\n';
   f.commit();
   std::cout << "\nwrote " << (outDir / (sc.name + "-compare.csv")).string() << '\n';
+  plot("compare", outDir / (sc.name + "-compare.csv"));
   return ExitSuccess;
 }
 
@@ -571,6 +590,7 @@ int main(int argc, char* argv[]) {
     clp.setOption("steps", &steps, "campbell: number of speeds (>= 2)");
     clp.setOption("max-factor", &maxFactor, "campbell: top speed as a multiple of the nominal rates");
     clp.setOption("orders", &ordersText, "campbell: engine orders of the first spin rate, comma-separated");
+    clp.setOption("plot", "no-plot", &plotRequested, "campbell, compare, truncate: also a PNG (python3-matplotlib)");
     clp.setOption("start", &start, "truncate: vectors per substructure to start from");
     clp.setOption("step", &step, "truncate: vectors added per step");
     clp.setOption("accuracy", &accuracy, "truncate: target max relative error of the lowest modes");
