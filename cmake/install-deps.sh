@@ -14,6 +14,7 @@ packages=(
   gmsh libgmsh-dev                                  # meshes: the Gmsh SDK and command
   calculix-ccx                                      # a peer FE code to compare with (benchmarks)
   python3-matplotlib                                # plots of the cms driver (--plot)
+  python3-vtk9                                      # reading the mode-shape files back in a test
   liblapack-dev libblas-dev libopenblas0-pthread   # optimised BLAS/LAPACK through Debian's alternatives
 )
 

@@ -65,6 +65,7 @@
 #include <Teuchos_GlobalMPISession.hpp>
 
 #include "PeakMemory.hpp"
+#include "cms/analysis/ModeShapeFiles.hpp"
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/scene/Scene.hpp"
@@ -105,6 +106,7 @@ private:
 
 /// --plot: drivers/plot_results.py with Debian's python3-matplotlib, when present.
 bool plotRequested = false;
+bool vtuRequested = false;
 void plot(const std::string& kind, const std::filesystem::path& csv) {
   if (!plotRequested) return;
   const auto png = std::filesystem::path(csv).replace_extension(".png");
@@ -149,7 +151,10 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   const auto speeds = scaledSpeeds(structure, sc.speedFactor);
   const auto modes = s.solve(speeds, sc.solve);
   const auto character = s.characterise(modes);
-  if (!root) return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
+  if (!root) {
+    if (vtuRequested) analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);  // collective
+    return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
+  }
 
   std::cout << "[" << std::fixed << std::setprecision(2) << since(t0) << " s] solved (" << modes.path << ")\n\n"
             << std::defaultfloat;
@@ -239,6 +244,10 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   }
   std::cout << "\nwrote " << (outDir / sc.name).string() << (sc.json ? ".json " : " ") << (sc.csv ? "(and -modes.csv)" : "")
             << '\n';
+  if (vtuRequested) {
+    const auto files = analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);
+    std::cout << "wrote " << files.size() - 1 << " mode shapes for ParaView: " << files.back() << '\n';
+  }
   return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
 }
 
@@ -591,6 +600,7 @@ int main(int argc, char* argv[]) {
     clp.setOption("max-factor", &maxFactor, "campbell: top speed as a multiple of the nominal rates");
     clp.setOption("orders", &ordersText, "campbell: engine orders of the first spin rate, comma-separated");
     clp.setOption("plot", "no-plot", &plotRequested, "campbell, compare, truncate: also a PNG (python3-matplotlib)");
+    clp.setOption("vtu", "no-vtu", &vtuRequested, "modes: mode shapes for ParaView (.vtu per mode, .pvd)");
     clp.setOption("start", &start, "truncate: vectors per substructure to start from");
     clp.setOption("step", &step, "truncate: vectors added per step");
     clp.setOption("accuracy", &accuracy, "truncate: target max relative error of the lowest modes");

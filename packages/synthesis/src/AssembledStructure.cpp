@@ -221,6 +221,8 @@ std::vector<detail::NodalCoefficient> referenceDofs(const fem::Mesh& mesh, const
 
 const SubstructureSpec& AssembledStructure::substructure(std::size_t k) const { return parts_.at(k)->spec; }
 
+fem::Vec3 AssembledStructure::attachmentPoint(std::size_t k) const { return parts_.at(k)->point; }
+
 const substructure::Substructure* AssembledStructure::assembled(std::size_t k) const {
   return parts_.at(k)->sub ? &*parts_.at(k)->sub : nullptr;
 }

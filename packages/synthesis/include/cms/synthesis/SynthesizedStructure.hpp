@@ -58,6 +58,9 @@ public:
   std::size_t numSubstructures() const { return parts_.size(); }
   /// The k-th substructure's description, tree order (pre-order from C).
   const SubstructureSpec& substructure(std::size_t k) const;
+  /// The point its frame follows (attachment point; a free C's reference
+  /// point; a rigid rotor's centre). For a clamped C: the origin.
+  fem::Vec3 attachmentPoint(std::size_t k) const;
   /// Its assembled matrices and DOF table (null for a rigid rotor).
   const substructure::Substructure* assembled(std::size_t k) const;
 

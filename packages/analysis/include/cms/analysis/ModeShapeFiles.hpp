@@ -1,0 +1,24 @@
+// Mode shapes for ParaView: one VTK unstructured grid (.vtu, ASCII XML) per
+// mode holding every substructure's mesh in the structure's axes (frame
+// elements as lines, solids as their cells, rigid rotors as a vertex at their
+// centre), with the mode's displacement as point data (real and imaginary
+// parts; rotations too, where a node has them), and a .pvd collection of
+// all modes (doc/user-guide.md, "Mode shapes").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+namespace cms::analysis {
+
+/// Collective; rank 0 writes <directory>/<name>-mode-<k>.vtu (k from 1) and
+/// <name>-modes.pvd, each under a temporary name renamed when complete.
+/// Returns the files written (rank 0; empty elsewhere).
+std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& structure,
+                                         const synthesis::SynthesizedStructure& synthesis,
+                                         const synthesis::StructureModes& modes, const std::string& directory,
+                                         const std::string& name);
+
+}  // namespace cms::analysis

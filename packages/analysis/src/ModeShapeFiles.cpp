@@ -1,0 +1,163 @@
+#include "cms/analysis/ModeShapeFiles.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+#include <Teuchos_Comm.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/Error.hpp"
+
+namespace cms::analysis {
+
+namespace {
+
+/// VTK cell type and the Gmsh-to-VTK node order of each supported cell.
+int vtkType(fem::CellType t) {
+  switch (t) {
+    case fem::CellType::Point1: return 1;
+    case fem::CellType::Line2: return 3;
+    case fem::CellType::Tet4: return 10;
+    case fem::CellType::Tet10: return 24;
+    case fem::CellType::Hex8: return 12;
+    default: return 0;
+  }
+}
+
+/// Gmsh's Tet10 numbers the last two edge nodes (2,3), (1,3); VTK (1,3), (2,3).
+int vtkNode(fem::CellType t, int i) {
+  if (t == fem::CellType::Tet10 && (i == 8 || i == 9)) return i == 8 ? 9 : 8;
+  return i;
+}
+
+/// A distributed two-column vector gathered to every rank, by global row.
+std::vector<std::array<double, 2>> gather(const MultiVector& u) {
+  const auto map = u.getMap();
+  auto rep = Teuchos::rcp(new Map(map->getGlobalNumElements(), 0, map->getComm(), Tpetra::LocallyReplicated));
+  MultiVector r(rep, 2);
+  r.doImport(u, Tpetra::Import<>(map, rep), Tpetra::INSERT);
+  std::vector<std::array<double, 2>> out(rep->getNodeNumElements());
+  auto re = r.getData(0), im = r.getData(1);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {re[i], im[i]};
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& structure,
+                                         const synthesis::SynthesizedStructure& synthesis,
+                                         const synthesis::StructureModes& modes, const std::string& directory,
+                                         const std::string& name) {
+  const bool root = structure.comm()->getRank() == 0;
+  std::vector<std::string> written;
+  if (root) std::filesystem::create_directories(directory);
+  const std::size_t ns = structure.numSubstructures();
+  std::ostringstream pvd;
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
+  for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
+    const auto u = synthesis.expand(modes, static_cast<int>(m));
+    // Points, cells and the displacement of every point, substructure by substructure.
+    std::vector<std::array<double, 3>> points;
+    std::vector<std::array<double, 6>> re, im;  // ux uy uz rx ry rz
+    std::vector<int> cellType, cellPart;
+    std::vector<std::vector<long long>> cells;
+    for (std::size_t k = 0; k < ns; ++k) {
+      const auto values = gather(*u[k]);  // collective
+      const long long base = static_cast<long long>(points.size());
+      const auto* sub = structure.assembled(k);
+      if (!sub) {  // rigid rotor: a vertex at its centre with a = (u_P, theta)
+        points.push_back(structure.attachmentPoint(k));
+        std::array<double, 6> r{}, i{};
+        for (int c = 0; c < 6; ++c) r[c] = values[c][0], i[c] = values[c][1];
+        re.push_back(r), im.push_back(i);
+        cells.push_back({base}), cellType.push_back(1), cellPart.push_back(static_cast<int>(k));
+        continue;
+      }
+      const auto& t = sub->dofs();
+      for (std::size_t n = 0; n < t.nodes(); ++n) {
+        points.push_back({t.coordinates[3 * n], t.coordinates[3 * n + 1], t.coordinates[3 * n + 2]});
+        std::array<double, 6> r{}, i{};
+        for (long long row = t.offsets[n]; row < t.offsets[n + 1]; ++row) {
+          const int c = static_cast<int>(t.components[row]);
+          r[c] = values[row][0], i[c] = values[row][1];
+        }
+        re.push_back(r), im.push_back(i);
+      }
+      const fem::Mesh& mesh = *structure.substructure(k).model->mesh;
+      for (const auto& es : structure.substructure(k).model->elementSets)
+        for (const auto& b : mesh.group(es.group).blocks) {
+          const int vt = vtkType(b.type);
+          if (vt == 0) continue;
+          for (std::size_t c = 0; c < b.size(); ++c) {
+            std::vector<long long> cell(b.nodesPerCell);
+            for (int a = 0; a < b.nodesPerCell; ++a)
+              cell[vtkNode(b.type, a)] = base + b.nodes[c * b.nodesPerCell + a];
+            cells.push_back(cell), cellType.push_back(vt), cellPart.push_back(static_cast<int>(k));
+          }
+        }
+    }
+    if (!root) continue;
+    const std::string file = name + "-mode-" + std::to_string(m + 1) + ".vtu";
+    const auto path = std::filesystem::path(directory) / file;
+    const std::string tmp = path.string() + ".tmp";
+    {
+      std::ofstream o(tmp);
+      CMS_INPUT_CHECK(!o, path.string() << ": cannot write");
+      o << std::setprecision(10);
+      const auto& md = modes.result.modes[m];
+      o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "  <UnstructuredGrid>\n    <FieldData>\n"
+        << "      <DataArray type=\"Float64\" Name=\"frequency_hz\" NumberOfTuples=\"1\" format=\"ascii\">" << md.hz
+        << "</DataArray>\n      <DataArray type=\"Float64\" Name=\"growth_rate\" NumberOfTuples=\"1\" format=\"ascii\">"
+        << md.growthRate << "</DataArray>\n    </FieldData>\n"
+        << "    <Piece NumberOfPoints=\"" << points.size() << "\" NumberOfCells=\"" << cells.size() << "\">\n"
+        << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+      for (const auto& p : points) o << "          " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+      o << "        </DataArray>\n      </Points>\n      <PointData Vectors=\"displacement_real\">\n";
+      const char* names[4] = {"displacement_real", "displacement_imag", "rotation_real", "rotation_imag"};
+      for (int f = 0; f < 4; ++f) {
+        const auto& v = f % 2 ? im : re;
+        const int off = f < 2 ? 0 : 3;
+        o << "        <DataArray type=\"Float64\" Name=\"" << names[f] << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+        for (const auto& x : v) o << "          " << x[off] << ' ' << x[off + 1] << ' ' << x[off + 2] << '\n';
+        o << "        </DataArray>\n";
+      }
+      o << "      </PointData>\n      <CellData Scalars=\"substructure\">\n"
+        << "        <DataArray type=\"Int32\" Name=\"substructure\" format=\"ascii\">\n         ";
+      for (int p : cellPart) o << ' ' << p;
+      o << "\n        </DataArray>\n      </CellData>\n      <Cells>\n"
+        << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+      for (const auto& c : cells) {
+        o << "         ";
+        for (long long v : c) o << ' ' << v;
+        o << '\n';
+      }
+      o << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n         ";
+      long long off = 0;
+      for (const auto& c : cells) o << ' ' << (off += static_cast<long long>(c.size()));
+      o << "\n        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n         ";
+      for (int tpe : cellType) o << ' ' << tpe;
+      o << "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    }
+    std::filesystem::rename(tmp, path);
+    written.push_back(path.string());
+    pvd << "    <DataSet timestep=\"" << m + 1 << "\" part=\"0\" file=\"" << file << "\"/>\n";
+  }
+  if (root) {
+    pvd << "  </Collection>\n</VTKFile>\n";
+    const auto path = std::filesystem::path(directory) / (name + "-modes.pvd");
+    {
+      std::ofstream o(path.string() + ".tmp");
+      CMS_INPUT_CHECK(!o, path.string() << ": cannot write");
+      o << pvd.str();
+    }
+    std::filesystem::rename(path.string() + ".tmp", path);
+    written.push_back(path.string());
+  }
+  return written;
+}
+
+}  // namespace cms::analysis
