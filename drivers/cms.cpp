@@ -63,6 +63,11 @@
 #include <Teuchos_CommandLineProcessor.hpp>
 #include <Teuchos_DefaultComm.hpp>
 #include <Teuchos_GlobalMPISession.hpp>
+#include <Teuchos_TimeMonitor.hpp>
+
+#include <map>
+
+#include <Teuchos_CommHelpers.hpp>
 
 #include "PeakMemory.hpp"
 #include "cms/analysis/ModeShapeFiles.hpp"
@@ -135,22 +140,91 @@ std::vector<double> scaledSpeeds(const synthesis::AssembledStructure& a, double 
   return s;
 }
 
+/// Whirl of a spinning substructure k in mode m: the orbit of its
+/// transverse motion (translations of an elastic rotor's nodes; a rigid
+/// rotor's tilts) turning with the spin (forward) or against it (backward);
+/// "-" when the orbit is flat or the part does not move.
+std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuchos::RCP<MultiVector>>& u,
+                  std::size_t k, const eigen::GyroscopicMode& mode) {
+  const auto& spec = a.substructure(k);
+  if (!spec.spin) return "";
+  fem::Vec3 n = spec.spin->axis;
+  const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (double& v : n) v /= nn;
+  // e1, e2 transverse with e1 x e2 = n.
+  fem::Vec3 e1 = std::abs(n[0]) < 0.9 ? fem::Vec3{1, 0, 0} : fem::Vec3{0, 1, 0};
+  const double d = e1[0] * n[0] + e1[1] * n[1] + e1[2] * n[2];
+  for (int i = 0; i < 3; ++i) e1[i] -= d * n[i];
+  const double n1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+  for (double& v : e1) v /= n1;
+  const fem::Vec3 e2{n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+  const auto map = u[k]->getMap();
+  const auto* sub = a.assembled(k);
+  // Per node (or the rotor's centre): the complex 3-vector of the chosen components.
+  std::map<long long, std::array<std::complex<double>, 3>> v;
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+    const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    int c = static_cast<int>(g);
+    long long node = 0;
+    if (sub) {
+      c = static_cast<int>(sub->dofs().components[g]);
+      if (c > 2) continue;
+      node = std::upper_bound(sub->dofs().offsets.begin(), sub->dofs().offsets.end(), g) - sub->dofs().offsets.begin();
+    } else {
+      if (c < 3) continue;
+      c -= 3;
+    }
+    v[node][c] = {u[k]->getData(0)[l], u[k]->getData(1)[l]};
+  }
+  double local[2] = {0, 0}, global[2] = {0, 0};
+  for (const auto& [node, x] : v) {
+    const std::complex<double> a1 = x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2];
+    const std::complex<double> a2 = x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2];
+    // x(t) = Re(a e^{lambda t}), lambda = i w: the orbit in (e1, e2) turns
+    // positively (about n) when Im(a1 conj(a2)) > 0 (analysis::whirlOf's rule).
+    local[0] += std::imag(a1 * std::conj(a2)) * (mode.lambda.imag() >= 0 ? 1.0 : -1.0);
+    local[1] += std::norm(a1) + std::norm(a2);
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 2, local, global);
+  if (!(global[1] > 0) || std::abs(global[0]) < 1e-3 * global[1]) return "-";
+  const bool withSpin = (global[0] > 0) == (spec.spin->rate >= 0);
+  return withSpin ? "FW" : "BW";
+}
+
 /// 1. modes
 int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool root) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
   const auto t0 = Clock::now();
-  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto structure = [&] {
+    Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 1. assembly of the substructures"));
+    return synthesis::AssembledStructure::assemble(sc.structure, comm);
+  }();
   const double tAssemble = since(t0);
   if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble << " s] assembled "
                       << structure.numSubstructures() << " substructures\n" << std::defaultfloat;
   const auto t1 = Clock::now();
-  const auto s = synthesis::SynthesizedStructure::synthesize(structure);
+  const auto s = [&] {
+    Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 2. reduction and synthesis"));
+    return synthesis::SynthesizedStructure::synthesize(structure);
+  }();
   const double tReduce = since(t1);
   if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble + tReduce << " s] reduced and coupled: "
                       << s.size() << " coordinates\n" << std::defaultfloat;
   const auto speeds = scaledSpeeds(structure, sc.speedFactor);
-  const auto modes = s.solve(speeds, sc.solve);
+  const auto modes = [&] {
+    Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
+    return s.solve(speeds, sc.solve);
+  }();
   const auto character = s.characterise(modes);
+  // Whirl of each spinning substructure in each mode (collective).
+  std::vector<std::vector<std::string>> whirls(modes.result.modes.size());
+  for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
+    const auto u = s.expand(modes, static_cast<int>(m));
+    for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
+      if (structure.substructure(k).kind != synthesis::SubstructureKind::Central &&
+          structure.substructure(k).spin)
+        whirls[m].push_back(structure.substructure(k).name + " " + whirl(structure, u, k, modes.result.modes[m]));
+  }
   if (!root) {
     if (vtuRequested) analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);  // collective
     return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
@@ -172,7 +246,7 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
   std::cout << "\nsolver: " << modes.result.solver << (modes.result.reason.empty() ? "" : " (" + modes.result.reason + ")")
-            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual   largest share\n";
+            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual   largest share, whirl (FW/BW)\n";
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
     const auto& md = modes.result.modes[m];
     std::size_t top = 0;
@@ -182,8 +256,9 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
               << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
               << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual << "  "
               << reps[top].name << " " << std::setprecision(3) << character[m].kineticShare[top]
-              << (character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "")
-              << '\n';
+              << (character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
+    for (const auto& w : whirls[m]) std::cout << "  " << w;
+    std::cout << '\n';
   }
   // Files.
   std::filesystem::create_directories(outDir);
@@ -204,7 +279,11 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   if (sc.json) {
     AtomicFile f(outDir / (sc.name + ".json"));
     auto& o = f.stream();
-    o << "{\n  \"scene\": " << jsonString(sc.path) << ",\n  \"name\": " << jsonString(sc.name)
+    std::ifstream sceneFile(sc.path);
+    std::stringstream sceneText;
+    sceneText << sceneFile.rdbuf();
+    o << "{\n  \"scene\": " << jsonString(sc.path) << ",\n  \"scene_text\": " << jsonString(sceneText.str())
+      << ",\n  \"name\": " << jsonString(sc.name)
       << ",\n  \"units\": {\"length\": \"m\", \"mass\": \"kg\", \"time\": \"s\", \"frequency\": \"Hz and rad/s\"}"
       << ",\n  \"version\": \"" << CMS_VERSION << "\",\n  \"ranks\": " << comm->getSize()
       << ",\n  \"timings_s\": {\"assembly\": " << tAssemble << ", \"reduction_and_synthesis\": " << tReduce
@@ -234,7 +313,9 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
       const auto& md = modes.result.modes[m];
       o << "    {\"hz\": " << md.hz << ", \"rad_per_s\": " << md.omega << ", \"growth_rate\": " << md.growthRate
         << ", \"stability\": " << jsonString(toString(md.stability)) << ", \"residual\": " << md.residual
-        << ", \"frame_artefact\": " << (character[m].frameArtefact ? "true" : "false") << ", \"kinetic_share\": [";
+        << ", \"frame_artefact\": " << (character[m].frameArtefact ? "true" : "false") << ", \"whirl\": [";
+      for (std::size_t w = 0; w < whirls[m].size(); ++w) o << (w ? ", " : "") << jsonString(whirls[m][w]);
+      o << "], \"kinetic_share\": [";
       for (std::size_t k = 0; k < character[m].kineticShare.size(); ++k)
         o << (k ? ", " : "") << character[m].kineticShare[k];
       o << "]}" << (m + 1 < modes.result.modes.size() ? "," : "") << '\n';
@@ -601,6 +682,8 @@ int main(int argc, char* argv[]) {
     clp.setOption("orders", &ordersText, "campbell: engine orders of the first spin rate, comma-separated");
     clp.setOption("plot", "no-plot", &plotRequested, "campbell, compare, truncate: also a PNG (python3-matplotlib)");
     clp.setOption("vtu", "no-vtu", &vtuRequested, "modes: mode shapes for ParaView (.vtu per mode, .pvd)");
+    bool timers = false;
+    clp.setOption("timers", "no-timers", &timers, "print the Teuchos::TimeMonitor summary at the end");
     clp.setOption("start", &start, "truncate: vectors per substructure to start from");
     clp.setOption("step", &step, "truncate: vectors added per step");
     clp.setOption("accuracy", &accuracy, "truncate: target max relative error of the lowest modes");
@@ -632,9 +715,12 @@ int main(int argc, char* argv[]) {
                 << ", " << sc.structure.substructures.size() << " substructures, "
                 << Teuchos::DefaultComm<int>::getComm()->getSize() << " rank(s))\n";
     // 3. Run.
-    if (command == "campbell") return runCampbell(sc, outDir, steps, maxFactor, orders, root);
-    if (command == "truncate") return runTruncate(sc, outDir, start, step, accuracy, root);
-    return command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
+    int code = ExitSuccess;
+    if (command == "campbell") code = runCampbell(sc, outDir, steps, maxFactor, orders, root);
+    else if (command == "truncate") code = runTruncate(sc, outDir, start, step, accuracy, root);
+    else code = command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
+    if (timers) Teuchos::TimeMonitor::summarize(std::cout);
+    return code;
   } catch (const InputError& e) {
     if (root) std::cerr << "cms: bad input: " << e.what() << '\n';
     return ExitInputError;
