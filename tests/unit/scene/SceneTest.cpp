@@ -109,7 +109,7 @@ TEST(Scene, UnreadableFilesAreInputErrors) {
 
 TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  for (const std::string name : {"spacecraft", "rotating-blade", "shaft-on-support", "rotor-chain"}) {
+  for (const std::string name : {"spacecraft", "rotating-blade", "shaft-on-support", "rotor-chain", "solid-blade"}) {
     SCOPED_TRACE(name);
     const auto sc = scene::Scene::read(std::string(CMS_SCENE_DIR) + "/" + name + ".yaml");
     const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
