@@ -592,6 +592,7 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
     long long dofs;
     double reduce, solve, memory;
     analysis::TruthComparison c;
+    std::vector<int> perSubstructure;  ///< coordinates of each substructure
   };
   std::vector<Row> rows;
   for (const std::string basis : {"Guyan", "Admissible", "Modes", "Craig-Bampton"}) {
@@ -610,8 +611,10 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
         if (s.size() < nModes) continue;
         const auto m = s.solve(speeds, sc.solve);
         if (static_cast<int>(m.result.modes.size()) < nModes) continue;
+        std::vector<int> per;
+        for (const auto& r : s.reductions()) per.push_back(r.coordinates);
         rows.push_back({basis, k, s.size(), tr, m.seconds, drivers::peakRssMiB(),
-                        analysis::compareWithTruth(s, m, truth, truthModes, nModes)});
+                        analysis::compareWithTruth(s, m, truth, truthModes, nModes), per});
       } catch (const InputError& e) {
         if (root) std::cout << "skipped " << basis << " with " << k << " vectors: " << e.what() << '\n';
       }
@@ -632,11 +635,17 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
   std::filesystem::create_directories(outDir);
   AtomicFile f(outDir / (sc.name + "-compare.csv"));
   f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,mean_rel_error,"
-                "worst_mac,truth_dofs,truth_s\n";
-  for (const auto& r : rows)
+                "worst_mac,truth_dofs,truth_s";
+  for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
+    f.stream() << ",dofs_" << structure.substructure(q).name;
+  f.stream() << '\n';
+  for (const auto& r : rows) {
     f.stream() << r.basis << ',' << r.vectors << ',' << r.dofs << ',' << r.reduce << ',' << r.solve << ',' << r.memory
                << ',' << r.c.maxRelativeError << ',' << r.c.meanRelativeError << ',' << r.c.worstMac << ','
-               << truth.size() << ',' << truthSeconds << '\n';
+               << truth.size() << ',' << truthSeconds;
+    for (int d : r.perSubstructure) f.stream() << ',' << d;
+    f.stream() << '\n';
+  }
   f.commit();
   std::cout << "\nwrote " << (outDir / (sc.name + "-compare.csv")).string() << '\n';
   plot("compare", outDir / (sc.name + "-compare.csv"));

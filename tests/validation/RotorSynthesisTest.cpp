@@ -327,6 +327,12 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
     d.substructures[1].attachment.parentNodes = "no such set";
     expectInputError([&] { AssembledStructure::assemble(d, comm); }, "'no such set'");
   }
+  // An attachment point off the parent.
+  {
+    auto d = supportWith(true, 100.0);
+    d.substructures[1].attachment.point = fem::Vec3{10.0, 0.0, 0.0};
+    expectInputError([&] { AssembledStructure::assemble(d, comm); }, "is not on its parent 'support'");
+  }
   // Tree errors.
   {
     auto d = bladeOnClampedHub("Full", 0);

@@ -98,6 +98,23 @@ std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const Substruct
   const fem::Mesh& mesh = *parent.model->mesh;
   const auto nodes = nodeSet(parent, child.attachment.parentNodes, ("attachment of '" + child.name + "':").c_str());
   std::vector<std::vector<detail::NodalCoefficient>> H(6);
+  if (child.attachment.point) {
+    // A point given by the user may sit off the parent's nodes (a rotor's
+    // centre, an offset bracket) but not off the parent itself: within its
+    // bounding box grown by 10% of its diagonal.
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
+      for (int d = 0; d < 3; ++d)
+        lo[d] = std::min(lo[d], mesh.coordinates[3 * n + d]), hi[d] = std::max(hi[d], mesh.coordinates[3 * n + d]);
+    const double margin = 0.1 * norm(sub(hi, lo));
+    const Vec3& p = *child.attachment.point;
+    for (int d = 0; d < 3; ++d)
+      CMS_INPUT_CHECK(p[d] < lo[d] - margin || p[d] > hi[d] + margin,
+                      "substructure '" << child.name << "': attachment point (" << p[0] << ", " << p[1] << ", " << p[2]
+                                       << ") is not on its parent '" << parent.name << "' (which spans (" << lo[0]
+                                       << ", " << lo[1] << ", " << lo[2] << ") to (" << hi[0] << ", " << hi[1] << ", "
+                                       << hi[2] << "))");
+  }
   if (child.attachment.type == Attachment::Type::Node) {
     CMS_INPUT_CHECK(nodes.size() != 1, "substructure '" << child.name << "': Node attachment set '"
                                                         << child.attachment.parentNodes << "' of '" << parent.name
