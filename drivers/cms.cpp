@@ -143,7 +143,7 @@ std::vector<double> scaledSpeeds(const synthesis::AssembledStructure& a, double 
 /// Whirl of a spinning substructure k in mode m: the orbit of its
 /// transverse motion (translations of an elastic rotor's nodes; a rigid
 /// rotor's tilts) turning with the spin (forward) or against it (backward);
-/// "-" when the orbit is flat or the part does not move.
+/// "-" when the orbit is flat, or the motion is mostly axial or torsional.
 std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuchos::RCP<MultiVector>>& u,
                   std::size_t k, const eigen::GyroscopicMode& mode) {
   const auto& spec = a.substructure(k);
@@ -176,8 +176,9 @@ std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuc
     }
     v[node][c] = {u[k]->getData(0)[l], u[k]->getData(1)[l]};
   }
-  double local[2] = {0, 0}, global[2] = {0, 0};
+  double local[3] = {0, 0, 0}, global[3] = {0, 0, 0};
   for (const auto& [node, x] : v) {
+    local[2] += std::norm(x[0]) + std::norm(x[1]) + std::norm(x[2]);
     const std::complex<double> a1 = x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2];
     const std::complex<double> a2 = x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2];
     // x(t) = Re(a e^{lambda t}), lambda = i w: the orbit in (e1, e2) turns
@@ -185,8 +186,10 @@ std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuc
     local[0] += std::imag(a1 * std::conj(a2)) * (mode.lambda.imag() >= 0 ? 1.0 : -1.0);
     local[1] += std::norm(a1) + std::norm(a2);
   }
-  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 2, local, global);
-  if (!(global[1] > 0) || std::abs(global[0]) < 1e-3 * global[1]) return "-";
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 3, local, global);
+  // No whirl: a mode moving mostly along the axis or twisting about it
+  // (transverse share < 10%), or a flat orbit (circularity < 1%).
+  if (!(global[1] > 0.1 * global[2]) || std::abs(2 * global[0]) < 1e-2 * global[1]) return "-";
   const bool withSpin = (global[0] > 0) == (spec.spin->rate >= 0);
   return withSpin ? "FW" : "BW";
 }
@@ -215,6 +218,22 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
     return s.solve(speeds, sc.solve);
   }();
+  // More zero frequencies than the structure has rigid-body motions (six if
+  // free, one per free-turning wheel) means K(s) is singular: an
+  // unrestrained substructure, or speeds on a divergence boundary. Refused
+  // before anything is written (doc/user-guide.md, "The cms driver").
+  {
+    int expected = structure.freeFloating() ? 6 : 0, zeros = 0;
+    for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
+      expected += structure.substructure(k).kind == synthesis::SubstructureKind::Rigid &&
+                  structure.substructure(k).rotor.spinCoordinate;
+    for (const auto& md : modes.result.modes) zeros += md.stability == eigen::Stability::RigidBody;
+    CMS_INPUT_CHECK(zeros > expected,
+                    sc.path << ": K is singular at the scene's speeds: " << zeros
+                            << " zero frequencies where the structure has " << expected
+                            << " rigid-body motions (an unrestrained substructure: clamp it or give \"Free "
+                               "Reference\"; or speeds on a divergence boundary)");
+  }
   const auto character = s.characterise(modes);
   // Whirl of each spinning substructure in each mode (collective).
   std::vector<std::vector<std::string>> whirls(modes.result.modes.size());
@@ -369,9 +388,14 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
   // Tracks: frequency (Hz) and stability of one mode followed across speeds.
   struct Track {
     std::vector<double> hz;
-    std::vector<std::string> stability;
+    std::vector<std::string> stability, whirl;
     eigen::GyroscopicMode last;
   };
+  // Whirl is reported for the first spinning A or R (its orbit about its axis).
+  int spinning = -1;
+  for (std::size_t k = 0; k < structure.numSubstructures() && spinning < 0; ++k)
+    if (structure.substructure(k).kind != synthesis::SubstructureKind::Central && structure.substructure(k).spin)
+      spinning = static_cast<int>(k);
   std::vector<Track> tracks;
   std::vector<double> factors;
   int notConverged = 0;
@@ -392,8 +416,13 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
       else unstable.push_back({f, f});
     }
     const auto& modes = m.result.modes;
+    std::vector<std::string> wl(modes.size(), "");
+    if (spinning >= 0)
+      for (std::size_t j = 0; j < modes.size(); ++j)
+        wl[j] = whirl(structure, s.expand(m, static_cast<int>(j)), static_cast<std::size_t>(spinning), modes[j]);
     if (tracks.empty()) {
-      for (const auto& md : modes) tracks.push_back({{md.hz}, {toString(md.stability)}, md});
+      for (std::size_t j = 0; j < modes.size(); ++j)
+        tracks.push_back({{modes[j].hz}, {toString(modes[j].stability)}, {wl[j]}, modes[j]});
       continue;
     }
     // Greedy assignment by decreasing MAC.
@@ -408,10 +437,12 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
       trackDone[t] = modeDone[j] = true;
       tracks[t].hz.push_back(modes[j].hz);
       tracks[t].stability.push_back(toString(modes[j].stability));
+      tracks[t].whirl.push_back(wl[j]);
       tracks[t].last = modes[j];
     }
     for (std::size_t t = 0; t < tracks.size(); ++t)
-      if (!trackDone[t]) tracks[t].hz.push_back(std::nan("")), tracks[t].stability.push_back("lost");
+      if (!trackDone[t])
+        tracks[t].hz.push_back(std::nan("")), tracks[t].stability.push_back("lost"), tracks[t].whirl.push_back("");
   }
   if (!root) return notConverged ? ExitNotConverged : ExitSuccess;
   const double ref = nominal.front() * sc.speedFactor;  // engine orders of the first spin rate
@@ -446,12 +477,13 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
   AtomicFile f(outDir / (sc.name + "-campbell.csv"));
   f.stream() << "factor";
   for (const auto& p : structure.speeds()) f.stream() << "," << p.name << "_rad_per_s";
-  for (std::size_t t = 0; t < tracks.size(); ++t) f.stream() << ",track" << t + 1 << "_hz,track" << t + 1 << "_stability";
+  for (std::size_t t = 0; t < tracks.size(); ++t)
+    f.stream() << ",track" << t + 1 << "_hz,track" << t + 1 << "_stability,track" << t + 1 << "_whirl";
   f.stream() << '\n';
   for (int k = 0; k < steps; ++k) {
     f.stream() << factors[k];
     for (double v : nominal) f.stream() << ',' << v * factors[k] * sc.speedFactor;
-    for (const auto& tr : tracks) f.stream() << ',' << tr.hz[k] << ',' << tr.stability[k];
+    for (const auto& tr : tracks) f.stream() << ',' << tr.hz[k] << ',' << tr.stability[k] << ',' << tr.whirl[k];
     f.stream() << '\n';
   }
   f.commit();

@@ -41,7 +41,9 @@ def campbell(rows, out):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     for t in tracks:
         hz = [num(r[t + "_hz"]) for r in rows]
-        ax.plot(speeds, hz, "-", lw=1.2)
+        whirl = [r.get(t + "_whirl", "") for r in rows]
+        backward = sum(w == "BW" for w in whirl) > sum(w == "FW" for w in whirl)
+        ax.plot(speeds, hz, "--" if backward else "-", lw=1.2)
         bad = [(s, h) for s, h, r in zip(speeds, hz, rows) if r[t + "_stability"] not in ("stable", "rigid")]
         if bad:
             ax.plot([b[0] for b in bad], [b[1] for b in bad], "rx", ms=6)
@@ -53,7 +55,8 @@ def campbell(rows, out):
     ax.set_ylim(0, 1.05 * ymax)
     ax.set_xlabel(f"{speed_key[:-len('_rad_per_s')]} speed (rad/s)")
     ax.set_ylabel("frequency (Hz)")
-    ax.set_title("Campbell diagram (modes tracked by MAC; x: unstable)")
+    ax.set_title("Campbell diagram (tracked by MAC; solid: forward or no whirl, dashed: backward; x: unstable)",
+                 fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out, dpi=120)

@@ -63,6 +63,8 @@ ParameterList substructureKeys() {
            "a vector in the local x-y plane");
   beam.set("Clamp", "", "node set clamped (start, end, mid or ends; empty: none)");
   beam.set("Tip Mass", 0.0, "point mass at \"end\" (kg)");
+  beam.set("Tip Inertia", Teuchos::Array<double>(3, 0.0),
+           "principal moments Jxx Jyy Jzz of the tip mass about \"end\" (kg m^2; a disc)");
   p.sublist("Finite Element Model").disableRecursiveValidation();
   ParameterList& rotor = p.sublist("Rotor");
   rotor.set("Mass", 0.0, "kg");
@@ -150,7 +152,10 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
   }
   const double tip = getNumber(b, "Tip Mass", path, 0.0);
   CMS_INPUT_CHECK(tip < 0, path << "/Tip Mass = " << tip << " must be >= 0");
-  if (tip > 0) m->pointMasses.push_back({"tip mass", "end", tip, {}});
+  const auto J = getNumbers(b, "Tip Inertia", path, 3, std::vector<double>{0, 0, 0});
+  for (double v : J) CMS_INPUT_CHECK(v < 0, path << "/Tip Inertia: " << v << " must be >= 0");
+  CMS_INPUT_CHECK(tip == 0 && (J[0] > 0 || J[1] > 0 || J[2] > 0), path << "/Tip Inertia needs a \"Tip Mass\"");
+  if (tip > 0) m->pointMasses.push_back({"tip mass", "end", tip, {J[0], J[1], J[2], 0, 0, 0}});
   return m;
 }
 
