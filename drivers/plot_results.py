@@ -47,6 +47,13 @@ def campbell(rows, out):
         bad = [(s, h) for s, h, r in zip(speeds, hz, rows) if r[t + "_stability"] not in ("stable", "rigid")]
         if bad:
             ax.plot([b[0] for b in bad], [b[1] for b in bad], "rx", ms=6)
+    # Shade the speed ranges where any track is unstable.
+    unstable = [any(r[t + "_stability"] not in ("stable", "rigid", "lost") for t in tracks) for r in rows]
+    for i, u in enumerate(unstable):
+        if u:
+            lo = speeds[i - 1] if i > 0 and not unstable[i - 1] else speeds[i]
+            hi = speeds[i + 1] if i + 1 < len(speeds) else speeds[i]
+            ax.axvspan(lo, hi, color="red", alpha=0.12, lw=0)
     top = max(speeds)
     for order in (1, 2):
         ax.plot([0, top], [0, order * top / (2 * math.pi)], "k--", lw=0.8)
@@ -55,7 +62,7 @@ def campbell(rows, out):
     ax.set_ylim(0, 1.05 * ymax)
     ax.set_xlabel(f"{speed_key[:-len('_rad_per_s')]} speed (rad/s)")
     ax.set_ylabel("frequency (Hz)")
-    ax.set_title("Campbell diagram (tracked by MAC; solid: forward or no whirl, dashed: backward; x: unstable)",
+    ax.set_title("Campbell diagram (tracked by MAC; solid: forward or no whirl, dashed: backward; shaded/x: unstable)",
                  fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()

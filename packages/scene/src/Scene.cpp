@@ -301,7 +301,9 @@ Scene Scene::read(const std::string& path) {
       std::string what = e.what();
       throw InputError(path + ": not a valid scene file (" + what.substr(0, 600) + ")");
     }
-    CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
+    // Teuchos' XML reader does not keep the root list's name: accept
+    // <ParameterList name="Scene"> as the root or as its only sublist.
+    if (p->isSublist("Scene") && p->numParams() == 1) return fromParameters(p->sublist("Scene"), path);
     return fromParameters(*p, path);
   }
   return parse(text.str(), path);
