@@ -66,6 +66,10 @@ ParameterList substructureKeys() {
   beam.set("Tip Inertia", Teuchos::Array<double>(3, 0.0),
            "principal moments Jxx Jyy Jzz of the tip mass about \"end\" (kg m^2; a disc)");
   p.sublist("Finite Element Model").disableRecursiveValidation();
+  ParameterList& place = p.sublist("Placement");
+  place.set("Axis", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 1.0)), "rotation axis");
+  place.set("Angle", 0.0, "rotation angle about the axis through the origin (degrees), applied first");
+  place.set("Translation", Teuchos::Array<double>(3, 0.0), "then this translation (m)");
   ParameterList& rotor = p.sublist("Rotor");
   rotor.set("Mass", 0.0, "kg");
   rotor.set("Transverse Inertia", 0.0, "kg m^2");
@@ -195,6 +199,41 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     } catch (const InputError& e) {
       throw InputError(path + "/Finite Element Model: " + e.what());
     }
+  }
+  CMS_INPUT_CHECK(p.isSublist("Placement") && !p.isSublist("Finite Element Model"),
+                  path << "/Placement: only a \"Finite Element Model\" is placed (a Beam is given by its ends)");
+  if (p.isSublist("Placement")) {
+    // A mesh made in its own axes, moved rigidly into the structure's:
+    // x' = R x + t, R the rotation by Angle about Axis (Rodrigues); frame
+    // section orientations turn with it.
+    const auto& pl = p.sublist("Placement");
+    const std::string pp = path + "/Placement";
+    checkKeys(pl, substructureKeys().sublist("Placement"), pp);
+    fem::Vec3 a = vec3(pl, "Axis", pp, std::vector<double>{0, 0, 1});
+    const double an = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    CMS_INPUT_CHECK(!(an > 0), pp << "/Axis must be a nonzero vector");
+    for (double& v : a) v /= an;
+    const double th = getNumber(pl, "Angle", pp, 0.0) * M_PI / 180.0;
+    const fem::Vec3 t = vec3(pl, "Translation", pp, std::vector<double>{0, 0, 0});
+    const double c = std::cos(th), sn = std::sin(th);
+    double R[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) R[i][j] = c * (i == j) + (1 - c) * a[i] * a[j];
+    R[0][1] -= sn * a[2], R[0][2] += sn * a[1], R[1][0] += sn * a[2];
+    R[1][2] -= sn * a[0], R[2][0] -= sn * a[1], R[2][1] += sn * a[0];
+    auto rotate = [&](const fem::Vec3& x) {
+      return fem::Vec3{R[0][0] * x[0] + R[0][1] * x[1] + R[0][2] * x[2], R[1][0] * x[0] + R[1][1] * x[1] + R[1][2] * x[2],
+                       R[2][0] * x[0] + R[2][1] * x[1] + R[2][2] * x[2]};
+    };
+    auto model = std::make_shared<fem::FiniteElementModel>(*s.model);
+    auto mesh = std::make_shared<fem::Mesh>(*model->mesh);
+    for (std::size_t n = 0; n < mesh->nodeCount(); ++n) {
+      const auto x = rotate({mesh->coordinates[3 * n], mesh->coordinates[3 * n + 1], mesh->coordinates[3 * n + 2]});
+      for (int d = 0; d < 3; ++d) mesh->coordinates[3 * n + d] = x[d] + t[d];
+    }
+    for (auto& es : model->elementSets) es.section.orientation = rotate(es.section.orientation);
+    model->mesh = mesh;
+    s.model = model;
   }
   if (p.isSublist("Rotor")) {
     const auto& r = p.sublist("Rotor");

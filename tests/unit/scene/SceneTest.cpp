@@ -168,3 +168,29 @@ TEST(Scene, XmlScenesReadLikeYaml) {
     EXPECT_EQ(a.structure.substructures[i].model->mesh->nodeCount(), b.structure.substructures[i].model->mesh->nodeCount());
   }
 }
+
+TEST(Scene, PlacementMovesAMeshRigidly) {
+  // The solid blade meshed along +x, placed along +y at (0, 0.5, 0): every
+  // node moves by the rotation (90 degrees about z) and the translation, so
+  // the frequencies, which do not depend on where the blade is, stay.
+  const std::string dir = std::string(CMS_SCENE_DIR);
+  std::ifstream in(dir + "/solid-blade.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const auto at = yaml.find("      Finite Element Model:");
+  ASSERT_NE(at, std::string::npos);
+  yaml.insert(at, "      Placement:\n        Axis: [0.0, 0.0, 1.0]\n        Angle: 90.0\n        Translation: [0.0, 0.5, 0.0]\n");
+  const auto moved = scene::Scene::parse(yaml, dir + "/moved.yaml");
+  const auto original = scene::Scene::read(dir + "/solid-blade.yaml");
+  const auto& m0 = *original.structure.substructures[1].model->mesh;
+  const auto& m1 = *moved.structure.substructures[1].model->mesh;
+  ASSERT_EQ(m0.nodeCount(), m1.nodeCount());
+  for (std::size_t n = 0; n < m0.nodeCount(); n += 97) {
+    EXPECT_NEAR(m1.coordinates[3 * n], -m0.coordinates[3 * n + 1], 1e-12);
+    EXPECT_NEAR(m1.coordinates[3 * n + 1], m0.coordinates[3 * n] + 0.5, 1e-12);
+    EXPECT_NEAR(m1.coordinates[3 * n + 2], m0.coordinates[3 * n + 2], 1e-12);
+  }
+  fixtures::expectInputError([&] { scene::Scene::parse(edit("      Beam:\n        From: [1.0", "      Placement:\n        Angle: 10.0\n      Beam:\n        From: [1.0"), "p.yaml"); },
+                             "only a \"Finite Element Model\" is placed");
+}
