@@ -629,13 +629,7 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
   std::vector<Row> rows;
   for (const std::string basis : {"Guyan", "Admissible", "Modes", "Craig-Bampton"}) {
     for (int k : basis == "Guyan" ? std::vector<int>{0} : counts) {
-      std::vector<Teuchos::ParameterList> red;
-      for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
-        Teuchos::ParameterList r("Reduction");
-        r.set("Basis", basis);
-        r.set("Vectors", k);
-        red.push_back(r);
-      }
+      const auto red = synthesis::sameReduction(structure, basis, k);
       const auto t1 = Clock::now();
       try {
         const auto s = synthesis::SynthesizedStructure::synthesize(structure, red);

@@ -47,14 +47,7 @@ StructureModes solve(const SynthesizedStructure& s, int modes = kModes) {
 
 /// The same basis kind and vector count for every substructure.
 std::vector<Teuchos::ParameterList> everywhere(const AssembledStructure& a, const std::string& basis, int k) {
-  std::vector<Teuchos::ParameterList> red;
-  for (std::size_t q = 0; q < a.numSubstructures(); ++q) {
-    Teuchos::ParameterList r("Reduction");
-    r.set("Basis", basis);
-    r.set("Vectors", k);
-    red.push_back(r);
-  }
-  return red;
+  return sameReduction(a, basis, k);
 }
 
 /// The elastic frequencies (above 1.5 Omega: past the rigid-body and frame

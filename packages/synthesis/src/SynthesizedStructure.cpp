@@ -163,6 +163,18 @@ DenseMatrix toDense(const CrsMatrix& A) {
 
 }  // namespace
 
+std::vector<Teuchos::ParameterList> sameReduction(const AssembledStructure& structure, const std::string& basis,
+                                                  int vectors) {
+  std::vector<Teuchos::ParameterList> red;
+  for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
+    Teuchos::ParameterList r("Reduction");
+    r.set("Basis", basis);
+    r.set("Vectors", vectors);
+    red.push_back(r);
+  }
+  return red;
+}
+
 long long SynthesizedStructure::size() const { return static_cast<long long>(map_->getGlobalNumElements()); }
 
 SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure, bool truth) {

@@ -86,6 +86,11 @@ private:
   std::vector<std::string> notes_;
 };
 
+/// One "Reduction" list per substructure, all with the same basis kind and
+/// vector count (for strategy comparisons).
+std::vector<Teuchos::ParameterList> sameReduction(const AssembledStructure& structure, const std::string& basis,
+                                                  int vectors);
+
 /// Per substructure: what its basis is and what it costs.
 struct SubstructureReduction {
   std::string name, kind;   ///< kind: "C", "R", "E", "A"
