@@ -6,16 +6,21 @@
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
+#include <string>
+
+#include <Teuchos_Array.hpp>
+
 namespace cms::reduction::detail {
 
 HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held)
-    : held_(std::move(held)) {
+    : held_(std::move(held)), name_(s.name()) {
   K_ = holdDofsScaled(*s.K(), held_);
   solver_ = std::make_unique<SparseDirectSolver>(K_, "CHOLMOD");
   if (solver_->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "
-                         "positive definite, so the substructure can still move as a rigid body: check its "
-                         "supports and attachment (CHOLMOD: " + solver_->failure() + ")");
+                         "positive definite: the substructure can still move as a rigid body (check its supports "
+                         "and attachment), or it is singular to working precision (elements much shorter than "
+                         "their section, stiffness ratios past 1e12) (CHOLMOD: " + solver_->failure() + ")");
 }
 
 void HeldStiffness::solve(const MultiVector& B, MultiVector& X) const {
@@ -23,6 +28,24 @@ void HeldStiffness::solve(const MultiVector& B, MultiVector& X) const {
   zeroHeldRows(b, held_);
   solver_->solve(b, X);
   zeroHeldRows(X, held_);  // exact zeros, not rounding-sized values
+  // A Cholesky solve is backward stable, so ||K x - b|| / ||b|| is small
+  // unless K is ill-conditioned. Any vector vanishing on the held rows is
+  // admissible, so an inaccurate one still gives Rayleigh-Ritz bounds; but
+  // past 1% of the load the vector is mostly rounding (K singular to
+  // working precision: frame elements far shorter than their section,
+  // stiffness ratios past 1e12) and the frequencies built from such vectors
+  // were wrong with a converged status. Refuse instead (theory §11.7).
+  MultiVector r(b.getMap(), b.getNumVectors());
+  K_->apply(X, r);
+  r.update(-1.0, b, 1.0);
+  Teuchos::Array<double> rn(b.getNumVectors()), bn(b.getNumVectors());
+  r.norm2(rn());
+  b.norm2(bn());
+  for (std::size_t j = 0; j < b.getNumVectors(); ++j)
+    if (rn[j] > 1e-2 * bn[j])
+      throw NumericalError(name_ + ": the stiffness with the attachment held is singular to working precision "
+                           "(a static solve's residual is " + std::to_string(rn[j] / bn[j]) +
+                           " of its load): refine less, or check for elements much shorter than their section");
 }
 
 }  // namespace cms::reduction::detail

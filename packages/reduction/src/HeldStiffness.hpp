@@ -25,6 +25,7 @@ public:
 
 private:
   std::vector<GlobalOrdinal> held_;
+  std::string name_;
   Teuchos::RCP<const CrsMatrix> K_;
   std::unique_ptr<SparseDirectSolver> solver_;
 };

@@ -176,3 +176,17 @@ TEST(RitzBasis, BadParametersNameTheKey) {
   SubstructureBoundary none;
   EXPECT_THROW(buildRitzBasis(c.sub, none, params("Admissible", 3)), NumericalError);
 }
+
+TEST(RitzBasis, StiffnessSingularToWorkingPrecisionIsRefused) {
+  // 20000 frame elements on 2 m (h = 0.1 mm, a hundredth of the section's
+  // radius of gyration): K is conditioned like (L/h)^4 ~ 1e17. The static
+  // solves' residuals are of the order of the load; the basis is refused
+  // with the substructure named instead of giving wrong frequencies.
+  const auto c = cantilever(false, 20000);
+  try {
+    buildRitzBasis(c.sub, c.boundary, params("Admissible", 6));
+    ADD_FAILURE() << "no error";
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("singular to working precision"), std::string::npos) << e.what();
+  }
+}
