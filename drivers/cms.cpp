@@ -351,27 +351,59 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
 }
 
-/// M-weighted MAC of two modes of the same coordinates (q replicated on every
-/// rank by the dense path, or this rank's rows by the sparse path).
-double modalAssurance(const synthesis::SynthesizedStructure& s, const eigen::GyroscopicMode& a,
-                      const eigen::GyroscopicMode& b) {
-  const auto sys = s.system(std::vector<double>(s.speeds().size(), 0.0));
-  const auto map = sys.M->getRowMap();
-  const bool replicated = static_cast<long long>(a.q.size()) == s.size();
-  MultiVector x(map, 4), Mx(map, 4);
-  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
-    const std::size_t i = replicated ? static_cast<std::size_t>(map->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
-    x.replaceLocalValue(l, 0, a.q[i].real());
-    x.replaceLocalValue(l, 1, a.q[i].imag());
-    x.replaceLocalValue(l, 2, b.q[i].real());
-    x.replaceLocalValue(l, 3, b.q[i].imag());
+/// M-weighted MAC of every pair (previous mode t, current mode j) of the
+/// same coordinates: |a^H M b|^2 / (a^H M a  b^H M b), with two
+/// applications of M and one reduction per call (q replicated on every rank
+/// by the dense path, or this rank's rows by the sparse path). Collective.
+std::vector<std::vector<double>> macMatrix(const synthesis::SynthesizedStructure& s, const CrsMatrix& M,
+                                           const std::vector<eigen::GyroscopicMode>& prev,
+                                           const std::vector<eigen::GyroscopicMode>& cur) {
+  const auto map = M.getRowMap();
+  const std::size_t nloc = map->getNodeNumElements(), P = prev.size(), C = cur.size();
+  auto pack = [&](const std::vector<eigen::GyroscopicMode>& modes) {
+    MultiVector X(map, std::max<std::size_t>(2 * modes.size(), 1));
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+      const bool replicated = static_cast<long long>(modes[j].q.size()) == s.size();
+      auto re = X.getDataNonConst(2 * j), im = X.getDataNonConst(2 * j + 1);
+      for (std::size_t l = 0; l < nloc; ++l) {
+        const std::size_t i = replicated ? static_cast<std::size_t>(map->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+        re[l] = modes[j].q[i].real(), im[l] = modes[j].q[i].imag();
+      }
+    }
+    return X;
+  };
+  const MultiVector Xp = pack(prev), Xc = pack(cur);
+  MultiVector MXp(map, Xp.getNumVectors()), MXc(map, Xc.getNumVectors());
+  M.apply(Xp, MXp);
+  M.apply(Xc, MXc);
+  // Local sums: per pair (re, im) of a^H M b, then a^H M a per previous, b^H M b per current.
+  std::vector<double> local(2 * P * C + P + C, 0.0), global(local.size(), 0.0);
+  auto col = [](const MultiVector& X, std::size_t j) { return X.getData(j); };
+  for (std::size_t t = 0; t < P; ++t) {
+    const auto ar = col(Xp, 2 * t), ai = col(Xp, 2 * t + 1), Mar = col(MXp, 2 * t), Mai = col(MXp, 2 * t + 1);
+    for (std::size_t l = 0; l < nloc; ++l) local[2 * P * C + t] += ar[l] * Mar[l] + ai[l] * Mai[l];
+    for (std::size_t j = 0; j < C; ++j) {
+      const auto Mbr = col(MXc, 2 * j), Mbi = col(MXc, 2 * j + 1);
+      double re = 0, im = 0;
+      // a^H M b = (ar.M br + ai.M bi) + i (ar.M bi - ai.M br)
+      for (std::size_t l = 0; l < nloc; ++l) re += ar[l] * Mbr[l] + ai[l] * Mbi[l], im += ar[l] * Mbi[l] - ai[l] * Mbr[l];
+      local[2 * (t * C + j)] = re, local[2 * (t * C + j) + 1] = im;
+    }
   }
-  sys.M->apply(x, Mx);
-  auto dot = [&](int i, int j) { return x.getVector(i)->dot(*Mx.getVector(j)); };
-  // a^H M b = (ar.M br + ai.M bi) + i (ar.M bi - ai.M br)
-  const std::complex<double> ab(dot(0, 2) + dot(1, 3), dot(0, 3) - dot(1, 2));
-  const double aa = dot(0, 0) + dot(1, 1), bb = dot(2, 2) + dot(3, 3);
-  return aa > 0 && bb > 0 ? std::norm(ab) / (aa * bb) : 0.0;
+  for (std::size_t j = 0; j < C; ++j) {
+    const auto br = col(Xc, 2 * j), bi = col(Xc, 2 * j + 1), Mbr = col(MXc, 2 * j), Mbi = col(MXc, 2 * j + 1);
+    for (std::size_t l = 0; l < nloc; ++l) local[2 * P * C + P + j] += br[l] * Mbr[l] + bi[l] * Mbi[l];
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
+  std::vector<std::vector<double>> mac(P, std::vector<double>(C, 0.0));
+  for (std::size_t t = 0; t < P; ++t)
+    for (std::size_t j = 0; j < C; ++j) {
+      const double aa = global[2 * P * C + t], bb = global[2 * P * C + P + j];
+      const double n2 = global[2 * (t * C + j)] * global[2 * (t * C + j)] +
+                        global[2 * (t * C + j) + 1] * global[2 * (t * C + j) + 1];
+      mac[t][j] = aa > 0 && bb > 0 ? n2 / (aa * bb) : 0.0;
+    }
+  return mac;
 }
 
 /// 3. campbell
@@ -384,6 +416,7 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
   CMS_INPUT_CHECK(structure.speeds().empty(), sc.path << ": nothing spins in this scene: no Campbell diagram");
   const auto s = synthesis::SynthesizedStructure::synthesize(structure);
   const auto nominal = structure.nominalSpeeds();
+  const auto M = s.system(std::vector<double>(nominal.size(), 0.0)).M;  // the same at every speed
   const auto t0 = Clock::now();
   // Tracks: frequency (Hz) and stability of one mode followed across speeds.
   struct Track {
@@ -426,10 +459,13 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
       continue;
     }
     // Greedy assignment by decreasing MAC.
+    std::vector<eigen::GyroscopicMode> last;
+    for (const auto& tr : tracks) last.push_back(tr.last);
+    const auto mac = macMatrix(s, *M, last, modes);
     std::vector<std::tuple<double, int, int>> pairs;
     for (std::size_t t = 0; t < tracks.size(); ++t)
-      for (std::size_t j = 0; j < modes.size(); ++j) pairs.push_back({modalAssurance(s, tracks[t].last, modes[j]),
-                                                                      static_cast<int>(t), static_cast<int>(j)});
+      for (std::size_t j = 0; j < modes.size(); ++j)
+        pairs.push_back({mac[t][j], static_cast<int>(t), static_cast<int>(j)});
     std::sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
     std::vector<bool> trackDone(tracks.size(), false), modeDone(modes.size(), false);
     for (const auto& [mac, t, j] : pairs) {
