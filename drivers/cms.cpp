@@ -667,12 +667,21 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
     for (int k : basis == "Guyan" ? std::vector<int>{0} : counts) {
       const auto red = synthesis::sameReduction(structure, basis, k);
       const auto t1 = Clock::now();
+      const std::size_t before = rows.size();
       try {
         const auto s = synthesis::SynthesizedStructure::synthesize(structure, red);
         const double tr = since(t1);
-        if (s.size() < nModes) continue;
+        if (s.size() < nModes) {
+          if (root) std::cout << "skipped " << basis << " with " << k << " vectors: " << s.size()
+                              << " coordinates, fewer than the " << nModes << " modes compared\n";
+          continue;
+        }
         const auto m = s.solve(speeds, sc.solve);
-        if (static_cast<int>(m.result.modes.size()) < nModes) continue;
+        if (static_cast<int>(m.result.modes.size()) < nModes) {
+          if (root) std::cout << "skipped " << basis << " with " << k << " vectors: the solve gave "
+                              << m.result.modes.size() << " modes (" << m.result.reason << ")\n";
+          continue;
+        }
         std::vector<int> per;
         for (const auto& r : s.reductions()) per.push_back(r.coordinates);
         rows.push_back({basis, k, s.size(), tr, m.seconds, drivers::peakRssMiB(),
@@ -680,7 +689,7 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
       } catch (const InputError& e) {
         if (root) std::cout << "skipped " << basis << " with " << k << " vectors: " << e.what() << '\n';
       }
-      if (root && !rows.empty())
+      if (root && rows.size() > before)
         std::cout << "[" << basis << " " << k << "] " << rows.back().dofs << " DOFs, max error "
                   << rows.back().c.maxRelativeError << '\n';
     }

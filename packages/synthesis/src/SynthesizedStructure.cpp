@@ -169,7 +169,12 @@ std::vector<Teuchos::ParameterList> sameReduction(const AssembledStructure& stru
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
     Teuchos::ParameterList r("Reduction");
     r.set("Basis", basis);
-    r.set("Vectors", vectors);
+    // Never more than the substructure's free DOFs (a small hub beside a
+    // large blade): the same count elsewhere.
+    long long count = vectors;
+    if (const auto* sub = structure.assembled(q))
+      count = std::min<long long>(count, sub->dofs().rows() - static_cast<long long>(structure.parts()[q]->held.size()));
+    r.set("Vectors", static_cast<int>(std::max<long long>(count, 0)));
     red.push_back(r);
   }
   return red;

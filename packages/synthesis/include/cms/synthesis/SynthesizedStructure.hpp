@@ -87,7 +87,8 @@ private:
 };
 
 /// One "Reduction" list per substructure, all with the same basis kind and
-/// vector count (for strategy comparisons).
+/// vector count, capped at each substructure's free DOFs (for strategy
+/// comparisons).
 std::vector<Teuchos::ParameterList> sameReduction(const AssembledStructure& structure, const std::string& basis,
                                                   int vectors);
 
