@@ -110,7 +110,8 @@ TEST(Scene, UnreadableFilesAreInputErrors) {
 
 TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  for (const std::string name : {"spacecraft", "rotating-blade", "shaft-on-support", "rotor-chain", "solid-blade"}) {
+  for (const std::string name :
+       {"spacecraft", "spinning-spacecraft", "rotating-blade", "shaft-on-support", "rotor-chain", "solid-blade"}) {
     SCOPED_TRACE(name);
     const auto sc = scene::Scene::read(std::string(CMS_SCENE_DIR) + "/" + name + ".yaml");
     const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
@@ -125,6 +126,12 @@ TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {
       out << std::setprecision(15) << "mode,rad_per_s\n";
       for (std::size_t i = 0; i < m.result.modes.size(); ++i) out << i + 1 << ',' << m.result.modes[i].omega << '\n';
     }
+    // The rigid motions a spinning frame sees at its own rate are defective
+    // (Jordan) double eigenvalues, computed to sqrt(eps kappa), kappa ~
+    // (omega_max / Omega)^2 ~ 1e7 for the spinning spacecraft: 3e-5 apart
+    // between rank counts, so 1e-4 for those, the tolerance with which
+    // characterise() recognises them (theory §11.6).
+    const auto character = s.characterise(m);
     std::ifstream in(expected);
     ASSERT_TRUE(in) << expected;
     std::string line;
@@ -135,7 +142,7 @@ TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {
       ASSERT_LT(i, m.result.modes.size());
       const double got = m.result.modes[i].omega;
       if (w < 1e-6) EXPECT_NEAR(got, w, 1e-6) << "mode " << i + 1;
-      else EXPECT_NEAR(got / w, 1.0, 1e-8) << "mode " << i + 1;
+      else EXPECT_NEAR(got / w, 1.0, character[i].frameArtefact ? 1e-4 : 1e-8) << "mode " << i + 1;
       ++i;
     }
     EXPECT_EQ(i, m.result.modes.size());
