@@ -287,11 +287,20 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
     d.substructures[0].model = std::make_shared<fem::FiniteElementModel>(hub);
     expectInputError([&] { AssembledStructure::assemble(d, comm); }, "periodic");
   }
-  // A stationary-frame rotor on a spinning parent.
+  // A child on a stationary-frame rotor that spins inside a spinning parent.
   {
     auto d = supportWith(false, 100.0);
-    d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 1.0};
-    expectInputError([&] { AssembledStructure::assemble(d, comm); }, "stationary-frame rotor on a spinning parent");
+    d.substructures[0].spin = SpinRate{{1, 0, 0}, {0, 0, 0}, 1.0};
+    SubstructureSpec E;
+    E.name = "disc";
+    E.kind = SubstructureKind::Elastic;
+    E.parent = "shaft";
+    E.attachment.parentNodes = "end";
+    E.attachment.childNodes = "start";
+    E.model = std::make_shared<fem::FiniteElementModel>(
+        frame(fixtures::segmentMesh({2, 0, 0}, {2, 0.2, 0}, 2, 500), {2e11, 0.3, 7800}, {1e-4, 1e-9, 1e-9, 2e-9}, "disc"));
+    d.substructures.push_back(E);
+    expectInputError([&] { AssembledStructure::assemble(d, comm); }, "attached to the spinning rotor 'shaft'");
   }
   // An A spinning about an axis that is not its spinning parent's.
   {

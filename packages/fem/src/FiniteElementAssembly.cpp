@@ -473,7 +473,9 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   Target vM = target("M"), vK = target("K"), vG, vKT;
   std::vector<double> vf;
   if (spinning) vG = target("G1");
+  const bool tilt = spinning && !rotatingFrame && model.spin->frameAxis.has_value();
   if (rotatingFrame) { vKT = target("KT1"); vf.assign(numOverlap, 0.0); }
+  if (tilt) vKT = target("KX1");
 
   auto frameOf = [&](const Item& it) {
     const auto& set = model.elementSets[it.set];
@@ -515,6 +517,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
           m.M = frameMass(fe);
           if (rotatingFrame) m.spin = frameSpinMatrices(fe, spin);
           else if (spinning) m.spin.G1 = frameStationaryGyroscopic(fe, spin.axis);
+          if (tilt) m.spin.KT1 = frameStationaryTiltStiffness(fe, spin.axis, *model.spin->frameAxis);
           break;
         }
         case Item::Kind::Solid: {
@@ -530,6 +533,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
           m.K = ElementMatrix(nd);
           if (rotatingFrame) m.spin = pointMassSpinMatrices(p, spin, nd);
           else if (spinning && nd == 6) m.spin.G1 = pointMassStationaryGyroscopic(p, spin.axis);
+          if (tilt && nd == 6) m.spin.KT1 = pointMassStationaryTiltStiffness(p, spin.axis, *model.spin->frameAxis);
           break;
         }
         case Item::Kind::GroundSpring:
@@ -543,7 +547,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
       scatter(m.K, vK);
       if (m.M.n) scatter(m.M, vM);
       if (m.spin.G1.n) scatter(m.spin.G1, vG);
-      if (rotatingFrame && m.spin.KT1.n) scatter(m.spin.KT1, vKT);
+      if ((rotatingFrame || tilt) && m.spin.KT1.n) scatter(m.spin.KT1, vKT);
       if (rotatingFrame && !m.spin.f1.empty()) scatterVector(local, m.spin.f1, vf);
     } catch (const std::exception& e) {
       std::ostringstream os;
@@ -589,6 +593,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
   out.M = finish(vM);
   out.K = finish(vK);
   if (spinning) out.G1 = finish(vG);
+  if (tilt) out.KX1 = finish(vKT);
   if (rotatingFrame) {
     out.KT1 = finish(vKT);
     MultiVector fOverlap(overlapMap, 1);

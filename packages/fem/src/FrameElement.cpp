@@ -324,4 +324,25 @@ ElementMatrix frameStationaryGyroscopic(const FrameElement& e, const Vec3& axis)
   return g;
 }
 
+ElementMatrix frameStationaryTiltStiffness(const FrameElement& e, const Vec3& axis, const Vec3& frameAxis) {
+  // The same check and interpolation as frameStationaryGyroscopic: the
+  // spinning sections' polar inertia, now with the frame rotation's
+  // -(sym(e n^T) - (e.n) I) density (theory §11.5), per unit Omega omega.
+  ElementMatrix k = frameStationaryGyroscopic(e, axis);  // validates the axis
+  std::fill(k.a.begin(), k.a.end(), 0.0);
+  if (!e.section.rotaryInertia) return k;
+  const LocalAxes ax = localAxes(e);
+  const Vec3 n = detail::unitAxis(axis, "frame element"), f = detail::unitAxis(frameAxis, "frame element");
+  const ShearParameters phi = shearParameters(e, ax.L);
+  const double rhoIp = e.material.rho * (e.section.Iy + e.section.Iz), fn = detail::dot(f, n);
+  Mat3 B{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) B[3 * i + j] = -rhoIp * (0.5 * (f[i] * n[j] + n[i] * f[j]) - (i == j ? fn : 0.0));
+  for (int q = 0; q < 5; ++q) {
+    const Shape theta = toGlobal(localShapes(kGaussXi[q], ax.L, phi).theta, ax.R);
+    addProduct(k, kGaussW[q] * ax.L, theta, B, theta);
+  }
+  return k;
+}
+
 }  // namespace cms::fem

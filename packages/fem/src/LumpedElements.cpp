@@ -181,4 +181,15 @@ ElementMatrix twoNodeSpringMatrix(const std::array<double, 6>& k, int dofs) {
   return K;
 }
 
+ElementMatrix pointMassStationaryTiltStiffness(const PointMass& p, const Vec3& axis, const Vec3& frameAxis) {
+  pointMassStationaryGyroscopic(p, axis);  // the axisymmetry check
+  const Vec3 n = detail::unitAxis(axis, "point mass"), f = detail::unitAxis(frameAxis, "point mass");
+  const Mat3 J = inertiaTensor(p);
+  const double Ip = detail::dot(n, detail::mul(J, n)), fn = detail::dot(f, n);
+  ElementMatrix k(6);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) k(3 + i, 3 + j) = -Ip * (0.5 * (f[i] * n[j] + n[i] * f[j]) - (i == j ? fn : 0.0));
+  return k;
+}
+
 }  // namespace cms::fem

@@ -319,12 +319,17 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
         }
         break;
       case SubstructureKind::Elastic:
+        CMS_INPUT_CHECK(parent->compound, who(p) << ": attached to the spinning rotor '" << parent->spec.name
+                                                 << "', it would spin with it: its coefficients are periodic "
+                                                    "(not supported)");
         CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
                         who(p) << ": attached to the stationary-frame rotor '" << parent->spec.name
                                << "', it would spin with it: its coefficients are periodic (not supported)");
         p.frame = inherited;
         break;
       case SubstructureKind::Rigid:
+        CMS_INPUT_CHECK(parent->compound, who(p) << ": a rotor on the spinning rotor '" << parent->spec.name
+                                                 << "' has periodic coefficients (not supported)");
         CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
                         who(p) << ": a rotor on the stationary-frame rotor '" << parent->spec.name
                                << "' has periodic coefficients (not supported)");
@@ -332,11 +337,16 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
         break;
       case SubstructureKind::Rotating: {
         const Vec3 a = unit(p.spec.spin->axis);
-        if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
-          CMS_INPUT_CHECK(inherited.spinning,
-                          who(p) << ": a stationary-frame rotor on a spinning parent ('" << parent->spec.name
-                                 << "'); supported: a stationary-frame rotor on a non-spinning parent, or a "
-                                    "rotating-frame rotor on an immovable attachment");
+        if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary && inherited.spinning) {
+          // Compound spin (theory §11.5): the parent frame's terms as for an
+          // E, plus the rotor's own spin (G1 per omega) and the cross
+          // stiffness per Omega omega, from a second, stationary assembly.
+          CMS_INPUT_CHECK(inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                          who(p) << ": a stationary-frame rotor on the stationary-frame rotor '" << parent->spec.name
+                                 << "' (not supported)");
+          p.frame = inherited;
+          p.compound = true;
+        } else if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
           p.frame.spinning = true;
           p.frame.kind = fem::SpinDefinition::Frame::Stationary;
           p.frame.axis = a;
@@ -481,6 +491,17 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
       pc.loads = p.childLoads;
     }
     p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+    if (p.compound) {
+      fem::FiniteElementModel own = *p.spec.model;
+      own.name = p.spec.name;
+      fem::SpinDefinition sd;
+      sd.spin = fem::Spin{unit(p.spec.spin->axis), p.point};
+      sd.frame = fem::SpinDefinition::Frame::Stationary;
+      sd.stressStiffening = false;
+      sd.frameAxis = p.frame.axis;
+      own.spin = sd;
+      p.stationary = substructure::Substructure::fromFiniteElementModel(own, comm);
+    }
     // This part's reaction, as generalised forces on its attachment
     // coordinates a (F_a = -X^T r), passed to the parent through H^T.
     if (p.parent < 0 || !prestressed) continue;
@@ -564,13 +585,14 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
                                << parent.spec.name << "' it meets has none (use a Node or RigidFit attachment)");
       }
     }
-    if (p.spec.kind == SubstructureKind::Rotating && p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
+    if (p.spec.kind == SubstructureKind::Rotating && !p.compound &&
+        p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
       bool moves = false;
       for (const auto& h : p.Hrows) moves = moves || !h.empty();
       CMS_INPUT_CHECK(moves, who(p) << ": spins in its own frame relative to '" << parent.spec.name
                                     << "', whose attachment moves: the coefficients are periodic. Supported: "
                                        "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "
-                                       "axisymmetric rotor on a non-spinning parent");
+                                       "axisymmetric rotor");
     }
   }
   // 7. A Boolean interface deforms, so holding it in the child's prestress

@@ -47,6 +47,11 @@ struct AssembledStructure::Part {
   int parent = -1;  ///< index in parts(), -1 for C
   std::vector<int> children;
   std::optional<substructure::Substructure> sub;  ///< C, E, A
+  /// An axisymmetric A in the stationary form spinning inside a spinning
+  /// parent frame ("compound"): `sub` carries the parent frame's terms (like
+  /// an E), `stationary` its own spin's G1 and the cross stiffness KX1.
+  bool compound = false;
+  std::optional<substructure::Substructure> stationary;
   Frame frame;
   int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
   fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)

@@ -361,6 +361,18 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     const auto& T = *out.T_[k];
     M = addScaled(M, 1.0, project(*sub.M(), T));
     K0 = addScaled(K0, 1.0, project(*sub.K(), T));
+    if (p.compound) {
+      // Its own spin inside the spinning parent frame (theory §11.5).
+      const auto& st = *p.stationary;
+      G[p.speedParam] = addScaled(G[p.speedParam], 1.0, project(*st.G1(), T));
+      if (!st.KX1().is_null()) {
+        const auto PX = project(*st.KX1(), T);
+        for (auto [i, ci] : p.frame.coefficients) {
+          const std::pair<int, int> ij{std::min(i, p.speedParam), std::max(i, p.speedParam)};
+          K2[ij] = addScaled(K2[ij], ci, PX);
+        }
+      }
+    }
     if (p.frame.spinning) {
       Teuchos::RCP<const CrsMatrix> PG, PK;
       if (!sub.G1().is_null()) PG = project(*sub.G1(), T);

@@ -58,6 +58,9 @@ struct AssembledMatrices {
   DofLayout layout;
   Teuchos::RCP<const Map> map;
   Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1;
+  /// Stationary frame with SpinDefinition::frameAxis: the tilt stiffness per
+  /// unit Omega_frame * omega (null otherwise).
+  Teuchos::RCP<const CrsMatrix> KX1;
   Teuchos::RCP<const MultiVector> f1;  ///< centrifugal load per Omega^2
   Teuchos::RCP<const MultiVector> u1;  ///< static response K u1 = f1 (prestress)
   /// Per held DOF of the PrestressConditions (same order; DOFs the model

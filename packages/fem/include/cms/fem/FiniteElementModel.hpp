@@ -56,6 +56,10 @@ struct SpinDefinition {
   Spin spin;    ///< unit axis and origin
   Frame frame = Frame::Rotating;
   bool stressStiffening = true;  ///< Rotating only: assemble KS1 from the centrifugal prestress
+  /// Stationary only: the axis of a spinning frame that carries the rotor;
+  /// then KX1, the tilt stiffness per unit Omega_frame * omega, is assembled
+  /// too (theory §11.5).
+  std::optional<Vec3> frameAxis;
 };
 
 struct FiniteElementModel {

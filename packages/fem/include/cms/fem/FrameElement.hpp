@@ -46,5 +46,10 @@ SpinMatrices frameSpinMatrices(const FrameElement& e, const Spin& spin);
 /// rho (Iy + Iz) [n]x^T on the rotations, no softening. Throws
 /// cms::InputError if axis is not parallel to the element (to 1e-8).
 ElementMatrix frameStationaryGyroscopic(const FrameElement& e, const Vec3& axis);
+/// A stationary-frame rotor inside a frame spinning about `frameAxis`: the
+/// tilt stiffness of its sections' spin momentum per unit Omega_frame *
+/// omega, -rho Ip (sym(e n^T) - (e.n) I) interpolated like the gyroscopic
+/// matrix (theory §11.5; rho Ip (I - n n^T) for a coaxial rotor).
+ElementMatrix frameStationaryTiltStiffness(const FrameElement& e, const Vec3& axis, const Vec3& frameAxis);
 
 }  // namespace cms::fem

@@ -26,6 +26,9 @@ SpinMatrices pointMassSpinMatrices(const PointMass& p, const Spin& spin, int dof
 /// cms::InputError unless J is axisymmetric about the axis (J n = Ip n and
 /// equal transverse moments, to 1e-8 relative).
 ElementMatrix pointMassStationaryGyroscopic(const PointMass& p, const Vec3& axis);
+/// Inside a frame spinning about `frameAxis`: -Ip (sym(e n^T) - (e.n) I) on
+/// the rotations per unit Omega_frame * omega (theory §11.5).
+ElementMatrix pointMassStationaryTiltStiffness(const PointMass& p, const Vec3& axis, const Vec3& frameAxis);
 
 /// Spring stiffnesses per component (kx ky kz krx kry krz, each >= 0).
 /// Grounded: diag(k) (size dofs). Two-node: [[k, -k], [-k, k]] (size 2 dofs).

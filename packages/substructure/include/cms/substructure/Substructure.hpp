@@ -69,6 +69,9 @@ public:
   Teuchos::RCP<const CrsMatrix> G1() const { return G1_; }
   Teuchos::RCP<const CrsMatrix> KT1() const { return KT1_; }
   Teuchos::RCP<const CrsMatrix> KS1() const { return KS1_; }
+  /// Stationary rotor in a spinning frame: tilt stiffness per unit
+  /// Omega_frame * omega (fem::AssembledMatrices::KX1; null otherwise).
+  Teuchos::RCP<const CrsMatrix> KX1() const { return KX1_; }
   /// Centrifugal load per unit Omega^2 (rotating frame; null otherwise).
   Teuchos::RCP<const MultiVector> f1() const { return f1_; }
   /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
@@ -96,6 +99,7 @@ private:
   Teuchos::RCP<const CrsMatrix> M_, K_, G1_, KT1_, KS1_;
   Teuchos::RCP<const CrsMatrix> K2_;  ///< KS1 - KT1 (null without either)
   Teuchos::RCP<const MultiVector> f1_;
+  Teuchos::RCP<const CrsMatrix> KX1_;
   std::optional<fem::SpinDefinition> spin_;
   double mass_ = 0.0;
   std::vector<fem::PrestressConditions::NodalValue> reactions1_;
