@@ -17,21 +17,13 @@ namespace {
 
 using fem::Component;
 
-/// Node index of every global row.
-std::vector<std::int64_t> rowNodes(const substructure::DofTable& t) {
-  std::vector<std::int64_t> node(t.rows());
-  for (std::size_t n = 0; n < t.nodes(); ++n)
-    for (long long r = t.offsets[n]; r < t.offsets[n + 1]; ++r) node[r] = static_cast<std::int64_t>(n);
-  return node;
-}
-
 /// The load patterns as columns of F, with a label each.
 void loadPatterns(const substructure::Substructure& s, const SubstructureBoundary& b,
                   const std::vector<std::string>& patterns, Teuchos::RCP<MultiVector>& F,
                   std::vector<std::string>& labels) {
   const auto& t = s.dofs();
   const auto map = s.map();
-  const auto nodeOf = rowNodes(t);
+  const auto nodeOf = t.rowNodes();
   const std::size_t nloc = map->getNodeNumElements();
   std::vector<std::vector<double>> cols;  // local values per column
   auto newColumn = [&](const std::string& label) -> std::vector<double>& {
@@ -174,7 +166,7 @@ RitzBasis polynomialVectors(const substructure::Substructure& s, const Substruct
                   s.name() << ": \"Basis: Polynomial\" needs an attachment (or a free body's reference) to "
                               "start from; a substructure clamped by its own supports should use Admissible");
   const auto& t = s.dofs();
-  const auto nodeOf = rowNodes(t);
+  const auto nodeOf = t.rowNodes();
   auto x = [&](std::int64_t n, int d) { return t.coordinates[3 * n + d]; };
   double o[3] = {0, 0, 0};
   for (GlobalOrdinal g : boundary.held)

@@ -128,6 +128,13 @@ double Substructure::translationMass(const Substructure& s) {
   return dot[0];
 }
 
+std::vector<std::int64_t> DofTable::rowNodes() const {
+  std::vector<std::int64_t> node(static_cast<std::size_t>(rows()));
+  for (std::size_t n = 0; n < nodes(); ++n)
+    for (long long r = offsets[n]; r < offsets[n + 1]; ++r) node[r] = static_cast<std::int64_t>(n);
+  return node;
+}
+
 long long DofTable::row(std::int64_t node, Component c) const {
   for (long long r = offsets[node]; r < offsets[node + 1]; ++r)
     if (components[r] == c) return r;

@@ -299,9 +299,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     const auto& sub = *p.sub;
     const auto& t = sub.dofs();
     const auto smap = sub.map();
-    std::vector<std::int64_t> nodeOf(t.rows());
-    for (std::size_t nd = 0; nd < t.nodes(); ++nd)
-      for (long long r = t.offsets[nd]; r < t.offsets[nd + 1]; ++r) nodeOf[r] = static_cast<std::int64_t>(nd);
+    const auto nodeOf = t.rowNodes();
     const std::size_t nloc = smap->getNodeNumElements();
     std::vector<Row> rows(nloc);
     const auto& basis = bases[k];

@@ -33,6 +33,8 @@ struct DofTable {
   std::size_t nodes() const { return nodeIds.size(); }
   /// Row of (node, c), or -1 when the node has no such (free) component.
   long long row(std::int64_t node, fem::Component c) const;
+  /// The node index of every row (the inverse of `offsets`).
+  std::vector<std::int64_t> rowNodes() const;
 };
 
 struct GyroscopicMatrices {
