@@ -300,8 +300,10 @@ SpinMatrices frameSpinMatrices(const FrameElement& e, const Spin& spin) {
   return s;
 }
 
-ElementMatrix frameStationaryGyroscopic(const FrameElement& e, const Vec3& axis) {
-  const LocalAxes ax = localAxes(e);
+namespace {
+
+/// The stationary form describes a shaft spinning about its own axis.
+Vec3 stationaryAxis(const FrameElement& e, const LocalAxes& ax, const Vec3& axis) {
   const Vec3 n = detail::unitAxis(axis, "frame element");
   const Vec3 e1{ax.R[0], ax.R[1], ax.R[2]};
   CMS_INPUT_CHECK(!(detail::norm(detail::cross(e1, n)) <= 1e-8),
@@ -309,6 +311,14 @@ ElementMatrix frameStationaryGyroscopic(const FrameElement& e, const Vec3& axis)
                               << ") is not parallel to the element; the "
                                  "stationary-frame gyroscopic matrix needs a "
                                  "shaft spinning about its own axis");
+  return n;
+}
+
+}  // namespace
+
+ElementMatrix frameStationaryGyroscopic(const FrameElement& e, const Vec3& axis) {
+  const LocalAxes ax = localAxes(e);
+  const Vec3 n = stationaryAxis(e, ax, axis);
   ElementMatrix g(kDofs);
   if (!e.section.rotaryInertia) return g;
   const ShearParameters phi = shearParameters(e, ax.L);
@@ -328,11 +338,10 @@ ElementMatrix frameStationaryTiltStiffness(const FrameElement& e, const Vec3& ax
   // The same check and interpolation as frameStationaryGyroscopic: the
   // spinning sections' polar inertia, now with the frame rotation's
   // -(sym(e n^T) - (e.n) I) density (theory §11.5), per unit Omega omega.
-  ElementMatrix k = frameStationaryGyroscopic(e, axis);  // validates the axis
-  std::fill(k.a.begin(), k.a.end(), 0.0);
-  if (!e.section.rotaryInertia) return k;
   const LocalAxes ax = localAxes(e);
-  const Vec3 n = detail::unitAxis(axis, "frame element"), f = detail::unitAxis(frameAxis, "frame element");
+  const Vec3 n = stationaryAxis(e, ax, axis), f = detail::unitAxis(frameAxis, "frame element");
+  ElementMatrix k(kDofs);
+  if (!e.section.rotaryInertia) return k;
   const ShearParameters phi = shearParameters(e, ax.L);
   const double rhoIp = e.material.rho * (e.section.Iy + e.section.Iz), fn = detail::dot(f, n);
   Mat3 B{};
