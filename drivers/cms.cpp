@@ -160,6 +160,7 @@ std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuc
   const fem::Vec3 e2{n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
   const auto map = u[k]->getMap();
   const auto* sub = a.assembled(k);
+  const auto nodeOf = sub ? sub->dofs().rowNodes() : std::vector<std::int64_t>();
   // Per node (or the rotor's centre): the complex 3-vector of the chosen components.
   std::map<long long, std::array<std::complex<double>, 3>> v;
   for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
@@ -169,7 +170,7 @@ std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuc
     if (sub) {
       c = static_cast<int>(sub->dofs().components[g]);
       if (c > 2) continue;
-      node = std::upper_bound(sub->dofs().offsets.begin(), sub->dofs().offsets.end(), g) - sub->dofs().offsets.begin();
+      node = nodeOf[g];
     } else {
       if (c < 3) continue;
       c -= 3;
@@ -607,6 +608,7 @@ int runTruncate(const scene::Scene& sc, const std::filesystem::path& outDir, int
       } catch (const InputError&) {
         continue;
       }
+      if (d <= dofs) continue;  // no new coordinate (the substructure is complete): nothing to gain
       const double gain = (std::min(error, 1e300) - e) / std::max<long long>(1, d - dofs);
       if (best < 0 || gain > bestGain) best = static_cast<int>(q), bestGain = gain, bestError = e, bestDofs = d, bestW = tw;
     }
@@ -790,6 +792,13 @@ int main(int argc, char* argv[]) {
     const scene::Scene sc = scene::Scene::read(scenePath);
     const std::filesystem::path outDir =
         !output.empty() ? output : (!sc.outputDirectory.empty() ? sc.outputDirectory : "cms-results");
+    // The output directory must be writable before anything is computed.
+    {
+      std::error_code ec;
+      std::filesystem::create_directories(outDir, ec);
+      CMS_INPUT_CHECK(ec || !std::filesystem::is_directory(outDir),
+                      outDir.string() << ": cannot create the output directory (" << ec.message() << ")");
+    }
     if (root)
       std::cout << "cms " << command << ": scene " << sc.path << " (\"" << sc.name << "\", units " << sc.units
                 << ", " << sc.structure.substructures.size() << " substructures, "

@@ -97,6 +97,14 @@ TEST(Scene, MalformedScenesNameTheKey) {
   expectInputError([] { parse(edit("      Beam:\n        From: [1.0", "      Rotor:\n        Mass: 1.0\n      Beam:\n        From: [1.0")); },
                    "exactly one of");
   expectInputError([] { parse(edit("From: [0.0, 0.0, 0.0]", "From: [0.0, 0.0]")); }, "has 2 numbers, needs 3");
+  expectInputError([] { parse(edit("Clamp: start", "Clamp: start\n        Tip Inertia: [1.0, 1.0, 1.0]")); },
+                   "Tip Inertia needs a \"Tip Mass\"");
+  expectInputError(
+      [] {
+        synthesis::AssembledStructure::assemble(parse(edit("Parent Nodes: end", "Parent Nodes: ends")).structure,
+                                                Teuchos::DefaultComm<int>::getComm());
+      },
+      "has 2 nodes, not one");
 }
 
 TEST(Scene, UnreadableFilesAreInputErrors) {
