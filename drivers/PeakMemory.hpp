@@ -1,5 +1,8 @@
-// The process's peak resident memory, for the benchmark drivers' reports.
+// The process's peak memory, for the benchmark drivers' reports.
 #pragma once
+
+#include <fstream>
+#include <string>
 
 #include <sys/resource.h>
 
@@ -10,6 +13,26 @@ inline double peakRssMiB() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss / 1024.0;
+}
+
+/// Starts a new peak-memory window: Linux (>= 4.0) resets the resident
+/// high-water mark VmHWM to the current resident size when "5" is written
+/// to /proc/self/clear_refs. Returns false where that is not possible (the
+/// window then reaches back to the process start).
+inline bool resetPeakRss() {
+  std::ofstream f("/proc/self/clear_refs");
+  if (!f) return false;
+  f << "5";
+  return static_cast<bool>(f);
+}
+
+/// VmHWM: the peak resident memory since the last resetPeakRss() (MiB), or
+/// peakRssMiB() where /proc is not readable.
+inline double windowPeakRssMiB() {
+  std::ifstream f("/proc/self/status");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return peakRssMiB();
 }
 
 }  // namespace cms::drivers

@@ -4,6 +4,7 @@
     python3 plot_results.py campbell  <name>-campbell.csv  out.png
     python3 plot_results.py compare   <name>-compare.csv   out.png   (error vs DOFs and the Pareto plot)
     python3 plot_results.py truncate  <name>-truncate.csv  out.png
+    python3 plot_results.py rotor     bench_rotor.csv      out.png   (bench_rotor: error vs time per size)
 
 Uses Debian's python3-matplotlib with the non-interactive Agg backend; the
 format follows the output's extension (png, svg, pdf). Exit code 2 for a
@@ -103,13 +104,48 @@ def truncate(rows, out):
     fig.savefig(out, dpi=120)
 
 
+def rotor(rows, out):
+    """bench_rotor's Pareto plot: max error over the lowest modes against
+    pipeline time as a fraction of the truth's, one panel per mesh size, with
+    the floor (one CHOLMOD factorisation) as a vertical line."""
+    sizes = list(dict.fromkeys(r["h"] for r in rows))
+    fig, axes = plt.subplots(1, len(sizes), figsize=(4.2 * len(sizes), 4.2), squeeze=False)
+    for ax, h in zip(axes[0], sizes):
+        sel = [r for r in rows if r["h"] == h]
+        truth = [r for r in sel if r["what"] == "truth"]
+        floor = [r for r in sel if r["what"] == "floor"]
+        truth_s = num(truth[0]["truth_s"]) if truth else math.nan
+        for strategy in dict.fromkeys(r["strategy"] for r in sel if r["what"] == "reduced"):
+            pts = [r for r in sel if r["what"] == "reduced" and r["strategy"] == strategy
+                   and num(r["max_rel_error"]) >= 0 and num(r["pipeline_s"]) > 0]
+            if not pts:
+                continue
+            ax.loglog([num(r["pipeline_s"]) for r in pts], [max(num(r["max_rel_error"]), 1e-16) for r in pts],
+                      "o-", label=strategy)
+            for r in pts:
+                ax.annotate(r["vectors"], (num(r["pipeline_s"]), max(num(r["max_rel_error"]), 1e-16)), fontsize=7)
+        if floor:
+            ax.axvline(num(floor[0]["floor_s"]), color="k", ls=":", label="1 CHOLMOD of K")
+        if truth:
+            ax.axvline(truth_s, color="r", ls="--", label="truth solve")
+            ax.axvline(truth_s / 20, color="r", ls=":", label="truth / 20")
+        ax.axhline(1e-3, color="g", ls=":", label="0.1%")
+        ax.set_xlabel("reduce + synthesise + solve (s)")
+        ax.set_title(f"h = {h} m, {int(num(sel[0]['physical_dofs']))} DOFs", fontsize=9)
+        ax.grid(alpha=0.3, which="both")
+    axes[0][0].set_ylabel("max relative error, lowest modes")
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+
+
 def main(argv):
-    if len(argv) != 4 or argv[1] not in ("campbell", "compare", "truncate"):
+    if len(argv) != 4 or argv[1] not in ("campbell", "compare", "truncate", "rotor"):
         print(__doc__, file=sys.stderr)
         return 2
     try:
         rows = read(argv[2])
-        {"campbell": campbell, "compare": compare, "truncate": truncate}[argv[1]](rows, argv[3])
+        {"campbell": campbell, "compare": compare, "truncate": truncate, "rotor": rotor}[argv[1]](rows, argv[3])
     except (OSError, KeyError, ValueError, IndexError) as e:
         print(f"plot_results: {argv[2]}: {e}", file=sys.stderr)
         return 2

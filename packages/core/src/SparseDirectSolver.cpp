@@ -43,6 +43,7 @@ struct SparseDirectSolver::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;
   bool commonStarted = false;
+  double factorNonzeros = 0.0, factorFlops = 0.0;  ///< CHOLMOD's nnz(L) and flop count
 
   ~Impl() {
     if (factor) cholmod_free_factor(&factor, &common);
@@ -179,8 +180,12 @@ struct SparseDirectSolver::Impl {
         }
       }
       if (status == 2) failure = "CHOLMOD failed, status " + std::to_string(common.status);
+      factorNonzeros = common.lnz;
+      factorFlops = common.fl;
     }
     Teuchos::broadcast(*comm, 0, &status);
+    Teuchos::broadcast(*comm, 0, &factorNonzeros);
+    Teuchos::broadcast(*comm, 0, &factorFlops);
     return status == 0 ? Outcome::Factored
                        : (status == 1 ? Outcome::NotPositiveDefinite : Outcome::Singular);
   }
@@ -264,6 +269,8 @@ SparseDirectSolver::Outcome SparseDirectSolver::factor() {
     if (len > 0) Teuchos::broadcast(*comm, 0, len, &failure_[0]);
   }
   factorSeconds_ = timer.stop();
+  factorNonzeros_ = impl_->factorNonzeros;
+  factorFlops_ = impl_->factorFlops;
   return out;
 }
 

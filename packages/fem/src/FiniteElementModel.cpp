@@ -110,6 +110,7 @@ Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
   auto p = Teuchos::rcp(new ParameterList("Finite Element Model"));
   p->set("Name", "substructure", "used in messages and output");
   p->set("Mesh", "", "Gmsh .msh (2.2 or 4.1, ASCII or binary) or .geo; relative to the scene");
+  p->sublist("Mesh Parameters", false, "name -> number: ONELAB parameters \"Parameters/<name>\" of a .geo script (DefineConstant)");
   p->sublist("Materials", false, "name -> material").sublist("<name>") = materialParameters();
   p->sublist("Element Sets", false, "physical group -> element set").sublist("<group>") = elementSetParameters();
   p->sublist("Point Masses", false, "name -> point mass").sublist("<name>") = pointMassParameters();
@@ -240,7 +241,17 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
   std::filesystem::path mesh = getString(params, "Mesh", path);
   CMS_INPUT_CHECK(mesh.empty(), path << "/Mesh: must name a mesh file");
   if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
-  m.mesh = std::make_shared<Mesh>(readGmsh(mesh.string()));
+  std::map<std::string, double> meshParameters;
+  if (params.isSublist("Mesh Parameters")) {
+    const auto& mp = params.sublist("Mesh Parameters");
+    for (auto it = mp.begin(); it != mp.end(); ++it) {
+      const std::string& name = mp.name(it);
+      meshParameters[name] = getNumber(mp, name, path + "/Mesh Parameters");
+    }
+    CMS_INPUT_CHECK(!meshParameters.empty() && mesh.extension() != ".geo",
+                    path << "/Mesh Parameters: apply to a .geo script only, not " << mesh.filename().string());
+  }
+  m.mesh = std::make_shared<Mesh>(readGmsh(mesh.string(), meshParameters));
   m.validate();
   return m;
 }

@@ -346,7 +346,9 @@ void readGroups(Mesh& mesh) {
   }
 }
 
-Mesh readThroughGmsh(const std::string& path, bool script) {
+Mesh readThroughGmsh(const std::string& path, bool script, const std::map<std::string, double>& parameters) {
+  if (script)
+    for (const auto& [name, value] : parameters) gmsh::onelab::setNumber("Parameters/" + name, {value});
   gmsh::open(path);
   if (script) {
     std::vector<int> types;
@@ -370,7 +372,7 @@ Mesh readThroughGmsh(const std::string& path, bool script) {
 
 }  // namespace
 
-Mesh readGmsh(const std::string& path) {
+Mesh readGmsh(const std::string& path, const std::map<std::string, double>& parameters) {
   bool script = false;
   {
     const std::string bytes = readFile(path);
@@ -385,7 +387,7 @@ Mesh readGmsh(const std::string& path) {
   try {
     GmshSession session;
     try {
-      return readThroughGmsh(path, script);
+      return readThroughGmsh(path, script, parameters);
     } catch (const InputError&) {
       throw;
     } catch (const std::bad_alloc&) {

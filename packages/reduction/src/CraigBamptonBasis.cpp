@@ -1,5 +1,6 @@
 #include "cms/reduction/CraigBamptonBasis.hpp"
 
+#include <algorithm>
 #include <set>
 
 #include <Tpetra_CrsMatrix.hpp>
@@ -34,8 +35,21 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
 
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
                             double eigTol, double depTol) {
+  // A child attached through a single node or a Boolean interface moves
+  // with as many of these rows as it has attachment coordinates: each row is
+  // an interface coordinate and gets a unit constraint mode. A distributing
+  // (RigidFit, RBE3-like) interface has many rows but only the 6 fitted
+  // coordinates a = H u: its constraint modes are the minimum-energy shapes
+  // with H u = e_i, whose span is K^-1 H^T (doc/theory.md §11.3), i.e. the
+  // static shapes under the child's 6 attachment loads, not one per row.
   std::set<GlobalOrdinal> interface;
-  for (const auto& rows : boundary.interfaces) interface.insert(rows.begin(), rows.end());
+  std::vector<std::size_t> distributing;
+  for (std::size_t c = 0; c < boundary.interfaces.size(); ++c) {
+    const auto& rows = boundary.interfaces[c];
+    const std::size_t patterns = c < boundary.interfaceLoads.size() ? boundary.interfaceLoads[c].size() : rows.size();
+    if (patterns < rows.size()) distributing.push_back(c);
+    else interface.insert(rows.begin(), rows.end());
+  }
   for (GlobalOrdinal g : boundary.held) interface.erase(g);
   std::vector<GlobalOrdinal> heldAll(boundary.held);
   heldAll.insert(heldAll.end(), interface.begin(), interface.end());
@@ -49,6 +63,33 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
     const auto Psi = constraintModes(s, heldAll, unit);
     const int nb = static_cast<int>(unit.size());
     appendOrthonormal(*s.M(), *Psi, labels, depTol, nb, basis);
+  }
+  if (!distributing.empty()) {
+    const auto map = s.map();
+    int nf = 0;
+    for (std::size_t c : distributing) nf += static_cast<int>(boundary.interfaceLoads[c].size());
+    MultiVector F(map, nf), X(map, nf);
+    std::vector<std::string> labels;
+    int j = 0;
+    for (std::size_t c : distributing)
+      for (std::size_t k = 0; k < boundary.interfaceLoads[c].size(); ++k, ++j) {
+        labels.push_back("constraint mode of interface " + std::to_string(c + 1) + " coordinate " +
+                         std::to_string(k + 1));
+        for (auto [g, v] : boundary.interfaceLoads[c][k]) {
+          const auto l = map->getLocalElement(g);
+          if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) F.sumIntoLocalValue(l, j, v);
+        }
+      }
+    detail::HeldStiffness K(s, heldAll);
+    K.solve(F, X);
+    appendOrthonormal(*s.M(), X, labels, depTol, basis.size() + nf, basis);
+    // The modes hold these rows whole: a stronger constraint than H u = 0
+    // (a subspace of it), so the basis stays admissible; theory §11.3.
+    for (std::size_t c : distributing)
+      for (GlobalOrdinal g : boundary.interfaces[c])
+        if (!std::binary_search(boundary.held.begin(), boundary.held.end(), g)) heldAll.push_back(g);
+    std::sort(heldAll.begin(), heldAll.end());
+    heldAll.erase(std::unique(heldAll.begin(), heldAll.end()), heldAll.end());
   }
   if (modes > 0) {
     RitzBasis phi = fixedInterfaceModes(s, heldAll, modes, eigTol, depTol);

@@ -104,14 +104,95 @@ Row combine(const std::vector<std::pair<double, const Row*>>& terms) {
   return out;
 }
 
-/// T^T A T (collective).
-Teuchos::RCP<const CrsMatrix> project(const CrsMatrix& A, const CrsMatrix& T) {
-  CrsMatrix AT(A.getRowMap(), 0);
-  Tpetra::MatrixMatrix::Multiply(A, false, T, false, AT);
-  auto P = Teuchos::rcp(new CrsMatrix(T.getDomainMap(), 0));
-  Tpetra::MatrixMatrix::Multiply(T, true, AT, false, *P);
-  return P;
-}
+/// T^T A T for every matrix A of one substructure, with u_s = T q
+/// (collective). A reduced substructure's T has few nonzero columns (its own
+/// coordinates and those of its parent's that reach its attachment), each
+/// full length: as sparse matrices the products cost a sparse-sparse
+/// multiply with k entries per row, O(n k^2) hash operations, which took 92%
+/// of a 1000-coordinate synthesis (perf, doc/benchmarks.md). Those T are
+/// therefore copied once into a dense block Td (n x c) and projected as
+/// A Td (sparse times dense) and Td^T (A Td) (one GEMM and one reduction);
+/// near-identity T (Full bases, the truth) keep the sparse products.
+class Projection {
+public:
+  explicit Projection(const CrsMatrix& T) : T_(T) {
+    const auto& comm = *T.getRowMap()->getComm();
+    const auto& colMap = *T.getColMap();
+    std::set<GlobalOrdinal> mine;
+    const auto nrows = T.getNodeNumRows();
+    for (std::size_t l = 0; l < nrows; ++l) {
+      const std::size_t n = T.getNumEntriesInLocalRow(l);
+      Teuchos::Array<LocalOrdinal> c(n);
+      Teuchos::Array<double> v(n);
+      std::size_t got = 0;
+      T.getLocalRowCopy(l, c(), v(), got);
+      for (std::size_t k = 0; k < got; ++k)
+        if (v[k] != 0.0) mine.insert(colMap.getGlobalElement(c[k]));
+    }
+    // Union over ranks (a column count at most "limit" is all we can use).
+    const long long limit = 3000;
+    long long count = static_cast<long long>(mine.size()), most = 0;
+    Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, 1, &count, &most);
+    const long long rows = static_cast<long long>(T.getGlobalNumRows());
+    if (most > limit) return;
+    const int p = comm.getSize();
+    std::vector<long long> buf(static_cast<std::size_t>(p) * limit, -1), all(buf.size(), -1);
+    std::copy(mine.begin(), mine.end(), buf.begin() + static_cast<long long>(comm.getRank()) * limit);
+    Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, static_cast<int>(buf.size()), buf.data(), all.data());
+    std::set<GlobalOrdinal> cols;
+    for (long long g : all)
+      if (g >= 0) cols.insert(static_cast<GlobalOrdinal>(g));
+    if (static_cast<long long>(cols.size()) > limit || static_cast<double>(cols.size()) * rows > 4e8) return;
+    cols_.assign(cols.begin(), cols.end());
+    const int nc = static_cast<int>(cols_.size());
+    if (nc == 0) return;
+    Td_ = Teuchos::rcp(new MultiVector(T.getRangeMap(), nc));
+    for (std::size_t l = 0; l < nrows; ++l) {
+      const std::size_t n = T.getNumEntriesInLocalRow(l);
+      Teuchos::Array<LocalOrdinal> c(n);
+      Teuchos::Array<double> v(n);
+      std::size_t got = 0;
+      T.getLocalRowCopy(l, c(), v(), got);
+      for (std::size_t k = 0; k < got; ++k) {
+        const auto j = std::lower_bound(cols_.begin(), cols_.end(), colMap.getGlobalElement(c[k])) - cols_.begin();
+        Td_->sumIntoLocalValue(static_cast<LocalOrdinal>(l), static_cast<int>(j), v[k]);
+      }
+    }
+    small_ = Teuchos::rcp(new Map(nc, 0, T.getRowMap()->getComm(), Tpetra::LocallyReplicated));
+  }
+
+  Teuchos::RCP<const CrsMatrix> operator()(const CrsMatrix& A) const {
+    if (Td_.is_null()) return sparse(A);
+    const auto coords = T_.getDomainMap();
+    const int nc = static_cast<int>(cols_.size());
+    MultiVector ATd(A.getRangeMap(), nc), P(small_, nc);
+    A.apply(*Td_, ATd);
+    P.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Td_, ATd, 0.0);
+    std::vector<Row> rows(coords->getNodeNumElements());
+    std::vector<Teuchos::ArrayRCP<const double>> col(nc);
+    for (int j = 0; j < nc; ++j) col[j] = P.getData(j);
+    for (int i = 0; i < nc; ++i) {
+      const auto l = coords->getLocalElement(cols_[i]);
+      if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+      for (int j = 0; j < nc; ++j)
+        if (col[j][i] != 0.0) rows[l].push_back({cols_[j], col[j][i]});
+    }
+    return fromRows(coords, rows, coords, coords);
+  }
+
+private:
+  Teuchos::RCP<const CrsMatrix> sparse(const CrsMatrix& A) const {
+    CrsMatrix AT(A.getRowMap(), 0);
+    Tpetra::MatrixMatrix::Multiply(A, false, T_, false, AT);
+    auto P = Teuchos::rcp(new CrsMatrix(T_.getDomainMap(), 0));
+    Tpetra::MatrixMatrix::Multiply(T_, true, AT, false, *P);
+    return P;
+  }
+  const CrsMatrix& T_;
+  std::vector<GlobalOrdinal> cols_;
+  Teuchos::RCP<MultiVector> Td_;
+  Teuchos::RCP<const Map> small_;
+};
 
 Teuchos::RCP<const CrsMatrix> addScaled(const Teuchos::RCP<const CrsMatrix>& acc, double c,
                                         const Teuchos::RCP<const CrsMatrix>& P) {
@@ -237,6 +318,8 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     if (!bases[k].full && bases[k].size() > 0) rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases[k]);
   }
 
+  out.basesSeconds_ = since(t0);
+
   // 2. Coordinates: [w_OC, theta_C (free C)], then each part's own.
   std::vector<GlobalOrdinal> offset(parts.size(), 0);
   GlobalOrdinal n = structure.freeFloating() ? 6 : 0;
@@ -289,11 +372,11 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
         rows[l] = g < 6 ? A[g] : Row{{offset[k], 1.0}};
       }
       out.T_[k] = fromRows(rmap, rows, out.map_, rmap);
-      const auto& T = *out.T_[k];
-      M = addScaled(M, 1.0, project(*smallMatrix(rmap, p.rotor.M), T));
-      for (const auto& [i, Gi] : p.rotor.G) G[i] = addScaled(G[i], 1.0, project(*smallMatrix(rmap, Gi), T));
+      const Projection project(*out.T_[k]);
+      M = addScaled(M, 1.0, project(*smallMatrix(rmap, p.rotor.M)));
+      for (const auto& [i, Gi] : p.rotor.G) G[i] = addScaled(G[i], 1.0, project(*smallMatrix(rmap, Gi)));
       for (const auto& [i, j, Kij] : p.rotor.K)
-        K2[{i, j}] = addScaled(K2[{i, j}], 1.0, project(*smallMatrix(rmap, Kij), T));
+        K2[{i, j}] = addScaled(K2[{i, j}], 1.0, project(*smallMatrix(rmap, Kij)));
       continue;
     }
     const auto& sub = *p.sub;
@@ -322,6 +405,22 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
         for (std::size_t a = 0; a < unit.size(); ++a) psi.push_back(Psi->getData(a));
       }
     }
+    // A Full basis on a substructure with a distributing (RigidFit)
+    // attachment takes the absolute displacements of its free rows as
+    // coordinates, and only the held rows follow the parent: the same space
+    // as rigid motion plus relative displacement, so the same model, but T
+    // stays as sparse as the mesh, where the rigid part on every row would
+    // couple each DOF to every parent DOF of the fit (a dense n_s x n_face
+    // block: 10^9 entries at 5e5 DOFs). Elsewhere the relative (floating
+    // frame) form is kept: it is better conditioned when the parent is much
+    // stiffer (at a stiffness ratio of 1e6 the absolute form lost two more
+    // digits in the truth's lowest frequency, theory §11.2). Never for a free
+    // structure, whose first six coordinates must stay a rigid motion of the
+    // whole (K0 is made exactly zero there, below).
+    std::set<GlobalOrdinal> parentRows;
+    for (const auto& h : p.Hrows)
+      for (auto [g, v] : h) parentRows.insert(g);
+    const bool absolute = basis.full && !p.boolean() && !structure.freeFloating() && parentRows.size() > 6;
     for (std::size_t l = 0; l < nloc; ++l) {
       const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
       std::vector<std::pair<double, const Row*>> terms;
@@ -334,7 +433,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
           for (std::size_t a = 0; a < psi.size(); ++a)
             if (psi[a][l] != 0.0 && !A[a].empty()) terms.push_back({psi[a][l], &A[a]});
         }
-      } else if (hasA) {
+      } else if (hasA && (!absolute || std::binary_search(p.held.begin(), p.held.end(), g))) {
         const auto nd = nodeOf[g];
         const fem::Vec3 r{t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
                           t.coordinates[3 * nd + 2] - p.point[2]};
@@ -356,15 +455,15 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
       rows[l] = combine(terms);
     }
     out.T_[k] = fromRows(smap, rows, out.map_, smap);
-    const auto& T = *out.T_[k];
-    M = addScaled(M, 1.0, project(*sub.M(), T));
-    K0 = addScaled(K0, 1.0, project(*sub.K(), T));
+    const Projection project(*out.T_[k]);
+    M = addScaled(M, 1.0, project(*sub.M()));
+    K0 = addScaled(K0, 1.0, project(*sub.K()));
     if (p.compound) {
       // Its own spin inside the spinning parent frame (theory §11.5).
       const auto& st = *p.stationary;
-      G[p.speedParam] = addScaled(G[p.speedParam], 1.0, project(*st.G1(), T));
+      G[p.speedParam] = addScaled(G[p.speedParam], 1.0, project(*st.G1()));
       if (!st.KX1().is_null()) {
-        const auto PX = project(*st.KX1(), T);
+        const auto PX = project(*st.KX1());
         for (auto [i, ci] : p.frame.coefficients) {
           const std::pair<int, int> ij{std::min(i, p.speedParam), std::max(i, p.speedParam)};
           K2[ij] = addScaled(K2[ij], ci, PX);
@@ -373,8 +472,8 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     }
     if (p.frame.spinning) {
       Teuchos::RCP<const CrsMatrix> PG, PK;
-      if (!sub.G1().is_null()) PG = project(*sub.G1(), T);
-      if (!sub.K2().is_null()) PK = project(*sub.K2(), T);
+      if (!sub.G1().is_null()) PG = project(*sub.G1());
+      if (!sub.K2().is_null()) PK = project(*sub.K2());
       for (auto [i, ci] : p.frame.coefficients) {
         if (!PG.is_null()) G[i] = addScaled(G[i], ci, PG);
         if (PK.is_null()) continue;

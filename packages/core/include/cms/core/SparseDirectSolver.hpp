@@ -41,6 +41,10 @@ public:
   const std::string& method() const { return method_; }
   /// Seconds spent in factor(), for benchmarks and reports.
   double factorSeconds() const { return factorSeconds_; }
+  /// CHOLMOD only (0 otherwise): entries of the factor L and the flops of
+  /// the numeric factorisation, for benchmarks (memory of L: 8 bytes each).
+  double factorNonzeros() const { return factorNonzeros_; }
+  double factorFlops() const { return factorFlops_; }
   /// Human-readable detail of a failed factorisation.
   const std::string& failure() const { return failure_; }
 
@@ -50,7 +54,7 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::string method_, failure_;
-  double factorSeconds_ = 0.0;
+  double factorSeconds_ = 0.0, factorNonzeros_ = 0.0, factorFlops_ = 0.0;
 };
 
 }  // namespace cms

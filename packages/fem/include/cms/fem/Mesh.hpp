@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,10 @@ struct Mesh {
 /// same coordinates (relative to the mesh size: an unmerged geometry),
 /// non-finite coordinates. Gmsh's console output is suppressed. Not
 /// thread-safe (Gmsh's SDK is a global state); collective use on every rank
-/// is fine since each process has its own.
-Mesh readGmsh(const std::string& path);
+/// is fine since each process has its own. `parameters` set ONELAB numbers
+/// "Parameters/<name>" before a .geo script runs, so that a script's
+/// `DefineConstant[h = {0.02, Name "Parameters/h"}]` takes the given value
+/// (a mesh-size study without copies of the script); ignored for .msh files.
+Mesh readGmsh(const std::string& path, const std::map<std::string, double>& parameters = {});
 
 }  // namespace cms::fem

@@ -143,6 +143,8 @@ public:
   const std::vector<SubstructureReduction>& reductions() const { return reports_; }
   const std::vector<SpeedParameter>& speeds() const { return structure_->speeds(); }
   double synthesisSeconds() const { return seconds_; }
+  /// Wall time of the bases alone (step 1 of synthesize; part of synthesisSeconds).
+  double basesSeconds() const { return basesSeconds_; }
 
   /// The distributed M, G(s), K(s) (row map: the coordinates' map).
   eigen::SparseGyroscopicSystem system(const std::vector<double>& speeds) const;
@@ -178,7 +180,7 @@ private:
   };
   std::vector<KTerm> K2_;
   std::vector<SubstructureReduction> reports_;
-  double seconds_ = 0.0;
+  double seconds_ = 0.0, basesSeconds_ = 0.0;
 };
 
 }  // namespace cms::synthesis
