@@ -17,7 +17,10 @@
 //      (interface transforms and projections), solve; peak memory of that
 //      pipeline alone; max and mean relative error over the lowest modes
 //      against the truth; and pipeline / truth and pipeline / floor;
-//   5. the sweep: --steps speeds from 0 to the nominal speed with the most
+//   5. on several ranks, the most accurate model again with every
+//      substructure distributed over all ranks instead of whole on one
+//      (synthesis::ReductionSchedule), with the frequencies' difference;
+//   6. the sweep: --steps speeds from 0 to the nominal speed with the most
 //      accurate reduced model (no re-projection), against one speed; and
 //      for the truth at sizes up to --truth-sweep-max-dofs.
 // One CSV row per measurement (--csv), drawn by
@@ -329,7 +332,39 @@ int main(int argc, char* argv[]) {
         }
       }
 
-      // 6. The sweep: one model, `steps` speeds, no re-projection.
+      // 6. On several ranks: the most accurate model with each substructure
+      // distributed over all ranks instead of whole on one (the schedules'
+      // times, and their frequencies' agreement).
+      if (ranks > 1 && !best.empty()) {
+        t0 = Clock::now();
+        const auto a = synthesis::SynthesizedStructure::synthesize(structure, best,
+                                                                   synthesis::ReductionSchedule::Distributed);
+        const double wall = since(t0);
+        const auto ma = a.solve(speeds, solve);
+        const auto b = synthesis::SynthesizedStructure::synthesize(structure, best);
+        const auto mb = b.solve(speeds, solve);
+        const auto wa = analysis::frequencies(ma), wb = analysis::frequencies(mb);
+        double diff = 0;
+        for (std::size_t i = 0; i < std::min(wa.size(), wb.size()); ++i)
+          diff = std::max(diff, std::abs(wa[i] / wb[i] - 1.0));
+        Row r = base;
+        r.what = "distributed-schedule";
+        r.strategy = best.front().get<std::string>("Basis");
+        r.vectors = best.front().get<int>("Vectors", 0);
+        r.reducedDofs = a.size();
+        r.reduce = a.basesSeconds();
+        r.synth = wall - r.reduce;
+        r.solve = ma.seconds;
+        r.pipeline = wall + ma.seconds;
+        std::ostringstream note;
+        note << "max rel. frequency difference from the concurrent schedule " << diff << " (concurrent reduce "
+             << b.basesSeconds() << " s)";
+        r.note = note.str();
+        rows.push_back(r);
+        if (root) std::cout << "distributed schedule: reduce " << r.reduce << " s; " << r.note << '\n';
+      }
+
+      // 7. The sweep: one model, `steps` speeds, no re-projection.
       if (steps > 0 && !best.empty()) {
         t0 = Clock::now();
         const auto s = synthesis::SynthesizedStructure::synthesize(structure, best);

@@ -1,5 +1,7 @@
 #include "cms/substructure/Substructure.hpp"
 
+#include "cms/core/Redistribution.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -110,6 +112,20 @@ void Substructure::finishConstruction() {
   else if (!KS1_.is_null()) K2_ = KS1_;
   else if (!KT1_.is_null()) K2_ = Tpetra::MatrixMatrix::add(-1.0, false, *KT1_, 0.0, false, *KT1_);
   mass_ = translationMass(*this);
+}
+
+Substructure Substructure::gatheredTo(int owner, const Teuchos::RCP<const Teuchos::Comm<int>>& self) const {
+  Substructure s;
+  s.name_ = name_;
+  s.dofs_ = dofs_;
+  s.spin_ = spin_;
+  s.mass_ = mass_;
+  s.reactions1_ = reactions1_;
+  s.M_ = gatherToRank(*M_, owner, self);
+  s.K_ = gatherToRank(*K_, owner, self);
+  if (!KT1_.is_null()) s.KT1_ = gatherToRank(*KT1_, owner, self);
+  if (!s.M_.is_null()) s.map_ = s.M_->getRowMap();
+  return s;
 }
 
 double Substructure::translationMass(const Substructure& s) {

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
+#include <stdexcept>
 #include <set>
 #include <sstream>
 
@@ -21,11 +23,45 @@
 #include "PartData.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
+#include "cms/core/Redistribution.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
 #include "cms/reduction/CraigBamptonBasis.hpp"
 
 namespace cms::synthesis {
+
+namespace detail {
+namespace {
+
+/// Numbers and strings from rank `from` to every rank (collective); sizes
+/// need not be known elsewhere.
+void broadcastFrom(const Teuchos::Comm<int>& comm, int from, std::vector<double>& numbers,
+                   std::vector<std::string>& text) {
+  std::vector<long long> sizes{static_cast<long long>(numbers.size()), static_cast<long long>(text.size())};
+  for (const auto& t : text) sizes.push_back(static_cast<long long>(t.size()));
+  long long count = static_cast<long long>(sizes.size());
+  Teuchos::broadcast(comm, from, &count);
+  sizes.resize(static_cast<std::size_t>(count));
+  Teuchos::broadcast(comm, from, static_cast<int>(count), sizes.data());
+  numbers.resize(static_cast<std::size_t>(sizes[0]));
+  if (sizes[0] > 0) Teuchos::broadcast(comm, from, static_cast<int>(sizes[0]), numbers.data());
+  std::string joined;
+  if (comm.getRank() == from)
+    for (const auto& t : text) joined += t;
+  long long total = 0;
+  for (long long i = 2; i < count; ++i) total += sizes[i];
+  joined.resize(static_cast<std::size_t>(total));
+  if (total > 0) Teuchos::broadcast(comm, from, static_cast<int>(total), joined.data());
+  text.assign(static_cast<std::size_t>(sizes[1]), std::string());
+  std::size_t at = 0;
+  for (long long i = 0; i < sizes[1]; ++i) {
+    text[i] = joined.substr(at, static_cast<std::size_t>(sizes[2 + i]));
+    at += static_cast<std::size_t>(sizes[2 + i]);
+  }
+}
+
+}  // namespace
+}  // namespace detail
 
 namespace {
 
@@ -274,28 +310,22 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
 }
 
 SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure,
-                                                      const std::vector<Teuchos::ParameterList>& reductions) {
+                                                      const std::vector<Teuchos::ParameterList>& reductions,
+                                                      ReductionSchedule schedule) {
   const auto t0 = Clock::now();
   const auto& parts = structure.parts();
   CMS_INPUT_CHECK(reductions.size() != parts.size(), "synthesis: " << reductions.size() << " reduction lists for "
                                                                    << parts.size() << " substructures");
   auto comm = structure.comm();
+  const int rank = comm->getRank(), nranks = comm->getSize();
   SynthesizedStructure out;
   out.structure_ = std::make_shared<AssembledStructure>(structure);
 
   // 1. Bases (each substructure independently: §11.3).
   std::vector<reduction::RitzBasis> bases(parts.size());
   out.reports_.resize(parts.size());
-  for (std::size_t k = 0; k < parts.size(); ++k) {
+  auto boundaryOf = [&](std::size_t k) {
     const auto& p = *parts[k];
-    SubstructureReduction& rep = out.reports_[k];
-    rep.name = p.spec.name;
-    rep.kind = toString(p.spec.kind);
-    if (!p.sub) {
-      rep.basis = "rigid";
-      rep.physicalDofs = 6;
-      continue;
-    }
     reduction::SubstructureBoundary b;
     b.held = p.held;
     for (int c : p.children) {
@@ -307,7 +337,11 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
       b.interfaces.emplace_back(rows.begin(), rows.end());
       b.interfaceLoads.push_back(loads);
     }
-    bases[k] = reduction::buildRitzBasis(*p.sub, b, reductions[k]);
+    return b;
+  };
+  auto report = [&](std::size_t k) {
+    const auto& p = *parts[k];
+    SubstructureReduction& rep = out.reports_[k];
     rep.basis = bases[k].kind;
     rep.physicalDofs = p.sub->dofs().rows();
     rep.attachmentDofs = static_cast<int>(p.held.size());
@@ -315,9 +349,105 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     rep.dropped = bases[k].dropped;
     rep.eigensolverReport = bases[k].eigensolverReport;
     rep.seconds = bases[k].seconds;
-    if (!bases[k].full && bases[k].size() > 0) rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases[k]);
+  };
+  // The schedule: which rank reduces each substructure whole (-1: all ranks
+  // together). Largest first onto the least-loaded rank, the cost taken as
+  // n^1.5 (between the n^2 flops of a 3D factorisation and the n of the
+  // solves); the same on every rank.
+  std::vector<int> owner(parts.size(), -1);
+  if (schedule == ReductionSchedule::Concurrent && nranks > 1) {
+    std::vector<std::pair<double, std::size_t>> work;
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      if (parts[k]->sub && !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
+                                 reductions[k].get<std::string>("Basis") == "Full"))
+        work.push_back({std::pow(static_cast<double>(parts[k]->sub->dofs().rows()), 1.5), k});
+    std::sort(work.begin(), work.end(), [](const auto& a, const auto& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    std::vector<double> load(nranks, 0.0);
+    if (work.size() > 1)
+      for (const auto& [cost, k] : work) {
+        const int r = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
+        owner[k] = r;
+        load[r] += cost;
+      }
   }
-
+  const bool concurrent = std::any_of(owner.begin(), owner.end(), [](int o) { return o >= 0; });
+  if (concurrent) {
+    const auto self = comm->split(rank, 0);
+    // a. Every such substructure gathered onto its rank (collective).
+    std::vector<std::optional<substructure::Substructure>> local(parts.size());
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      if (owner[k] >= 0) {
+        auto g = parts[k]->sub->gatheredTo(owner[k], self);
+        if (owner[k] == rank) local[k] = std::move(g);
+      }
+    // b. Each rank reduces its own, with no communication between ranks.
+    // A failure is kept and raised on every rank in c., in tree order.
+    std::vector<int> failure(parts.size(), 0);  // 1 input, 2 numerical, 3 other
+    std::vector<std::string> message(parts.size());
+    std::vector<std::vector<double>> estimates(parts.size());
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      if (owner[k] != rank) continue;
+      try {
+        bases[k] = reduction::buildRitzBasis(*local[k], boundaryOf(k), reductions[k]);
+        if (!bases[k].full && bases[k].size() > 0) estimates[k] = reduction::estimateFrequencies(*local[k], bases[k]);
+      } catch (const InputError& e) {
+        failure[k] = 1, message[k] = e.what();
+      } catch (const NumericalError& e) {
+        failure[k] = 2, message[k] = e.what();
+      } catch (const std::exception& e) {
+        failure[k] = 3, message[k] = e.what();
+      }
+      local[k].reset();
+    }
+    // c. What each rank found, to every rank; the bases onto the
+    // substructures' own distributed maps.
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      if (owner[k] < 0) continue;
+      auto& b = bases[k];
+      std::vector<std::string> text{b.kind, b.eigensolverReport, message[k]};
+      text.insert(text.end(), b.labels.begin(), b.labels.end());
+      text.insert(text.end(), b.dropped.begin(), b.dropped.end());
+      std::vector<double> numbers{static_cast<double>(failure[k]), b.full ? 1.0 : 0.0, b.seconds,
+                                  static_cast<double>(b.size()), static_cast<double>(b.labels.size()),
+                                  static_cast<double>(b.dropped.size())};
+      numbers.insert(numbers.end(), estimates[k].begin(), estimates[k].end());
+      detail::broadcastFrom(*comm, owner[k], numbers, text);
+      failure[k] = static_cast<int>(numbers[0]);
+      if (failure[k] == 1) throw InputError(text[2]);
+      if (failure[k] == 2) throw NumericalError(text[2]);
+      if (failure[k] == 3) throw std::runtime_error(text[2]);
+      const int ncols = static_cast<int>(numbers[3]);
+      const auto nl = static_cast<std::size_t>(numbers[4]), nd = static_cast<std::size_t>(numbers[5]);
+      auto V = scatterFromRank(b.vectors, owner[k], ncols, parts[k]->sub->map());
+      b.kind = text[0];
+      b.eigensolverReport = text[1];
+      b.labels.assign(text.begin() + 3, text.begin() + 3 + static_cast<long>(nl));
+      b.dropped.assign(text.begin() + 3 + static_cast<long>(nl), text.begin() + 3 + static_cast<long>(nl + nd));
+      b.full = numbers[1] != 0.0;
+      b.seconds = numbers[2];
+      b.vectors = ncols > 0 ? V : Teuchos::null;
+      out.reports_[k].frequencyEstimates.assign(numbers.begin() + 6, numbers.end());
+    }
+  }
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& p = *parts[k];
+    SubstructureReduction& rep = out.reports_[k];
+    rep.name = p.spec.name;
+    rep.kind = toString(p.spec.kind);
+    if (!p.sub) {
+      rep.basis = "rigid";
+      rep.physicalDofs = 6;
+      continue;
+    }
+    if (owner[k] < 0) {
+      bases[k] = reduction::buildRitzBasis(*p.sub, boundaryOf(k), reductions[k]);
+      if (!bases[k].full && bases[k].size() > 0)
+        rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases[k]);
+    }
+    report(k);
+  }
   out.basesSeconds_ = since(t0);
 
   // 2. Coordinates: [w_OC, theta_C (free C)], then each part's own.

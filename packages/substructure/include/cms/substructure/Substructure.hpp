@@ -87,6 +87,13 @@ public:
   /// The prestress holds' reactions per unit Omega^2 (fem::AssembledMatrices::reactions1).
   const std::vector<fem::PrestressConditions::NodalValue>& prestressReactions() const { return reactions1_; }
 
+  /// This substructure whole on rank `owner`, its matrices on `self` (a
+  /// communicator of that rank alone), for work that runs there while other
+  /// ranks reduce other substructures (doc/architecture.md, "Parallelism").
+  /// Collective over map()'s communicator; on the other ranks the result has
+  /// no matrices. Carries the matrices a reduction reads (M, K, KT1) with
+  /// the DOF table, name, spin and mass; not G1, KS1, KX1, f1.
+  Substructure gatheredTo(int owner, const Teuchos::RCP<const Teuchos::Comm<int>>& self) const;
   /// M, G(Omega), K(Omega) (theory §9); Omega = 0 gives G = 0 and K. New
   /// matrices are formed only when a speed-dependent term is present.
   GyroscopicMatrices atSpeed(double omega) const;

@@ -130,6 +130,17 @@ struct ModeCharacter {
   bool frameArtefact = false;
 };
 
+/// How the substructures' bases are computed on several ranks (one rank:
+/// the same thing). Substructures are independent until synthesis.
+enum class ReductionSchedule {
+  /// Each reduced substructure gathered whole onto one rank (largest first
+  /// onto the least-loaded rank) and reduced there while the other ranks
+  /// reduce theirs; only the bases come back. Full bases stay distributed.
+  Concurrent,
+  /// One substructure after another, each distributed over every rank.
+  Distributed
+};
+
 class SynthesizedStructure {
 public:
   /// Every substructure reduced by its own "Reduction" parameters
@@ -137,7 +148,8 @@ public:
   static SynthesizedStructure synthesize(const AssembledStructure& structure, bool truth = false);
   /// One "Reduction" list per substructure (tree order, as parts()).
   static SynthesizedStructure synthesize(const AssembledStructure& structure,
-                                         const std::vector<Teuchos::ParameterList>& reductions);
+                                         const std::vector<Teuchos::ParameterList>& reductions,
+                                         ReductionSchedule schedule = ReductionSchedule::Concurrent);
 
   long long size() const;  ///< n, the number of coordinates q
   const std::vector<SubstructureReduction>& reductions() const { return reports_; }
