@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include <Teuchos_BLAS.hpp>
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
@@ -197,7 +198,22 @@ public:
     small_ = Teuchos::rcp(new Map(nc, 0, T.getRowMap()->getComm(), Tpetra::LocallyReplicated));
   }
 
+  /// T = B C with B (n x b, on T's row map) and C (b rows over the
+  /// coordinates, given sparse): for a reduced substructure B = [X_s | V_s]
+  /// (rigid or constraint-mode columns, then the basis) and C = [H_s T_p;
+  /// I], so that T^T A T = C^T (B^T A B) C needs A times b = 6 + k columns
+  /// instead of every coordinate reaching the substructure.
+  Projection(const CrsMatrix& T, Teuchos::RCP<const MultiVector> B, std::vector<Row> C)
+      : T_(T), B_(std::move(B)), C_(std::move(C)) {
+    small_ = Teuchos::rcp(new Map(B_->getNumVectors(), 0, T.getRowMap()->getComm(), Tpetra::LocallyReplicated));
+    std::set<GlobalOrdinal> cs;
+    for (const auto& row : C_)
+      for (auto [g, v] : row) cs.insert(g);
+    cols_.assign(cs.begin(), cs.end());
+  }
+
   Teuchos::RCP<const CrsMatrix> operator()(const CrsMatrix& A) const {
+    if (!B_.is_null()) return factored(A);
     if (Td_.is_null()) return sparse(A);
     const auto coords = T_.getDomainMap();
     const int nc = static_cast<int>(cols_.size());
@@ -217,6 +233,41 @@ public:
   }
 
 private:
+  Teuchos::RCP<const CrsMatrix> factored(const CrsMatrix& A) const {
+    const int nb = static_cast<int>(B_->getNumVectors()), nc = static_cast<int>(cols_.size());
+    MultiVector AB(A.getRangeMap(), nb), S(small_, nb);
+    A.apply(*B_, AB);
+    S.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *B_, AB, 0.0);
+    std::vector<double> Sd(static_cast<std::size_t>(nb) * nb), Cd(static_cast<std::size_t>(nb) * nc, 0.0);
+    for (int j = 0; j < nb; ++j) {
+      const auto c = S.getData(j);
+      for (int i = 0; i < nb; ++i) Sd[i + static_cast<std::size_t>(j) * nb] = c[i];
+    }
+    for (int i = 0; i < nb; ++i)
+      for (auto [g, v] : C_[i]) {
+        const auto c = std::lower_bound(cols_.begin(), cols_.end(), g) - cols_.begin();
+        Cd[i + static_cast<std::size_t>(c) * nb] += v;
+      }
+    // P = C^T (S C), column-major.
+    std::vector<double> W(static_cast<std::size_t>(nb) * nc), P(static_cast<std::size_t>(nc) * nc);
+    Teuchos::BLAS<int, double> blas;
+    if (nb > 0 && nc > 0) {
+      blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, nc, nb, 1.0, Sd.data(), nb, Cd.data(), nb, 0.0, W.data(), nb);
+      blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nc, nc, nb, 1.0, Cd.data(), nb, W.data(), nb, 0.0, P.data(), nc);
+    }
+    const auto coords = T_.getDomainMap();
+    std::vector<Row> rows(coords->getNodeNumElements());
+    for (int i = 0; i < nc; ++i) {
+      const auto l = coords->getLocalElement(cols_[i]);
+      if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+      for (int j = 0; j < nc; ++j) {
+        const double v = P[i + static_cast<std::size_t>(j) * nc];
+        if (v != 0.0) rows[l].push_back({cols_[j], v});
+      }
+    }
+    return fromRows(coords, rows, coords, coords);
+  }
+
   Teuchos::RCP<const CrsMatrix> sparse(const CrsMatrix& A) const {
     CrsMatrix AT(A.getRowMap(), 0);
     Tpetra::MatrixMatrix::Multiply(A, false, T_, false, AT);
@@ -225,6 +276,8 @@ private:
     return P;
   }
   const CrsMatrix& T_;
+  Teuchos::RCP<const MultiVector> B_;
+  std::vector<Row> C_;
   std::vector<GlobalOrdinal> cols_;
   Teuchos::RCP<MultiVector> Td_;
   Teuchos::RCP<const Map> small_;
@@ -551,6 +604,17 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     for (const auto& h : p.Hrows)
       for (auto [g, v] : h) parentRows.insert(g);
     const bool absolute = basis.full && !p.boolean() && !structure.freeFloating() && parentRows.size() > 6;
+    // The factors T = B C of a reduced substructure (Projection).
+    const int na = !basis.full && hasA ? static_cast<int>(A.size()) : 0;
+    Teuchos::RCP<MultiVector> B;
+    std::vector<Row> C;
+    std::vector<Teuchos::ArrayRCP<double>> bcol;
+    if (!basis.full && na + basis.size() > 0) {
+      B = Teuchos::rcp(new MultiVector(smap, static_cast<std::size_t>(na + basis.size())));
+      for (int j = 0; j < na + basis.size(); ++j) bcol.push_back(B->getDataNonConst(j));
+      for (int a = 0; a < na; ++a) C.push_back(A[a]);
+      for (int j = 0; j < basis.size(); ++j) C.push_back(Row{{offset[k] + static_cast<GlobalOrdinal>(j), 1.0}});
+    }
     for (std::size_t l = 0; l < nloc; ++l) {
       const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
       std::vector<std::pair<double, const Row*>> terms;
@@ -560,16 +624,20 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
           const auto it = injected.find(g);
           if (it != injected.end() && !A[it->second].empty()) terms.push_back({1.0, &A[it->second]});
         } else {
-          for (std::size_t a = 0; a < psi.size(); ++a)
+          for (std::size_t a = 0; a < psi.size(); ++a) {
             if (psi[a][l] != 0.0 && !A[a].empty()) terms.push_back({psi[a][l], &A[a]});
+            if (na > 0) bcol[a][l] = psi[a][l];
+          }
         }
       } else if (hasA && (!absolute || std::binary_search(p.held.begin(), p.held.end(), g))) {
         const auto nd = nodeOf[g];
         const fem::Vec3 r{t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
                           t.coordinates[3 * nd + 2] - p.point[2]};
         const auto x = detail::rigidRow(r, static_cast<int>(t.components[g]));
-        for (int a = 0; a < 6; ++a)
+        for (int a = 0; a < 6; ++a) {
           if (x[a] != 0.0 && !A[a].empty()) terms.push_back({x[a], &A[a]});
+          if (na > 0) bcol[a][l] = x[a];
+        }
       }
       const bool isHeld = std::binary_search(p.held.begin(), p.held.end(), g);
       if (basis.full) {
@@ -578,14 +646,17 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
           own.push_back({offset[k] + g - before, 1.0});
         }
       } else if (!isHeld) {
-        for (std::size_t j = 0; j < cols.size(); ++j)
+        for (std::size_t j = 0; j < cols.size(); ++j) {
           if (cols[j][l] != 0.0) own.push_back({offset[k] + static_cast<GlobalOrdinal>(j), cols[j][l]});
+          bcol[na + j][l] = cols[j][l];
+        }
       }
       terms.push_back({1.0, &own});
       rows[l] = combine(terms);
     }
     out.T_[k] = fromRows(smap, rows, out.map_, smap);
-    const Projection project(*out.T_[k]);
+    bcol.clear();  // release the host views before B is read
+    const Projection project = B.is_null() ? Projection(*out.T_[k]) : Projection(*out.T_[k], B, C);
     M = addScaled(M, 1.0, project(*sub.M()));
     K0 = addScaled(K0, 1.0, project(*sub.K()));
     if (p.compound) {

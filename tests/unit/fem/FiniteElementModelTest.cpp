@@ -135,3 +135,25 @@ TEST(FiniteElementModelYaml, MalformedEntriesNameTheirKeyPath) {
                 "applies to Frame element sets only");
   expectRefused(edit("    Stress Stiffening: false", "    Stress Stiffening: 3"), "must be true or false");
 }
+
+TEST(FiniteElementModelYaml, MeshParametersSetTheGeoScriptsConstants) {
+  // "Mesh Parameters" reach the script's DefineConstant (ONELAB
+  // "Parameters/<name>"): halving h gives a finer mesh; an unset one keeps
+  // the script's default; the next read without them is back to the default
+  // (no parameter leaks from one read into the next).
+  const auto coarse = read(kBlade);
+  const auto fine = read(edit("  Mesh: meshes/blade_tet10.geo",
+                              "  Mesh: meshes/blade_tet10.geo\n  Mesh Parameters: {h: 0.01}"));
+  const auto same = read(edit("  Mesh: meshes/blade_tet10.geo",
+                              "  Mesh: meshes/blade_tet10.geo\n  Mesh Parameters: {h: 0.02}"));
+  const auto again = read(kBlade);
+  EXPECT_GT(fine.mesh->nodeCount(), 4 * coarse.mesh->nodeCount());
+  EXPECT_EQ(same.mesh->nodeCount(), coarse.mesh->nodeCount());
+  EXPECT_EQ(again.mesh->nodeCount(), coarse.mesh->nodeCount());
+  expectRefused(edit("  Mesh: meshes/blade_tet10.geo",
+                     "  Mesh: meshes/blade_tet10.geo\n  Mesh Parameters: {h: fine}"),
+                "Mesh Parameters/h: must be a number");
+  expectRefused(edit("  Mesh: meshes/blade_tet10.geo",
+                     "  Mesh: meshes/bar_hex_small_v41_ascii.msh\n  Mesh Parameters: {h: 0.01}"),
+                "apply to a .geo script only");
+}
