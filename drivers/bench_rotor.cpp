@@ -43,7 +43,6 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_CommandLineProcessor.hpp>
 #include <Teuchos_DefaultComm.hpp>
-#include <Teuchos_YamlParameterListHelpers.hpp>
 #include <Tpetra_Core.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 
@@ -70,22 +69,6 @@ std::vector<std::string> split(const std::string& text) {
   for (std::string w; std::getline(is, w, ',');)
     if (!w.empty()) out.push_back(w);
   return out;
-}
-
-/// The scene with every meshed substructure's "Mesh Parameters/h" set.
-scene::Scene sceneWithMeshSize(const std::string& path, double h) {
-  std::ifstream in(path);
-  CMS_INPUT_CHECK(!in, path << ": cannot be read");
-  std::stringstream text;
-  text << in.rdbuf();
-  auto p = Teuchos::getParametersFromYamlString(text.str());
-  auto& subs = p->sublist("Substructures");
-  for (auto it = subs.begin(); it != subs.end(); ++it) {
-    auto& s = subs.sublist(subs.name(it));
-    if (s.isSublist("Finite Element Model"))
-      s.sublist("Finite Element Model").sublist("Mesh Parameters").set("h", h);
-  }
-  return scene::Scene::fromParameters(*p, path);
 }
 
 /// Peak resident memory since the last reset: largest rank and sum (MiB).
@@ -204,7 +187,7 @@ int main(int argc, char* argv[]) {
       // 2. Assembly (meshing included: Gmsh runs when the scene is read).
       drivers::resetPeakRss();
       auto t0 = Clock::now();
-      const auto sc = sceneWithMeshSize(scenePath, h);
+      const auto sc = scene::Scene::read(scenePath, {{"h", h}});
       const double meshing = since(t0);
       t0 = Clock::now();
       const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);

@@ -43,6 +43,7 @@
 //   mpiexec -n 2 cms compare --counts=2,4,8
 //   cms campbell --steps=41 --max-factor=3 --orders=1,2
 //   cms truncate --accuracy=1e-4
+//   cms modes drivers/bench/rotor/rotor.yaml --mesh-parameters=h=0.01
 
 #include <chrono>
 #include <cmath>
@@ -752,13 +753,15 @@ int main(int argc, char* argv[]) {
     std::string scenePath = std::string(CMS_SCENE_DIR) + "/spacecraft.yaml";
     int first = 2;
     if (argc > 2 && argv[2][0] != '-') scenePath = argv[first++];
-    std::string output, countsText = "2,4,8", ordersText = "1";
+    std::string output, countsText = "2,4,8", ordersText = "1", meshText;
     int steps = 21, start = 2, step = 2;
     double maxFactor = 2.0, accuracy = 1e-3;
     Teuchos::CommandLineProcessor clp(false, true);
     clp.setDocString("cms modes|compare|campbell|truncate [SCENE] [options]: see doc/user-guide.md");
     clp.setOption("output", &output, "results directory (default: the scene's, else ./cms-results)");
     clp.setOption("counts", &countsText, "compare: vectors per substructure, comma-separated");
+    clp.setOption("mesh-parameters", &meshText,
+                  "name=value,...: \"Mesh Parameters\" of every substructure meshed from a .geo (e.g. h=0.01)");
     clp.setOption("steps", &steps, "campbell: number of speeds (>= 2)");
     clp.setOption("max-factor", &maxFactor, "campbell: top speed as a multiple of the nominal rates");
     clp.setOption("orders", &ordersText, "campbell: engine orders of the first spin rate, comma-separated");
@@ -788,8 +791,22 @@ int main(int argc, char* argv[]) {
       return out;
     };
     const std::vector<int> counts = integers(countsText, "--counts"), orders = integers(ordersText, "--orders");
+    std::map<std::string, double> meshParameters;
+    {
+      std::istringstream is(meshText);
+      std::string item;
+      while (std::getline(is, item, ',')) {
+        const auto eq = item.find('=');
+        char* end = nullptr;
+        const double v = eq == std::string::npos ? 0.0 : std::strtod(item.c_str() + eq + 1, &end);
+        CMS_INPUT_CHECK(eq == std::string::npos || eq == 0 || end == item.c_str() + eq + 1 || *end != '\0' ||
+                            !std::isfinite(v),
+                        "--mesh-parameters: \"" << item << "\" is not name=number");
+        meshParameters[item.substr(0, eq)] = v;
+      }
+    }
     // 2. The scene, checked before anything is computed.
-    const scene::Scene sc = scene::Scene::read(scenePath);
+    const scene::Scene sc = scene::Scene::read(scenePath, meshParameters);
     const std::filesystem::path outDir =
         !output.empty() ? output : (!sc.outputDirectory.empty() ? sc.outputDirectory : "cms-results");
     // The output directory must be writable before anything is computed.

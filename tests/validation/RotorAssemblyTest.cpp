@@ -14,11 +14,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include <Teuchos_DefaultComm.hpp>
-#include <Teuchos_YamlParameterListHelpers.hpp>
 
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/scene/Scene.hpp"
@@ -36,17 +33,7 @@ namespace {
 const int kModes = 12;
 
 scene::Scene rotor(double h) {
-  const std::string path = std::string(CMS_BENCH_DIR) + "/rotor/rotor.yaml";
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  auto p = Teuchos::getParametersFromYamlString(text.str());
-  auto& subs = p->sublist("Substructures");
-  for (auto it = subs.begin(); it != subs.end(); ++it) {
-    auto& s = subs.sublist(subs.name(it));
-    if (s.isSublist("Finite Element Model")) s.sublist("Finite Element Model").sublist("Mesh Parameters").set("h", h);
-  }
-  return scene::Scene::fromParameters(*p, path);
+  return scene::Scene::read(std::string(CMS_BENCH_DIR) + "/rotor/rotor.yaml", {{"h", h}});
 }
 
 std::vector<double> solve(const SynthesizedStructure& s, const std::vector<double>& speeds, bool sparse) {

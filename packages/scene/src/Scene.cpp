@@ -327,7 +327,42 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   return scene;
 }
 
-Scene Scene::read(const std::string& path) {
+Scene Scene::read(const std::string& path) { return read(path, {}); }
+
+namespace {
+
+/// The YAML text of a scene as a ParameterList named "Scene".
+Teuchos::RCP<ParameterList> yamlScene(const std::string& text, const std::string& path) {
+  Teuchos::RCP<ParameterList> p;
+  try {
+    p = Teuchos::getParametersFromYamlString(text);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    if (what.size() > 600) what = what.substr(0, 600) + "...";
+    throw InputError(path + ": not a valid scene file (" + what + ")");
+  }
+  CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
+  return p;
+}
+
+/// Sets "Mesh Parameters" on every substructure meshed from a .geo script.
+void setMeshParameters(ParameterList& scene, const std::map<std::string, double>& values) {
+  if (values.empty() || !scene.isSublist("Substructures")) return;
+  auto& subs = scene.sublist("Substructures");
+  for (auto it = subs.begin(); it != subs.end(); ++it) {
+    if (!subs.isSublist(subs.name(it))) continue;
+    auto& s = subs.sublist(subs.name(it));
+    if (!s.isSublist("Finite Element Model")) continue;
+    auto& fe = s.sublist("Finite Element Model");
+    if (!fe.isType<std::string>("Mesh") || std::filesystem::path(fe.get<std::string>("Mesh")).extension() != ".geo")
+      continue;
+    for (const auto& [name, value] : values) fe.sublist("Mesh Parameters").set(name, value);
+  }
+}
+
+}  // namespace
+
+Scene Scene::read(const std::string& path, const std::map<std::string, double>& meshParameters) {
   std::ifstream in(path);
   CMS_INPUT_CHECK(!in, path << ": cannot open the scene file");
   std::ostringstream text;
@@ -342,23 +377,17 @@ Scene Scene::read(const std::string& path) {
     }
     // Teuchos' XML reader does not keep the root list's name: accept
     // <ParameterList name="Scene"> as the root or as its only sublist.
-    if (p->isSublist("Scene") && p->numParams() == 1) return fromParameters(p->sublist("Scene"), path);
-    return fromParameters(*p, path);
+    ParameterList& root = p->isSublist("Scene") && p->numParams() == 1 ? p->sublist("Scene") : *p;
+    setMeshParameters(root, meshParameters);
+    return fromParameters(root, path);
   }
-  return parse(text.str(), path);
+  auto p = yamlScene(text.str(), path);
+  setMeshParameters(*p, meshParameters);
+  return fromParameters(*p, path);
 }
 
 Scene Scene::parse(const std::string& text, const std::string& path) {
-  Teuchos::RCP<ParameterList> p;
-  try {
-    p = Teuchos::getParametersFromYamlString(text);
-  } catch (const std::exception& e) {
-    std::string what = e.what();
-    if (what.size() > 600) what = what.substr(0, 600) + "...";
-    throw InputError(path + ": not a valid scene file (" + what + ")");
-  }
-  CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
-  return fromParameters(*p, path);
+  return fromParameters(*yamlScene(text, path), path);
 }
 
 }  // namespace cms::scene

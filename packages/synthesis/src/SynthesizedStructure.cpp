@@ -146,57 +146,14 @@ Row combine(const std::vector<std::pair<double, const Row*>>& terms) {
 /// coordinates and those of its parent's that reach its attachment), each
 /// full length: as sparse matrices the products cost a sparse-sparse
 /// multiply with k entries per row, O(n k^2) hash operations, which took 92%
-/// of a 1000-coordinate synthesis (perf, doc/benchmarks.md). Those T are
-/// therefore copied once into a dense block Td (n x c) and projected as
-/// A Td (sparse times dense) and Td^T (A Td) (one GEMM and one reduction);
-/// near-identity T (Full bases, the truth) keep the sparse products.
+/// of a 1000-coordinate synthesis (perf, doc/benchmarks.md). Reduced
+/// substructures are therefore projected through the factors T = B C below
+/// (a sparse-times-dense product, one GEMM with a reduction over ranks, and
+/// small dense products); T of Full bases (the truth: near identity) and of
+/// rigid rotors (six rows) keep Tpetra's sparse products.
 class Projection {
 public:
-  explicit Projection(const CrsMatrix& T) : T_(T) {
-    const auto& comm = *T.getRowMap()->getComm();
-    const auto& colMap = *T.getColMap();
-    std::set<GlobalOrdinal> mine;
-    const auto nrows = T.getNodeNumRows();
-    for (std::size_t l = 0; l < nrows; ++l) {
-      const std::size_t n = T.getNumEntriesInLocalRow(l);
-      Teuchos::Array<LocalOrdinal> c(n);
-      Teuchos::Array<double> v(n);
-      std::size_t got = 0;
-      T.getLocalRowCopy(l, c(), v(), got);
-      for (std::size_t k = 0; k < got; ++k)
-        if (v[k] != 0.0) mine.insert(colMap.getGlobalElement(c[k]));
-    }
-    // Union over ranks (a column count at most "limit" is all we can use).
-    const long long limit = 3000;
-    long long count = static_cast<long long>(mine.size()), most = 0;
-    Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, 1, &count, &most);
-    const long long rows = static_cast<long long>(T.getGlobalNumRows());
-    if (most > limit) return;
-    const int p = comm.getSize();
-    std::vector<long long> buf(static_cast<std::size_t>(p) * limit, -1), all(buf.size(), -1);
-    std::copy(mine.begin(), mine.end(), buf.begin() + static_cast<long long>(comm.getRank()) * limit);
-    Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, static_cast<int>(buf.size()), buf.data(), all.data());
-    std::set<GlobalOrdinal> cols;
-    for (long long g : all)
-      if (g >= 0) cols.insert(static_cast<GlobalOrdinal>(g));
-    if (static_cast<long long>(cols.size()) > limit || static_cast<double>(cols.size()) * rows > 4e8) return;
-    cols_.assign(cols.begin(), cols.end());
-    const int nc = static_cast<int>(cols_.size());
-    if (nc == 0) return;
-    Td_ = Teuchos::rcp(new MultiVector(T.getRangeMap(), nc));
-    for (std::size_t l = 0; l < nrows; ++l) {
-      const std::size_t n = T.getNumEntriesInLocalRow(l);
-      Teuchos::Array<LocalOrdinal> c(n);
-      Teuchos::Array<double> v(n);
-      std::size_t got = 0;
-      T.getLocalRowCopy(l, c(), v(), got);
-      for (std::size_t k = 0; k < got; ++k) {
-        const auto j = std::lower_bound(cols_.begin(), cols_.end(), colMap.getGlobalElement(c[k])) - cols_.begin();
-        Td_->sumIntoLocalValue(static_cast<LocalOrdinal>(l), static_cast<int>(j), v[k]);
-      }
-    }
-    small_ = Teuchos::rcp(new Map(nc, 0, T.getRowMap()->getComm(), Tpetra::LocallyReplicated));
-  }
+  explicit Projection(const CrsMatrix& T) : T_(T) {}
 
   /// T = B C with B (n x b, on T's row map) and C (b rows over the
   /// coordinates, given sparse): for a reduced substructure B = [X_s | V_s]
@@ -213,23 +170,7 @@ public:
   }
 
   Teuchos::RCP<const CrsMatrix> operator()(const CrsMatrix& A) const {
-    if (!B_.is_null()) return factored(A);
-    if (Td_.is_null()) return sparse(A);
-    const auto coords = T_.getDomainMap();
-    const int nc = static_cast<int>(cols_.size());
-    MultiVector ATd(A.getRangeMap(), nc), P(small_, nc);
-    A.apply(*Td_, ATd);
-    P.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Td_, ATd, 0.0);
-    std::vector<Row> rows(coords->getNodeNumElements());
-    std::vector<Teuchos::ArrayRCP<const double>> col(nc);
-    for (int j = 0; j < nc; ++j) col[j] = P.getData(j);
-    for (int i = 0; i < nc; ++i) {
-      const auto l = coords->getLocalElement(cols_[i]);
-      if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
-      for (int j = 0; j < nc; ++j)
-        if (col[j][i] != 0.0) rows[l].push_back({cols_[j], col[j][i]});
-    }
-    return fromRows(coords, rows, coords, coords);
+    return B_.is_null() ? sparse(A) : factored(A);
   }
 
 private:
@@ -278,8 +219,7 @@ private:
   const CrsMatrix& T_;
   Teuchos::RCP<const MultiVector> B_;
   std::vector<Row> C_;
-  std::vector<GlobalOrdinal> cols_;
-  Teuchos::RCP<MultiVector> Td_;
+  std::vector<GlobalOrdinal> cols_;  ///< the coordinates C reaches
   Teuchos::RCP<const Map> small_;
 };
 

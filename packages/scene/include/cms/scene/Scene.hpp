@@ -7,6 +7,7 @@
 // scene file.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,10 @@ struct Scene {
   /// Reads and checks the scene; throws cms::InputError naming the file and
   /// the key path (or the YAML parser's line) for anything malformed.
   static Scene read(const std::string& path);
+  /// The same with these "Mesh Parameters" (name -> value) set on every
+  /// substructure meshed from a .geo script, over the file's own (a mesh
+  /// size study on one scene: bench_rotor, `cms --mesh-parameters`).
+  static Scene read(const std::string& path, const std::map<std::string, double>& meshParameters);
   /// The same from the text of a scene file (`path` for messages and
   /// relative paths).
   static Scene parse(const std::string& text, const std::string& path);
