@@ -35,4 +35,12 @@ inline double windowPeakRssMiB() {
   return peakRssMiB();
 }
 
+/// VmRSS: the resident memory now (MiB), 0 where /proc is not readable.
+inline double residentMiB() {
+  std::ifstream f("/proc/self/status");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0.0;
+}
+
 }  // namespace cms::drivers

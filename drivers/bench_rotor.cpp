@@ -6,21 +6,22 @@
 // on its bore and spinning at 200 rad/s, three plate blades (E) tied to it by
 // RigidFit attachments, all 10-node tetrahedra meshed by Gmsh from .geo
 // scripts with the size h set for each run ("Mesh Parameters"; meshes are
-// generated, never committed). For each h, in one process:
+// generated, never committed). After 1. the options, for each h, in one
+// process:
 //
-//   1. assemble the substructures (with the centrifugal prestress);
-//   2. the floor: one CHOLMOD factorisation of the full model's stiffness
+//   2. assemble the substructures (with the centrifugal prestress);
+//   3. the floor: one CHOLMOD factorisation of the full model's stiffness
 //      K(Omega) (the truth's coordinates), its time, nnz(L) and flops;
-//   3. the truth: the full model solved by the sparse path (Anasazi
+//   4. the truth: the full model solved by the sparse path (Anasazi
 //      Block Krylov-Schur on Meirovitch's form) for the lowest --modes;
-//   4. every strategy at every vector count: reduction (bases), synthesis
+//   5. every strategy at every vector count: reduction (bases), synthesis
 //      (interface transforms and projections), solve; peak memory of that
 //      pipeline alone; max and mean relative error over the lowest modes
 //      against the truth; and pipeline / truth and pipeline / floor;
-//   5. on several ranks, the most accurate model again with every
+//   6. on several ranks, the most accurate model again with every
 //      substructure distributed over all ranks instead of whole on one
 //      (synthesis::ReductionSchedule), with the frequencies' difference;
-//   6. the sweep: --steps speeds from 0 to the nominal speed with the most
+//   7. the sweep: --steps speeds from 0 to the nominal speed with the most
 //      accurate reduced model (no re-projection), against one speed; and
 //      for the truth at sizes up to --truth-sweep-max-dofs.
 // One CSV row per measurement (--csv), drawn by
@@ -71,15 +72,25 @@ std::vector<std::string> split(const std::string& text) {
   return out;
 }
 
-/// Peak resident memory since the last reset: largest rank and sum (MiB).
+/// Peak resident memory since the last reset (largest rank, sum over
+/// ranks) and the resident memory at the reset (largest rank), MiB: the
+/// window's peak includes what the process already held (the assembled
+/// structure, the truth model unless --no-truth --no-floor, and heap glibc
+/// kept), `base` says how much.
 struct Memory {
-  double max = 0, sum = 0;
+  double max = 0, sum = 0, base = 0;
 };
+double baseline = 0;  ///< VmRSS at the last reset (this rank)
+void resetPeak() {
+  drivers::resetPeakRss();
+  baseline = drivers::residentMiB();
+}
 Memory peak(const Teuchos::Comm<int>& comm) {
-  double mine = drivers::windowPeakRssMiB(), mx = 0, sm = 0;
+  double mine = drivers::windowPeakRssMiB(), mx = 0, sm = 0, b = 0;
   Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, 1, &mine, &mx);
   Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, 1, &mine, &sm);
-  return {mx, sm};
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, 1, &baseline, &b);
+  return {mx, sm, b};
 }
 
 /// Bytes of a CSR matrix (values, column indices, row offsets) summed over ranks.
@@ -104,16 +115,19 @@ struct Row {
 void header(std::ostream& os) {
   os << "h,physical_dofs,truth_dofs,ranks,what,strategy,vectors,reduced_dofs,assembly_s,reduce_s,synthesis_s,solve_s,"
         "pipeline_s,truth_s,floor_s,pipeline_over_truth,pipeline_over_floor,peak_mib_max_rank,peak_mib_sum,"
+        "resident_at_start_mib,"
         "full_k_m_factor_mib,max_rel_error,mean_rel_error,worst_mac,note,frequencies_hz\n";
 }
 
-void write(std::ostream& os, const Row& r, int ranks) {
+void write(std::ostream& os, Row r, int ranks) {
+  for (char& c : r.note)
+    if (c == ',' || c == '\n') c = ';';
   os << r.h << ',' << r.physicalDofs << ',' << r.truthDofs << ',' << ranks << ',' << r.what << ',' << r.strategy << ','
      << r.vectors << ',' << r.reducedDofs << ',' << r.assembly << ',' << r.reduce << ',' << r.synth << ',' << r.solve
      << ',' << r.pipeline << ',' << r.truth << ',' << r.floor << ','
      << (r.truth > 0 && r.pipeline > 0 ? r.pipeline / r.truth : 0.0) << ','
      << (r.floor > 0 && r.pipeline > 0 ? r.pipeline / r.floor : 0.0) << ',' << r.mem.max << ',' << r.mem.sum << ','
-     << r.fullMiB << ',' << r.maxError << ',' << r.meanError << ',' << r.worstMac << ',' << r.note << ',';
+     << r.mem.base << ',' << r.fullMiB << ',' << r.maxError << ',' << r.meanError << ',' << r.worstMac << ',' << r.note << ',';
   const auto old = os.precision(15);
   for (std::size_t i = 0; i < r.hz.size(); ++i) os << (i ? ";" : "") << r.hz[i];
   os.precision(old);
@@ -184,8 +198,8 @@ int main(int argc, char* argv[]) {
       std::cout << "bench_rotor: " << scenePath << ", " << ranks << " rank(s), lowest " << modes << " modes\n";
 
     for (double h : sizes) {
-      // 2. Assembly (meshing included: Gmsh runs when the scene is read).
-      drivers::resetPeakRss();
+      // 2. Assembly (meshing timed apart: Gmsh runs when the scene is read).
+      resetPeak();
       auto t0 = Clock::now();
       const auto sc = scene::Scene::read(scenePath, {{"h", h}});
       const double meshing = since(t0);
@@ -213,7 +227,7 @@ int main(int argc, char* argv[]) {
       // (Skipped with --no-truth --no-floor: then the process never holds a
       // full model, and the strategies' peak memory is the reduced
       // pipeline's own, assembly included.)
-      drivers::resetPeakRss();
+      resetPeak();
       t0 = Clock::now();
       std::optional<synthesis::SynthesizedStructure> truthModel;
       if (doTruth || doFloor) truthModel = synthesis::SynthesizedStructure::synthesize(structure, true);
@@ -244,13 +258,14 @@ int main(int argc, char* argv[]) {
       }
       base.floor = floor;
       base.fullMiB = fullMiB;
+      if (!doTruth) truthModel.reset();
 
       // 4. The truth.
       synthesis::StructureModes truthModes;
       double truthSeconds = 0;
       if (doTruth) {
         const auto& truth = *truthModel;
-        drivers::resetPeakRss();
+        resetPeak();
         t0 = Clock::now();
         Teuchos::ParameterList ts = solve;
         ts.set("Solver", std::string("Sparse"));
@@ -279,6 +294,8 @@ int main(int argc, char* argv[]) {
 
       // 5. Strategies.
       std::vector<Teuchos::ParameterList> best;
+      std::string bestStrategy;
+      int bestCount = 0;
       double bestError = 1e300;
       for (const auto& strategy : strategies) {
         for (int k : strategy == "Guyan" ? std::vector<int>{0} : counts) {
@@ -286,7 +303,7 @@ int main(int argc, char* argv[]) {
           r.what = "reduced";
           r.strategy = strategy;
           r.vectors = k;
-          drivers::resetPeakRss();
+          resetPeak();
           try {
             const auto red = synthesis::sameReduction(structure, strategy, k);
             t0 = Clock::now();
@@ -302,29 +319,29 @@ int main(int argc, char* argv[]) {
               r.solve = m.seconds;
               r.pipeline = synthWall + m.seconds;
               for (const auto& md : m.result.modes) r.hz.push_back(md.hz);
-              if (!doTruth) best = red;  // no errors: the last model stands in
+              if (!doTruth) best = red, bestStrategy = strategy, bestCount = k;  // no errors: the last model stands in
               if (doTruth && static_cast<int>(m.result.modes.size()) >= modes) {
                 const auto c = analysis::compareWithTruth(s, m, *truthModel, truthModes, modes);
                 r.maxError = c.maxRelativeError;
                 r.meanError = c.meanRelativeError;
                 r.worstMac = c.worstMac;
-                if (r.maxError < bestError) bestError = r.maxError, best = red;
+                if (r.maxError < bestError) bestError = r.maxError, best = red, bestStrategy = strategy, bestCount = k;
               }
               r.note = m.path;
             }
           } catch (const InputError& e) {
             r.note = std::string("skipped: ") + e.what();
+          } catch (const NumericalError& e) {
+            r.note = std::string("FAILED (numerical): ") + e.what();
           }
           r.mem = peak(*comm);
-          for (char& c : r.note)
-            if (c == ',' || c == '\n') c = ';';
           rows.push_back(r);
           if (root)
             std::cout << std::left << std::setw(14) << strategy << std::right << std::setw(4) << k << std::setw(7)
                       << r.reducedDofs << " coords  reduce " << std::setprecision(3) << r.reduce << " s, synth "
                       << r.synth << " s, solve " << r.solve << " s; pipeline/truth "
                       << (r.pipeline > 0 && r.truth > 0 ? r.pipeline / r.truth : 0.0) << ", pipeline/floor "
-                      << (r.pipeline > 0 ? r.pipeline / floor : 0.0) << "; max err " << r.maxError << "; peak "
+                      << (r.pipeline > 0 && floor > 0 ? r.pipeline / floor : 0.0) << "; max err " << r.maxError << "; peak "
                       << std::setprecision(5) << r.mem.max << " MiB" << (r.note.rfind("skipped", 0) == 0 ? "  " + r.note : "")
                       << '\n';
           flush();
@@ -335,6 +352,7 @@ int main(int argc, char* argv[]) {
       // distributed over all ranks instead of whole on one (the schedules'
       // times, and their frequencies' agreement).
       if (ranks > 1 && !best.empty()) {
+        resetPeak();
         t0 = Clock::now();
         const auto a = synthesis::SynthesizedStructure::synthesize(structure, best,
                                                                    synthesis::ReductionSchedule::Distributed);
@@ -348,8 +366,8 @@ int main(int argc, char* argv[]) {
           diff = std::max(diff, std::abs(wa[i] / wb[i] - 1.0));
         Row r = base;
         r.what = "distributed-schedule";
-        r.strategy = best.front().get<std::string>("Basis");
-        r.vectors = best.front().get<int>("Vectors", 0);
+        r.strategy = bestStrategy;
+        r.vectors = bestCount;
         r.reducedDofs = a.size();
         r.reduce = a.basesSeconds();
         r.synth = wall - r.reduce;
@@ -359,12 +377,14 @@ int main(int argc, char* argv[]) {
         note << "max rel. frequency difference from the concurrent schedule " << diff << " (concurrent reduce "
              << b.basesSeconds() << " s)";
         r.note = note.str();
+        r.mem = peak(*comm);
         rows.push_back(r);
         if (root) std::cout << "distributed schedule: reduce " << r.reduce << " s; " << r.note << '\n';
       }
 
       // 7. The sweep: one model, `steps` speeds, no re-projection.
       if (steps > 0 && !best.empty()) {
+        resetPeak();
         t0 = Clock::now();
         const auto s = synthesis::SynthesizedStructure::synthesize(structure, best);
         const double synthWall = since(t0);
@@ -381,8 +401,8 @@ int main(int argc, char* argv[]) {
         const double sweep = synthWall + since(t0);
         Row r = base;
         r.what = "sweep";
-        r.strategy = best.front().get<std::string>("Basis");
-        r.vectors = best.front().get<int>("Vectors", 0);
+        r.strategy = bestStrategy;
+        r.vectors = bestCount;
         r.reducedDofs = s.size();
         r.reduce = s.basesSeconds();
         r.synth = synthWall - r.reduce;
@@ -390,6 +410,7 @@ int main(int argc, char* argv[]) {
         r.pipeline = sweep;
         r.note = std::to_string(steps) + " speeds / one speed = " + std::to_string(sweep / single) + " (one: " +
                  std::to_string(single) + " s); not converged " + std::to_string(notConverged);
+        r.mem = peak(*comm);
         rows.push_back(r);
         if (root) std::cout << "sweep: " << r.note << '\n';
         if (doTruth && truthModel->size() <= truthSweepMaxDofs) {

@@ -802,11 +802,22 @@ int main(int argc, char* argv[]) {
         CMS_INPUT_CHECK(eq == std::string::npos || eq == 0 || end == item.c_str() + eq + 1 || *end != '\0' ||
                             !std::isfinite(v),
                         "--mesh-parameters: \"" << item << "\" is not name=number");
-        meshParameters[item.substr(0, eq)] = v;
+        std::string name = item.substr(0, eq);
+        name.erase(0, name.find_first_not_of(" \t"));
+        name.erase(name.find_last_not_of(" \t") + 1);
+        CMS_INPUT_CHECK(name.empty(), "--mesh-parameters: \"" << item << "\" has no name");
+        meshParameters[name] = v;
       }
     }
     // 2. The scene, checked before anything is computed.
     const scene::Scene sc = scene::Scene::read(scenePath, meshParameters);
+    if (!meshParameters.empty()) {
+      bool used = false;
+      for (const auto& s : sc.structure.substructures)
+        used = used || (s.model && s.model->mesh && s.model->mesh->source.size() > 4 &&
+                        s.model->mesh->source.compare(s.model->mesh->source.size() - 4, 4, ".geo") == 0);
+      CMS_INPUT_CHECK(!used, "--mesh-parameters: no substructure of " << scenePath << " is meshed from a .geo script");
+    }
     const std::filesystem::path outDir =
         !output.empty() ? output : (!sc.outputDirectory.empty() ? sc.outputDirectory : "cms-results");
     // The output directory must be writable before anything is computed.

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include <Teuchos_Comm.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_Map.hpp>
@@ -15,7 +16,8 @@ namespace {
 /// All of 0 .. n-1 on `owner`, nothing elsewhere (world communicator).
 Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
   const auto n = like.getGlobalNumElements();
-  if (n > 0 && (like.getMinAllGlobalIndex() != 0 || like.getMaxAllGlobalIndex() != static_cast<GlobalOrdinal>(n) - 1))
+  if (n > 0 && (!like.isOneToOne() || like.getMinAllGlobalIndex() != 0 ||
+                like.getMaxAllGlobalIndex() != static_cast<GlobalOrdinal>(n) - 1))
     throw std::invalid_argument("gatherToRank: the row ids are not 0 .. n-1");
   const auto comm = like.getComm();
   return Teuchos::rcp(new Map(n, comm->getRank() == owner ? n : 0, 0, comm));
@@ -61,10 +63,14 @@ Teuchos::RCP<MultiVector> scatterFromRank(const Teuchos::RCP<const MultiVector>&
                                           const Teuchos::RCP<const Map>& target) {
   const auto cmap = concentrated(*target, owner);
   MultiVector Xc(cmap, static_cast<std::size_t>(std::max(numVectors, 1)));
+  // Checked on the owner and agreed by every rank before the collective
+  // import, so that a mismatch raises everywhere instead of hanging.
+  int bad = target->getComm()->getRank() == owner && numVectors > 0 &&
+            (X.is_null() || static_cast<int>(X->getNumVectors()) != numVectors ||
+             X->getLocalLength() != cmap->getNodeNumElements());
+  Teuchos::broadcast(*target->getComm(), owner, &bad);
+  if (bad) throw std::invalid_argument("scatterFromRank: the owner's multivector does not match");
   if (target->getComm()->getRank() == owner && numVectors > 0) {
-    if (X.is_null() || static_cast<int>(X->getNumVectors()) != numVectors ||
-        X->getLocalLength() != cmap->getNodeNumElements())
-      throw std::invalid_argument("scatterFromRank: the owner's multivector does not match");
     for (int j = 0; j < numVectors; ++j) {
       auto from = X->getData(j);
       auto to = Xc.getDataNonConst(j);

@@ -8,14 +8,17 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "cms/core/HeldDofs.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
 
 namespace cms::reduction {
 
-Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+namespace {
+
+/// psi = e_g + K_held^-1 (-K e_g): the held solve zeroes every held row of
+/// the correction, so psi is 1 at g and 0 at the other held rows.
+Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, const detail::HeldStiffness& K,
                                           const std::vector<GlobalOrdinal>& unitRows) {
-  // psi = e_g + K_held^-1 (-K e_g): the held solve zeroes every held row of
-  // the correction, so psi is 1 at g and 0 at the other held rows.
   const auto map = s.map();
   const int nb = static_cast<int>(unitRows.size());
   MultiVector E(map, nb), KE(map, nb);
@@ -27,10 +30,16 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
   }
   s.K()->apply(E, KE);
   KE.scale(-1.0);
-  detail::HeldStiffness K(s, held);
   K.solve(KE, *Psi);
   Psi->update(1.0, E, 1.0);
   return Psi;
+}
+
+}  // namespace
+
+Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
+                                          const std::vector<GlobalOrdinal>& unitRows) {
+  return constraintModes(s, detail::HeldStiffness(s, held), unitRows);
 }
 
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
@@ -56,19 +65,25 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
 
   RitzBasis basis;
   basis.kind = modes == 0 ? "Guyan" : "Craig-Bampton";
+  // One factorisation of K with the attachment and the point interfaces
+  // held serves the constraint modes of both kinds and the modes.
+  std::sort(heldAll.begin(), heldAll.end());
+  const detail::HeldStiffness K(s, heldAll);
   if (!interface.empty()) {
     std::vector<GlobalOrdinal> unit(interface.begin(), interface.end());
     std::vector<std::string> labels;
     for (GlobalOrdinal g : unit) labels.push_back("constraint mode of row " + std::to_string(g));
-    const auto Psi = constraintModes(s, heldAll, unit);
+    const auto Psi = constraintModes(s, K, unit);
     const int nb = static_cast<int>(unit.size());
     appendOrthonormal(*s.M(), *Psi, labels, depTol, nb, basis);
   }
+  ModeConstraints constraints;
   if (!distributing.empty()) {
     const auto map = s.map();
     int nf = 0;
     for (std::size_t c : distributing) nf += static_cast<int>(boundary.interfaceLoads[c].size());
-    MultiVector F(map, nf), X(map, nf);
+    auto F = Teuchos::rcp(new MultiVector(map, nf));
+    auto X = Teuchos::rcp(new MultiVector(map, nf));
     std::vector<std::string> labels;
     int j = 0;
     for (std::size_t c : distributing)
@@ -77,22 +92,17 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
                          std::to_string(k + 1));
         for (auto [g, v] : boundary.interfaceLoads[c][k]) {
           const auto l = map->getLocalElement(g);
-          if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) F.sumIntoLocalValue(l, j, v);
+          if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) F->sumIntoLocalValue(l, j, v);
         }
       }
-    detail::HeldStiffness K(s, heldAll);
-    K.solve(F, X);
-    appendOrthonormal(*s.M(), X, labels, depTol, basis.size() + nf, basis);
-    // The modes hold these rows whole: a stronger constraint than H u = 0
-    // (a subspace of it), so the basis stays admissible; theory §11.3.
-    for (std::size_t c : distributing)
-      for (GlobalOrdinal g : boundary.interfaces[c])
-        if (!std::binary_search(boundary.held.begin(), boundary.held.end(), g)) heldAll.push_back(g);
-    std::sort(heldAll.begin(), heldAll.end());
-    heldAll.erase(std::unique(heldAll.begin(), heldAll.end()), heldAll.end());
+    zeroHeldRows(*F, heldAll);
+    K.solve(*F, *X);
+    appendOrthonormal(*s.M(), *X, labels, depTol, basis.size() + nf, basis);
+    // The modes of the fixed interface satisfy H u = 0 (theory §11.3).
+    constraints = {F, X};
   }
   if (modes > 0) {
-    RitzBasis phi = fixedInterfaceModes(s, heldAll, modes, eigTol, depTol);
+    RitzBasis phi = detail::fixedInterfaceModes(s, K, modes, eigTol, depTol, constraints);
     appendOrthonormal(*s.M(), *phi.vectors, phi.labels, depTol, basis.size() + phi.size(), basis);
     basis.eigensolverReport = phi.eigensolverReport;
     basis.dropped.insert(basis.dropped.end(), phi.dropped.begin(), phi.dropped.end());

@@ -9,6 +9,7 @@
 #include <AnasaziBasicEigenproblem.hpp>
 #include <AnasaziBlockKrylovSchurSolMgr.hpp>
 #include <AnasaziTpetraAdapter.hpp>
+#include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -28,9 +29,36 @@ namespace {
 
 /// Y = K_held^-1 M_held X: self-adjoint in the M_held inner product, its
 /// eigenvalues 1 / omega^2 (and 0 on the held DOFs).
+///
+/// With constraints H u = 0 (F = H^T, Y = K^-1 F, S = F^T Y = H K^-1 H^T):
+/// Z M X with Z = K^-1 - Y S^-1 Y^T, the inverse of K on {H u = 0} (from
+/// K u = lambda M u + H^T mu, H u = 0); still M-self-adjoint, its range
+/// inside H u = 0, so every eigenvector of a nonzero eigenvalue satisfies
+/// the constraints.
 class ShiftInvert : public Tpetra::Operator<double> {
 public:
-  ShiftInvert(const detail::HeldStiffness& K, Teuchos::RCP<const CrsMatrix> M) : K_(K), M_(std::move(M)) {}
+  ShiftInvert(const detail::HeldStiffness& K, Teuchos::RCP<const CrsMatrix> M, const ModeConstraints& c = {})
+      : K_(K), M_(std::move(M)), Y_(c.Y) {
+    if (Y_.is_null()) return;
+    const int m = static_cast<int>(Y_->getNumVectors());
+    small_ = Teuchos::rcp(new Map(m, 0, M_->getRangeMap()->getComm(), Tpetra::LocallyReplicated));
+    MultiVector S(small_, m);
+    S.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *c.F, *Y_, 0.0);
+    Sinv_.assign(static_cast<std::size_t>(m) * m, 0.0);
+    for (int j = 0; j < m; ++j) {
+      const auto col = S.getData(j);
+      for (int i = 0; i < m; ++i) Sinv_[i + static_cast<std::size_t>(j) * m] = col[i];
+    }
+    // S is symmetric positive definite (H has full rank: RigidFit refuses
+    // degenerate fits): its Cholesky factor, for S^-1 below.
+    Teuchos::LAPACK<int, double> lapack;
+    int info = 0;
+    lapack.POTRF('L', m, Sinv_.data(), m, &info);
+    TEUCHOS_TEST_FOR_EXCEPTION(info != 0, std::runtime_error,
+                               "fixed-interface modes: the constraints' Schur complement H K^-1 H^T is not "
+                               "positive definite (dependent constraints), LAPACK info "
+                                   << info);
+  }
   Teuchos::RCP<const Map> getDomainMap() const override { return M_->getDomainMap(); }
   Teuchos::RCP<const Map> getRangeMap() const override { return M_->getRangeMap(); }
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, double alpha = 1.0,
@@ -38,12 +66,33 @@ public:
     MultiVector MX(X.getMap(), X.getNumVectors()), Z(X.getMap(), X.getNumVectors());
     M_->apply(X, MX);
     K_.solve(MX, Z);
+    if (!Y_.is_null()) {
+      const int m = static_cast<int>(Y_->getNumVectors()), nv = static_cast<int>(X.getNumVectors());
+      MultiVector R(small_, nv);
+      R.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Y_, MX, 0.0);  // Y^T M X = H K^-1 M X
+      std::vector<double> r(static_cast<std::size_t>(m) * nv);
+      for (int j = 0; j < nv; ++j) {
+        const auto col = R.getData(j);
+        for (int i = 0; i < m; ++i) r[i + static_cast<std::size_t>(j) * m] = col[i];
+      }
+      Teuchos::LAPACK<int, double> lapack;
+      int info = 0;
+      lapack.POTRS('L', m, nv, Sinv_.data(), m, r.data(), m, &info);
+      for (int j = 0; j < nv; ++j) {
+        auto col = R.getDataNonConst(j);
+        for (int i = 0; i < m; ++i) col[i] = r[i + static_cast<std::size_t>(j) * m];
+      }
+      Z.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, *Y_, R, 1.0);
+    }
     Y.update(alpha, Z, beta);
   }
 
 private:
   const detail::HeldStiffness& K_;
   Teuchos::RCP<const CrsMatrix> M_;
+  Teuchos::RCP<const MultiVector> Y_;
+  Teuchos::RCP<const Map> small_;
+  std::vector<double> Sinv_;  ///< Cholesky factor of S = F^T Y
 };
 
 /// The number of modes to keep so that a repeated eigenvalue (a symmetric
@@ -61,7 +110,7 @@ int completeCluster(const std::vector<double>& lambda, int count, int available)
 /// Dense path for small substructures: gather K and M on the free rows to
 /// every rank and call LAPACK dsygv; returns the lowest `count` vectors.
 Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
-                                     int& count, std::vector<double>& omega) {
+                                     int& count, std::vector<double>& omega, const ModeConstraints& constraints) {
   const auto map = s.map();
   const long long n = s.dofs().rows();
   const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
@@ -86,12 +135,50 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
     auto kc = Kr.getData(j), mc = Mr.getData(j);
     for (int i = 0; i < nf; ++i) A[i + j * nf] = kc[freeRows[i]], B[i + j * nf] = mc[freeRows[i]];
   }
+  // Constraints H u = 0: the problem on the null space N of H (free rows),
+  // from the full QR of H^T = F: N = the last nf - m columns of Q.
+  int nr = nf;
+  std::vector<double> N;
+  if (!constraints.F.is_null()) {
+    const int m = static_cast<int>(constraints.F->getNumVectors());
+    MultiVector Fr(rep, m);
+    Fr.doImport(*constraints.F, imp, Tpetra::INSERT);
+    std::vector<double> Q(static_cast<std::size_t>(nf) * nf, 0.0), tau(std::max(1, m));
+    for (int j = 0; j < m; ++j) {
+      auto c = Fr.getData(j);
+      for (int i = 0; i < nf; ++i) Q[i + static_cast<std::size_t>(j) * nf] = c[freeRows[i]];
+    }
+    Teuchos::LAPACK<int, double> lapack;
+    std::vector<double> work(static_cast<std::size_t>(std::max(1, nf)) * 64);
+    int info = 0;
+    lapack.GEQRF(nf, m, Q.data(), nf, tau.data(), work.data(), static_cast<int>(work.size()), &info);
+    lapack.ORGQR(nf, nf, m, Q.data(), nf, tau.data(), work.data(), static_cast<int>(work.size()), &info);
+    nr = nf - m;
+    N.assign(Q.begin() + static_cast<long>(m) * nf, Q.end());
+    // A <- N^T A N, B <- N^T B N.
+    Teuchos::BLAS<int, double> blas;
+    std::vector<double> T(static_cast<std::size_t>(nf) * nr), Ar(static_cast<std::size_t>(nr) * nr),
+        Br(Ar.size());
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nf, nr, nf, 1.0, A.data(), nf, N.data(), nf, 0.0, T.data(), nf);
+    blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nr, nr, nf, 1.0, N.data(), nf, T.data(), nf, 0.0, Ar.data(), nr);
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nf, nr, nf, 1.0, B.data(), nf, N.data(), nf, 0.0, T.data(), nf);
+    blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nr, nr, nf, 1.0, N.data(), nf, T.data(), nf, 0.0, Br.data(), nr);
+    A.swap(Ar);
+    B.swap(Br);
+  }
   std::vector<double> w;
-  const int info = detail::symmetricEigen(A, B, nf, true, w);
+  const int info = detail::symmetricEigen(A, B, nr, true, w);
   if (info != 0)
     throw NumericalError(s.name() + ": fixed-interface eigenproblem failed (LAPACK dsygv info " +
                          std::to_string(info) + "; K or M not definite on the free DOFs)");
-  count = completeCluster(w, count, nf);
+  count = completeCluster(w, count, nr);
+  if (!N.empty()) {  // back to the free rows: x = N y
+    std::vector<double> X(static_cast<std::size_t>(nf) * count);
+    Teuchos::BLAS<int, double> blas;
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nf, count, nr, 1.0, N.data(), nf, A.data(), nr, 0.0, X.data(),
+              nf);
+    A.swap(X);
+  }
   auto V = Teuchos::rcp(new MultiVector(map, count));
   omega.resize(count);
   for (int j = 0; j < count; ++j) {
@@ -107,24 +194,30 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
 }  // namespace
 
 RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
-                              int count, double eigTol, double depTol) {
+                              int count, double eigTol, double depTol, const ModeConstraints& constraints) {
+  const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
+  const detail::HeldStiffness K(s, std::vector<GlobalOrdinal>(heldSet.begin(), heldSet.end()));
+  return detail::fixedInterfaceModes(s, K, count, eigTol, depTol, constraints);
+}
+
+RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const detail::HeldStiffness& K, int count,
+                                      double eigTol, double depTol, const ModeConstraints& constraints) {
   const int requested = count;
   RitzBasis basis;
   basis.kind = "Modes";
   if (count == 0) return basis;
-  const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
-  const long long nfree = s.dofs().rows() - static_cast<long long>(heldSet.size());
-  const std::vector<GlobalOrdinal> heldRows(heldSet.begin(), heldSet.end());
+  const std::vector<GlobalOrdinal>& heldRows = K.held();
+  const int m = constraints.F.is_null() ? 0 : static_cast<int>(constraints.F->getNumVectors());
+  const long long nfree = s.dofs().rows() - static_cast<long long>(heldRows.size()) - m;
   Teuchos::RCP<MultiVector> V;
   std::vector<double> omega;
   std::ostringstream report;
   if (nfree <= 400 || (count > nfree / 4 && nfree <= 3000)) {
-    V = denseModes(s, heldRows, count, omega);
+    V = denseModes(s, heldRows, count, omega, constraints);
     report << "LAPACK dsygv on " << nfree << " free DOFs";
   } else {
-    detail::HeldStiffness K(s, heldRows);
     Teuchos::RCP<const CrsMatrix> Mh = holdDofs(*s.M(), heldRows, 0.0);
-    auto op = Teuchos::rcp(new ShiftInvert(K, Mh));
+    auto op = Teuchos::rcp(new ShiftInvert(K, Mh, constraints));
     const int bs = 2;
     auto X0 = Teuchos::rcp(new MultiVector(s.map(), bs));
     for (std::size_t l = 0; l < s.map()->getNodeNumElements(); ++l)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cms/core/SparseDirectSolver.hpp"
+#include "cms/reduction/FixedInterfaceModes.hpp"
 #include "cms/substructure/Substructure.hpp"
 
 namespace cms::reduction::detail {
@@ -29,5 +30,11 @@ private:
   Teuchos::RCP<const CrsMatrix> K_;
   std::unique_ptr<SparseDirectSolver> solver_;
 };
+
+/// fixedInterfaceModes with an existing factorisation of K with the held
+/// rows (Craig-Bampton shares it with its static solves).
+RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const HeldStiffness& K, int count,
+                              double eigensolverTolerance, double dependenceTolerance,
+                              const ModeConstraints& constraints);
 
 }  // namespace cms::reduction::detail

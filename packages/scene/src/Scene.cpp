@@ -356,6 +356,9 @@ void setMeshParameters(ParameterList& scene, const std::map<std::string, double>
     auto& fe = s.sublist("Finite Element Model");
     if (!fe.isType<std::string>("Mesh") || std::filesystem::path(fe.get<std::string>("Mesh")).extension() != ".geo")
       continue;
+    // A "Mesh Parameters" that is not a list is left for the reader to
+    // report, with its key path.
+    if (fe.isParameter("Mesh Parameters") && !fe.isSublist("Mesh Parameters")) continue;
     for (const auto& [name, value] : values) fe.sublist("Mesh Parameters").set(name, value);
   }
 }

@@ -14,7 +14,18 @@
 
 namespace cms::reduction {
 
+/// Linear constraints H u = 0 on the modes besides the held rows, given by
+/// F = H^T (n x m: the loads of the constrained coordinates) and
+/// Y = K_held^-1 F (the static shapes under them): the modes are then those
+/// of K phi = omega^2 M phi restricted to H phi = 0 — Craig-Bampton's fixed
+/// interface for a distributing (RigidFit) attachment, whose coordinates are
+/// the six fitted motions a = H u (doc/theory.md §11.3). Null: none.
+struct ModeConstraints {
+  Teuchos::RCP<const MultiVector> F, Y;
+};
+
 RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
-                              int count, double eigensolverTolerance, double dependenceTolerance);
+                              int count, double eigensolverTolerance, double dependenceTolerance,
+                              const ModeConstraints& constraints = {});
 
 }  // namespace cms::reduction
