@@ -164,6 +164,7 @@ def main():
         except ValueError:
             print(f"calculix_peer: --h: '{w}' is not a number", file=sys.stderr)
             return 2
+    a.cms = os.path.abspath(a.cms)
     if not os.access(a.cms, os.X_OK):
         print(f"calculix_peer: --cms {a.cms}: not an executable", file=sys.stderr)
         return 2

@@ -1,9 +1,13 @@
 // Craig-Bampton (Craig & Bampton 1968): fixed-interface normal modes (the
-// substructure's attachment and its children's interfaces all held) plus the
-// static constraint modes of the children's interface DOFs, psi_g = e_g -
-// K_ii^-1 K_ig. With no modes it is Guyan's static condensation onto the
-// interface. The attachment to the parent needs no constraint modes here:
-// its motion is the interface transform's rigid part (doc/theory.md §11.2).
+// substructure's attachment and its children's interfaces all fixed) plus the
+// static constraint modes of the children's interface coordinates: for a
+// Node or Boolean interface one per interface row, psi_g = e_g - K_ii^-1
+// K_ig; for a distributing (RigidFit) interface, whose coordinates are the
+// six fitted motions a = H u, the static shapes K^-1 H^T, with the modes
+// computed under H u = 0 (doc/theory.md §11.3). With no modes it is Guyan's
+// static condensation onto the interface. The attachment to the parent needs
+// no constraint modes here: its motion is the interface transform's rigid
+// part (doc/theory.md §11.2).
 #pragma once
 
 #include "cms/reduction/RitzBasis.hpp"
