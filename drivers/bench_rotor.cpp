@@ -28,7 +28,7 @@
 // `plot_results.py rotor CSV PNG` (--plot): error against time, per size.
 //
 // Run on 1 and 2 ranks to measure the parallel speed-up per phase:
-//   bench_rotor --h=0.03,0.015,0.009,0.006,0.005 --csv=rotor-np1.csv
+//   bench_rotor --h=0.03,0.015,0.009,0.0052 --csv=rotor-np1.csv
 //   mpiexec -n 2 bench_rotor --h=... --csv=rotor-np2.csv
 #include <algorithm>
 #include <chrono>
