@@ -348,6 +348,22 @@ int main(int argc, char* argv[]) {
         }
       }
 
+      // A row for the most accurate model synthesised again (wall seconds of
+      // the synthesis, bases included, and of the solves).
+      auto modelRow = [&](const char* what, const synthesis::SynthesizedStructure& m, double synthWall,
+                          double solveSeconds) {
+        Row r = base;
+        r.what = what;
+        r.strategy = bestStrategy;
+        r.vectors = bestCount;
+        r.reducedDofs = m.size();
+        r.reduce = m.basesSeconds();
+        r.synth = synthWall - r.reduce;
+        r.solve = solveSeconds;
+        r.pipeline = synthWall + solveSeconds;
+        return r;
+      };
+
       // 6. On several ranks: the most accurate model with each substructure
       // distributed over all ranks instead of whole on one (the schedules'
       // times, and their frequencies' agreement).
@@ -364,15 +380,7 @@ int main(int argc, char* argv[]) {
         double diff = 0;
         for (std::size_t i = 0; i < std::min(wa.size(), wb.size()); ++i)
           diff = std::max(diff, std::abs(wa[i] / wb[i] - 1.0));
-        Row r = base;
-        r.what = "distributed-schedule";
-        r.strategy = bestStrategy;
-        r.vectors = bestCount;
-        r.reducedDofs = a.size();
-        r.reduce = a.basesSeconds();
-        r.synth = wall - r.reduce;
-        r.solve = ma.seconds;
-        r.pipeline = wall + ma.seconds;
+        Row r = modelRow("distributed-schedule", a, wall, ma.seconds);
         std::ostringstream note;
         note << "max rel. frequency difference from the concurrent schedule " << diff << " (concurrent reduce "
              << b.basesSeconds() << " s)";
@@ -399,15 +407,7 @@ int main(int argc, char* argv[]) {
           notConverged += s.solve(sp, solve).result.status != eigen::SolveStatus::Converged;
         }
         const double sweep = synthWall + since(t0);
-        Row r = base;
-        r.what = "sweep";
-        r.strategy = bestStrategy;
-        r.vectors = bestCount;
-        r.reducedDofs = s.size();
-        r.reduce = s.basesSeconds();
-        r.synth = synthWall - r.reduce;
-        r.solve = sweep - synthWall;
-        r.pipeline = sweep;
+        Row r = modelRow("sweep", s, synthWall, sweep - synthWall);
         r.note = std::to_string(steps) + " speeds / one speed = " + std::to_string(sweep / single) + " (one: " +
                  std::to_string(single) + " s); not converged " + std::to_string(notConverged);
         r.mem = peak(*comm);
