@@ -47,6 +47,7 @@
 #include <Tpetra_Core.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 
+#include "DriverBoundary.hpp"
 #include "PeakMemory.hpp"
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/core/Error.hpp"
@@ -141,7 +142,7 @@ int main(int argc, char* argv[]) {
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
   const int ranks = comm->getSize();
-  try {
+  return drivers::reportErrors("bench_rotor", root, [&]() -> int {
     // 1. Options.
     std::string scenePath = std::string(CMS_BENCH_DIR) + "/rotor/rotor.yaml";
     std::string sizesText = "0.03,0.015", strategiesText = "Admissible,Modes,Craig-Bampton", countsText = "6,12,24";
@@ -447,14 +448,5 @@ int main(int argc, char* argv[]) {
       else std::cout << "no plot: " << cmd << " failed\n";
     }
     return ExitSuccess;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "bench_rotor: bad input: " << e.what() << '\n';
-    return ExitInputError;
-  } catch (const NumericalError& e) {
-    if (root) std::cerr << "bench_rotor: numerical failure: " << e.what() << '\n';
-    return ExitNumericalError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "bench_rotor: internal error: " << e.what() << '\n';
-    return ExitInternalError;
-  }
+  });
 }

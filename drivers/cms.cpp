@@ -70,6 +70,7 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include "DriverBoundary.hpp"
 #include "PeakMemory.hpp"
 #include "cms/analysis/ModeShapeFiles.hpp"
 #include "cms/analysis/TruthComparison.hpp"
@@ -731,7 +732,7 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
 int main(int argc, char* argv[]) {
   Teuchos::GlobalMPISession mpi(&argc, &argv, nullptr);
   const bool root = Teuchos::DefaultComm<int>::getComm()->getRank() == 0;
-  try {
+  return drivers::reportErrors("cms", root, [&]() -> int {
     // 1. The subcommand and options.
     std::string command = argc > 1 ? argv[1] : "";
     if (command == "--version") {
@@ -838,14 +839,5 @@ int main(int argc, char* argv[]) {
     else code = command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
     if (timers) Teuchos::TimeMonitor::summarize(std::cout);
     return code;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "cms: bad input: " << e.what() << '\n';
-    return ExitInputError;
-  } catch (const NumericalError& e) {
-    if (root) std::cerr << "cms: numerical breakdown: " << e.what() << '\n';
-    return ExitNumericalError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "cms: internal error (please report): " << e.what() << '\n';
-    return ExitInternalError;
-  }
+  });
 }
