@@ -37,6 +37,19 @@ fem::FiniteElementModel frame(std::shared_ptr<const fem::Mesh> mesh, const fem::
   return hb.frame(std::move(mesh), mat, sec, name);
 }
 
+/// A non-rotating (E) frame child named after its model, its node set
+/// "start" tied to the parent's `parentNodes` (the attachment-error cases).
+SubstructureSpec frameChild(const std::string& parent, const std::string& parentNodes, fem::FiniteElementModel model) {
+  SubstructureSpec E;
+  E.name = model.name;
+  E.kind = SubstructureKind::Elastic;
+  E.parent = parent;
+  E.attachment.parentNodes = parentNodes;
+  E.attachment.childNodes = "start";
+  E.model = std::make_shared<fem::FiniteElementModel>(std::move(model));
+  return E;
+}
+
 /// Share of a mode's translational amplitude along z in substructure k.
 double zShare(const SynthesizedStructure& s, const StructureModes& m, int mode, std::size_t k,
               const substructure::Substructure& sub) {
@@ -290,15 +303,9 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
   {
     auto d = supportWith(false, 100.0);
     d.substructures[0].spin = SpinRate{{1, 0, 0}, {0, 0, 0}, 1.0};
-    SubstructureSpec E;
-    E.name = "disc";
-    E.kind = SubstructureKind::Elastic;
-    E.parent = "shaft";
-    E.attachment.parentNodes = "end";
-    E.attachment.childNodes = "start";
-    E.model = std::make_shared<fem::FiniteElementModel>(
-        frame(fixtures::segmentMesh({2, 0, 0}, {2, 0.2, 0}, 2, 500), {2e11, 0.3, 7800}, {1e-4, 1e-9, 1e-9, 2e-9}, "disc"));
-    d.substructures.push_back(E);
+    d.substructures.push_back(frameChild(
+        "shaft", "end",
+        frame(fixtures::segmentMesh({2, 0, 0}, {2, 0.2, 0}, 2, 500), {2e11, 0.3, 7800}, {1e-4, 1e-9, 1e-9, 2e-9}, "disc")));
     expectInputError([&] { AssembledStructure::assemble(d, comm); }, "attached to the spinning rotor 'shaft'");
   }
   // An A spinning about an axis that is not its spinning parent's.
@@ -317,15 +324,9 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
     block.fixed.push_back({"ref", "reference", {}, true});
     C.model = std::make_shared<fem::FiniteElementModel>(block);
     d.substructures.push_back(C);
-    SubstructureSpec E;
-    E.name = "boom";
-    E.kind = SubstructureKind::Elastic;
-    E.parent = "block";
-    E.attachment.parentNodes = "corner";
-    E.attachment.childNodes = "start";
-    E.model = std::make_shared<fem::FiniteElementModel>(
-        frame(fixtures::segmentMesh({0, 0, 0}, {0, 2, 0}, 4, 100), {7e10, 0.3, 2700}, {1e-4, 1e-9, 1e-9, 2e-9}, "b"));
-    d.substructures.push_back(E);
+    d.substructures.push_back(frameChild(
+        "block", "corner",
+        frame(fixtures::segmentMesh({0, 0, 0}, {0, 2, 0}, 4, 100), {7e10, 0.3, 2700}, {1e-4, 1e-9, 1e-9, 2e-9}, "boom")));
     expectInputError([&] { AssembledStructure::assemble(d, comm); }, "no rotational DOFs");
     // RigidFit on collinear nodes: a line of the box's nodes.
     d.substructures[1].attachment.type = Attachment::Type::RigidFit;
