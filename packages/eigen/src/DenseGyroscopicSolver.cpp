@@ -11,6 +11,7 @@
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
 
@@ -55,34 +56,112 @@ extern "C" void dgesvdx_(const char* jobu, const char* jobvt, const char* range,
                          const int* lwork, int* iwork, int* info, std::size_t, std::size_t,
                          std::size_t);
 
-/// The `count` smallest singular values of the square A (descending, as
-/// LAPACK orders them) and their right singular vectors as rows of VT.
-void singularTriplets(const DenseMatrix& A, int count, std::vector<double>& s, DenseMatrix& VT) {
+/// Singular values of the square A, descending, with their right singular
+/// vectors as rows of VT.
+struct Triplets {
+  std::vector<double> s;
+  DenseMatrix VT;
+  bool all = false;  ///< the whole spectrum, not only the smallest values
+};
+
+/// The `count` smallest singular triplets of the square A by LAPACK dgesvdx
+/// (one bidiagonalisation, then only the wanted vectors).
+Triplets singularTriplets(const DenseMatrix& A, int count) {
   const int N = A.numRows();
   DenseMatrix Ac(A);
   const int il = N - count + 1, iu = N, ldu = 1;
   const double vl = 0.0, vu = 0.0;
   int ns = 0, info = 0, lwork = -1;
-  s.assign(N, 0.0);
-  VT.shape(count, N);
+  Triplets t;
+  t.s.assign(N, 0.0);
+  t.VT.shape(count, N);
+  t.all = count == N;
   double u = 0.0, wq = 0.0;
   std::vector<int> iwork(12 * N);
-  dgesvdx_("N", "V", "I", &N, &N, Ac.values(), &N, &vl, &vu, &il, &iu, &ns, s.data(), &u, &ldu,
-           VT.values(), &count, &wq, &lwork, iwork.data(), &info, 1, 1, 1);
+  dgesvdx_("N", "V", "I", &N, &N, Ac.values(), &N, &vl, &vu, &il, &iu, &ns, t.s.data(), &u, &ldu,
+           t.VT.values(), &count, &wq, &lwork, iwork.data(), &info, 1, 1, 1);
   lwork = static_cast<int>(wq);
   std::vector<double> work(std::max(1, lwork));
-  dgesvdx_("N", "V", "I", &N, &N, Ac.values(), &N, &vl, &vu, &il, &iu, &ns, s.data(), &u, &ldu,
-           VT.values(), &count, work.data(), &lwork, iwork.data(), &info, 1, 1, 1);
+  dgesvdx_("N", "V", "I", &N, &N, Ac.values(), &N, &vl, &vu, &il, &iu, &ns, t.s.data(), &u, &ldu,
+           t.VT.values(), &count, work.data(), &lwork, iwork.data(), &info, 1, 1, 1);
   TEUCHOS_TEST_FOR_EXCEPTION(info != 0 || ns != count, NumericalError,
                              "DenseGyroscopicSolver: LAPACK dgesvdx failed, info = "
                                  << info << ", " << ns << " of " << count << " values");
-  s.resize(count);
+  t.s.resize(count);
+  return t;
+}
+
+/// Every singular triplet of A by LAPACK dgesvd (QR iteration on the whole
+/// bidiagonal): the fallback when a Sturm count shows dgesvdx missed values.
+Triplets allSingularTriplets(const DenseMatrix& A) {
+  const int N = A.numRows();
+  DenseMatrix Ac(A);
+  Triplets t;
+  t.s.assign(N, 0.0);
+  t.VT.shape(N, N);
+  t.all = true;
+  double u = 0.0, wq = 0.0;
+  int info = 0;
+  std::vector<double> rwork(5 * N);
+  Teuchos::LAPACK<int, double> lapack;
+  lapack.GESVD('N', 'A', N, N, Ac.values(), N, t.s.data(), &u, 1, t.VT.values(), N, &wq, -1,
+               rwork.data(), &info);
+  const int lwork = std::max(1, static_cast<int>(wq));
+  std::vector<double> work(lwork);
+  lapack.GESVD('N', 'A', N, N, Ac.values(), N, t.s.data(), &u, 1, t.VT.values(), N, work.data(),
+               lwork, rwork.data(), &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                             "DenseGyroscopicSolver: LAPACK dgesvd failed, info = " << info);
+  return t;
+}
+
+/// The smallest singular triplets of A, at least 2 nModes of them, widened
+/// until the cluster holding the (2 nModes)-th smallest value is complete (a
+/// larger returned value lies beyond the cluster tolerance from it).
+Triplets smallestTriplets(const DenseMatrix& A, int nModes, double clusterTol) {
+  const int N = A.numRows();
+  int want = std::min(N, 2 * nModes + 4);
+  while (true) {
+    Triplets t = singularTriplets(A, want);  // s descending, s.size() == want
+    const int edge = want - 2 * nModes;      // index of the (2 nModes)-th smallest
+    if (want == N || t.s[0] - t.s[edge] > clusterTol) return t;
+    want = std::min(N, 2 * want);
+  }
+}
+
+/// Whether the returned values hold every eigenfrequency up to the first gap
+/// past the nModes-th: the Sturm count of the system (doc/theory.md, "Sturm
+/// count") at the middle of that gap must equal the number of returned
+/// frequencies below it (each a pair of singular values). Returns "" when it
+/// does (or when the whole spectrum was returned), else what disagreed.
+std::string sturmDisagreement(const GyroscopicSystem& sys, const Triplets& t, int nModes,
+                              double clusterTol, std::string& confirmation) {
+  const int ns = static_cast<int>(t.s.size()), edge = ns - 2 * nModes;
+  int j = edge - 1;  // the smallest returned value beyond the edge's cluster
+  while (j >= 0 && t.s[j] - t.s[edge] <= clusterTol) --j;
+  if (j < 0) {
+    confirmation = "the whole spectrum computed";
+    return t.all ? "" : "no gap after the requested modes among the returned values";
+  }
+  const double tau = 0.5 * (t.s[j] + t.s[j + 1]);
+  const int below = ns - 1 - j, counted = sturmCount(sys, tau);
+  std::ostringstream os;
+  if (below % 2 == 0 && counted == below / 2) {
+    os << "Sturm count at " << tau << " rad/s confirms the " << counted << " lowest";
+    confirmation = os.str();
+    return "";
+  }
+  os << "the Sturm count finds " << counted << " frequencies below " << tau << " rad/s, the "
+     << "returned singular values " << below / 2.0;
+  return os.str();
 }
 
 /// Meirovitch's symmetric form, seed eqs. (20)-(24), solved by the SVD of the
-/// skew factor A = L^-1 G* L^-T (doc/theory.md, "Dense path").
+/// skew factor A = L^-1 G* L^-T (doc/theory.md, "Dense path"). `note` gets
+/// how the set was confirmed, and says when the request cut a cluster.
 std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const DenseMatrix& Lm,
-                                            const DenseMatrix& Lk, int nModes) {
+                                            const DenseMatrix& Lk, int nModes, std::string& note,
+                                            bool& complete) {
   const int n = sys.size(), N = 2 * n;
   // With L = diag(Lm, Lk):  A = [[Lm^-1 G Lm^-T, Lm^-1 Lk], [-(Lm^-1 Lk)^T, 0]].
   DenseMatrix A11(sys.G);
@@ -98,24 +177,23 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
       A(n + j, i) = -A12(i, j);
     }
 
-  // The smallest singular triplets of A (LAPACK dgesvdx, one bidiagonalisation
-  // and then only the wanted vectors): omega_r are the singular values, each
-  // (nearly) double. Ask for a margin beyond 2 nModes so a cluster at the edge
-  // is complete, and widen the request if it is not.
-  const double normA = A.normFrobenius();
-  const double clusterTol = 1e-10 * normA;
-  int want = std::min(N, 2 * nModes + 4);
-  std::vector<double> s;
-  DenseMatrix VT;
-  while (true) {
-    singularTriplets(A, want, s, VT);  // s descending, s.size() == want
-    // The cluster holding the (2 nModes)-th smallest value is complete when a
-    // larger returned value lies beyond the cluster tolerance from it.
-    const int edge = want - 2 * nModes;  // its index in the descending s
-    const bool complete = want == N || s[0] - s[edge] > clusterTol;
-    if (complete) break;
-    want = std::min(N, 2 * want);
+  // The smallest singular triplets of A: omega_r are the singular values,
+  // each (nearly) double. dgesvdx selects them by index, and on the clusters
+  // of repeated frequencies it can return a wrong set (a member of a repeated
+  // pair missing, a higher value in its place): a Sturm count, independent of
+  // any eigensolver, checks the set, and the full SVD replaces it if wrong.
+  const double clusterTol = 1e-10 * A.normFrobenius();
+  Triplets t = smallestTriplets(A, nModes, clusterTol);
+  std::string confirmation, why = sturmDisagreement(sys, t, nModes, clusterTol, confirmation);
+  if (!why.empty()) {
+    note = "dgesvdx's set failed the check (" + why + "); recomputed by the full SVD (dgesvd)";
+    t = allSingularTriplets(A);
+    why = sturmDisagreement(sys, t, nModes, clusterTol, confirmation);
   }
+  complete = why.empty();
+  note += (note.empty() ? "" : "; ") + (complete ? confirmation : "and still " + why);
+  const std::vector<double>& s = t.s;
+  const DenseMatrix& VT = t.VT;
   const int ns = static_cast<int>(s.size());
 
   // Walk the singular values from the smallest up, in clusters of (near-)equal
@@ -131,6 +209,14 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
     while (lo > 0 && s[lo - 1] - s[hi - 1] <= clusterTol) --lo;
     if ((hi - lo) % 2 == 1 && lo > 0) --lo;  // rounding split a pair across the tolerance
     const int c = hi - lo, m = c / 2;
+    if (static_cast<int>(modes.size()) + m > nModes) {
+      std::ostringstream os;
+      os << "; the request cuts a cluster: modes " << modes.size() + 1 << " to "
+         << modes.size() + m << " share " << s[hi - 1] / kTwoPi << " Hz, of which "
+         << nModes - static_cast<int>(modes.size()) << " returned (ask for " << modes.size() + m
+         << " to have the whole cluster)";
+      note += os.str();
+    }
     double sigma = 0.0;
     for (int k = lo; k < hi; ++k) sigma += s[k] / c;
     // V (N x c): right singular vectors of the cluster; W = A V.
@@ -402,17 +488,19 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   }
 
   if (method != "General" && whyNotSymmetric.empty()) {
-    result.modes = meirovitchModes(sys, Lm, Lk, nModes);
+    std::string note;
+    bool complete = true;
+    result.modes = meirovitchModes(sys, Lm, Lk, nModes, note, complete);
     result.solver = "dense Meirovitch (singular values of the skew factor of K*)";
-    result.reason = "K and M positive definite: real symmetric form, seed eq. (24)";
+    result.reason = "K and M positive definite: real symmetric form, seed eq. (24); " + note;
+    if (!complete) result.status = SolveStatus::NumericalIssue;
   } else {
     result.modes = generalModes(sys, nModes, scale);
     result.solver = "dense general (LAPACK dggev, 2n first-order pencil)";
     result.reason = method == "General" ? "requested" : whyNotSymmetric;
   }
   completeDenseModes(input, result.modes, rigidTol, instabTol);  // residuals of the user's matrices
-  result.status = static_cast<int>(result.modes.size()) == nModes ? SolveStatus::Converged
-                                                                   : SolveStatus::NumericalIssue;
+  if (static_cast<int>(result.modes.size()) != nModes) result.status = SolveStatus::NumericalIssue;
   return result;
 }
 
