@@ -293,6 +293,13 @@ SpinMatrices frameSpinMatrices(const FrameElement& e, const Spin& spin) {
     addProduct(s.G1, w, u, gyroscopic, u);
     addProduct(s.KT1, w, u, softening, u);
     addProduct(s.f1, w * rhoA, u, detail::perpendicularToAxis(x, unitSpin));
+    // Euler-Bernoulli (rotary inertia off): the section is a point of the
+    // axis for the spin terms as well. The polar inertia kept in M so that
+    // torsion has mass is of the order of the bending rotary inertia that was
+    // dropped, and its spin terms act on the bending rotations (the tilt
+    // stiffness (J_zz - J_xx) Omega^2 of theory §9.3): they go with it, or the
+    // flapwise frequency would depend on the chordwise Iz.
+    if (!e.section.rotaryInertia) continue;
     addProduct(s.G1, w, theta, rotary.G, theta);
     addProduct(s.KT1, w, theta, rotary.KT, theta);
     addProduct(s.f1, w, theta, rotary.f);
