@@ -338,7 +338,13 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
         dst(i, nr + j) = src(i, j);     // v
       }
   }
-  const auto Q = orthonormalBasis(halves, 1e-12);
+  // The threshold is on the Gram matrix's eigenvalues, the squares of the
+  // singular values: 1e-20 keeps directions down to 1e-10 of the largest
+  // (1e-12 kept only those above 1e-6, and dropped the correction that
+  // separates a near-double pair, leaving its modes at residuals ~1e-7). The
+  // small directions come out of SVQB with errors ~eps/sigma, so a second
+  // pass orthonormalises the result again (SVQB twice, as CGS twice).
+  const auto Q = orthonormalBasis(*orthonormalBasis(halves, 1e-20), 1e-20);
   GyroscopicSystem reduced{projectOnto(*sys.M, *Q), projectOnto(*sys.G, *Q), projectOnto(*sys.K, *Q)};
   Teuchos::ParameterList dense;
   dense.set("Rigid Body Tolerance", c.rigidTol);

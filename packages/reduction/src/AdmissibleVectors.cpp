@@ -1,13 +1,18 @@
 #include "cms/reduction/AdmissibleVectors.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <deque>
 #include <limits>
+#include <sstream>
 
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
@@ -16,6 +21,37 @@ namespace cms::reduction {
 namespace {
 
 using fem::Component;
+
+/// Where the substructure is supported: the centroid of the nodes of its
+/// attachment's held DOFs; or else of the nodes that boundary conditions fix
+/// (those with no free component, or else those with fewer free components
+/// than the most any node has: a C substructure clamped by its own
+/// supports); or else of all nodes (a free body).
+std::array<double, 3> supportCentroid(const substructure::Substructure& s, const SubstructureBoundary& b) {
+  const auto& t = s.dofs();
+  std::vector<char> supported(t.nodes(), 0);
+  if (!b.held.empty()) {
+    const auto nodeOf = t.rowNodes();
+    for (GlobalOrdinal g : b.held) supported[nodeOf[g]] = 1;
+  } else {
+    auto freeCount = [&](std::size_t n) { return t.offsets[n + 1] - t.offsets[n]; };
+    long long most = 0;
+    for (std::size_t n = 0; n < t.nodes(); ++n) most = std::max(most, freeCount(n));
+    for (std::size_t n = 0; n < t.nodes(); ++n) supported[n] = freeCount(n) == 0;
+    if (std::find(supported.begin(), supported.end(), 1) == supported.end())
+      for (std::size_t n = 0; n < t.nodes(); ++n) supported[n] = freeCount(n) < most;
+  }
+  const bool any = std::find(supported.begin(), supported.end(), 1) != supported.end();
+  std::array<double, 3> c{0.0, 0.0, 0.0};
+  double count = 0.0;
+  for (std::size_t n = 0; n < t.nodes(); ++n)
+    if (!any || supported[n]) {
+      for (int d = 0; d < 3; ++d) c[d] += t.coordinates[3 * n + d];
+      count += 1.0;
+    }
+  for (double& v : c) v /= std::max(count, 1.0);
+  return c;
+}
 
 /// The load patterns as columns of F, with a label each.
 void loadPatterns(const substructure::Substructure& s, const SubstructureBoundary& b,
@@ -40,6 +76,7 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
     return std::vector<double>(yv.begin(), yv.end());
   };
   const char* axisName[3] = {"x", "y", "z"};
+  const std::array<double, 3> support = supportCentroid(s, b);
   for (const std::string& p : patterns) {
     if (p == "interfaces") {
       for (std::size_t c = 0; c < b.interfaceLoads.size(); ++c)
@@ -70,27 +107,37 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
       s.KT1()->apply(x, y);
       auto yv = y.getData(0);
       newColumn("static: centrifugal").assign(yv.begin(), yv.end());
-    } else if (p == "tip") {
-      // The node farthest from the held nodes' centroid (or from the
-      // centroid of all nodes when nothing is held).
-      double c[3] = {0, 0, 0};
-      std::size_t count = 0;
-      if (!b.held.empty()) {
-        for (GlobalOrdinal g : b.held) {
-          for (int d = 0; d < 3; ++d) c[d] += t.coordinates[3 * nodeOf[g] + d];
-          ++count;
+    } else if (p == "rotation") {
+      // Inertia loads of a unit angular acceleration about x, y, z through
+      // the supports' centroid: M (e_d x (x - c)) on translations, M e_d on
+      // rotations. They bring torsion and the bending that a rotation of
+      // the supports excites, which uniform loads miss.
+      for (int d = 0; d < 3; ++d) {
+        std::vector<double> r(nloc, 0.0);
+        for (std::size_t l = 0; l < nloc; ++l) {
+          const long long g = map->getGlobalElement(l);
+          const int c = static_cast<int>(t.components[g]);
+          if (c >= 3) {
+            r[l] = c - 3 == d ? 1.0 : 0.0;
+          } else {
+            // (e_d x x)_c for x relative to the supports
+            const int a = (d + 1) % 3, b = (d + 2) % 3;
+            const double xa = t.coordinates[3 * nodeOf[g] + a] - support[a];
+            const double xb = t.coordinates[3 * nodeOf[g] + b] - support[b];
+            r[l] = c == a ? -xb : (c == b ? xa : 0.0);
+          }
         }
-      } else {
-        for (std::size_t n = 0; n < t.nodes(); ++n)
-          for (int d = 0; d < 3; ++d) c[d] += t.coordinates[3 * n + d];
-        count = t.nodes();
+        newColumn(std::string("static: rotation about ") + axisName[d]) = mass(r);
       }
-      for (double& v : c) v /= static_cast<double>(std::max<std::size_t>(count, 1));
+    } else if (p == "tip") {
+      // Unit forces at the free node farthest from the supports: the
+      // attachment's held DOFs, or the DOFs fixed by boundary conditions.
       std::size_t far = 0;
       double best = -1.0;
       for (std::size_t n = 0; n < t.nodes(); ++n) {
+        if (t.row(static_cast<std::int64_t>(n), Component::UX) < 0) continue;  // a fixed node
         double d2 = 0;
-        for (int d = 0; d < 3; ++d) d2 += std::pow(t.coordinates[3 * n + d] - c[d], 2);
+        for (int d = 0; d < 3; ++d) d2 += std::pow(t.coordinates[3 * n + d] - support[d], 2);
         if (d2 > best) best = d2, far = n;
       }
       for (int d = 0; d < 3; ++d) {
@@ -102,7 +149,7 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
       }
     } else {
       throw InputError(s.name() + ": \"Reduction\" -> \"Load Patterns\": unknown pattern \"" + p +
-                       "\" (valid: interfaces, uniform, centrifugal, tip)");
+                       "\" (valid: interfaces, uniform, rotation, centrifugal, tip)");
     }
   }
   F = Teuchos::rcp(new MultiVector(map, std::max<std::size_t>(cols.size(), 1)));
@@ -128,31 +175,164 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   detail::HeldStiffness K(s, boundary.held);
   MultiVector X(F->getMap(), F->getNumVectors());
   K.solve(*F, X);
-  appendOrthonormal(*s.M(), X, labels, tol, count, basis);
-  // Load-dependent Ritz continuation: the Krylov space of K^-1 M from the
-  // static block, one block of the newest columns at a time.
-  int block = 1;
-  std::size_t lastStart = 0;
-  while (basis.size() < count) {
-    const std::size_t have = static_cast<std::size_t>(basis.size());
-    if (have == lastStart && block > 1) break;
-    if (have == 0) break;
-    Teuchos::Range1D newest(block == 1 ? 0 : lastStart, have - 1);
-    auto B = basis.vectors->subView(newest);
-    MultiVector MB(B->getMap(), B->getNumVectors()), Y(B->getMap(), B->getNumVectors());
-    s.M()->apply(*B, MB);
-    K.solve(MB, Y);
-    std::vector<std::string> l(Y.getNumVectors());
-    for (std::size_t j = 0; j < l.size(); ++j)
-      l[j] = "Krylov " + std::to_string(block) + ": K^-1 M (" + basis.labels[newest.lbound() + j] + ")";
-    lastStart = have;
-    appendOrthonormal(*s.M(), Y, l, tol, count, basis);
-    ++block;
-    if (static_cast<std::size_t>(basis.size()) == have) {
-      basis.dropped.push_back("Krylov sequence stopped growing at " + std::to_string(have) +
-                              " vectors (invariant subspace)");
-      break;
+
+  // 1. The static shapes under the children's interface loads come first and
+  //    are always kept: they carry the coupling (attachment modes).
+  std::size_t interfaceColumns = 0;
+  while (interfaceColumns < labels.size() && labels[interfaceColumns].rfind("static: interface", 0) == 0)
+    ++interfaceColumns;
+  if (interfaceColumns > 0) {
+    auto XI = X.subView(Teuchos::Range1D(0, interfaceColumns - 1));
+    appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin(), labels.begin() + interfaceColumns),
+                      tol, count, basis);
+  }
+
+  // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order
+  //    that neither wastes columns nor loses a family (doc/theory.md §11.3):
+  //    every column's continuation K^-1 M x joins a first-in-first-out queue
+  //    (the Krylov sequence that refines what the basis holds, as Lanczos
+  //    does); the other static shapes wait, as the Ritz vectors of their span,
+  //    and the softest of them (lowest Rayleigh quotient x^T K x / x^T M x
+  //    after projection off the basis) is taken before the queue's front
+  //    whenever it is no stiffer than that front. A stiff shape (axial
+  //    stretching of a beam) thus waits until the refinements reach its
+  //    stiffness instead of spending a column early, and a family that no
+  //    load of the Krylov sequence excites (torsion of a beam under
+  //    transverse loads) still enters at its own stiffness. The sequence does
+  //    not depend on `count`, so the first k columns of a longer basis are
+  //    the k-column basis (nested, for the inclusion principle).
+  const auto map = X.getMap();
+  using VectorPtr = Teuchos::RCP<Vector>;
+  std::vector<VectorPtr> kept, Mkept, Kkept;  // the columns and their products with M and K
+  auto keep = [&](const VectorPtr& x, const VectorPtr& Mx, const VectorPtr& Kx) {
+    kept.push_back(x), Mkept.push_back(Mx), Kkept.push_back(Kx);
+  };
+  for (int j = 0; j < basis.size(); ++j) {
+    auto x = Teuchos::rcp(new Vector(*basis.vectors->getVector(j), Teuchos::Copy));
+    auto Mx = Teuchos::rcp(new Vector(map)), Kx = Teuchos::rcp(new Vector(map));
+    s.M()->apply(*x, *Mx), s.K()->apply(*x, *Kx);
+    keep(x, Mx, Kx);
+  }
+  // A candidate carries M x and K x, updated with x as it is projected off
+  // each new column (one K and one M product per column, not per candidate).
+  struct Candidate {
+    VectorPtr x, Mx, Kx;
+    std::string label;
+    double norm0 = 0.0;        ///< M-norm before any projection, in x's current scale
+    double quotient = 0.0;     ///< Rayleigh quotient x^T K x / x^T M x after projection
+    std::size_t projected = 0; ///< columns it is M-orthogonal to
+  };
+  auto candidate = [&](const Vector& v, const std::string& label) {
+    Candidate c{Teuchos::rcp(new Vector(v, Teuchos::Copy)), Teuchos::rcp(new Vector(map)),
+                Teuchos::rcp(new Vector(map)), label};
+    s.M()->apply(*c.x, *c.Mx), s.K()->apply(*c.x, *c.Kx);
+    c.norm0 = std::sqrt(std::max(0.0, c.x->dot(*c.Mx)));
+    if (!(c.norm0 > 0.0)) basis.dropped.push_back(label + " (zero M-norm: the pattern has no mass on free DOFs)");
+    return c;
+  };
+  // Projects c off `others` and the columns it has not met (classical
+  // Gram-Schmidt twice) and normalises it; false, with the reason recorded,
+  // when the remainder is dependent (M-norm below tol of the original).
+  auto project = [&](Candidate& c, const std::vector<const Candidate*>& others) {
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t k = c.projected; k < kept.size(); ++k) {
+        const double a = Mkept[k]->dot(*c.x);
+        c.x->update(-a, *kept[k], 1.0), c.Mx->update(-a, *Mkept[k], 1.0), c.Kx->update(-a, *Kkept[k], 1.0);
+      }
+      for (const Candidate* o : others) {
+        const double a = o->Mx->dot(*c.x);
+        c.x->update(-a, *o->x, 1.0), c.Mx->update(-a, *o->Mx, 1.0), c.Kx->update(-a, *o->Kx, 1.0);
+      }
     }
+    c.projected = kept.size();
+    const double norm = std::sqrt(std::max(0.0, c.x->dot(*c.Mx)));
+    if (!(norm > tol * c.norm0)) {
+      std::ostringstream os;
+      os << c.label << " (relative norm " << norm / c.norm0 << " after projection, tolerance " << tol << ")";
+      basis.dropped.push_back(os.str());
+      return false;
+    }
+    c.x->scale(1.0 / norm), c.Mx->scale(1.0 / norm), c.Kx->scale(1.0 / norm);
+    c.norm0 /= norm;
+    c.quotient = c.x->dot(*c.Kx);
+    return true;
+  };
+  std::deque<Candidate> queue;
+  auto enqueueContinuation = [&](std::size_t k, const std::string& of) {
+    Vector next(map);
+    K.solve(*Mkept[k], next);
+    Candidate c = candidate(next, "Krylov: K^-1 M (" + of + ")");
+    if (c.norm0 > 0.0) queue.push_back(c);
+  };
+  for (std::size_t k = 0; k < kept.size(); ++k) enqueueContinuation(k, basis.labels[k]);  // interface shapes' first
+  // The static shapes wait as they are. One that repeats those before it
+  // (its remainder after projection off their span is dependent) is dropped
+  // and reported at once; Q, an M-orthonormal basis of that span, serves
+  // only this test.
+  std::vector<Candidate> waiting;
+  std::vector<std::pair<VectorPtr, VectorPtr>> Q;  // q and M q
+  for (std::size_t j = interfaceColumns; j < labels.size(); ++j) {
+    Candidate c = candidate(*X.getVector(j), labels[j]);
+    if (!(c.norm0 > 0.0)) continue;
+    auto r = Teuchos::rcp(new Vector(*c.x, Teuchos::Copy)), Mr = Teuchos::rcp(new Vector(*c.Mx, Teuchos::Copy));
+    for (int pass = 0; pass < 2; ++pass)
+      for (const auto& [q, Mq] : Q) {
+        const double a = Mq->dot(*r);
+        r->update(-a, *q, 1.0), Mr->update(-a, *Mq, 1.0);
+      }
+    const double norm = std::sqrt(std::max(0.0, r->dot(*Mr)));
+    if (!(norm > tol * c.norm0)) {
+      std::ostringstream os;
+      os << c.label << " (relative norm " << norm / c.norm0 << " after projection on the static shapes before it, "
+         << "tolerance " << tol << ")";
+      basis.dropped.push_back(os.str());
+      continue;
+    }
+    r->scale(1.0 / norm), Mr->scale(1.0 / norm);
+    Q.emplace_back(r, Mr);
+    if (project(c, {})) waiting.push_back(c);
+  }
+  while (static_cast<int>(kept.size()) < count) {
+    std::vector<Candidate> alive;
+    for (auto& c : waiting)
+      if (project(c, {})) alive.push_back(c);
+    waiting.swap(alive);
+    while (!queue.empty() && !project(queue.front(), {})) queue.pop_front();
+    if (waiting.empty() && queue.empty()) break;
+    // Every comparison has a relative margin of 1e-8, far above rounding:
+    // mirror-image substructures (two identical booms) and different rank
+    // counts must make the same choices, or identical parts get different
+    // bases and a symmetric structure's repeated frequencies split. Ties keep
+    // the patterns' order and prefer the static shape.
+    constexpr double margin = 1e-8;
+    std::size_t soft = 0;
+    for (std::size_t j = 1; j < waiting.size(); ++j)
+      if (waiting[j].quotient < waiting[soft].quotient * (1.0 - margin)) soft = j;
+    const bool fromStatic =
+        !waiting.empty() && (queue.empty() || waiting[soft].quotient <= queue.front().quotient * (1.0 + margin));
+    Candidate pick = fromStatic ? waiting[soft] : queue.front();
+    if (fromStatic) waiting.erase(waiting.begin() + static_cast<std::ptrdiff_t>(soft));
+    else queue.pop_front();
+    // The products were updated by recurrence: recompute them, and
+    // reorthogonalise once more against every column, so that the columns are
+    // M-orthonormal to working precision rather than to the drift.
+    for (int pass = 0; pass < 2; ++pass)
+      for (std::size_t k = 0; k < kept.size(); ++k) pick.x->update(-Mkept[k]->dot(*pick.x), *kept[k], 1.0);
+    s.M()->apply(*pick.x, *pick.Mx);
+    const double norm = std::sqrt(std::max(0.0, pick.x->dot(*pick.Mx)));
+    pick.x->scale(1.0 / norm), pick.Mx->scale(1.0 / norm);
+    s.K()->apply(*pick.x, *pick.Kx);
+    keep(pick.x, pick.Mx, pick.Kx);
+    basis.labels.push_back(pick.label);
+    enqueueContinuation(kept.size() - 1, "column " + std::to_string(kept.size()));
+  }
+  if (static_cast<int>(kept.size()) < count && kept.size() > interfaceColumns)
+    basis.dropped.push_back("Krylov sequence stopped growing at " + std::to_string(kept.size()) +
+                            " vectors (invariant subspace)");
+  if (!kept.empty()) {
+    auto V = Teuchos::rcp(new MultiVector(map, kept.size()));
+    for (std::size_t k = 0; k < kept.size(); ++k) V->getVectorNonConst(k)->assign(*kept[k]);
+    basis.vectors = V;
   }
   return basis;
 }

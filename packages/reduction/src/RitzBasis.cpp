@@ -35,10 +35,12 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
     pl->set("Vectors", 6,
             "Admissible: static and Krylov vectors; Polynomial: polynomial functions; Modes, Craig-Bampton: eigenvectors (Craig-Bampton adds "
             "one constraint mode per interface DOF); ignored by Guyan and Full");
-    pl->set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("interfaces", "uniform", "centrifugal", "tip")),
-            "Admissible: static load patterns, in order: interfaces (unit forces and moments at the "
-            "children's attachments), uniform (mass-weighted x, y, z), centrifugal (spin only), tip "
-            "(unit x, y, z at the node farthest from the attachment)");
+    pl->set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("interfaces", "uniform", "rotation", "centrifugal")),
+            "Admissible: static load patterns: interfaces (unit forces and moments at the "
+            "children's attachments, always first), uniform (mass-weighted x, y, z), rotation (inertia "
+            "loads of unit angular accelerations about x, y, z through the supports), centrifugal (spin "
+            "only), tip (unit x, y, z at the free node farthest from the supports); the others enter "
+            "the Krylov sequence softest first (doc/theory.md §11.3)");
     pl->set("Dependence Tolerance", 1e-8,
             "A candidate whose M-norm after projection on the kept columns falls below this fraction of "
             "its norm is dropped as dependent (reported)");
