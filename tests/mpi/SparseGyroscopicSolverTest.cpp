@@ -49,7 +49,11 @@ std::vector<GyroscopicMode> denseReference(const ChainSpec& spec, int nModes, do
 
 // 1e-8 relative, as the issue states: the iteration stops at 1e-10 on the
 // transformed problem and the Rayleigh-Ritz extraction is then accurate to
-// the square of the vector error for eigenvalues.
+// the square of the vector error for eigenvalues. Relative to each
+// eigenvalue, the small ones included: the shift-invert transform resolves
+// those nearest the shift best (measured 4e-13 relative at |lambda| = 0.045).
+// The residual is the normwise backward error (relative, doc/theory.md §4):
+// the solver's Residual Tolerance is 1e-8.
 void expectSameModes(const GyroscopicResult& r, const std::vector<GyroscopicMode>& ref,
                      double tol = 1e-8) {
   std::ostringstream got;
@@ -57,7 +61,7 @@ void expectSameModes(const GyroscopicResult& r, const std::vector<GyroscopicMode
   ASSERT_EQ(r.status, SolveStatus::Converged) << r.solver << " / " << r.reason << "; modes:" << got.str();
   ASSERT_EQ(r.modes.size(), ref.size()) << r.solver;
   for (std::size_t k = 0; k < ref.size(); ++k) {
-    EXPECT_LT(std::abs(r.modes[k].lambda - ref[k].lambda), tol * std::abs(ref[k].lambda) + 1e-9)
+    EXPECT_LT(std::abs(r.modes[k].lambda - ref[k].lambda), tol * std::abs(ref[k].lambda))
         << r.solver << " mode " << k << ": " << r.modes[k].lambda << " vs " << ref[k].lambda;
     EXPECT_EQ(r.modes[k].stability, ref[k].stability) << r.solver << " mode " << k;
     EXPECT_LT(r.modes[k].residual, 1e-9) << r.solver << " mode " << k;

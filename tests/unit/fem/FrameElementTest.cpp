@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -447,8 +448,9 @@ TEST(FrameGeometricStiffness, EqualsClassicMatrixAndItsShearForm) {
 
 // N = EA (u2 - u1).e1 / L: a stretch delta gives EA delta / L; rigid
 // translations and small rigid rotations give none. Tolerances: rounding of
-// a few flops (1e-12 relative; 1e-9 N absolute, where EA / L = 1.2e9 N/m
-// times rounding of 1e-4 m displacements is ~1e-11 N).
+// a few flops (1e-12 relative), and for the rigid motions relative to the
+// force their displacements would give as a stretch, EA / L max |d_i|: the
+// difference u2 - u1 cancels to rounding of the displacements, 8 eps.
 TEST(FrameAxialForce, StretchGivesEAOverLAndRigidMotionsNothing) {
   const FrameElement e = obliqueElement(BeamTheory::EulerBernoulli);
   const Axes ax = axesOf(e);
@@ -456,9 +458,15 @@ TEST(FrameAxialForce, StretchGivesEAOverLAndRigidMotionsNothing) {
   Vector d(12, 0.0);
   for (int i = 0; i < 3; ++i) d[6 + i] = delta * ax.e1[i];
   EXPECT_NEAR(frameAxialForce(e, d.data()), EA * delta / ax.L, 1e-12 * EA * delta / ax.L);
-  EXPECT_NEAR(frameAxialForce(e, rigidTranslation({1e-3, 2e-3, -1e-3}).data()), 0.0, 1e-9);
-  EXPECT_NEAR(frameAxialForce(e, rigidRotation(e, {1e-4, -2e-4, 3e-4}, {0, 0, 0}).data()), 0.0,
-              1e-9);
+  const auto stretchScale = [&](const Vector& u) {
+    double m = 0.0;
+    for (double v : u) m = std::max(m, std::abs(v));
+    return EA / ax.L * m;
+  };
+  const double eps = std::numeric_limits<double>::epsilon();
+  const Vector t = rigidTranslation({1e-3, 2e-3, -1e-3}), r = rigidRotation(e, {1e-4, -2e-4, 3e-4}, {0, 0, 0});
+  EXPECT_NEAR(frameAxialForce(e, t.data()), 0.0, 8 * eps * stretchScale(t));
+  EXPECT_NEAR(frameAxialForce(e, r.data()), 0.0, 8 * eps * stretchScale(r));
 }
 
 // G1 is skew and KT1 symmetric (to rounding, 1e-14 of the largest entry) for

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "ExpectError.hpp"
@@ -15,6 +16,8 @@ using namespace cms::fem;
 using cms::fixtures::expectInputError;
 
 namespace {
+
+const double eps = std::numeric_limits<double>::epsilon();
 
 using Mat3 = std::array<std::array<double, 3>, 3>;
 
@@ -101,7 +104,8 @@ TEST(PointMass, MatrixIsMassAndInertiaTensor) {
 // Translation in a frame spinning about n through O: G1 = 2 m [n]x (the
 // Coriolis force; for n = e_z it is 2 m [[0, -1], [1, 0]] on (x, y) as in
 // doc/theory.md §7), KT1 = m [n]x^T [n]x = m (I - n n^T), f1 = m r_perp.
-// Tolerance 1e-15 relative: a few flops.
+// Tolerances: a few flops per entry on a unit axis, so 4 eps of the entries'
+// scale, m for G1 and KT1 and m |r| for f1 (the position's rounding as well).
 TEST(PointMass, SpinTranslationIsCoriolisSofteningAndCentrifugalForce) {
   const PointMass p = disc(2.5, 0.0, 0.0);
   const Vec3 n = unit({1.0, -2.0, 0.5}), O{0.1, 0.2, -0.3};
@@ -114,11 +118,12 @@ TEST(PointMass, SpinTranslationIsCoriolisSofteningAndCentrifugalForce) {
       G[i][j] = 2.0 * p.m * N[i][j];
       KT[i][j] = p.m * ((i == j ? 1.0 : 0.0) - n[i] * n[j]);
     }
-  expectNear(block(s.G1, 0), G, 1e-15 * p.m, "G1");
-  expectNear(block(s.KT1, 0), KT, 1e-15 * p.m, "KT1");
+  expectNear(block(s.G1, 0), G, 4 * eps * p.m, "G1");
+  expectNear(block(s.KT1, 0), KT, 4 * eps * p.m, "KT1");
   const Vec3 r{p.x[0] - O[0], p.x[1] - O[1], p.x[2] - O[2]};
   const double along = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(s.f1[i], p.m * (r[i] - along * n[i]), 1e-14 * p.m);
+  const double rNorm = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(s.f1[i], p.m * (r[i] - along * n[i]), 16 * eps * p.m * rNorm);
 
   const SpinMatrices z = pointMassSpinMatrices(p, Spin{{0.0, 0.0, 1.0}, {}}, 3);
   EXPECT_EQ(z.G1(0, 1), -2.0 * p.m);
@@ -129,17 +134,18 @@ TEST(PointMass, SpinTranslationIsCoriolisSofteningAndCentrifugalForce) {
 // symmetry axis n = e_x, linearised in the tilts (theta_y, theta_z):
 // KT1 = (Id - Ip) I and G1 = (2 Id - Ip) [[0, -1], [1, 0]] on the tilts,
 // nothing on the spin angle theta_x, and no torque (n is principal).
-// Tolerance 1e-15: exact arithmetic on small integers.
+// Tolerance 4 eps of the inertia Ip (the largest entry): the inputs are
+// exact binary fractions and n = e_x, so only the sums of products round.
 TEST(PointMass, SpinRotationOfASymmetricBodyMatchesEulerEquations) {
   const double Ip = 3.0, Id = 1.25;
   const SpinMatrices s = pointMassSpinMatrices(disc(2.0, Ip, Id), Spin{{1.0, 0.0, 0.0}, {}}, 6);
   ASSERT_EQ(s.G1.n, 6);
   expectNear(block(s.KT1, 3), Mat3{{{0.0, 0.0, 0.0}, {0.0, Id - Ip, 0.0}, {0.0, 0.0, Id - Ip}}},
-             1e-15, "KT1");
+             4 * eps * Ip, "KT1");
   expectNear(block(s.G1, 3),
              Mat3{{{0.0, 0.0, 0.0}, {0.0, 0.0, -(2.0 * Id - Ip)}, {0.0, 2.0 * Id - Ip, 0.0}}},
-             1e-15, "G1");
-  for (int i = 3; i < 6; ++i) EXPECT_NEAR(s.f1[i], 0.0, 1e-15);
+             4 * eps * Ip, "G1");
+  for (int i = 3; i < 6; ++i) EXPECT_NEAR(s.f1[i], 0.0, 4 * eps * Ip);
   for (int i = 0; i < 3; ++i)
     for (int j = 3; j < 6; ++j) {
       EXPECT_EQ(s.G1(i, j), 0.0);
@@ -177,8 +183,11 @@ TEST(PointMass, TiltFrequenciesOfASpinningDiscAreFixedAxisAndNutation) {
 // Q J Q^T), the axis (n -> Q n) and the position together rotates the
 // matrices (X -> Q X Q^T) and loads (f -> Q f). G1 is skew, KT1 symmetric.
 // For J with a product of inertia the torque (J n) x n appears: for n = e_z,
-// ((Jxz, Jyz, Jzz) x e_z) = (Jyz, -Jxz, 0). Tolerance 1e-13: rounding of
-// the rotations.
+// ((Jxz, Jyz, Jzz) x e_z) = (Jyz, -Jxz, 0). Tolerances relative to the
+// size of what is compared: the inertia's (largest entry Jzz = 4) for the
+// torque, the matrix blocks' for G1 and KT1 and the loads' for f1; 64 eps:
+// three rotations (Q J Q^T, Q X Q^T, each a sum of 9 products of 3 terms)
+// round on both sides.
 TEST(PointMass, SpinTermsRotateWithTheBodyAndIncludeTheTorque) {
   PointMass p;
   p.m = 1.5;
@@ -186,9 +195,10 @@ TEST(PointMass, SpinTermsRotateWithTheBodyAndIncludeTheTorque) {
   p.x = {0.5, 0.7, -0.2};
   const Spin spin{{0.0, 0.0, 1.0}, {0.1, 0.0, 0.0}};
   const SpinMatrices s = pointMassSpinMatrices(p, spin, 6);
-  EXPECT_NEAR(s.f1[3], p.inertia[4], 1e-15);
-  EXPECT_NEAR(s.f1[4], -p.inertia[5], 1e-15);
-  EXPECT_NEAR(s.f1[5], 0.0, 1e-15);
+  const double Jzz = p.inertia[2];  // the largest entry of the inertia tensor
+  EXPECT_NEAR(s.f1[3], p.inertia[4], 4 * eps * Jzz);
+  EXPECT_NEAR(s.f1[4], -p.inertia[5], 4 * eps * Jzz);
+  EXPECT_NEAR(s.f1[5], 0.0, 4 * eps * Jzz);
 
   const Mat3 Q = rotation(unit({0.3, 1.0, -0.4}), 0.9);
   const Mat3 J = block(pointMassMatrix(p, 6), 3);
@@ -197,23 +207,33 @@ TEST(PointMass, SpinTermsRotateWithTheBodyAndIncludeTheTorque) {
   q.x = times(Q, p.x);
   const SpinMatrices r =
       pointMassSpinMatrices(q, Spin{times(Q, spin.axis), times(Q, spin.origin)}, 6);
+  const auto largest = [](const ElementMatrix& a) {
+    double x = 0.0;
+    for (double v : a.a) x = std::max(x, std::abs(v));
+    return x;
+  };
+  const double g = largest(s.G1), k = largest(s.KT1);
+  double f = 0.0;
+  for (double v : s.f1) f = std::max(f, std::abs(v));
   for (int offset : {0, 3}) {
-    expectNear(block(r.G1, offset), similar(Q, block(s.G1, offset)), 1e-13, "G1");
-    expectNear(block(r.KT1, offset), similar(Q, block(s.KT1, offset)), 1e-13, "KT1");
-    const Vec3 f = times(Q, {s.f1[offset], s.f1[offset + 1], s.f1[offset + 2]});
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.f1[offset + i], f[i], 1e-13);
+    expectNear(block(r.G1, offset), similar(Q, block(s.G1, offset)), 64 * eps * g, "G1");
+    expectNear(block(r.KT1, offset), similar(Q, block(s.KT1, offset)), 64 * eps * k, "KT1");
+    const Vec3 fq = times(Q, {s.f1[offset], s.f1[offset + 1], s.f1[offset + 2]});
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.f1[offset + i], fq[i], 64 * eps * f);
   }
+  // Skew and symmetric to the rounding of one rotated entry.
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j) {
-      EXPECT_NEAR(r.G1(i, j), -r.G1(j, i), 1e-14);
-      EXPECT_NEAR(r.KT1(i, j), r.KT1(j, i), 1e-14);
+      EXPECT_NEAR(r.G1(i, j), -r.G1(j, i), 64 * eps * g);
+      EXPECT_NEAR(r.KT1(i, j), r.KT1(j, i), 64 * eps * k);
     }
 }
 
 // Stationary frame (Nelson & McVaugh 1976): (n^T J n) [n]x^T on the rotations
 // of a body axisymmetric about an oblique axis n, zero elsewhere; zero for a
 // body without inertia; an inertia that is not axisymmetric about n is an
-// error. Tolerance 1e-13: rounding of the rotation that builds J.
+// error. Tolerance 64 eps of Ip (the entries' size): rounding of the
+// rotation that builds J (Q J Q^T) and of n^T J n.
 TEST(PointMass, StationaryGyroscopicIsPolarInertiaAboutAnAxisymmetricAxis) {
   const double Ip = 0.8, Id = 0.45;
   const Mat3 Q = rotation(unit({-0.2, 0.5, 1.0}), 1.3);
@@ -226,7 +246,7 @@ TEST(PointMass, StationaryGyroscopicIsPolarInertiaAboutAnAxisymmetricAxis) {
   Mat3 expected;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) expected[i][j] = Ip * N[j][i];
-  expectNear(block(g, 3), expected, 1e-13, "G");
+  expectNear(block(g, 3), expected, 64 * eps * Ip, "G");
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j)
       if (i < 3 || j < 3) {
