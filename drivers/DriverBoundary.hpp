@@ -5,10 +5,53 @@
 
 #include <exception>
 #include <iostream>
+#include <regex>
+#include <sstream>
+#include <string>
 
 #include "cms/core/Error.hpp"
+#include "cms/eigen/GyroscopicModes.hpp"
 
 namespace cms::drivers {
+
+/// The one table of outcomes (doc/user-guide.md, "Exit codes"): what a run
+/// ended with, its exit code and the message printed for it. Every driver
+/// maps a solve status or an exception through here; only ExitSuccess
+/// writes result files.
+struct Outcome {
+  int code;
+  const char* message;
+};
+inline constexpr Outcome kSuccess{ExitSuccess, "success"};
+inline constexpr Outcome kBadInput{ExitInputError, "bad input"};
+inline constexpr Outcome kBreakdown{ExitNumericalError, "numerical breakdown"};
+inline constexpr Outcome kNotConverged{ExitNotConverged, "not converged"};
+inline constexpr Outcome kInternal{ExitInternalError, "internal error (please report)"};
+
+/// eigen::SolveStatus -> outcome: Converged 0, NotConverged 4, NumericalIssue 3.
+inline Outcome outcome(eigen::SolveStatus s) {
+  switch (s) {
+    case eigen::SolveStatus::Converged: return kSuccess;
+    case eigen::SolveStatus::NotConverged: return kNotConverged;
+    case eigen::SolveStatus::NumericalIssue: return kBreakdown;
+  }
+  return kInternal;
+}
+
+/// A solver's reason without the Teuchos throw trace (file:line, "Throw
+/// number", "Throw test ..." lines): one line for the console.
+inline std::string condense(const std::string& reason) {
+  std::istringstream in(reason);
+  std::string line, out;
+  static const std::regex where(R"(\s*\S+\.[ch]pp:\d+:\s*$)");
+  while (std::getline(in, line)) {
+    if (line.rfind("Throw number", 0) == 0 || line.rfind("Throw test", 0) == 0) continue;
+    line = std::regex_replace(line, where, "");
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    out += (out.empty() || out.back() == ' ' ? "" : " ") + line;
+  }
+  return out;
+}
 
 /// Runs `body` (which returns the exit code) and maps cms::InputError,
 /// cms::NumericalError and any other exception to their exit codes, with a
@@ -18,14 +61,14 @@ int reportErrors(const char* program, bool root, Body&& body) {
   try {
     return body();
   } catch (const InputError& e) {
-    if (root) std::cerr << program << ": bad input: " << e.what() << '\n';
-    return ExitInputError;
+    if (root) std::cerr << program << ": " << kBadInput.message << ": " << e.what() << '\n';
+    return kBadInput.code;
   } catch (const NumericalError& e) {
-    if (root) std::cerr << program << ": numerical breakdown: " << e.what() << '\n';
-    return ExitNumericalError;
+    if (root) std::cerr << program << ": " << kBreakdown.message << ": " << condense(e.what()) << '\n';
+    return kBreakdown.code;
   } catch (const std::exception& e) {
-    if (root) std::cerr << program << ": internal error (please report): " << e.what() << '\n';
-    return ExitInternalError;
+    if (root) std::cerr << program << ": " << kInternal.message << ": " << condense(e.what()) << '\n';
+    return kInternal.code;
   }
 }
 

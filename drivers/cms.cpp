@@ -30,12 +30,14 @@
 // Without SCENE the built-in spacecraft (drivers/scenes/spacecraft.yaml) runs.
 // Results go to --output (default ./cms-results, or the scene's "Output"
 // directory): <name>.json and CSV tables, written to a temporary name and
-// renamed, so a failed run leaves no partial file. With --plot, the CSV
+// renamed, and only when the run succeeded: any other exit code writes no
+// file (drivers/DriverBoundary.hpp, the one table of outcomes). With --plot, the CSV
 // tables of campbell, compare and truncate are also drawn as PNG by
 // drivers/plot_results.py (Debian's python3-matplotlib).
 //
-// Exit codes: 0 success, 2 bad input (scene, options), 3 numerical breakdown,
-// 4 a solve did not converge, 5 internal error.
+// Exit codes (drivers::outcome): 0 success, 2 bad input (scene, options),
+// 3 numerical breakdown (status NUMERICAL ISSUE), 4 a solve did not converge
+// (NOT CONVERGED) or truncate's accuracy was not reached, 5 internal error.
 //
 // Sample runs:
 //   cms modes
@@ -211,7 +213,11 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   const auto t1 = Clock::now();
   const auto s = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 2. reduction and synthesis"));
-    return synthesis::SynthesizedStructure::synthesize(structure);
+    try {
+      return synthesis::SynthesizedStructure::synthesize(structure);
+    } catch (const InputError& e) {  // name the scene file (issue item 9)
+      throw InputError(sc.path + ": " + e.what());
+    }
   }();
   const double tReduce = since(t1);
   if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble + tReduce << " s] reduced and coupled: "
@@ -247,9 +253,12 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
           structure.substructure(k).spin)
         whirls[m].push_back(structure.substructure(k).name + " " + whirl(structure, u, k, modes.result.modes[m]));
   }
+  // The run's outcome (drivers/DriverBoundary.hpp): only a success writes files.
+  const drivers::Outcome outcome = drivers::outcome(modes.result.status);
   if (!root) {
-    if (vtuRequested) analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);  // collective
-    return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
+    if (vtuRequested && outcome.code == ExitSuccess)
+      analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);  // collective
+    return outcome.code;
   }
 
   std::cout << "[" << std::fixed << std::setprecision(2) << since(t0) << " s] solved (" << modes.path << ")\n\n"
@@ -267,7 +276,8 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
-  std::cout << "\nsolver: " << modes.result.solver << (modes.result.reason.empty() ? "" : " (" + modes.result.reason + ")")
+  std::cout << "\nsolver: " << modes.result.solver
+            << (modes.result.reason.empty() ? "" : " (" + drivers::condense(modes.result.reason) + ")")
             << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual   largest share, whirl (FW/BW)\n";
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
     const auto& md = modes.result.modes[m];
@@ -281,6 +291,11 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
               << (character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
     for (const auto& w : whirls[m]) std::cout << "  " << w;
     std::cout << '\n';
+  }
+  if (outcome.code != ExitSuccess) {
+    std::cerr << "cms: " << outcome.message << " (status " << toString(modes.result.status) << ", exit " << outcome.code
+              << "): " << drivers::condense(modes.result.reason) << "; no files written\n";
+    return outcome.code;
   }
   // Files.
   std::filesystem::create_directories(outDir);
@@ -351,7 +366,7 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     const auto files = analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);
     std::cout << "wrote " << files.size() - 1 << " mode shapes for ParaView: " << files.back() << '\n';
   }
-  return modes.result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
+  return ExitSuccess;
 }
 
 /// M-weighted MAC of every pair (previous mode t, current mode j) of the
@@ -434,7 +449,8 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
       spinning = static_cast<int>(k);
   std::vector<Track> tracks;
   std::vector<double> factors;
-  int notConverged = 0;
+  drivers::Outcome worst = drivers::kSuccess;  // breakdown (3) outranks not converged (4)
+  std::string worstReason;
   std::vector<std::pair<double, double>> unstable;  // factor ranges
   for (int k = 0; k < steps; ++k) {
     const double f = maxFactor * k / (steps - 1);
@@ -442,7 +458,11 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
     std::vector<double> speeds(nominal);
     for (double& v : speeds) v *= f * sc.speedFactor;
     const auto m = s.solve(speeds, sc.solve);
-    notConverged += m.result.status != eigen::SolveStatus::Converged;
+    {
+      const auto o = drivers::outcome(m.result.status);
+      if (o.code != ExitSuccess && (worst.code == ExitSuccess || o.code == ExitNumericalError))
+        worst = o, worstReason = drivers::condense(m.result.reason);
+    }
     bool anyUnstable = false;
     for (const auto& md : m.result.modes)
       anyUnstable = anyUnstable || md.stability == eigen::Stability::Flutter ||
@@ -483,7 +503,7 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
       if (!trackDone[t])
         tracks[t].hz.push_back(std::nan("")), tracks[t].stability.push_back("lost"), tracks[t].whirl.push_back("");
   }
-  if (!root) return notConverged ? ExitNotConverged : ExitSuccess;
+  if (!root) return worst.code;
   const double ref = nominal.front() * sc.speedFactor;  // engine orders of the first spin rate
   std::cout << "[" << std::setprecision(3) << since(t0) << " s] " << steps << " speeds, " << s.size()
             << " coordinates, no re-projection\n\nfactor";
@@ -512,6 +532,10 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
       }
   for (const auto& [a, b] : unstable)
     std::cout << "unstable from factor " << a << " to " << b << " (" << ref * a << " to " << ref * b << " rad/s)\n";
+  if (worst.code != ExitSuccess) {
+    std::cerr << "cms: " << worst.message << " (exit " << worst.code << "): " << worstReason << "; no files written\n";
+    return worst.code;
+  }
   std::filesystem::create_directories(outDir);
   AtomicFile f(outDir / (sc.name + "-campbell.csv"));
   f.stream() << "factor";
@@ -528,7 +552,7 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
   f.commit();
   std::cout << "\nwrote " << (outDir / (sc.name + "-campbell.csv")).string() << '\n';
   plot("campbell", outDir / (sc.name + "-campbell.csv"));
-  return notConverged ? ExitNotConverged : ExitSuccess;
+  return ExitSuccess;
 }
 
 /// 4. truncate
@@ -631,12 +655,17 @@ int runTruncate(const scene::Scene& sc, const std::filesystem::path& outDir, int
     error = bestError, dofs = bestDofs, w = bestW;
     row(k, structure.substructure(best).name, violations);
   }
-  if (!root) return ExitSuccess;
+  if (!root) return error <= accuracy ? ExitSuccess : drivers::kNotConverged.code;
   std::cout << "\n" << (error <= accuracy ? "reached " : "NOT reached: ") << "max relative error " << error
             << " with " << dofs << " coordinates (truth: " << truth.size() << ")\nsuggested vectors:";
   for (std::size_t q = 0; q < ns; ++q)
     if (tunable[q]) std::cout << ' ' << structure.substructure(q).name << " = " << count[q];
   std::cout << "\ninclusion-principle violations: " << totalViolations << '\n';
+  if (error > accuracy) {
+    std::cerr << "cms: " << drivers::kNotConverged.message << " (exit " << drivers::kNotConverged.code
+              << "): --accuracy not reached; no files written\n";
+    return drivers::kNotConverged.code;
+  }
   std::filesystem::create_directories(outDir);
   AtomicFile f(outDir / (sc.name + "-truncate.csv"));
   f.stream() << table.str();

@@ -114,18 +114,21 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     basis.kind = kind;
     basis.full = true;
   } else if (kind == "Admissible") {
-    CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
-                                                 << "substructure has only " << freeRows << " free DOFs");
+    CMS_INPUT_CHECK(vectors > freeRows, "Scene/Substructures/" << s.name() << "/Reduction/Vectors = " << vectors
+                                                 << " but substructure \"" << s.name() << "\" has only " << freeRows
+                                                 << " free DOFs");
     const auto patterns = p.get<Teuchos::Array<std::string>>("Load Patterns");
     basis = admissibleVectors(s, boundary, std::vector<std::string>(patterns.begin(), patterns.end()), vectors,
                               p.get<double>("Dependence Tolerance"));
   } else if (kind == "Polynomial") {
-    CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
-                                                 << "substructure has only " << freeRows << " free DOFs");
+    CMS_INPUT_CHECK(vectors > freeRows, "Scene/Substructures/" << s.name() << "/Reduction/Vectors = " << vectors
+                                                 << " but substructure \"" << s.name() << "\" has only " << freeRows
+                                                 << " free DOFs");
     basis = polynomialVectors(s, boundary, vectors, p.get<double>("Dependence Tolerance"));
   } else if (kind == "Modes") {
-    CMS_INPUT_CHECK(vectors > freeRows, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " but the "
-                                                 << "substructure has only " << freeRows << " free DOFs");
+    CMS_INPUT_CHECK(vectors > freeRows, "Scene/Substructures/" << s.name() << "/Reduction/Vectors = " << vectors
+                                                 << " but substructure \"" << s.name() << "\" has only " << freeRows
+                                                 << " free DOFs");
     basis = fixedInterfaceModes(s, boundary.held, vectors, p.get<double>("Eigensolver Tolerance"),
                                 p.get<double>("Dependence Tolerance"));
   } else {

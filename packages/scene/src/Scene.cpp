@@ -302,8 +302,14 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
     CMS_INPUT_CHECK(solver != "Auto" && solver != "Dense" && solver != "Sparse",
                     ap << "/Solver = \"" << solver << "\": must be Auto, Dense or Sparse");
     scene.solve.set("Solver", solver);
-    scene.solve.set("Dense Limit", static_cast<int>(getNumber(a, "Dense Limit", ap, 1500.0)));
+    const double denseLimit = getNumber(a, "Dense Limit", ap, 1500.0);
+    CMS_INPUT_CHECK(!(denseLimit >= 1) || std::floor(denseLimit) != denseLimit || denseLimit > 1e9,
+                    ap << "/Dense Limit = " << denseLimit << " must be an integer from 1 to 1e9");
+    scene.solve.set("Dense Limit", static_cast<int>(denseLimit));
     scene.speedFactor = getNumber(a, "Speed Factor", ap, 1.0);
+    CMS_INPUT_CHECK(!std::isfinite(scene.speedFactor) || scene.speedFactor < 0,
+                    ap << "/Speed Factor = " << scene.speedFactor
+                       << " must be finite and >= 0 (it multiplies every nominal spin rate; 0 = at rest)");
   } else {
     scene.solve.set("Number of Modes", 10);
   }
