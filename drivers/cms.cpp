@@ -515,7 +515,7 @@ int runCampbell(const scene::Scene& sc, const std::filesystem::path& outDir, int
     for (double v : nominal) std::cout << std::setw(14) << std::setprecision(5) << v * factors[k] * sc.speedFactor;
     for (const auto& tr : tracks)
       std::cout << std::setw(13) << std::setprecision(6) << tr.hz[k]
-                << (tr.stability[k] == "stable" || tr.stability[k] == "rigid" ? " " : "*");
+                << (tr.stability[k] == "stable" || tr.stability[k] == "rigid" || tr.stability[k] == "neutral" ? " " : "*");
     std::cout << '\n';
   }
   std::cout << "(* unstable or lost)\n\ncritical speeds of '" << structure.speeds().front().name << "' (rad/s):\n";

@@ -45,11 +45,11 @@ def campbell(rows, out):
         whirl = [r.get(t + "_whirl", "") for r in rows]
         backward = sum(w == "BW" for w in whirl) > sum(w == "FW" for w in whirl)
         ax.plot(speeds, hz, "--" if backward else "-", lw=1.2)
-        bad = [(s, h) for s, h, r in zip(speeds, hz, rows) if r[t + "_stability"] not in ("stable", "rigid")]
+        bad = [(s, h) for s, h, r in zip(speeds, hz, rows) if r[t + "_stability"] not in ("stable", "rigid", "neutral")]
         if bad:
             ax.plot([b[0] for b in bad], [b[1] for b in bad], "rx", ms=6)
     # Shade the speed ranges where any track is unstable.
-    unstable = [any(r[t + "_stability"] not in ("stable", "rigid", "lost") for t in tracks) for r in rows]
+    unstable = [any(r[t + "_stability"] not in ("stable", "rigid", "neutral", "lost") for t in tracks) for r in rows]
     for i, u in enumerate(unstable):
         if u:
             lo = speeds[i - 1] if i > 0 and not unstable[i - 1] else speeds[i]

@@ -364,6 +364,52 @@ Stability classify(cplx lambda, double scale, double rigidBodyTol, double instab
   return Stability::Stable;
 }
 
+void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
+                   double instabilityTol) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  // The spectrum of a conservative gyroscopic system is Hamiltonian: with
+  // lambda, also -lambda, conj(lambda), -conj(lambda) (theory §4).
+  std::vector<cplx> spectrum;
+  for (const auto& m : modes)
+    for (cplx l : {m.lambda, -m.lambda, std::conj(m.lambda), -std::conj(m.lambda)}) {
+      bool known = false;
+      for (cplx k : spectrum) known = known || std::abs(k - l) <= 4 * eps * std::max(scale, std::abs(l));
+      if (!known) spectrum.push_back(l);
+    }
+  for (auto& m : modes) {
+    const double eta = std::max(m.residual, eps);
+    double radius = 0.0;  // the splitting rounding can cause around this eigenvalue
+    // A defective eigenvalue of multiplicity k splits into k computed values,
+    // up to 2k with their mirrors; more within r_k means r_k reaches other
+    // eigenvalues, not a cluster of one.
+    for (int k = 1; k <= 4; ++k) {
+      const double r = 10.0 * std::pow(eta, 1.0 / k) * scale;
+      int near = 0;
+      for (cplx l : spectrum) near += std::abs(l - m.lambda) <= r;
+      if (near >= k && near <= 2 * k) radius = r;
+    }
+    // A growing mode of a conservative system has a partner -conj(lambda)
+    // (a real one, +/- sigma, is kept as +sigma alone). An eigenvalue near
+    // the imaginary axis without one is simple and isolated, and Hamiltonian
+    // symmetry keeps such an eigenvalue on the axis under any structured
+    // perturbation: its growth rate is the unstructured solver's rounding.
+    bool partner = std::abs(m.lambda.imag()) <= radius + instabilityTol * scale;
+    for (const auto& o : modes)
+      partner = partner || (&o != &m && std::abs(o.lambda + std::conj(m.lambda)) <= 0.5 * std::abs(m.lambda.real()));
+    Stability s = classify(m.lambda, scale, rigidBodyTol, instabilityTol);
+    if (std::abs(m.lambda) <= radius) s = Stability::RigidBody;
+    else if (!partner && (s == Stability::Divergence || s == Stability::Flutter || m.lambda.real() > 0.0))
+      s = Stability::Stable;
+    else if ((s == Stability::Divergence || s == Stability::Flutter) && m.lambda.real() <= radius)
+      s = Stability::Neutral;
+    // A positive growth rate above plain rounding (10 eta s, the first-order
+    // error of a simple eigenvalue) but inside the cluster radius cannot be
+    // decided either way: neutral, not "stable".
+    else if (s == Stability::Stable && m.lambda.real() > 10.0 * eta * scale) s = Stability::Neutral;
+    m.stability = s;
+  }
+}
+
 void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
                         double rigidBodyTol, double instabilityTol) {
   const int n = sys.size(), k = static_cast<int>(modes.size());
@@ -410,8 +456,8 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
     m.growthRate = l.real();
     m.omega = std::abs(l.imag());
     m.hz = m.omega / kTwoPi;
-    m.stability = classify(l, scale, rigidBodyTol, instabilityTol);
   }
+  classifyModes(modes, scale, rigidBodyTol, instabilityTol);
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParameters() {

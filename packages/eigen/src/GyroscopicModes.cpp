@@ -10,6 +10,7 @@ const char* toString(Stability s) {
     case Stability::RigidBody: return "rigid";
     case Stability::Divergence: return "DIVERGENCE";
     case Stability::Flutter: return "FLUTTER";
+    case Stability::Neutral: return "neutral";
   }
   return "?";
 }

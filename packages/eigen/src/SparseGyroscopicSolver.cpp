@@ -422,8 +422,8 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     m.growthRate = l.real();
     m.omega = std::abs(l.imag());
     m.hz = m.omega / kTwoPi;
-    m.stability = classify(l, scale, c.rigidTol, c.instabTol);
   }
+  classifyModes(rm, scale, c.rigidTol, c.instabTol);
   // Accurate candidates first (in order of preference), then the first nModes.
   std::stable_partition(rm.begin(), rm.end(),
                         [&](const GyroscopicMode& m) { return m.residual <= c.residualTol; });

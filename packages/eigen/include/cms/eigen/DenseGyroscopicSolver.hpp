@@ -51,4 +51,16 @@ double frequencyScale(double normM, double normG, double normK);
 Stability classify(std::complex<double> lambda, double scale, double rigidBodyTol,
                    double instabilityTol);
 
+/// The stability of every mode, decided against what rounding can do to its
+/// eigenvalue (doc/theory.md, "Stability within round-off"): a cluster of k
+/// eigenvalues (counting the Hamiltonian mirrors -lambda, conj(lambda) of the
+/// returned ones; k <= 4, and at most 2k values within the radius) may be a
+/// defective eigenvalue that a backward
+/// stable solver splits by up to 10 (max(eta, eps))^(1/k) s, with eta the
+/// mode's backward error and s the frequency scale. Within that radius of
+/// zero a mode is RigidBody; a positive growth rate within it is Neutral, not
+/// Flutter or Divergence; beyond it (and beyond instabilityTol s) unstable.
+void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
+                   double instabilityTol);
+
 }  // namespace cms::eigen

@@ -17,7 +17,9 @@ enum class Stability {
   Stable,      ///< lambda = i omega, omega > 0: a stable oscillation
   RigidBody,   ///< |lambda| below the rigid-body tolerance: zero frequency
   Divergence,  ///< lambda real and positive: static (buckling-like) instability
-  Flutter      ///< Re lambda > 0 and Im lambda != 0: oscillatory instability
+  Flutter,     ///< Re lambda > 0 and Im lambda != 0: oscillatory instability
+  Neutral      ///< Re lambda > 0 but within what rounding can produce (a defective
+               ///< cluster split by the solver): neither stable nor unstable can be decided
 };
 const char* toString(Stability s);
 
