@@ -12,7 +12,6 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
-#include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
@@ -191,9 +190,9 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   //    that neither wastes columns nor loses a family (doc/theory.md §11.3):
   //    every column's continuation K^-1 M x joins a first-in-first-out queue
   //    (the Krylov sequence that refines what the basis holds, as Lanczos
-  //    does); the other static shapes wait, as the Ritz vectors of their span,
-  //    and the softest of them (lowest Rayleigh quotient x^T K x / x^T M x
-  //    after projection off the basis) is taken before the queue's front
+  //    does); the other static shapes wait, and the softest of them (lowest
+  //    Rayleigh quotient x^T K x / x^T M x after projection off the basis) is
+  //    taken before the queue's front
   //    whenever it is no stiffer than that front. A stiff shape (axial
   //    stretching of a beam) thus waits until the refinements reach its
   //    stiffness instead of spending a column early, and a family that no
@@ -230,20 +229,15 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     if (!(c.norm0 > 0.0)) basis.dropped.push_back(label + " (zero M-norm: the pattern has no mass on free DOFs)");
     return c;
   };
-  // Projects c off `others` and the columns it has not met (classical
-  // Gram-Schmidt twice) and normalises it; false, with the reason recorded,
-  // when the remainder is dependent (M-norm below tol of the original).
-  auto project = [&](Candidate& c, const std::vector<const Candidate*>& others) {
-    for (int pass = 0; pass < 2; ++pass) {
+  // Projects c off the columns it has not met (classical Gram-Schmidt twice)
+  // and normalises it; false, with the reason recorded, when the remainder is
+  // dependent (M-norm below tol of the original).
+  auto project = [&](Candidate& c) {
+    for (int pass = 0; pass < 2; ++pass)
       for (std::size_t k = c.projected; k < kept.size(); ++k) {
         const double a = Mkept[k]->dot(*c.x);
         c.x->update(-a, *kept[k], 1.0), c.Mx->update(-a, *Mkept[k], 1.0), c.Kx->update(-a, *Kkept[k], 1.0);
       }
-      for (const Candidate* o : others) {
-        const double a = o->Mx->dot(*c.x);
-        c.x->update(-a, *o->x, 1.0), c.Mx->update(-a, *o->Mx, 1.0), c.Kx->update(-a, *o->Kx, 1.0);
-      }
-    }
     c.projected = kept.size();
     const double norm = std::sqrt(std::max(0.0, c.x->dot(*c.Mx)));
     if (!(norm > tol * c.norm0)) {
@@ -290,14 +284,14 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     }
     r->scale(1.0 / norm), Mr->scale(1.0 / norm);
     Q.emplace_back(r, Mr);
-    if (project(c, {})) waiting.push_back(c);
+    if (project(c)) waiting.push_back(c);
   }
   while (static_cast<int>(kept.size()) < count) {
     std::vector<Candidate> alive;
     for (auto& c : waiting)
-      if (project(c, {})) alive.push_back(c);
+      if (project(c)) alive.push_back(c);
     waiting.swap(alive);
-    while (!queue.empty() && !project(queue.front(), {})) queue.pop_front();
+    while (!queue.empty() && !project(queue.front())) queue.pop_front();
     if (waiting.empty() && queue.empty()) break;
     // Every comparison has a relative margin of 1e-8, far above rounding:
     // mirror-image substructures (two identical booms) and different rank
