@@ -209,6 +209,13 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
   const std::vector<GlobalOrdinal>& heldRows = K.held();
   const int m = constraints.F.is_null() ? 0 : static_cast<int>(constraints.F->getNumVectors());
   const long long nfree = s.dofs().rows() - static_cast<long long>(heldRows.size()) - m;
+  // There are no more modes than DOFs off the held rows and the interface
+  // constraints: asking more is an input error (never a silent cap, which
+  // once read past the eigenvectors), like Vectors above the free DOFs.
+  CMS_INPUT_CHECK(count > nfree, "Scene/Substructures/" << s.name() << "/Reduction/Vectors = " << count
+                                     << " but substructure \"" << s.name() << "\" has only " << nfree
+                                     << " DOFs free of its attachment and interfaces (its fixed-interface modes: "
+                                     << "at most " << nfree << ")");
   Teuchos::RCP<MultiVector> V;
   std::vector<double> omega;
   std::ostringstream report;
