@@ -77,6 +77,7 @@
 #include "cms/analysis/ModeShapeFiles.hpp"
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/reduction/RitzBasis.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -199,6 +200,35 @@ std::string whirl(const synthesis::AssembledStructure& a, const std::vector<Teuc
   return withSpin ? "FW" : "BW";
 }
 
+/// A basis with fewer vectors than its "Vectors" asks (issue 14 item 9): one
+/// console line with the substructure, the counts asked and kept, and why
+/// (the JSON's "dropped" lists every candidate); empty when nothing is lost.
+std::string droppedNote(const synthesis::SubstructureReduction& r, const Teuchos::ParameterList& reduction) {
+  if (r.dropped.empty()) return {};
+  Teuchos::ParameterList p(reduction);
+  p.validateParametersAndSetDefaults(*reduction::validParameters());
+  const int asked = p.get<int>("Vectors");
+  const bool modes = r.basis == "Craig-Bampton";  // "Vectors" counts its fixed-interface modes
+  int kept = 0;
+  for (const auto& l : r.labels) kept += !modes || l.rfind("mode ", 0) == 0;
+  if (kept >= asked) return {};
+  int dependent = 0, massless = 0;
+  std::string other;
+  for (const auto& d : r.dropped) {
+    if (d.find("zero M-norm") != std::string::npos) ++massless;
+    else if (d.find("after projection") != std::string::npos) ++dependent;
+    else other += "; " + d;
+  }
+  std::ostringstream os;
+  os << "note: " << r.name << ": " << r.basis << " basis: " << asked << (modes ? " modes" : " vectors") << " asked, "
+     << kept << " kept: ";
+  if (dependent) os << dependent << " candidate(s) linearly dependent on those kept (dropped at \"Dependence Tolerance\" "
+                    << p.get<double>("Dependence Tolerance") << ")";
+  if (massless) os << (dependent ? ", " : "") << massless << " with no mass on the free DOFs";
+  os << other << " (the list: \"dropped\" in the JSON)";
+  return os.str();
+}
+
 /// 1. modes
 int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool root) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
@@ -273,6 +303,8 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
       std::cout << std::setprecision(5) << r.frequencyEstimates[k] / (2 * M_PI) << ' ';
     std::cout << '\n';
   }
+  for (std::size_t k = 0; k < reps.size(); ++k)
+    if (const auto n = droppedNote(reps[k], structure.substructure(k).reduction); !n.empty()) std::cout << n << '\n';
   for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
