@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <cstdio>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <sstream>
 
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
@@ -337,15 +340,166 @@ Scene Scene::read(const std::string& path) { return read(path, {}); }
 
 namespace {
 
+/// A key of a block mapping written on line `line`: its text without quotes
+/// and its indentation, or nothing for a line that is not "key:" or
+/// "key: value" (a sequence item's "- " counts as indentation).
+struct KeyLine {
+  std::string key, value;
+  std::size_t indent = 0;
+  bool sequenceItem = false;
+};
+
+std::optional<KeyLine> keyLine(const std::string& line) {
+  KeyLine k;
+  std::size_t i = 0;
+  while (i < line.size() && line[i] == ' ') ++i;
+  if (i + 1 < line.size() && line[i] == '-' && line[i + 1] == ' ') {
+    k.sequenceItem = true;
+    for (i += 2; i < line.size() && line[i] == ' ';) ++i;
+  }
+  k.indent = i;
+  if (i >= line.size() || line[i] == '#') return std::nullopt;
+  std::size_t end;  // one past the key
+  if (line[i] == '"' || line[i] == '\'') {
+    const char q = line[i];
+    end = i + 1;
+    for (; end < line.size(); ++end) {
+      if (q == '"' && line[end] == '\\') ++end;
+      else if (line[end] == q) {
+        if (q == '\'' && end + 1 < line.size() && line[end + 1] == '\'') ++end;  // '' inside '...'
+        else break;
+      }
+    }
+    if (end >= line.size()) return std::nullopt;
+    k.key = line.substr(i + 1, end - i - 1);
+    ++end;
+    while (end < line.size() && line[end] == ' ') ++end;
+    if (end >= line.size() || line[end] != ':') return std::nullopt;
+  } else {
+    if (std::string("[{&*!|>%@`?,").find(line[i]) != std::string::npos) return std::nullopt;
+    end = i;
+    while (end < line.size() && !(line[end] == ':' && (end + 1 == line.size() || line[end + 1] == ' ')) &&
+           !(line[end] == '#' && line[end - 1] == ' '))
+      ++end;
+    if (end >= line.size() || line[end] != ':') return std::nullopt;
+    k.key = line.substr(i, end - i);
+    while (!k.key.empty() && k.key.back() == ' ') k.key.pop_back();
+  }
+  std::size_t v = end + 1;
+  while (v < line.size() && line[v] == ' ') ++v;
+  k.value = v < line.size() && line[v] != '#' ? line.substr(v) : std::string();
+  return k;
+}
+
+/// Teuchos' YAML reader refuses a repeated key with a trace whose line is
+/// that of the next token. A scan of the block mappings first names both
+/// lines: "file:line: duplicate key 'X' (first at line N)". Flow mappings,
+/// block scalars and anything else the scan does not follow are left to
+/// the parser.
+void checkDuplicateKeys(const std::string& text, const std::string& path) {
+  struct Level {
+    std::size_t indent;
+    std::map<std::string, std::size_t> keys;  // key -> line
+  };
+  std::vector<Level> open;
+  std::optional<std::size_t> blockScalar;  // indentation of the key that opened one
+  int flowDepth = 0;                       // inside a flow collection spread over lines
+  std::istringstream in(text);
+  std::size_t number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::size_t first = line.find_first_not_of(' ');
+    if (first == std::string::npos || line[first] == '#') continue;
+    if (line[first] == '\t') return;  // tabs: the parser's to report
+    if (blockScalar) {
+      if (first > *blockScalar) continue;
+      blockScalar.reset();
+    }
+    if (flowDepth > 0) {
+      for (char c : line) flowDepth += (c == '[' || c == '{') - (c == ']' || c == '}');
+      if (flowDepth < 0) return;
+      continue;
+    }
+    if (line.compare(first, 3, "---") == 0 || line.compare(first, 3, "...") == 0) {
+      open.clear();
+      continue;
+    }
+    const auto k = keyLine(line);
+    if (!k) {
+      if (line.compare(first, 2, "- ") == 0 || line.compare(first, 2, "-") == 0)
+        while (!open.empty() && open.back().indent > first) open.pop_back();
+      continue;
+    }
+    while (!open.empty() && open.back().indent > k->indent) open.pop_back();
+    if (k->sequenceItem && !open.empty() && open.back().indent == k->indent) open.pop_back();  // a new item
+    if (open.empty() || open.back().indent < k->indent) open.push_back({k->indent, {}});
+    auto [at, fresh] = open.back().keys.emplace(k->key, number);
+    CMS_INPUT_CHECK(!fresh, path << ":" << number << ": duplicate key '" << k->key << "' (first at line " << at->second
+                                 << ")");
+    const std::string& v = k->value;
+    if (!v.empty() && (v[0] == '|' || v[0] == '>')) blockScalar = k->indent;
+    if (!v.empty() && (v[0] == '[' || v[0] == '{')) {
+      bool quoted = false;
+      for (char c : v) {
+        if (c == '"') quoted = !quoted;
+        if (!quoted) flowDepth += (c == '[' || c == '{') - (c == ']' || c == '}');
+      }
+      if (flowDepth < 0) return;
+    }
+  }
+}
+
+/// Teuchos' parser failure in one line: "file:line:column: what", without
+/// the echoed source, the caret and the throw trace.
+std::string parserFailure(const std::string& what, const std::string& path) {
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(what);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  std::string where, detail;
+  bool lexerText = false;  // its quoted text spans lines up to "Parser was in state"
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    std::string l = lines[i];
+    if (l.rfind("Lexer text:", 0) == 0) lexerText = true;
+    if (lexerText) {
+      lexerText = l.rfind("Parser was in state", 0) != 0;
+      continue;
+    }
+    // The source line the caret under it points into.
+    if (i + 1 < lines.size() && !lines[i + 1].empty() && lines[i + 1].find_first_not_of(" ^") == std::string::npos)
+      continue;
+    const auto at = l.find("Parser failure at line ");
+    if (at != std::string::npos) {
+      int line = 0, column = 0;
+      if (std::sscanf(l.c_str() + at, "Parser failure at line %d column %d", &line, &column) == 2)
+        where = std::to_string(line) + ":" + std::to_string(column) + ":";
+      continue;
+    }
+    if (l.empty() || l.find("Throw") == 0 || l.find(".cpp:") != std::string::npos ||
+        l.find("Parser was in state") == 0 || l.find_first_not_of(" ^") == std::string::npos)
+      continue;
+    if (l.find("already exists in list") != std::string::npos) {  // what the scan did not see (a flow mapping)
+      const auto q = l.find('"'), r = l.find('"', q + 1);
+      if (q != std::string::npos && r != std::string::npos) l = "duplicate key '" + l.substr(q + 1, r - q - 1) + "'";
+    }
+    if (l.size() > 200) l = l.substr(0, 200) + "...";
+    detail += (detail.empty() ? "" : "; ") + l;
+    if (detail.size() > 600) break;
+  }
+  if (where.empty()) return path + ": not a valid scene file (" + detail + ")";
+  return path + ":" + where + " not a valid scene file (" + detail + ")";
+}
+
 /// The YAML text of a scene as a ParameterList named "Scene".
 Teuchos::RCP<ParameterList> yamlScene(const std::string& text, const std::string& path) {
+  checkDuplicateKeys(text, path);
   Teuchos::RCP<ParameterList> p;
   try {
     p = Teuchos::getParametersFromYamlString(text);
   } catch (const std::exception& e) {
-    std::string what = e.what();
-    if (what.size() > 600) what = what.substr(0, 600) + "...";
-    throw InputError(path + ": not a valid scene file (" + what + ")");
+    throw InputError(parserFailure(e.what(), path));
   }
   CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
   return p;

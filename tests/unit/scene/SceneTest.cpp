@@ -111,11 +111,34 @@ TEST(Scene, MalformedScenesNameTheKey) {
       "has 2 nodes, not one");
 }
 
+// Issue 14 item 9: a repeated key was a Teuchos parser trace whose caret
+// pointed at the line after it; now one line naming both.
+TEST(Scene, DuplicateKeysNameBothLines) {
+  using fixtures::expectInputError;
+  const std::string twice = edit("        Area: 0.01\n", "        Area: 0.01\n        Area: 0.02\n");
+  expectInputError([&] { scene::Scene::parse(twice, "dup.yaml"); }, "dup.yaml:13: duplicate key 'Area' (first at line 12)");
+  // Quoted or not, the same key; a repeated substructure; a repeated top key.
+  expectInputError([] { scene::Scene::parse(edit("        Iy: 1.0e-5\n", "        Iy: 1.0e-5\n        'Iy': 2.0e-5\n"), "q.yaml"); },
+                   "q.yaml:14: duplicate key 'Iy' (first at line 13)");
+  expectInputError([] { scene::Scene::parse(edit("    arm:\n", "    hub:\n"), "s.yaml"); },
+                   "s.yaml:17: duplicate key 'hub' (first at line 4)");
+  expectInputError([] { scene::Scene::parse(std::string(kGood) + "Scene:\n  Name: x\n", "t.yaml"); },
+                   "t.yaml:35: duplicate key 'Scene' (first at line 2)");
+  // Not duplicates: the same key in sibling mappings, in a comment, in a
+  // block scalar, in items of a sequence.
+  EXPECT_NO_THROW(scene::Scene::parse(kGood, "good.yaml"));
+  EXPECT_NO_THROW(scene::Scene::parse(edit("  Substructures:\n", "  Name: |\n    Kind: a\n    Kind: b\n  Substructures:\n  # Kind: C\n"),
+                                      "scalar.yaml"));
+  EXPECT_NO_THROW(scene::Scene::parse(
+      edit("      Reduction:\n", "      Reduction:\n        Load Patterns: [uniform, tip]\n"), "flow.yaml"));
+}
+
 TEST(Scene, UnreadableFilesAreInputErrors) {
   using fixtures::expectInputError;
   const std::string dir = CMS_TEST_DATA_DIR "/scenes/";
   expectInputError([&] { scene::Scene::read(dir + "no-such-scene.yaml"); }, "cannot open the scene file");
-  expectInputError([&] { scene::Scene::read(dir + "malformed.yaml"); }, "malformed.yaml: not a valid scene file");
+  // The parser's line and column, without its echo, caret and throw trace.
+  expectInputError([&] { scene::Scene::read(dir + "malformed.yaml"); }, "malformed.yaml:4:7: not a valid scene file");
   expectInputError([&] { scene::Scene::read(dir + "misspelt-key.yaml"); }, "unknown key \"Youngs Modulus\"");
   expectInputError([&] { scene::Scene::read(dir + "missing-mesh.yaml"); }, "no-such-mesh.msh");
 }
