@@ -233,6 +233,22 @@ std::string droppedNote(const synthesis::SubstructureReduction& r, const Teuchos
 int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool root) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
   const auto t0 = Clock::now();
+  // A large model: a line as each long phase starts, with its size
+  // (issue 14 item 9; a 1e6-element beam once ran minutes in silence).
+  const bool large = sc.estimatedDofs > scene::Scene::kLargeDofs;
+  auto progress = [&](const std::string& what) {
+    if (!root || !large) return;
+    std::ostringstream os;
+    os << "[" << std::fixed << std::setprecision(2) << since(t0) << " s] " << what;
+    std::cout << os.str() << std::endl;
+  };
+  {
+    std::ostringstream os;
+    os << std::setprecision(3) << "assembling " << sc.structure.substructures.size() << " substructures: "
+       << sc.estimatedDofs << " DOFs, at least " << sc.estimatedBytes / 1e9 << " GB of the "
+       << scene::availableMemoryBytes() / 1e9 << " GB available";
+    progress(os.str());
+  }
   const auto structure = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 1. assembly of the substructures"));
     return synthesis::AssembledStructure::assemble(sc.structure, comm);
@@ -240,6 +256,8 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   const double tAssemble = since(t0);
   if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble << " s] assembled "
                       << structure.numSubstructures() << " substructures\n" << std::defaultfloat;
+  progress("reducing: factorising the stiffness and building the bases of " +
+           std::to_string(structure.numSubstructures()) + " substructures");
   const auto t1 = Clock::now();
   const auto s = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 2. reduction and synthesis"));
@@ -253,6 +271,8 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble + tReduce << " s] reduced and coupled: "
                       << s.size() << " coordinates\n" << std::defaultfloat;
   const auto speeds = scaledSpeeds(structure, sc.speedFactor);
+  progress("solving: the lowest " + std::to_string(sc.solve.get<int>("Number of Modes")) + " modes of " +
+           std::to_string(s.size()) + " coordinates");
   const auto modes = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
     return s.solve(speeds, sc.solve);

@@ -3,10 +3,15 @@
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
+#include <iomanip>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
+
+#include <mpi.h>
+#include <sys/resource.h>
 
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
@@ -333,7 +338,55 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }
+  // The size before anything is assembled, and a model that cannot fit
+  // refused at once (not after minutes of assembly, or by the OOM killer).
+  std::string largest;
+  long long largestDofs = -1;
+  for (const auto& s : scene.structure.substructures) {
+    if (!s.model || !s.model->mesh) continue;
+    bool frame = false;
+    for (const auto& es : s.model->elementSets) frame |= es.kind == fem::ElementSet::Kind::Frame;
+    const long long dofs = static_cast<long long>(s.model->mesh->nodeCount()) * (frame ? 6 : 3);
+    scene.estimatedDofs += dofs;
+    if (dofs > largestDofs) {
+      largestDofs = dofs;
+      const auto& fe = p.sublist("Substructures").sublist(s.name);
+      largest = top + "/Substructures/" + s.name +
+                (fe.isSublist("Beam") ? "/Beam/Elements = " + std::to_string(s.model->mesh->nodeCount() - 1)
+                                      : "/Finite Element Model/Mesh (" + s.model->mesh->source + ")");
+    }
+  }
+  scene.estimatedBytes = Scene::kBytesPerDof * static_cast<double>(scene.estimatedDofs);
+  // The least over the ranks, so that every rank (all read the scene)
+  // decides alike; no MPI: this process alone.
+  double available = availableMemoryBytes();
+  int initialized = 0, finalized = 0;
+  MPI_Initialized(&initialized);
+  MPI_Finalized(&finalized);
+  if (initialized && !finalized) MPI_Allreduce(MPI_IN_PLACE, &available, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  CMS_INPUT_CHECK(scene.estimatedBytes > available,
+                  largest << ": " << largestDofs << " DOFs (" << scene.estimatedDofs
+                          << " in the model), which need at least " << std::setprecision(3) << scene.estimatedBytes / 1e9
+                          << " GB, more than the " << available / 1e9
+                          << " GB available (MemAvailable, ulimit -v, cgroup memory.max): make it coarser");
   return scene;
+}
+
+double availableMemoryBytes() {
+  double bytes = std::numeric_limits<double>::infinity();
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    double kib = 0;
+    if (key == "MemAvailable:" && meminfo >> kib) bytes = std::min(bytes, 1024.0 * kib);
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+    bytes = std::min(bytes, static_cast<double>(as.rlim_cur));
+  std::ifstream cgroup("/sys/fs/cgroup/memory.max");
+  double max = 0;
+  if (cgroup >> max && max > 0) bytes = std::min(bytes, max);  // "max" (no limit) does not read as a number
+  return bytes;
 }
 
 Scene Scene::read(const std::string& path) { return read(path, {}); }

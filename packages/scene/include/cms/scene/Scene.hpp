@@ -31,6 +31,16 @@ struct Scene {
   /// choice) and which files to write.
   std::string outputDirectory;
   bool json = true, csv = true;
+  /// The size of the model before it is assembled: its physical DOFs (6 a
+  /// node with frame elements, 3 without) and a lower bound of the memory
+  /// one rank needs for it (kBytesPerDof each, measured on frame models:
+  /// matrices, factor and vectors). Scene::fromParameters refuses a scene
+  /// whose bound exceeds availableMemoryBytes(), naming the largest
+  /// substructure's size key; drivers print progress above kLargeDofs.
+  long long estimatedDofs = 0;
+  double estimatedBytes = 0.0;
+  static constexpr double kBytesPerDof = 1000.0;
+  static constexpr long long kLargeDofs = 100000;
 
   /// Reads and checks the scene; throws cms::InputError naming the file and
   /// the key path (or the YAML parser's line) for anything malformed.
@@ -46,5 +56,10 @@ struct Scene {
   /// paths).
   static Scene fromParameters(const Teuchos::ParameterList& scene, const std::string& path);
 };
+
+/// Memory this process may still use (bytes): the least of MemAvailable in
+/// /proc/meminfo, the address-space limit (ulimit -v) and the cgroup's
+/// memory.max; infinity when none is known.
+double availableMemoryBytes();
 
 }  // namespace cms::scene
