@@ -711,7 +711,9 @@ AssembledMatrices assemble(const FiniteElementModel& model,
         if (it.kind == Item::Kind::Frame) {
           const FrameElement fe = frameOf(it);
           locate(local);
-          scatter(frameGeometricStiffness(fe, frameAxialForce(fe, ue.data())), vKS);
+          // N(x) from the element's equilibrium under its own
+          // centrifugal load: quadratic along it (theory §10).
+          scatter(frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin)), vKS);
         } else {
           locate(local);
           scatter(solidGeometricStiffness(solidOf(it), ue.data()), vKS);

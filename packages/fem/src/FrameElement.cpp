@@ -253,19 +253,50 @@ double frameAxialForce(const FrameElement& e, const double* ue) {
   return e.material.E * e.section.A / L * detail::dot(du, e1);
 }
 
+double FrameAxialForce::at(double xi) const {
+  return start * (1.0 - xi) * (1.0 - 2.0 * xi) + 4.0 * middle * xi * (1.0 - xi) + end * xi * (2.0 * xi - 1.0);
+}
+
+double FrameAxialForce::mean() const { return (start + 4.0 * middle + end) / 6.0; }
+
+FrameAxialForce frameCentrifugalAxialForce(const FrameElement& e, const double* ue, const Spin& spin) {
+  Vec3 e1;
+  double L = 0.0;
+  axisAndLength(e, e1, L);
+  const Vec3 n = detail::unitAxis(spin.axis, "frame element");
+  const Spin unitSpin{n, spin.origin};
+  // Axial load per unit length and unit Omega^2 at the two ends; linear in
+  // between, as r_perp is.
+  const double rhoA = e.material.rho * e.section.A;
+  const double q1 = rhoA * detail::dot(detail::perpendicularToAxis(e.x1, unitSpin), e1);
+  const double q2 = rhoA * detail::dot(detail::perpendicularToAxis(e.x2, unitSpin), e1);
+  // N(xi) = N(0) - L (q1 xi + (q2 - q1) xi^2 / 2), N(0) = Nbar + L (q1/3 + q2/6).
+  const double Nbar = frameAxialForce(e, ue);
+  const double N0 = Nbar + L * (q1 / 3.0 + q2 / 6.0);
+  const auto N = [&](double xi) { return N0 - L * (q1 * xi + 0.5 * (q2 - q1) * xi * xi); };
+  return {N0, N(0.5), N(1.0)};
+}
+
 ElementMatrix frameGeometricStiffness(const FrameElement& e, double axialForce) {
+  return frameGeometricStiffness(e, FrameAxialForce{axialForce, axialForce, axialForce});
+}
+
+ElementMatrix frameGeometricStiffness(const FrameElement& e, const FrameAxialForce& axialForce) {
   const LocalAxes ax = localAxes(e);
   const ShearParameters phi = shearParameters(e, ax.L);
   ElementMatrix k(kDofs);
+  // N (quadratic) times two slopes (quadratic each): degree 6, integrated
+  // exactly by the 5-point rule.
   for (int g = 0; g < 5; ++g) {
     const LocalShapes n = localShapes(kGaussXi[g], ax.L, phi);
-    const double w = kGaussW[g] * ax.L * axialForce;
+    const double w = kGaussW[g] * ax.L * axialForce.at(kGaussXi[g]);
     for (int i = 0; i < kDofs; ++i)
       for (int j = 0; j < kDofs; ++j) k(i, j) += w * (n.dv[i] * n.dv[j] + n.dw[i] * n.dw[j]);
   }
   // Twist tilts a fibre at radius r by r theta_x', and the axial stress N / A
-  // works on that tilt: (1/2) N (Iy + Iz) / A theta_x'^2 per unit length.
-  const double t = axialForce * (e.section.Iy + e.section.Iz) / (e.section.A * ax.L);
+  // works on that tilt: (1/2) N (Iy + Iz) / A theta_x'^2 per unit length;
+  // theta_x' is constant on the element, so only the mean of N enters.
+  const double t = axialForce.mean() * (e.section.Iy + e.section.Iz) / (e.section.A * ax.L);
   k(3, 3) += t, k(9, 9) += t, k(3, 9) -= t, k(9, 3) -= t;
   return toGlobal(k, ax.R);
 }

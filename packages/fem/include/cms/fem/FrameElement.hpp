@@ -29,9 +29,35 @@ ElementMatrix frameMass(const FrameElement& e);
 /// global axes): N = EA (u2 - u1) . x_local / L.
 double frameAxialForce(const FrameElement& e, const double* ue);
 
-/// Geometric (stress) stiffness of a constant axial force N: bending
-/// ∫ N v'^T v' dx in both planes with the element's own translational shape
-/// functions, and the torsional term N (Iy + Iz) / (A L).
+/// An axial force (tension positive) varying along an element as a quadratic
+/// in xi = x / L, given by its values at the start, the middle and the end.
+/// A constant force N is {N, N, N}. The centrifugal prestress of a spinning
+/// element is quadratic: its distributed axial load is linear in x.
+struct FrameAxialForce {
+  double start = 0.0, middle = 0.0, end = 0.0;
+
+  /// N(xi), quadratic Lagrange interpolation of the three values.
+  double at(double xi) const;
+  /// (1/L) ∫ N dx (Simpson's rule, exact for a quadratic).
+  double mean() const;
+};
+
+/// Axial force along a spinning element whose displacement per unit Omega^2
+/// is ue (12 values, global axes, the prestress K u1 = f1 of theory §10). The
+/// element's own centrifugal load rho A r_perp(x) has the axial component
+/// q(x) = rho A r_perp(x) . e1, linear in x; the element's equilibrium
+/// (end forces K_e ue - f_e, exact whenever the nodal displacements are) gives
+///   N(0) = Nbar + ∫ (1 - xi) q dx,   N(x) = N(0) - ∫_0^x q ds,
+/// with Nbar = EA (u2 - u1) . e1 / L = frameAxialForce(e, ue), the mean of N.
+FrameAxialForce frameCentrifugalAxialForce(const FrameElement& e, const double* ue, const Spin& spin);
+
+/// Geometric (stress) stiffness of an axial force N(x): bending
+/// ∫ N(x) v'^T v' dx in both planes with the element's own translational shape
+/// functions (Gauss points exact for a quadratic N times the products of two
+/// slopes), and the torsional term mean(N) (Iy + Iz) / (A L) (the twist is
+/// linear, its slope constant).
+ElementMatrix frameGeometricStiffness(const FrameElement& e, const FrameAxialForce& axialForce);
+/// The same for a constant axial force N.
 ElementMatrix frameGeometricStiffness(const FrameElement& e, double axialForce);
 
 /// Rotating-frame terms per unit speed: translational (rho A) from the
