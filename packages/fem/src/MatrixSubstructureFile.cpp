@@ -159,6 +159,10 @@ MatrixSubstructureFile readMatrixSubstructureFile(const std::string& path) {
       if (!knownMatrix(r[1])) r.fail("unknown matrix name '" + r[1] + "' (known: M K G1 KT1 KS1)");
       auto [it, fresh] = matrixLine.emplace(r[1], r.line());
       if (!fresh) r.fail("matrix " + r[1] + " is given twice (first on line " + std::to_string(it->second) + ")");
+      // A NUL would cut the name short when the file is opened (and in
+      // every message naming it).
+      for (unsigned char c : r[2])
+        if (c < 0x20 || c == 0x7f) r.fail("matrix " + r[1] + ": its file name has a control character (code " + std::to_string(c) + ")");
       const std::filesystem::path p(r[2]);
       f.matrices[r[1]] = p.is_absolute() ? p.string() : (folder / p).string();
     } else if (key == "spin-axis" || key == "spin-origin") {

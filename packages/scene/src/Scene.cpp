@@ -521,14 +521,19 @@ std::string parserFailure(const std::string& what, const std::string& path) {
       continue;
     }
     // The source line the caret under it points into.
-    if (i + 1 < lines.size() && !lines[i + 1].empty() && lines[i + 1].find_first_not_of(" ^") == std::string::npos)
+    if (i + 1 < lines.size() && lines[i + 1].find('^') != std::string::npos &&
+        lines[i + 1].find_first_not_of(" ^") == std::string::npos)
       continue;
-    const auto at = l.find("Parser failure at line ");
-    if (at != std::string::npos) {
-      int line = 0, column = 0;
-      if (std::sscanf(l.c_str() + at, "Parser failure at line %d column %d", &line, &column) == 2)
-        where = std::to_string(line) + ":" + std::to_string(column) + ":";
-      continue;
+    if (l.find('^') != std::string::npos && l.find_first_not_of(" ^") == std::string::npos) continue;
+    // "Parser failure at line L column C of parseYamlStream", "Unexpected
+    // character code 0 at line L column C ...": the place, then the rest.
+    const auto at = l.find(" at line ");
+    int line = 0, column = 0;
+    if (where.empty() && at != std::string::npos && std::sscanf(l.c_str() + at, " at line %d column %d", &line, &column) == 2) {
+      where = std::to_string(line) + ":" + std::to_string(column) + ":";
+      l = l.substr(0, at);
+      if (l.rfind("error: ", 0) == 0) l.erase(0, 7);
+      if (l == "Parser failure") continue;
     }
     if (l.empty() || l.find("Throw") == 0 || l.find(".cpp:") != std::string::npos ||
         l.find("Parser was in state") == 0 || l.find_first_not_of(" ^") == std::string::npos)
