@@ -76,6 +76,7 @@
 #include "PeakMemory.hpp"
 #include "cms/analysis/ModeShapeFiles.hpp"
 #include "cms/analysis/TruthComparison.hpp"
+#include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/reduction/RitzBasis.hpp"
 #include "cms/scene/Scene.hpp"
@@ -271,27 +272,28 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   if (root) std::cout << "[" << std::fixed << std::setprecision(2) << tAssemble + tReduce << " s] reduced and coupled: "
                       << s.size() << " coordinates\n" << std::defaultfloat;
   const auto speeds = scaledSpeeds(structure, sc.speedFactor);
+  // Massless DOFs kept as coordinates make M singular: named before solving.
+  try {
+    analysis::checkMass(structure, s);
+  } catch (const InputError& e) {
+    throw InputError(sc.path + ": " + e.what());
+  }
   progress("solving: the lowest " + std::to_string(sc.solve.get<int>("Number of Modes")) + " modes of " +
            std::to_string(s.size()) + " coordinates");
-  const auto modes = [&] {
+  auto modes = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
     return s.solve(speeds, sc.solve);
   }();
-  // More zero frequencies than the structure has rigid-body motions (six if
-  // free, one per free-turning wheel) means K(s) is singular: an
-  // unrestrained substructure, or speeds on a divergence boundary. Refused
-  // before anything is written (doc/user-guide.md, "The cms driver").
-  {
-    int expected = structure.freeFloating() ? 6 : 0, zeros = 0;
-    for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
-      expected += structure.substructure(k).kind == synthesis::SubstructureKind::Rigid &&
-                  structure.substructure(k).rotor.spinCoordinate;
-    for (const auto& md : modes.result.modes) zeros += md.stability == eigen::Stability::RigidBody;
-    CMS_INPUT_CHECK(zeros > expected,
-                    sc.path << ": K is singular at the scene's speeds: " << zeros
-                            << " zero frequencies where the structure has " << expected
-                            << " rigid-body motions (an unrestrained substructure: clamp it or give \"Free "
-                               "Reference\"; or speeds on a divergence boundary)");
+  // More zero frequencies than rigid-body motions: a critical speed (an
+  // answer, flagged "critical"), an unrestrained substructure (exit 2) or an
+  // ill-conditioned stiffness (exit 3), told apart before anything is
+  // written (analysis/ZeroFrequencies.hpp, theory §4.3).
+  try {
+    analysis::checkZeroFrequencies(structure, s, modes, sc.solve);
+  } catch (const InputError& e) {
+    throw InputError(sc.path + ": " + e.what());
+  } catch (const NumericalError& e) {
+    throw NumericalError(sc.path + ": " + e.what());
   }
   const auto character = s.characterise(modes);
   // Whirl of each spinning substructure in each mode (collective).
@@ -737,6 +739,15 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
   const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
   const auto truthModes = truth.solve(speeds, sc.solve);
   const double truthSeconds = since(tt);
+  // Without a converged truth there is nothing to compare with: the truth's
+  // outcome is the run's, and nothing is written.
+  if (const auto o = drivers::outcome(truthModes.result.status); o.code != ExitSuccess) {
+    if (root)
+      std::cerr << "cms: " << o.message << ": the truth model (" << truth.size() << " coordinates) "
+                << toString(truthModes.result.status) << ": " << drivers::condense(truthModes.result.reason)
+                << "; no files written\n";
+    return o.code;
+  }
   CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
                   "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);
   struct Row {
@@ -748,6 +759,11 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
     std::vector<int> perSubstructure;  ///< coordinates of each substructure
   };
   std::vector<Row> rows;
+  // A strategy whose solve did not converge or broke down is a failure of
+  // the run, not a row: it is named, the table is written as
+  // <name>-compare-partial.csv, and the exit code is the worst outcome (3
+  // before 4), as for campbell (doc/user-guide.md, "Exit codes").
+  drivers::Outcome worst = drivers::kSuccess;
   for (const std::string basis : {"Guyan", "Admissible", "Modes", "Craig-Bampton"}) {
     for (int k : basis == "Guyan" ? std::vector<int>{0} : counts) {
       const auto red = synthesis::sameReduction(structure, basis, k);
@@ -762,6 +778,12 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
           continue;
         }
         const auto m = s.solve(speeds, sc.solve);
+        if (const auto o = drivers::outcome(m.result.status); o.code != ExitSuccess) {
+          if (root) std::cout << "FAILED " << basis << " with " << k << " vectors: " << o.message << " ("
+                              << toString(m.result.status) << "): " << drivers::condense(m.result.reason) << '\n';
+          if (worst.code == ExitSuccess || o.code == ExitNumericalError) worst = o;
+          continue;
+        }
         if (static_cast<int>(m.result.modes.size()) < nModes) {
           if (root) std::cout << "skipped " << basis << " with " << k << " vectors: the solve gave "
                               << m.result.modes.size() << " modes (" << m.result.reason << ")\n";
@@ -779,7 +801,12 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
                   << rows.back().c.maxRelativeError << '\n';
     }
   }
-  if (!root) return ExitSuccess;
+  if (rows.empty() && worst.code == ExitSuccess) worst = drivers::kBreakdown;  // nothing could be compared
+  if (!root) return worst.code;
+  if (rows.empty()) {
+    std::cerr << "cms: " << worst.message << ": no strategy gave " << nModes << " modes to compare; no files written\n";
+    return worst.code;
+  }
   std::cout << "\ntruth: " << truth.size() << " coordinates, " << truthSeconds << " s (" << truthModes.path
             << ")\nlowest " << nModes << " modes compared\n\n"
             << "strategy        vectors  DOFs    reduce s  solve s   peak MiB  max rel err  mean rel err  worst MAC\n";
@@ -789,7 +816,8 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
               << std::setw(10) << std::setprecision(4) << r.memory << std::setw(13) << r.c.maxRelativeError
               << std::setw(14) << r.c.meanRelativeError << std::setw(11) << r.c.worstMac << '\n';
   std::filesystem::create_directories(outDir);
-  AtomicFile f(outDir / (sc.name + "-compare.csv"));
+  const std::string csv = sc.name + (worst.code == ExitSuccess ? "-compare.csv" : "-compare-partial.csv");
+  AtomicFile f(outDir / csv);
   f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,mean_rel_error,"
                 "worst_mac,truth_dofs,truth_s";
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
@@ -803,8 +831,13 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
     f.stream() << '\n';
   }
   f.commit();
-  std::cout << "\nwrote " << (outDir / (sc.name + "-compare.csv")).string() << '\n';
-  plot("compare", outDir / (sc.name + "-compare.csv"));
+  std::cout << "\nwrote " << (outDir / csv).string() << '\n';
+  if (worst.code != ExitSuccess) {
+    std::cerr << "cms: " << worst.message << ": some strategies failed (FAILED above); the others are in " << csv
+              << '\n';
+    return worst.code;
+  }
+  plot("compare", outDir / csv);
   return ExitSuccess;
 }
 

@@ -115,7 +115,8 @@ void CampbellDiagram::print(std::ostream& os, int numModes) const {
         const auto& m = p.modes[k];
         os << std::setprecision(3) << std::setw(11) << m.hz << " " << toString(p.whirl[k]);
         stable &= m.stability == eigen::Stability::Stable ||
-                  m.stability == eigen::Stability::RigidBody || m.stability == eigen::Stability::Neutral;
+                  m.stability == eigen::Stability::RigidBody || m.stability == eigen::Stability::Neutral ||
+                  m.stability == eigen::Stability::Critical;
       } else {
         os << std::setw(14) << "";
       }

@@ -11,6 +11,7 @@ const char* toString(Stability s) {
     case Stability::Divergence: return "DIVERGENCE";
     case Stability::Flutter: return "FLUTTER";
     case Stability::Neutral: return "neutral";
+    case Stability::Critical: return "critical";
   }
   return "?";
 }

@@ -67,6 +67,22 @@ Teuchos::RCP<MultiVector> orthonormalBasis(const MultiVector& B, double relTol) 
   return Q;
 }
 
+// |A|: the entrywise absolute value, same graph (GyroscopicMode::scale).
+Teuchos::RCP<CrsMatrix> absoluteValues(const CrsMatrix& A) {
+  auto B = Teuchos::rcp(new CrsMatrix(A, Teuchos::Copy));
+  B->resumeFill();
+  typename CrsMatrix::nonconst_local_inds_host_view_type cols("cols", A.getNodeMaxNumRowEntries());
+  typename CrsMatrix::nonconst_values_host_view_type vals("vals", A.getNodeMaxNumRowEntries());
+  for (LocalOrdinal r = 0; r < static_cast<LocalOrdinal>(A.getNodeNumRows()); ++r) {
+    size_t count = 0;
+    A.getLocalRowCopy(r, cols, vals, count);
+    for (size_t e = 0; e < count; ++e) vals(e) = std::abs(vals(e));
+    B->replaceLocalValues(r, static_cast<LocalOrdinal>(count), vals.data(), cols.data());
+  }
+  B->fillComplete(A.getDomainMap(), A.getRangeMap());
+  return B;
+}
+
 DenseMatrix projectOnto(const CrsMatrix& A, const MultiVector& Q) {
   MultiVector AQ(Q.getMap(), Q.getNumVectors());
   A.apply(Q, AQ);
@@ -380,6 +396,16 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   sys.M->apply(Qr, MQr), sys.M->apply(Qi, MQi);
   sys.G->apply(Qr, GQr), sys.G->apply(Qi, GQi);
   sys.K->apply(Qr, KQr), sys.K->apply(Qi, KQi);
+  // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
+  MultiVector Qa(rowMap, kk), KQa(rowMap, kk), GQa(rowMap, kk);
+  {
+    auto a = Qa.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    auto r = Qr.getLocalViewHost(Tpetra::Access::ReadOnly), i = Qi.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (size_t l = 0; l < rowMap->getNodeNumElements(); ++l)
+      for (int j = 0; j < kk; ++j) a(l, j) = std::hypot(r(l, j), i(l, j));
+  }
+  absoluteValues(*sys.K)->apply(Qa, KQa);
+  absoluteValues(*sys.G)->apply(Qa, GQa);
   const double nM = sys.M->getFrobeniusNorm(), nG = sys.G->getFrobeniusNorm(), nK = sys.K->getFrobeniusNorm();
   const double scale = frequencyScale(nM, nG, nK);
   const size_t nloc = rowMap->getNodeNumElements();
@@ -387,11 +413,12 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   auto mr = MQr.getLocalViewHost(Tpetra::Access::ReadOnly), mi = MQi.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto gr = GQr.getLocalViewHost(Tpetra::Access::ReadOnly), gi = GQi.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto kr = KQr.getLocalViewHost(Tpetra::Access::ReadOnly), ki = KQi.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto ka = KQa.getLocalViewHost(Tpetra::Access::ReadOnly), ga = GQa.getLocalViewHost(Tpetra::Access::ReadOnly);
   const int nprocs = comm->getSize();
   for (int j = 0; j < k; ++j) {
     GyroscopicMode& m = rm[j];
     const cplx l = m.lambda, l2 = l * l;
-    double local[4] = {0, 0, 0, 0};  // qMq, qKq, qq, rr
+    double local[6] = {0, 0, 0, 0, 0, 0};  // qMq, qKq, qq, rr, |q||K||q|, |q||G||q|
     double big = -1.0;
     cplx bigVal = 0.0;
     for (size_t i = 0; i < nloc; ++i) {
@@ -400,10 +427,11 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
       local[1] += std::real(std::conj(q) * Kq);
       local[2] += std::norm(q);
       local[3] += std::norm(l2 * Mq + l * Gq + Kq);
+      local[4] += std::abs(q) * ka(i, j), local[5] += std::abs(q) * ga(i, j);
       if (std::abs(q) > big) big = std::abs(q), bigVal = q;
     }
-    double global[4];
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 4, local, global);
+    double global[6];
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 6, local, global);
     // The largest entry over all ranks fixes the phase (lowest rank wins ties).
     std::vector<double> bigs(3 * nprocs), mine = {big, bigVal.real(), bigVal.imag()};
     Teuchos::gatherAll(*comm, 3, mine.data(), 3 * nprocs, bigs.data());
@@ -422,6 +450,7 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     m.growthRate = l.real();
     m.omega = std::abs(l.imag());
     m.hz = m.omega / kTwoPi;
+    m.scale = global[0] > 0 ? std::sqrt(global[4] / global[0]) + global[5] / global[0] : 0.0;
   }
   classifyModes(rm, scale, c.rigidTol, c.instabTol);
   // Accurate candidates first (in order of preference), then the first nModes.

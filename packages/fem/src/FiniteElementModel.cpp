@@ -258,8 +258,10 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
 
 void FiniteElementModel::validate() const {
   CMS_INPUT_CHECK(!mesh, name << ": no mesh");
-  CMS_INPUT_CHECK(elementSets.empty(), name << ": no element sets; name at least one physical group of "
-                                            << mesh->source << " under \"Element Sets\"");
+  // A lumped model (point masses on springs) needs no elements.
+  CMS_INPUT_CHECK(elementSets.empty() && pointMasses.empty(),
+                  name << ": no element sets and no point masses; name at least one physical group of "
+                       << mesh->source << " under \"Element Sets\"");
   std::set<std::string> seen;
   for (const ElementSet& s : elementSets) {
     const std::string what = name + ": element set '" + s.group + "'";

@@ -3,6 +3,7 @@
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -170,15 +171,44 @@ public:
   }
 
   Teuchos::RCP<const CrsMatrix> operator()(const CrsMatrix& A) const {
-    return B_.is_null() ? sparse(A) : factored(A);
+    return B_.is_null() ? sparse(A) : factored(A, 0);
+  }
+
+  /// The elastic stiffness, where B's first `rigid` columns are rigid
+  /// motions X of the substructure (a point attachment): K X = 0 when nothing
+  /// grounds the substructure, and what is computed instead is rounding,
+  /// eps ||K|| ||X||, which for a part 1e12 times stiffer than its parent
+  /// outweighs the parent's stiffness (a Guyan arm on a post gave 4.5 Hz
+  /// for 7.27). A column of K X within 1e3 eps ||K||_F ||X_a|| is that
+  /// rounding and made exactly zero; a grounded part (springs, supports)
+  /// gives K X of order ||K|| ||X|| and is kept (theory §11.2).
+  Teuchos::RCP<const CrsMatrix> stiffness(const CrsMatrix& K, int rigid) const {
+    return B_.is_null() ? sparse(K) : factored(K, rigid);
   }
 
 private:
-  Teuchos::RCP<const CrsMatrix> factored(const CrsMatrix& A) const {
+  Teuchos::RCP<const CrsMatrix> factored(const CrsMatrix& A, int rigid) const {
     const int nb = static_cast<int>(B_->getNumVectors()), nc = static_cast<int>(cols_.size());
     MultiVector AB(A.getRangeMap(), nb), S(small_, nb);
     A.apply(*B_, AB);
+    if (rigid > 0) {
+      std::vector<double> ab(nb), b(nb);
+      AB.norm2(Teuchos::ArrayView<double>(ab));
+      B_->norm2(Teuchos::ArrayView<double>(b));
+      const double floor = 1e3 * std::numeric_limits<double>::epsilon() * A.getFrobeniusNorm();
+      for (int a = 0; a < std::min(rigid, nb); ++a)
+        if (ab[a] <= floor * b[a]) AB.getVectorNonConst(a)->putScalar(0.0);
+    }
     S.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *B_, AB, 0.0);
+    if (rigid > 0) {
+      // B_a^T K B_j = (K B_a)^T B_j: the row of a zeroed column is zero too.
+      for (int a = 0; a < std::min(rigid, nb); ++a) {
+        bool zero = true;
+        for (double v : S.getData(a)) zero = zero && v == 0.0;
+        if (zero)
+          for (int j = 0; j < nb; ++j) S.replaceLocalValue(static_cast<LocalOrdinal>(a), j, 0.0);
+      }
+    }
     std::vector<double> Sd(static_cast<std::size_t>(nb) * nb), Cd(static_cast<std::size_t>(nb) * nc, 0.0);
     for (int j = 0; j < nb; ++j) {
       const auto c = S.getData(j);
@@ -598,7 +628,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     bcol.clear();  // release the host views before B is read
     const Projection project = B.is_null() ? Projection(*out.T_[k]) : Projection(*out.T_[k], B, C);
     M = addScaled(M, 1.0, project(*sub.M()));
-    K0 = addScaled(K0, 1.0, project(*sub.K()));
+    K0 = addScaled(K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
     if (p.compound) {
       // Its own spin inside the spinning parent frame (theory §11.5).
       const auto& st = *p.stationary;
@@ -786,6 +816,18 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
       u[k]->dot(Mu, d());
       c.kineticShare.push_back(d[0] + d[1]);
       total += d[0] + d[1];
+      double strain = 0.0;
+      if (parts[k]->sub) {
+        MultiVector Ku(u[k]->getMap(), 2);
+        const auto& K = *parts[k]->sub->K();
+        K.apply(*u[k], Ku);
+        Teuchos::Array<double> e(2), uu(2);
+        u[k]->dot(Ku, e());
+        u[k]->dot(*u[k], uu());
+        const double normK = K.getFrobeniusNorm(), size = uu[0] + uu[1];
+        strain = normK > 0.0 && size > 0.0 ? std::abs(e[0] + e[1]) / (normK * size) : 0.0;
+      }
+      c.relativeStrain.push_back(strain);
     }
     for (double& v : c.kineticShare) v = total > 0.0 ? v / total : 0.0;
     if (structure_->freeFloating()) {

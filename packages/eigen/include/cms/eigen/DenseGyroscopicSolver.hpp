@@ -40,8 +40,11 @@ private:
 
 /// Residual, energies, phase normalisation and stability class of modes whose
 /// lambda and q are set (q unnormalised). Shared by every dense extraction.
+/// `ownScales`: set GyroscopicMode::scale (for a solver whose accuracy is
+/// componentwise per mode, e.g. Meirovitch's); otherwise 0, and the modes are
+/// judged on the system's normwise scale.
 void completeDenseModes(const GyroscopicSystem& system, std::vector<GyroscopicMode>& modes,
-                        double rigidBodyTol, double instabilityTol);
+                        double rigidBodyTol, double instabilityTol, bool ownScales = false);
 
 /// The frequency scale sqrt(||K||/||M||) + ||G||/||M|| that the rigid-body and
 /// instability tolerances are relative to.

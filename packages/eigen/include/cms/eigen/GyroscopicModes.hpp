@@ -18,8 +18,11 @@ enum class Stability {
   RigidBody,   ///< |lambda| below the rigid-body tolerance: zero frequency
   Divergence,  ///< lambda real and positive: static (buckling-like) instability
   Flutter,     ///< Re lambda > 0 and Im lambda != 0: oscillatory instability
-  Neutral      ///< Re lambda > 0 but within what rounding can produce (a defective
+  Neutral,     ///< Re lambda > 0 but within what rounding can produce (a defective
                ///< cluster split by the solver): neither stable nor unstable can be decided
+  Critical     ///< zero frequency because K(Omega) is singular at this speed, not at
+               ///< rest: a critical speed (the edge of a divergence band). Set by the
+               ///< synthesis-level check (analysis::checkZeroFrequencies), never by a solver
 };
 const char* toString(Stability s);
 
@@ -46,6 +49,14 @@ struct GyroscopicMode {
   /// ||(lambda^2 M + lambda G + K) q|| / ((||K|| + |lambda| ||G|| + |lambda|^2 ||M||) ||q||),
   /// a normwise backward error: ~1e-16 for a mode exact to rounding.
   double residual = 0.0;
+  /// The mode's own frequency scale, componentwise: sqrt(|q|^T |K| |q| /
+  /// q^H M q) + |q|^T |G| |q| / q^H M q (|A| the entrywise absolute value).
+  /// What rounding of K and G can do to this mode's eigenvalue: the
+  /// rigid-body and cluster tests are relative to it, so a stiff part that
+  /// the mode does not load (a Craig-Bampton mode at 1e4 times the frequency)
+  /// does not hide the mode's own frequency (theory §4.3). 0: not computed
+  /// (the system-wide scale is used).
+  double scale = 0.0;
 };
 
 struct GyroscopicResult {

@@ -120,6 +120,14 @@ struct ModeCharacter {
   /// Share of the mode's kinetic energy (u_s^H M_s u_s) in each
   /// substructure, tree order; sums to 1.
   std::vector<double> kineticShare;
+  /// How much the mode deforms each substructure, relative to that
+  /// substructure's own stiffness scale: u_s^H K_s u_s / (||K_s||_F u_s^H u_s),
+  /// K_s its elastic stiffness (0 for a rigid rotor and for no motion). A
+  /// rigid motion of the substructure gives rounding only (<< sqrt(eps));
+  /// a vibration gives (omega / omega_max,s)^2-ish. Tells an unrestrained
+  /// substructure from an ill-conditioned or critical-speed zero frequency
+  /// (doc/theory.md §4.3).
+  std::vector<double> relativeStrain;
   /// Share of q^H M q in the free C's six rigid-body coordinates (0 when C
   /// is clamped).
   double rigidShare = 0.0;

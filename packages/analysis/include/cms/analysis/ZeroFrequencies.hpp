@@ -1,0 +1,56 @@
+// What a zero frequency means (doc/theory.md §4.3). A structure has as many
+// zero frequencies as rigid-body motions: six when C floats, one per
+// free-turning wheel. More zeros than that have four causes that need four
+// different answers, and a tool that calls them all "K is singular" sends
+// its user the wrong way:
+//   - a critical speed: K(Omega) is singular at this speed but not at rest.
+//     That is an answer (the edge of a divergence band), reported with
+//     Stability::Critical, never refused;
+//   - an unrestrained substructure: zero at rest too, and the mode moves some
+//     substructure rigidly. Bad input (exit 2), naming it and its free motion;
+//   - an ill-conditioned stiffness: zero at rest too, but the mode deforms a
+//     substructure (a stiff part 1e8 times stiffer than the soft one it
+//     loads puts the soft part's frequencies below what rounding of the
+//     assembled K can resolve). Numerical breakdown (exit 3) with the
+//     condition estimate and what to do;
+//   - a singular mass: DOFs without mass kept as coordinates (a Full basis):
+//     bad input naming the substructure, node and component (checkMass).
+#pragma once
+
+#include <vector>
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+namespace cms::analysis {
+
+/// How many zero frequencies the structure has by construction: six if C
+/// floats, plus one per rigid rotor whose spin angle is a coordinate.
+int rigidBodyMotions(const synthesis::AssembledStructure& structure);
+
+struct ZeroFrequencyReport {
+  int expected = 0;  ///< rigidBodyMotions()
+  int zeros = 0;     ///< modes found rigid (before relabelling)
+  int critical = 0;  ///< of these, relabelled Stability::Critical
+};
+
+/// Checks the zero frequencies of `modes` (solved at modes.speeds with
+/// `solveParams`) against the structure's rigid-body motions and acts as
+/// the header says: relabels critical-speed zeros, or throws cms::InputError
+/// (unrestrained; the message starts with "unrestrained") or
+/// cms::NumericalError (ill-conditioned, with the condition estimate).
+/// Collective: may solve once more at rest and expand modes.
+ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& structure,
+                                         const synthesis::SynthesizedStructure& reduced,
+                                         synthesis::StructureModes& modes,
+                                         const Teuchos::ParameterList& solveParams);
+
+/// Refuses (cms::InputError naming the substructure, node and component) a
+/// substructure kept with a Full basis that has a free DOF without mass: its
+/// M diagonal below 1e3 eps of the substructure's mass (translations) or of
+/// mass x size^2 (rotations). Such a DOF makes the structure's M singular;
+/// a reduced basis condenses it statically and is the remedy. Collective.
+void checkMass(const synthesis::AssembledStructure& structure, const synthesis::SynthesizedStructure& reduced);
+
+}  // namespace cms::analysis

@@ -1,0 +1,222 @@
+#include "cms/analysis/ZeroFrequencies.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/fem/MatrixSubstructureFile.hpp"
+
+namespace cms::analysis {
+namespace {
+
+using synthesis::ModeCharacter;
+using synthesis::StructureModes;
+
+std::vector<int> zeroModes(const StructureModes& modes) {
+  std::vector<int> z;
+  for (std::size_t m = 0; m < modes.result.modes.size(); ++m)
+    if (modes.result.modes[m].stability == eigen::Stability::RigidBody) z.push_back(static_cast<int>(m));
+  return z;
+}
+
+// A rigid motion of a substructure strains it by rounding only: u^H K u /
+// (||K|| u^H u) is then of order eps (the error of u in directions K sees).
+// A vibration strains it by (omega / omega_max)^2 of that substructure,
+// which for a mode that rounding cannot tell from zero in the coupled K is
+// still far above eps unless the substructure itself is that ill-conditioned.
+// sqrt(eps) splits the two with eight decades on either side.
+const double kStrainSplit = std::sqrt(std::numeric_limits<double>::epsilon());
+
+std::size_t argmax(const std::vector<double>& v) {
+  return static_cast<std::size_t>(std::max_element(v.begin(), v.end()) - v.begin());
+}
+
+// ||K||_F / ||M||_F of substructure k: its stiffness scale in (rad/s)^2.
+double stiffnessScale(const synthesis::AssembledStructure& s, std::size_t k) {
+  const auto* sub = s.assembled(k);
+  if (!sub) return 0.0;
+  const double m = sub->M()->getFrobeniusNorm();
+  return m > 0.0 ? sub->K()->getFrobeniusNorm() / m : 0.0;
+}
+
+// "ux 0.50, uy 0.50": the components that carry more than 5% of a
+// substructure's motion in one mode (u_s from expand: real and imaginary
+// columns). Collective.
+std::string freeMotion(const synthesis::AssembledStructure& s, std::size_t k, const MultiVector& u) {
+  std::array<double, 6> local{}, global{};
+  const auto* sub = s.assembled(k);
+  const auto map = u.getMap();
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+    const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    int c = static_cast<int>(g % 6);  // a rigid rotor's rows: a = (u_P, theta_P)
+    if (sub) c = static_cast<int>(sub->dofs().components.at(static_cast<std::size_t>(g)));
+    if (c < 6) local[c] += std::pow(u.getData(0)[l], 2) + std::pow(u.getData(1)[l], 2);
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 6, local.data(), global.data());
+  double total = 0.0;
+  for (double v : global) total += v;
+  std::ostringstream os;
+  os.precision(2);
+  for (int c = 0; c < 6; ++c)
+    if (total > 0.0 && global[c] > 0.05 * total)
+      os << (os.tellp() > 0 ? ", " : "") << fem::componentName(static_cast<fem::Component>(c)) << ' '
+         << global[c] / total;
+  return os.str();
+}
+
+}  // namespace
+
+int rigidBodyMotions(const synthesis::AssembledStructure& structure) {
+  int expected = structure.freeFloating() ? 6 : 0;
+  for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
+    expected += structure.substructure(k).kind == synthesis::SubstructureKind::Rigid &&
+                structure.substructure(k).rotor.spinCoordinate;
+  return expected;
+}
+
+ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& structure,
+                                         const synthesis::SynthesizedStructure& reduced, StructureModes& modes,
+                                         const Teuchos::ParameterList& solveParams) {
+  ZeroFrequencyReport report;
+  report.expected = rigidBodyMotions(structure);
+  const auto zeros = zeroModes(modes);
+  report.zeros = static_cast<int>(zeros.size());
+  if (report.zeros <= report.expected) return report;
+
+  // 1. At a critical speed, K(Omega) is singular but K(0) is not: the zeros
+  // beyond the rigid-body motions appear with the speed (theory §4.3).
+  const bool spinning =
+      std::any_of(modes.speeds.begin(), modes.speeds.end(), [](double w) { return w != 0.0; });
+  StructureModes rest;
+  if (spinning) {
+    rest = reduced.solve(std::vector<double>(modes.speeds.size(), 0.0), solveParams);
+    if (static_cast<int>(zeroModes(rest).size()) <= report.expected) {
+      // Relabel the zeros that strain the structure (the rigid-body ones do
+      // not), at most the excess.
+      const auto character = reduced.characterise(modes);
+      int excess = report.zeros - report.expected;
+      for (int m : zeros)
+        if (excess > 0 && character[m].relativeStrain[argmax(character[m].relativeStrain)] > kStrainSplit) {
+          modes.result.modes[m].stability = eigen::Stability::Critical;
+          ++report.critical, --excess;
+        }
+      for (auto it = zeros.rbegin(); excess > 0 && it != zeros.rend(); ++it)  // none strained: the last ones
+        if (modes.result.modes[*it].stability == eigen::Stability::RigidBody) {
+          modes.result.modes[*it].stability = eigen::Stability::Critical;
+          ++report.critical, --excess;
+        }
+      return report;
+    }
+  }
+
+  // 2. Singular at rest: a free motion (unrestrained) or a vibration that
+  // rounding of the coupled K cannot resolve (ill-conditioned).
+  const StructureModes& at = spinning ? rest : modes;
+  const auto z = zeroModes(at);
+  const auto character = reduced.characterise(at);
+  int rigid = 0, worst = -1;
+  for (int m : z) {
+    const auto& strain = character[m].relativeStrain;
+    if (strain[argmax(strain)] <= kStrainSplit) ++rigid;
+    else if (worst < 0 || strain[argmax(strain)] < character[worst].relativeStrain[argmax(character[worst].relativeStrain)])
+      worst = m;
+  }
+  std::ostringstream os;
+  if (rigid > report.expected || worst < 0) {
+    // The first free motion beyond the expected ones, by the substructure
+    // that carries most of its kinetic energy.
+    int m = z.back();
+    for (int k : z)
+      if (character[k].relativeStrain[argmax(character[k].relativeStrain)] <= kStrainSplit) m = k;
+    const std::size_t k = argmax(character[m].kineticShare);
+    const auto u = reduced.expand(at, m);
+    os << "unrestrained: " << rigid << " rigid-body motion" << (rigid == 1 ? "" : "s") << " at rest where the structure has "
+       << report.expected << " (" << (structure.freeFloating() ? "free C: 6" : "C clamped: 0")
+       << ", plus one per free-turning wheel); substructure '" << structure.substructure(k).name
+       << "' moves freely (" << freeMotion(structure, k, *u[k]) << " of its motion, "
+       << character[m].kineticShare[k] << " of the mode's kinetic energy): clamp it (\"Clamp\", "
+       << "\"Boundary Conditions\"), attach it, or let C float (\"Free Reference\")";
+    throw InputError(os.str());
+  }
+  // Ill-conditioned: the mode deforms substructure j (its strain well above
+  // rounding) but its frequency is below what the coupled K resolves. The
+  // frequency it has is about strain_j * scale_j; the coupled K's rounding
+  // is set by the stiffest substructure's scale.
+  const auto& strain = character[worst].relativeStrain;
+  const std::size_t j = argmax(strain);
+  std::size_t stiffest = 0;
+  for (std::size_t k = 1; k < structure.numSubstructures(); ++k)
+    if (stiffnessScale(structure, k) > stiffnessScale(structure, stiffest)) stiffest = k;
+  const double condition = stiffnessScale(structure, stiffest) / (strain[j] * stiffnessScale(structure, j));
+  os.precision(2);
+  os << "ill-conditioned stiffness: " << z.size() << " frequencies indistinguishable from zero at rest where the structure has "
+     << report.expected << " rigid-body motions, but they deform substructure '" << structure.substructure(j).name
+     << "' (strain " << strain[j] << " of its stiffness scale, not a rigid motion). The stiffness scales (||K||/||M||) "
+     << "span from '" << structure.substructure(stiffest).name << "' (" << stiffnessScale(structure, stiffest)
+     << " (rad/s)^2) to '" << structure.substructure(j).name << "' (" << stiffnessScale(structure, j)
+     << "): condition estimate " << condition << ", beyond what the coupled model resolves. Reduce '"
+     << structure.substructure(stiffest).name
+     << "' (Craig-Bampton or Guyan: its constraint modes carry its near-rigid motion exactly) or model it rigid (R)";
+  throw NumericalError(os.str());
+}
+
+void checkMass(const synthesis::AssembledStructure& structure, const synthesis::SynthesizedStructure& reduced) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  for (std::size_t k = 0; k < structure.numSubstructures(); ++k) {
+    const auto* sub = structure.assembled(k);
+    if (!sub || reduced.reductions().at(k).basis != "Full") continue;
+    // The substructure's size (bounding box diagonal) and mass.
+    const auto& dofs = sub->dofs();
+    std::array<double, 6> box{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+    for (std::size_t i = 0; i < dofs.nodes(); ++i)
+      for (int d = 0; d < 3; ++d) {
+        box[d] = std::min(box[d], dofs.coordinates[3 * i + d]);
+        box[3 + d] = std::max(box[3 + d], dofs.coordinates[3 * i + d]);
+      }
+    double size2 = 0.0;
+    for (int d = 0; d < 3; ++d) size2 += std::pow(box[3 + d] - box[d], 2);
+    const auto& M = *sub->M();
+    const auto map = M.getRowMap();
+    Vector diag(map);
+    M.getLocalDiagCopy(diag);
+    auto d = diag.getData(0);
+    double localTrace[2] = {0, 0}, trace[2] = {0, 0};
+    for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+      const auto c = static_cast<int>(dofs.components.at(static_cast<std::size_t>(map->getGlobalElement(static_cast<LocalOrdinal>(l)))));
+      localTrace[c >= 3] += d[l];
+    }
+    Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 2, localTrace, trace);
+    const double mass = trace[0] / 3.0;  // every node's three translations
+    long long worst[2] = {-1, -1}, global[2] = {-1, -1};
+    for (std::size_t l = 0; l < map->getNodeNumElements() && worst[0] < 0; ++l) {
+      const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+      const auto c = static_cast<int>(dofs.components.at(static_cast<std::size_t>(g)));
+      const double floor = 1e3 * eps * mass * (c >= 3 ? std::max(size2, eps) : 1.0);
+      if (!(d[l] > floor)) worst[0] = g, worst[1] = c;
+    }
+    Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_MAX, 2, worst, global);
+    if (global[0] >= 0) {
+      const auto nodes = dofs.rowNodes();
+      const auto node = dofs.nodeIds.at(static_cast<std::size_t>(nodes.at(static_cast<std::size_t>(global[0]))));
+      std::ostringstream os;
+      os << "singular mass: substructure '" << structure.substructure(k).name << "' (Full basis) has DOFs without mass, e.g. node "
+         << node << " " << fem::componentName(static_cast<fem::Component>(global[1]))
+         << " (its M diagonal is below 1e3 eps of the substructure's mass " << mass
+         << (global[1] >= 3 ? " x size^2" : "")
+         << "): give it inertia (\"Rotary Inertia: true\", a point mass's \"Inertia\"), or reduce the substructure "
+            "(Craig-Bampton, Guyan or Admissible condense massless DOFs statically)";
+      throw InputError(os.str());
+    }
+  }
+}
+
+}  // namespace cms::analysis
