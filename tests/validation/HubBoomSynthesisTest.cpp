@@ -448,7 +448,9 @@ TEST(BooleanInterface, SplitBarEqualsOneMeshAndCraigBamptonConverges) {
     C.spin = SpinRate{{0, 0, 1}, {0, 0, 0}, W};
     C.spin->stressStiffening = stiffening;
     C.reduction.set("Basis", basis);
-    C.reduction.set("Vectors", k);
+    // The root has 27 DOFs off its clamp and its interface: all its
+    // fixed-interface modes (asking more is an input error, issue 14 item 9).
+    C.reduction.set("Vectors", basis == "Craig-Bampton" ? std::min(k, 27) : k);
     s.substructures.push_back(C);
     SubstructureSpec E;
     E.name = "tip";
