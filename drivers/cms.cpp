@@ -296,6 +296,18 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     throw NumericalError(sc.path + ": " + e.what());
   }
   const auto character = s.characterise(modes);
+  // Each mode's estimated relative error against the truth, from the
+  // residual of the substructures' full equations (theory §11.8; collective).
+  const auto estimates = s.errorEstimates(modes);
+  auto estimate = [&](std::size_t m) {
+    std::ostringstream os;
+    os << std::setprecision(2);
+    // Past 10% the first-order estimate is a flag, not a number (theory §11.8).
+    if (estimates[m] >= 0.1) os << "unresolved";
+    else if (estimates[m] >= 0.0) os << estimates[m];
+    else os << "-";
+    return os.str();
+  };
   // Whirl of each spinning substructure in each mode (collective).
   std::vector<std::vector<std::string>> whirls(modes.result.modes.size());
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
@@ -332,7 +344,7 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
   std::cout << "\nsolver: " << modes.result.solver
             << (modes.result.reason.empty() ? "" : " (" + drivers::condense(modes.result.reason) + ")")
-            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual   largest share, whirl (FW/BW)\n";
+            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual  est.error  largest share, whirl (FW/BW)\n";
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
     const auto& md = modes.result.modes[m];
     std::size_t top = 0;
@@ -340,8 +352,8 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
       if (character[m].kineticShare[k] > character[m].kineticShare[top]) top = k;
     std::cout << std::setw(5) << m + 1 << std::setw(12) << std::setprecision(6) << md.hz << std::setw(12) << md.omega
               << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
-              << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual << "  "
-              << reps[top].name << " " << std::setprecision(3) << character[m].kineticShare[top]
+              << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual
+              << std::setw(11) << estimate(m) << "  " << reps[top].name << " " << std::setprecision(3) << character[m].kineticShare[top]
               << (character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
     for (const auto& w : whirls[m]) std::cout << "  " << w;
     std::cout << '\n';
@@ -355,13 +367,14 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   std::filesystem::create_directories(outDir);
   if (sc.csv) {
     AtomicFile f(outDir / (sc.name + "-modes.csv"));
-    f.stream() << "mode,hz,rad_per_s,growth_rate,stability,residual,frame_artefact";
+    f.stream() << "mode,hz,rad_per_s,growth_rate,stability,residual,error_estimate,frame_artefact";
     for (const auto& r : reps) f.stream() << ",share_" << r.name;
     f.stream() << '\n';
     for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
       const auto& md = modes.result.modes[m];
       f.stream() << m + 1 << ',' << md.hz << ',' << md.omega << ',' << md.growthRate << ',' << toString(md.stability)
-                 << ',' << md.residual << ',' << character[m].frameArtefact;
+                 << ',' << md.residual << ',' << (estimates[m] >= 0.0 ? estimates[m] : std::nan(""))
+                 << ',' << character[m].frameArtefact;
       for (double v : character[m].kineticShare) f.stream() << ',' << v;
       f.stream() << '\n';
     }
@@ -404,6 +417,7 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
       const auto& md = modes.result.modes[m];
       o << "    {\"hz\": " << md.hz << ", \"rad_per_s\": " << md.omega << ", \"growth_rate\": " << md.growthRate
         << ", \"stability\": " << jsonString(toString(md.stability)) << ", \"residual\": " << md.residual
+        << ", \"error_estimate\": " << (estimates[m] >= 0.0 ? std::to_string(estimates[m]) : std::string("null"))
         << ", \"frame_artefact\": " << (character[m].frameArtefact ? "true" : "false") << ", \"whirl\": [";
       for (std::size_t w = 0; w < whirls[m].size(); ++w) o << (w ? ", " : "") << jsonString(whirls[m][w]);
       o << "], \"kinetic_share\": [";
@@ -756,6 +770,7 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
     long long dofs;
     double reduce, solve, memory;
     analysis::TruthComparison c;
+    double estimate;  ///< the largest estimated error of the compared modes (theory §11.8)
     std::vector<int> perSubstructure;  ///< coordinates of each substructure
   };
   std::vector<Row> rows;
@@ -791,8 +806,12 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
         }
         std::vector<int> per;
         for (const auto& r : s.reductions()) per.push_back(r.coordinates);
+        const auto estimates = s.errorEstimates(m);
+        double worstEstimate = 0.0;
+        for (int j = 0; j < nModes && j < static_cast<int>(estimates.size()); ++j)
+          worstEstimate = std::max(worstEstimate, estimates[j]);
         rows.push_back({basis, k, s.size(), tr, m.seconds, drivers::peakRssMiB(),
-                        analysis::compareWithTruth(s, m, truth, truthModes, nModes), per});
+                        analysis::compareWithTruth(s, m, truth, truthModes, nModes), worstEstimate, per});
       } catch (const InputError& e) {
         if (root) std::cout << "skipped " << basis << " with " << k << " vectors: " << e.what() << '\n';
       }
@@ -809,23 +828,23 @@ int runCompare(const scene::Scene& sc, const std::filesystem::path& outDir, cons
   }
   std::cout << "\ntruth: " << truth.size() << " coordinates, " << truthSeconds << " s (" << truthModes.path
             << ")\nlowest " << nModes << " modes compared\n\n"
-            << "strategy        vectors  DOFs    reduce s  solve s   peak MiB  max rel err  mean rel err  worst MAC\n";
+            << "strategy        vectors  DOFs    reduce s  solve s   peak MiB  max rel err  max est err  mean rel err  worst MAC\n";
   for (const auto& r : rows)
     std::cout << std::left << std::setw(16) << r.basis << std::right << std::setw(7) << r.vectors << std::setw(7)
               << r.dofs << std::setw(10) << std::setprecision(3) << r.reduce << std::setw(10) << r.solve
               << std::setw(10) << std::setprecision(4) << r.memory << std::setw(13) << r.c.maxRelativeError
-              << std::setw(14) << r.c.meanRelativeError << std::setw(11) << r.c.worstMac << '\n';
+              << std::setw(13) << r.estimate << std::setw(14) << r.c.meanRelativeError << std::setw(11) << r.c.worstMac << '\n';
   std::filesystem::create_directories(outDir);
   const std::string csv = sc.name + (worst.code == ExitSuccess ? "-compare.csv" : "-compare-partial.csv");
   AtomicFile f(outDir / csv);
-  f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,mean_rel_error,"
+  f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,max_estimated_rel_error,mean_rel_error,"
                 "worst_mac,truth_dofs,truth_s";
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
     f.stream() << ",dofs_" << structure.substructure(q).name;
   f.stream() << '\n';
   for (const auto& r : rows) {
     f.stream() << r.basis << ',' << r.vectors << ',' << r.dofs << ',' << r.reduce << ',' << r.solve << ',' << r.memory
-               << ',' << r.c.maxRelativeError << ',' << r.c.meanRelativeError << ',' << r.c.worstMac << ','
+               << ',' << r.c.maxRelativeError << ',' << r.estimate << ',' << r.c.meanRelativeError << ',' << r.c.worstMac << ','
                << truth.size() << ',' << truthSeconds;
     for (int d : r.perSubstructure) f.stream() << ',' << d;
     f.stream() << '\n';

@@ -29,6 +29,7 @@
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
 #include "cms/reduction/CraigBamptonBasis.hpp"
+#include "cms/reduction/StaticCorrection.hpp"
 
 namespace cms::synthesis {
 
@@ -332,6 +333,27 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   return synthesize(structure, reductions);
 }
 
+namespace {
+// What a substructure's basis holds: its attachment, and per child the rows
+// the child attaches to with their generalised forces (§11.3).
+reduction::SubstructureBoundary substructureBoundary(const std::vector<std::shared_ptr<AssembledStructure::Part>>& parts,
+                                                     std::size_t k) {
+  const auto& p = *parts[k];
+  reduction::SubstructureBoundary b;
+  b.held = p.held;
+  for (int c : p.children) {
+    std::set<GlobalOrdinal> rows;
+    const auto& Hc = parts[c]->Hrows;
+    std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads(Hc.size());
+    for (std::size_t a = 0; a < Hc.size(); ++a)
+      for (auto [g, v] : Hc[a]) rows.insert(g), loads[a].push_back({g, v});
+    b.interfaces.emplace_back(rows.begin(), rows.end());
+    b.interfaceLoads.push_back(loads);
+  }
+  return b;
+}
+}  // namespace
+
 SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure,
                                                       const std::vector<Teuchos::ParameterList>& reductions,
                                                       ReductionSchedule schedule) {
@@ -347,21 +369,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   // 1. Bases (each substructure independently: §11.3).
   std::vector<reduction::RitzBasis> bases(parts.size());
   out.reports_.resize(parts.size());
-  auto boundaryOf = [&](std::size_t k) {
-    const auto& p = *parts[k];
-    reduction::SubstructureBoundary b;
-    b.held = p.held;
-    for (int c : p.children) {
-      std::set<GlobalOrdinal> rows;
-      const auto& Hc = parts[c]->Hrows;
-      std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads(Hc.size());
-      for (std::size_t a = 0; a < Hc.size(); ++a)
-        for (auto [g, v] : Hc[a]) rows.insert(g), loads[a].push_back({g, v});
-      b.interfaces.emplace_back(rows.begin(), rows.end());
-      b.interfaceLoads.push_back(loads);
-    }
-    return b;
-  };
+  auto boundaryOf = [&](std::size_t k) { return substructureBoundary(parts, k); };
   auto report = [&](std::size_t k) {
     const auto& p = *parts[k];
     SubstructureReduction& rep = out.reports_[k];
@@ -866,6 +874,152 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
                         std::abs(mode.omega - frameRate) <= 1e-4 * frameRate;
     }
     out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& modes) const {
+  const auto& parts = structure_->parts();
+  const int nm = static_cast<int>(modes.result.modes.size()), nc = 2 * nm;  // real, imaginary per mode
+  std::vector<double> correction(nm, 0.0);  // sum over substructures of Re(f^H K_a^-1 f)
+  // The expanded modes, per substructure (collective).
+  std::vector<std::vector<Teuchos::RCP<MultiVector>>> u(nm);
+  for (int m = 0; m < nm; ++m) u[m] = expand(modes, m);
+  // Per part, the generalised forces of its residual on its 6 attachment
+  // coordinates (X^T r), which act on its parent's rows through H^T.
+  std::vector<std::vector<double>> toParent(parts.size());
+  // Children before parents (parts are in pre-order).
+  for (std::size_t kk = parts.size(); kk-- > 0;) {
+    const std::size_t k = kk;
+    const auto& p = *parts[k];
+    if (nm == 0) break;
+    const auto rmap = u[0][k]->getMap();
+    MultiVector U(rmap, nc), R(rmap, nc), MU(rmap, nc), GU(rmap, nc), KU(rmap, nc), tmp(rmap, nc);
+    for (int m = 0; m < nm; ++m)
+      for (int c = 0; c < 2; ++c) U.getVectorNonConst(2 * m + c)->update(1.0, *u[m][k]->getVector(c), 0.0);
+    GU.putScalar(0.0);
+    if (p.sub) {
+      // The substructure's matrices at these speeds (as projected in
+      // synthesize): G_s = Omega_s G1 (+ its own spin's G1 for a compound
+      // rotor), K_s = K + Omega_s^2 K2 (+ Omega_s omega KX1).
+      const auto& sub = *p.sub;
+      double frame = 0.0;
+      for (auto [i, ci] : p.frame.coefficients) frame += ci * modes.speeds.at(i);
+      sub.M()->apply(U, MU);
+      sub.K()->apply(U, KU);
+      if (p.frame.spinning && frame != 0.0) {
+        if (!sub.G1().is_null()) sub.G1()->apply(U, GU, Teuchos::NO_TRANS, frame, 0.0);
+        if (!sub.K2().is_null()) {
+          sub.K2()->apply(U, tmp);
+          KU.update(frame * frame, tmp, 1.0);
+        }
+      }
+      if (p.compound) {
+        const auto& st = *p.stationary;
+        const double own = modes.speeds.at(p.speedParam);
+        st.G1()->apply(U, tmp);
+        GU.update(own, tmp, 1.0);
+        if (!st.KX1().is_null()) {
+          st.KX1()->apply(U, tmp);
+          KU.update(own * frame, tmp, 1.0);
+        }
+      }
+    } else {  // a rigid rotor: its equations on a (§11.5)
+      smallMatrix(rmap, p.rotor.M)->apply(U, MU);
+      KU.putScalar(0.0);
+      for (const auto& [i, Gi] : p.rotor.G) {
+        smallMatrix(rmap, Gi)->apply(U, tmp);
+        GU.update(modes.speeds.at(i), tmp, 1.0);
+      }
+      for (const auto& [i, j, Kij] : p.rotor.K) {
+        smallMatrix(rmap, Kij)->apply(U, tmp);
+        KU.update(modes.speeds.at(i) * modes.speeds.at(j), tmp, 1.0);
+      }
+    }
+    // r = (lambda^2 M + lambda G + K) u, real and imaginary parts, for
+    // u = a + i b and lambda = sigma + i omega.
+    for (int m = 0; m < nm; ++m) {
+      const auto l = modes.result.modes[m].lambda;
+      const auto l2 = l * l;
+      auto Ma = MU.getVector(2 * m), Mb = MU.getVector(2 * m + 1), Ga = GU.getVector(2 * m),
+           Gb = GU.getVector(2 * m + 1), Ka = KU.getVector(2 * m), Kb = KU.getVector(2 * m + 1);
+      auto Ra = R.getVectorNonConst(2 * m), Rb = R.getVectorNonConst(2 * m + 1);
+      Ra->update(l2.real(), *Ma, -l2.imag(), *Mb, 0.0);
+      Ra->update(l.real(), *Ga, -l.imag(), *Gb, 1.0);
+      Ra->update(1.0, *Ka, 1.0);
+      Rb->update(l2.imag(), *Ma, l2.real(), *Mb, 0.0);
+      Rb->update(l.imag(), *Ga, l.real(), *Gb, 1.0);
+      Rb->update(1.0, *Kb, 1.0);
+    }
+    // The children's forces on this substructure's rows, f = r + sum H^T g:
+    // the truth's equations on these rows in the floating-frame coordinates.
+    for (int c : p.children) {
+      if (toParent[c].empty()) continue;
+      for (std::size_t a = 0; a < parts[c]->Hrows.size() && a < 6; ++a)
+        for (auto [g, v] : parts[c]->Hrows[a]) {
+          const auto l = rmap->getLocalElement(g);
+          if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+          for (int col = 0; col < nc; ++col) R.sumIntoLocalValue(l, col, v * toParent[c][a * nc + col]);
+        }
+    }
+    // Its generalised forces on its attachment: g_a = sum_rows X(row, a) f(row).
+    if (p.parent >= 0 && !p.boolean()) {
+      std::vector<double> local(6 * nc, 0.0), global(6 * nc, 0.0);
+      const auto nodeOf = p.sub ? p.sub->dofs().rowNodes() : std::vector<std::int64_t>{};
+      for (std::size_t l = 0; l < rmap->getNodeNumElements(); ++l) {
+        const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
+        std::array<double, 6> x{};
+        if (p.sub) {
+          const auto& t = p.sub->dofs();
+          const auto nd = nodeOf[g];
+          x = detail::rigidRow({t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
+                                t.coordinates[3 * nd + 2] - p.point[2]},
+                               static_cast<int>(t.components[g]));
+        } else if (g < 6) {
+          x[g] = 1.0;
+        }
+        for (int a = 0; a < 6; ++a)
+          if (x[a] != 0.0)
+            for (int col = 0; col < nc; ++col) local[a * nc + col] += x[a] * R.getData(col)[l];
+      }
+      Teuchos::reduceAll(*rmap->getComm(), Teuchos::REDUCE_SUM, 6 * nc, local.data(), global.data());
+      toParent[k] = global;
+    }
+    // A Full basis satisfies its own equations (with its children's forces)
+    // to the solver's accuracy; a rigid rotor has no deformation.
+    if (!p.sub || reports_[k].basis == "Full") continue;
+    reduction::SubstructureBoundary own;
+    own.held = p.held;  // its attachment only: the interfaces move with f
+    const reduction::StaticCorrection flexibility(*p.sub, own);
+    MultiVector X(rmap, nc);
+    flexibility.solve(R, X);  // zero on the held rows
+    Teuchos::Array<double> d(nc);
+    R.dot(X, d());
+    for (int m = 0; m < nm; ++m) correction[m] += d[2 * m] + d[2 * m + 1];
+  }
+  // d omega = -sum r^H K_b^-1 r / (2 omega q^H M q + g), q^H G q = i g (§11.8).
+  std::vector<double> out(nm, -1.0);
+  const auto sys = system(modes.speeds);
+  for (int m = 0; m < nm; ++m) {
+    const auto& mode = modes.result.modes[m];
+    if (!(mode.omega > 0.0) || mode.stability == eigen::Stability::RigidBody ||
+        mode.stability == eigen::Stability::Critical)
+      continue;
+    MultiVector x(map_, 2), Mx(map_, 2), Gx(map_, 2);
+    const bool replicated = static_cast<long long>(mode.q.size()) == size();
+    for (std::size_t l = 0; l < map_->getNodeNumElements(); ++l) {
+      const std::size_t i = replicated ? static_cast<std::size_t>(map_->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+      x.replaceLocalValue(l, 0, mode.q[i].real());
+      x.replaceLocalValue(l, 1, mode.q[i].imag());
+    }
+    sys.M->apply(x, Mx);
+    sys.G->apply(x, Gx);
+    Teuchos::Array<double> mm(2), gg(2);
+    x.dot(Mx, mm());
+    // g = Im(q^H G q) = a^T G b - b^T G a for q = a + i b.
+    const double aGb = x.getVector(0)->dot(*Gx.getVector(1)), bGa = x.getVector(1)->dot(*Gx.getVector(0));
+    const double denominator = 2.0 * mode.omega * (mm[0] + mm[1]) + (aGb - bGa);
+    out[m] = std::abs(denominator) > 0.0 ? std::abs(correction[m] / denominator) / mode.omega : -1.0;
   }
   return out;
 }

@@ -187,6 +187,15 @@ public:
   std::vector<Teuchos::RCP<MultiVector>> expand(const StructureModes& modes, int m) const;
   /// Energy shares and artefact flags of every mode (collective).
   std::vector<ModeCharacter> characterise(const StructureModes& modes) const;
+  /// Per mode, an estimate of its relative frequency error against the
+  /// truth model of the same structure, without solving it: the residual of
+  /// each reduced substructure's full equations of motion on its interior
+  /// (attachment and interface rows held), r_s = (lambda^2 M_s + lambda G_s
+  /// + K_s) u_s, corrected statically, d omega = -sum_s r_s^H K_b,s^-1 r_s /
+  /// (2 omega q^H M q + Im q^H G q) (doc/theory.md §11.8). -1 for a zero
+  /// frequency (rigid or critical). One factorisation per reduced
+  /// substructure. Collective.
+  std::vector<double> errorEstimates(const StructureModes& modes) const;
 
 private:
   std::shared_ptr<const AssembledStructure> structure_;

@@ -1,0 +1,39 @@
+// The static correction of a substructure: x = K_b^-1 r, K_b its stiffness
+// with the attachment and its children's interface rows held (the
+// fixed-interface flexibility that Craig-Bampton's constraint modes leave
+// out). Applied to the residual of a reduced mode's full equations it gives
+// the mode's error estimate (doc/theory.md §11.8). One CHOLMOD factorisation
+// of the substructure (never of the assembled structure), then one solve per
+// block of residuals. Collective.
+#pragma once
+
+#include <memory>
+
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/reduction/RitzBasis.hpp"
+
+namespace cms::substructure {
+class Substructure;
+}
+
+namespace cms::reduction {
+namespace detail {
+class HeldStiffness;
+}
+
+class StaticCorrection {
+public:
+  /// Throws cms::NumericalError naming the substructure if K with the
+  /// boundary held is not positive definite.
+  StaticCorrection(const substructure::Substructure& s, const SubstructureBoundary& boundary);
+  ~StaticCorrection();
+  StaticCorrection(const StaticCorrection&) = delete;
+  StaticCorrection& operator=(const StaticCorrection&) = delete;
+  /// X = K_b^-1 R with R's held and interface rows ignored; X is zero there.
+  void solve(const MultiVector& R, MultiVector& X) const;
+
+private:
+  std::unique_ptr<detail::HeldStiffness> K_;
+};
+
+}  // namespace cms::reduction

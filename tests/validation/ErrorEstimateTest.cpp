@@ -1,0 +1,93 @@
+// Each reduced mode's error estimate (SynthesizedStructure::errorEstimates,
+// doc/theory.md §11.8) against its true error, the reduced frequency against
+// the truth model of the same structure (issue #9): within a factor 3 of the
+// truth wherever the true error is above 1e-8, on the hub-boom structure
+// (spinning, clamped and free), for every basis kind and count of
+// doc/bench/basis-comparison.csv. CMS_WRITE_TABLE=path writes the table of
+// doc/bench/error-estimates.csv.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include <Teuchos_DefaultComm.hpp>
+
+#include "HubBoomStructure.hpp"
+#include "cms/analysis/TruthComparison.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+using namespace cms;
+using namespace cms::synthesis;
+
+namespace {
+
+const fixtures::HubBoom hb;
+
+StructureModes solve(const SynthesizedStructure& s, int modes) {
+  Teuchos::ParameterList p;
+  p.set("Number of Modes", modes);
+  return s.solve({hb.Omega}, p);
+}
+
+struct Row {
+  std::string structure, basis;
+  int vectors, mode;
+  double truth, estimate;
+};
+
+std::vector<Row> rows(bool free) {
+  const auto structure = AssembledStructure::assemble(hb.structure(free, "Full", 0), Teuchos::DefaultComm<int>::getComm());
+  const auto truth = SynthesizedStructure::synthesize(structure, true);
+  const int compared = 6, skip = free ? 9 : 0;  // free: past the rigid and frame-rate modes
+  const auto t = solve(truth, skip + compared + 4);
+  std::vector<Row> out;
+  for (const std::string basis : {"Admissible", "Modes", "Craig-Bampton"})
+    for (int k : {2, 4, 6, 8, 12}) {
+      const auto s = SynthesizedStructure::synthesize(structure, sameReduction(structure, basis, k));
+      if (s.size() < skip + compared) continue;
+      const auto m = solve(s, skip + compared);
+      const auto c = analysis::compareWithTruth(s, m, truth, t, skip + compared);
+      const auto e = s.errorEstimates(m);
+      for (int j = skip; j < skip + compared; ++j)
+        out.push_back({free ? "free" : "clamped", basis, k, j + 1, std::abs(c.modes[j].relativeError), e[j]});
+    }
+  return out;
+}
+
+}  // namespace
+
+TEST(ErrorEstimate, WithinAFactorThreeOfTheTrueError) {
+  std::ostringstream table;
+  table << "structure,basis,vectors_per_substructure,mode,true_rel_error,estimated_rel_error\n";
+  int checked = 0;
+  for (bool free : {false, true})
+    for (const auto& r : rows(free)) {
+      table << r.structure << ',' << r.basis << ',' << r.vectors << ',' << r.mode << ',' << std::setprecision(3)
+            << r.truth << ',' << r.estimate << '\n';
+      const std::string where = r.structure + " " + r.basis + " " + std::to_string(r.vectors) + " mode " +
+                                std::to_string(r.mode);
+      ASSERT_GE(r.estimate, 0.0) << where;
+      // Below 1e-8 the true error is the truth solve's own rounding
+      // (eta kappa, kappa up to 1e9 for the free hub's lowest modes, theory
+      // §11.7), not the reduction's: not compared.
+      if (r.truth <= 1e-8) continue;
+      ++checked;
+      // The estimate is first order in the residual: it holds while the
+      // error is small. Past 10% (a mode the basis cannot represent: the
+      // fifth and sixth modes with 2 vectors are 20-300 times off) it is a
+      // flag, "unresolved", not a number: then the truth must be far off
+      // too, and a far-off truth must be flagged (theory §11.8).
+      if (r.estimate < 0.1) {
+        EXPECT_LE(r.estimate, 3.0 * r.truth) << where;
+        EXPECT_GE(r.estimate, r.truth / 3.0) << where;
+      } else {
+        EXPECT_GE(r.truth, 0.01) << where << ": flagged unresolved, but accurate";
+      }
+      if (r.truth >= 0.1) EXPECT_GE(r.estimate, 0.1) << where << ": unresolved, but not flagged";
+    }
+  EXPECT_GT(checked, 50);
+  if (const char* path = std::getenv("CMS_WRITE_TABLE")) std::ofstream(path) << table.str();
+}
