@@ -262,7 +262,7 @@ bool saysWhere(const std::string& what, const std::string& file) {
   if (what.find(file) == std::string::npos && what.find(fs::path(file).filename().string()) == std::string::npos)
     return false;
   static const std::regex where(
-      R"((:\d+)|([Ll]ine \d+)|(Scene(/|:))|("[^"]*")|('[^']*')|(\$[A-Za-z]+)|(\b(entry|row|column|nodes?|set|matrix|header|size line|elements?|section|group|tag|value|curve|surface|volume|point|entity)\b)|(empty|cannot open|cannot read|no [a-z' ]+|need a [a-z-]+ record|[Ee]nd of file))");
+      R"((:\d+)|([Ll]ine \d+)|(Scene(/|:))|("[^"]*")|('[^']*')|(\$[A-Za-z]+)|(\b([Ee]ntry|[Rr]ow|[Cc]olumn|[Nn]odes?|[Ss]et|[Mm]atrix|[Hh]eader|size line|[Ee]lements?|[Ss]ection|[Gg]roup|[Tt]ag|[Vv]alue|[Cc]urve|[Ss]urface|[Vv]olume|[Pp]oint|[Ee]ntity)\b)|(empty|cannot open|cannot read|no [a-z' ]+|need a [a-z-]+ record|[Ee]nd of file))");
   std::string rest = what;
   const std::size_t at = rest.find(file);
   if (at != std::string::npos) rest.erase(at, file.size());
