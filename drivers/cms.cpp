@@ -308,6 +308,12 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     else os << "-";
     return os.str();
   };
+  // Missing-mode detection (theory §11.9): each reduced substructure's own
+  // modes below the highest frequency found, by a Sturm count, against
+  // those its basis represents (collective).
+  double cutoff = 0.0;
+  for (const auto& md : modes.result.modes) cutoff = std::max(cutoff, md.omega);
+  const auto coverage = s.coverage(cutoff);
   // Whirl of each spinning substructure in each mode (collective).
   std::vector<std::vector<std::string>> whirls(modes.result.modes.size());
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
@@ -340,6 +346,11 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   for (std::size_t k = 0; k < reps.size(); ++k)
     if (const auto n = droppedNote(reps[k], structure.substructure(k).reduction); !n.empty()) std::cout << n << '\n';
   for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';
+  std::cout << "coverage below " << std::setprecision(5) << cutoff / (2 * M_PI)
+            << " Hz (the highest mode; Sturm count of each substructure with its attachment held):";
+  for (const auto& c : coverage)
+    if (c.verdict != "Full" && c.verdict != "rigid") std::cout << "\n  " << c.name << ": " << c.verdict;
+  std::cout << '\n';
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
   std::cout << "\nsolver: " << modes.result.solver
@@ -410,7 +421,15 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
       for (std::size_t j = 0; j < r.dropped.size(); ++j) o << (j ? ", " : "") << jsonString(r.dropped[j]);
       o << "]}" << (k + 1 < reps.size() ? "," : "") << '\n';
     }
-    o << "  ],\n  \"solver\": " << jsonString(modes.result.solver) << ",\n  \"path\": " << jsonString(modes.path)
+    o << "  ],\n  \"coverage\": {\"cutoff_hz\": " << cutoff / (2 * M_PI) << ", \"substructures\": [";
+    for (std::size_t k = 0; k < coverage.size(); ++k) {
+      const auto& c = coverage[k];
+      o << (k ? ", " : "") << "{\"name\": " << jsonString(c.name) << ", \"basis\": " << jsonString(c.basis)
+        << ", \"sturm_count\": " << c.sturmCount << ", \"represented\": " << c.represented
+        << ", \"coordinates\": " << c.coordinates << ", \"verdict\": " << jsonString(c.verdict) << "}";
+    }
+    o << "]}";
+    o << ",\n  \"solver\": " << jsonString(modes.result.solver) << ",\n  \"path\": " << jsonString(modes.path)
       << ",\n  \"status\": " << jsonString(toString(modes.result.status)) << ",\n  \"reason\": "
       << jsonString(modes.result.reason) << ",\n  \"modes\": [\n";
     for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {

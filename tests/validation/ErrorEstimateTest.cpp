@@ -16,6 +16,7 @@
 #include <Teuchos_DefaultComm.hpp>
 
 #include "HubBoomStructure.hpp"
+#include "cms/core/Error.hpp"
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -90,4 +91,62 @@ TEST(ErrorEstimate, WithinAFactorThreeOfTheTrueError) {
     }
   EXPECT_GT(checked, 50);
   if (const char* path = std::getenv("CMS_WRITE_TABLE")) std::ofstream(path) << table.str();
+}
+
+// Missing-mode detection (theory §11.9): each substructure's Sturm count
+// below a cut-off (a sparse LDL^T inertia) equals the number of its exact
+// modes below it (the Ritz values of a basis of all its modes, an
+// independent dense computation), and a basis too small for the cut-off is
+// reported as able to miss modes.
+TEST(Coverage, SturmCountMatchesTheSubstructuresOwnModes) {
+  const auto structure = AssembledStructure::assemble(hb.structure(false, "Full", 0), Teuchos::DefaultComm<int>::getComm());
+  const auto all = SynthesizedStructure::synthesize(structure, sameReduction(structure, "Modes", 100000));
+  const auto small = SynthesizedStructure::synthesize(structure, sameReduction(structure, "Craig-Bampton", 2));
+  int missing = 0;
+  for (double hz : {1.0, 10.0, 60.0, 300.0}) {
+    const double w = 2 * M_PI * hz;
+    const auto exact = all.coverage(w), reduced = small.coverage(w);
+    ASSERT_EQ(exact.size(), reduced.size());
+    for (std::size_t k = 0; k < exact.size(); ++k) {
+      if (exact[k].basis == "Full" || exact[k].verdict == "rigid") continue;
+      EXPECT_EQ(exact[k].sturmCount, exact[k].represented) << exact[k].name << " at " << hz << " Hz";
+      EXPECT_EQ(exact[k].verdict, "complete") << exact[k].name;
+      EXPECT_EQ(reduced[k].sturmCount, exact[k].sturmCount) << reduced[k].name << " at " << hz << " Hz";
+      EXPECT_LE(reduced[k].represented, reduced[k].sturmCount) << "a Ritz value below its mode";
+      if (reduced[k].represented < reduced[k].sturmCount) {
+        ++missing;
+        EXPECT_NE(reduced[k].verdict.find("can miss"), std::string::npos) << reduced[k].verdict;
+      }
+    }
+  }
+  EXPECT_GT(missing, 0) << "2 vectors must run out below 300 Hz";
+}
+
+// Reduction driven by a cut-off (theory §11.10): "Cutoff Frequency" takes
+// every fixed-interface mode below it (Craig-Bampton, Modes) or grows
+// admissible vectors until their Ritz estimates cover the substructure's
+// modes there; each substructure's coverage at the cut-off is then complete,
+// and the structure's frequencies below the cut-off are estimated accurate.
+TEST(Coverage, CutoffFrequencyTakesEveryModeBelowIt) {
+  const auto structure = AssembledStructure::assemble(hb.structure(false, "Full", 0), Teuchos::DefaultComm<int>::getComm());
+  for (const std::string basis : {"Craig-Bampton", "Modes", "Admissible"})
+    for (double hz : {5.0, 300.0}) {
+      auto reductions = sameReduction(structure, basis, 2);
+      for (auto& r : reductions)
+        if (r.get<std::string>("Basis") != "Full") r.set("Cutoff Frequency", hz);
+      const auto s = SynthesizedStructure::synthesize(structure, reductions);
+      for (const auto& c : s.coverage(2 * M_PI * hz))
+        if (c.basis != "Full" && c.verdict != "rigid")
+          EXPECT_EQ(c.verdict, "complete") << basis << " " << hz << " Hz: " << c.name << " " << c.verdict;
+    }
+  // Without it, 2 vectors run short at 300 Hz: the cut-off did the work.
+  bool short2 = false;
+  for (const auto& c : SynthesizedStructure::synthesize(structure, sameReduction(structure, "Craig-Bampton", 2))
+                           .coverage(2 * M_PI * 300.0))
+    short2 = short2 || c.verdict.find("can miss") != std::string::npos;
+  EXPECT_TRUE(short2);
+  // A cut-off that is not a frequency is bad input naming the key.
+  auto bad = sameReduction(structure, "Craig-Bampton", 2);
+  bad[1].set("Cutoff Frequency", -1.0);
+  EXPECT_THROW(SynthesizedStructure::synthesize(structure, bad), InputError);
 }

@@ -15,6 +15,9 @@
 
 #include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/HeldDofs.hpp"
+#include "cms/core/SparseInertia.hpp"
+#include <TpetraExt_MatrixMatrix.hpp>
 #include "cms/reduction/AdmissibleVectors.hpp"
 #include "cms/reduction/CraigBamptonBasis.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
@@ -41,6 +44,12 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
             "loads of unit angular accelerations about x, y, z through the supports), centrifugal (spin "
             "only), tip (unit x, y, z at the free node farthest from the supports); the others enter "
             "the Krylov sequence softest first (doc/theory.md §11.3)");
+    pl->set("Cutoff Frequency", 0.0,
+            "Hz; > 0: the vector count from the substructure's own modes below it, counted by a Sturm "
+            "sequence (LDL^T inertia of K - w^2 M, held as the basis holds them), as Nastran's ACMS: "
+            "Modes and Craig-Bampton take every fixed-interface mode below it; Admissible grows until "
+            "its Rayleigh-Ritz estimates below it are as many (doc/theory.md §11.10); \"Vectors\" is "
+            "then ignored. 0: use \"Vectors\"");
     pl->set("Dependence Tolerance", 1e-8,
             "A candidate whose M-norm after projection on the kept columns falls below this fraction of "
             "its norm is dropped as dependent (reported)");
@@ -106,9 +115,29 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     throw InputError(s.name() + ": \"Reduction\": " + std::string(e.what()));
   }
   const std::string kind = p.get<std::string>("Basis");
-  const int vectors = p.get<int>("Vectors");
+  int vectors = p.get<int>("Vectors");
   CMS_INPUT_CHECK(vectors < 0, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " must be >= 0");
   const long long freeRows = s.dofs().rows() - static_cast<long long>(boundary.held.size());
+  const double cutoffHz = p.get<double>("Cutoff Frequency");
+  CMS_INPUT_CHECK(!(cutoffHz >= 0.0) || !std::isfinite(cutoffHz),
+                  "Scene/Substructures/" << s.name() << "/Reduction/Cutoff Frequency = " << cutoffHz
+                                         << " must be finite and >= 0 (Hz)");
+  int below = -1;  // the substructure's own modes below the cut-off (held as the basis holds them)
+  if (cutoffHz > 0.0 && kind != "Full" && kind != "Guyan") {
+    std::vector<GlobalOrdinal> held(boundary.held);
+    if (kind == "Craig-Bampton")  // fixed-interface modes: the children's interfaces held too
+      for (const auto& rows : boundary.interfaces) held.insert(held.end(), rows.begin(), rows.end());
+    const double w = 2.0 * M_PI * cutoffHz;
+    const auto A = Tpetra::MatrixMatrix::add(1.0, false, *holdDofsScaled(*s.K(), held), -w * w, false,
+                                             *holdDofs(*s.M(), held, 0.0));
+    const auto count = inertia(*A);
+    if (!count.reliable())
+      throw NumericalError(s.name() + ": the Sturm count at the cut-off " + std::to_string(cutoffHz) +
+                           " Hz failed (" + (count.failure.empty() ? "a pivot zero to rounding: the cut-off is one "
+                                                                     "of its frequencies; move it" : count.failure) + ")");
+    below = static_cast<int>(count.negative);
+    vectors = below;
+  }
   RitzBasis basis;
   if (kind == "Full") {
     basis.kind = kind;
@@ -118,8 +147,20 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                                                  << " but substructure \"" << s.name() << "\" has only " << freeRows
                                                  << " free DOFs");
     const auto patterns = p.get<Teuchos::Array<std::string>>("Load Patterns");
-    basis = admissibleVectors(s, boundary, std::vector<std::string>(patterns.begin(), patterns.end()), vectors,
-                              p.get<double>("Dependence Tolerance"));
+    const std::vector<std::string> loads(patterns.begin(), patterns.end());
+    if (below < 0) {
+      basis = admissibleVectors(s, boundary, loads, vectors, p.get<double>("Dependence Tolerance"));
+    } else {
+      // Grow until the Rayleigh-Ritz estimates below the cut-off are as many
+      // as its modes there (nested: a larger count keeps the smaller span).
+      const double w = 2.0 * M_PI * cutoffHz;
+      for (int k = std::max(1, below);; k = std::min<long long>(freeRows, k + std::max(2, k / 4))) {
+        basis = admissibleVectors(s, boundary, loads, k, p.get<double>("Dependence Tolerance"));
+        const auto est = estimateFrequencies(s, basis);
+        const int represented = static_cast<int>(std::count_if(est.begin(), est.end(), [&](double x) { return x < w; }));
+        if (represented >= below || k >= freeRows || basis.size() < k) break;
+      }
+    }
   } else if (kind == "Polynomial") {
     CMS_INPUT_CHECK(vectors > freeRows, "Scene/Substructures/" << s.name() << "/Reduction/Vectors = " << vectors
                                                  << " but substructure \"" << s.name() << "\" has only " << freeRows
@@ -137,6 +178,12 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                               p.get<double>("Dependence Tolerance"));
   }
   basis.kind = kind;
+  if (below >= 0) {
+    std::ostringstream os;
+    os << "cut-off " << cutoffHz << " Hz: " << below << " of its modes below it (Sturm count), " << basis.size()
+       << " vectors";
+    basis.eigensolverReport += (basis.eigensolverReport.empty() ? "" : "; ") + os.str();
+  }
   basis.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return basis;
 }

@@ -30,6 +30,8 @@
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
 #include "cms/reduction/CraigBamptonBasis.hpp"
 #include "cms/reduction/StaticCorrection.hpp"
+#include "cms/core/SparseInertia.hpp"
+#include "cms/core/HeldDofs.hpp"
 
 namespace cms::synthesis {
 
@@ -1020,6 +1022,48 @@ std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& m
     const double aGb = x.getVector(0)->dot(*Gx.getVector(1)), bGa = x.getVector(1)->dot(*Gx.getVector(0));
     const double denominator = 2.0 * mode.omega * (mm[0] + mm[1]) + (aGb - bGa);
     out[m] = std::abs(denominator) > 0.0 ? std::abs(correction[m] / denominator) / mode.omega : -1.0;
+  }
+  return out;
+}
+
+std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) const {
+  const auto& parts = structure_->parts();
+  std::vector<SubstructureCoverage> out;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& p = *parts[k];
+    const auto& rep = reports_[k];
+    SubstructureCoverage c;
+    c.name = rep.name, c.basis = rep.basis, c.cutoff = omega, c.coordinates = rep.coordinates;
+    if (!p.sub) {
+      c.verdict = "rigid";
+    } else if (rep.basis == "Full") {
+      c.verdict = "Full";
+    } else {
+      // Its own problem with the attachment held, as its Ritz estimates
+      // (frequencyEstimates) are computed: K_a - w^2 M_a, the held rows
+      // contributing one positive eigenvalue each (K's diagonal, M's zero).
+      const auto Ka = holdDofsScaled(*p.sub->K(), p.held);
+      const auto Ma = holdDofs(*p.sub->M(), p.held, 0.0);
+      const auto A = Tpetra::MatrixMatrix::add(1.0, false, *Ka, -omega * omega, false, *Ma);
+      const auto count = inertia(*A);
+      for (double w : rep.frequencyEstimates) c.represented += w < omega;
+      if (!count.reliable()) {
+        c.verdict = "not counted (" + (count.failure.empty() ? std::string("a pivot zero to rounding: the cut-off is "
+                                                                           "an eigenvalue") : count.failure) + ")";
+      } else {
+        c.sturmCount = count.negative;
+        std::ostringstream os;
+        // Ritz values lie above the modes they approximate (the seed's
+        // inclusion principle), so represented <= sturmCount.
+        if (c.represented >= c.sturmCount) os << "complete";
+        else
+          os << "can miss " << c.sturmCount - c.represented << " mode" << (c.sturmCount - c.represented == 1 ? "" : "s")
+             << " below " << omega / (2.0 * M_PI) << " Hz (" << c.sturmCount << " below, the basis represents "
+             << c.represented << ")";
+        c.verdict = os.str();
+      }
+    }
+    out.push_back(c);
   }
   return out;
 }

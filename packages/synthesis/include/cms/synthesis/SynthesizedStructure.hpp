@@ -107,6 +107,19 @@ struct SubstructureReduction {
   std::vector<double> frequencyEstimates;
 };
 
+/// Whether a substructure's basis can represent its own modes below a
+/// cut-off (doc/theory.md §11.9): the Sturm count of K - w_c^2 M with its
+/// attachment held against the number of its Rayleigh-Ritz estimates below
+/// w_c (a Ritz value is above its mode, so fewer means modes the basis lacks).
+struct SubstructureCoverage {
+  std::string name, basis;
+  double cutoff = 0.0;        ///< rad/s
+  long long sturmCount = -1;  ///< its modes below the cut-off, attachment held (-1: not counted)
+  int represented = 0;        ///< its Ritz estimates below the cut-off
+  int coordinates = 0;
+  std::string verdict;        ///< "complete", "can miss N modes below X Hz", "Full", "rigid", or why not counted
+};
+
 /// The modes of the synthesised structure at one set of speeds.
 struct StructureModes {
   eigen::GyroscopicResult result;
@@ -196,6 +209,10 @@ public:
   /// frequency (rigid or critical). One factorisation per reduced
   /// substructure. Collective.
   std::vector<double> errorEstimates(const StructureModes& modes) const;
+  /// Per substructure, at cut-off `omega` (rad/s): its modes below it with
+  /// its attachment held (one sparse LDL^T inertia, never of the assembled
+  /// structure) against those its basis represents. Collective.
+  std::vector<SubstructureCoverage> coverage(double omega) const;
 
 private:
   std::shared_ptr<const AssembledStructure> structure_;

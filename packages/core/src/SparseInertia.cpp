@@ -1,0 +1,177 @@
+#include "cms/core/SparseInertia.hpp"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_ComputeGatherMap.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+
+#include "cms/core/Error.hpp"
+
+namespace cms {
+
+namespace {
+
+/// Rows of a symmetric (or skew) matrix gathered on rank 0, with column
+/// indices renumbered to positions 0..n-1 there (empty elsewhere).
+struct RootRows {
+  std::size_t n = 0;
+  std::vector<std::vector<std::pair<int, double>>> rows;
+};
+
+RootRows gatherRows(const CrsMatrix& A) {
+  const auto rootMap = Tpetra::Details::computeGatherMap(A.getRowMap(), Teuchos::null);
+  Tpetra::Import<> toRoot(A.getRowMap(), rootMap);
+  CrsMatrix rootA(rootMap, 0);
+  rootA.doImport(A, toRoot, Tpetra::INSERT);
+  rootA.fillComplete(rootMap, rootMap);
+  RootRows r;
+  if (A.getComm()->getRank() != 0) return r;
+  r.n = rootMap->getNodeNumElements();
+  r.rows.resize(r.n);
+  const auto colMap = rootA.getColMap();
+  CrsMatrix::local_inds_host_view_type cols;
+  CrsMatrix::values_host_view_type vals;
+  for (std::size_t i = 0; i < r.n; ++i) {
+    rootA.getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+    for (std::size_t e = 0; e < cols.extent(0); ++e)
+      r.rows[i].emplace_back(static_cast<int>(rootMap->getLocalElement(colMap->getGlobalElement(cols(e)))),
+                             vals(e));
+  }
+  return r;
+}
+
+/// CHOLMOD's LDL^T of the symmetric matrix whose upper triangle is given by
+/// columns (row, value) and the inertia of its D; rank 0 only.
+SparseInertia ldltInertia(const std::vector<std::vector<std::pair<int, double>>>& upperColumns) {
+  SparseInertia out;
+  const std::size_t n = upperColumns.size();
+  std::size_t nnz = 0;
+  for (const auto& c : upperColumns) nnz += c.size();
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  // L D L^T of an indefinite matrix: simplicial (supernodal is always
+  // L L^T and stops at the first non-positive pivot), left as L D L^T
+  // (final_ll = 0), D never modified (dbound = 0), no early stop.
+  common.supernodal = CHOLMOD_SIMPLICIAL;
+  common.final_ll = 0;
+  common.dbound = 0.0;
+  common.quick_return_if_not_posdef = 0;
+  cholmod_sparse* S = cholmod_allocate_sparse(n, n, nnz, /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1,
+                                              CHOLMOD_REAL, &common);
+  auto* Sp = static_cast<int*>(S->p);
+  auto* Si = static_cast<int*>(S->i);
+  auto* Sx = static_cast<double*>(S->x);
+  std::vector<double> diag(n, 0.0);
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    Sp[j] = static_cast<int>(k);
+    for (const auto& [i, v] : upperColumns[j]) {
+      Si[k] = i;
+      Sx[k] = v;
+      if (static_cast<std::size_t>(i) == j) diag[j] += v;
+      ++k;
+    }
+  }
+  Sp[n] = static_cast<int>(k);
+  cholmod_factor* L = cholmod_analyze(S, &common);
+  if (L) cholmod_factorize(S, L, &common);
+  cholmod_free_sparse(&S, &common);
+  if (!L || common.status < CHOLMOD_OK || L->is_ll || L->is_super) {
+    out.failure = "CHOLMOD's L D L^T failed (status " + std::to_string(common.status) + ")";
+  } else {
+    const auto* Lp = static_cast<const int*>(L->p);
+    const auto* Lx = static_cast<const double*>(L->x);
+    const auto* perm = static_cast<const int*>(L->Perm);
+    double amax = 0.0;
+    for (double a : diag) amax = std::max(amax, std::abs(a));
+    for (std::size_t j = 0; j < n; ++j) {
+      const double d = Lx[Lp[j]];  // the diagonal of a simplicial L D L^T holds D
+      if (!std::isfinite(d) || std::abs(d) <= kTinyPivot * amax) {
+        ++out.tinyPivots;
+        continue;
+      }
+      (d < 0.0 ? out.negative : out.positive) += 1;
+      out.maxPivotRatio = std::max(out.maxPivotRatio, std::abs(diag[perm ? perm[j] : j]) / std::abs(d));
+    }
+    // CHOLMOD records an exactly zero pivot in L->minor.
+    if (L->minor < L->n && out.tinyPivots == 0) out.tinyPivots = 1;
+  }
+  if (L) cholmod_free_factor(&L, &common);
+  cholmod_finish(&common);
+  return out;
+}
+
+/// Rank 0's result on every rank.
+SparseInertia broadcast(const Teuchos::Comm<int>& comm, SparseInertia r) {
+  long long counts[3] = {r.negative, r.positive, r.tinyPivots};
+  Teuchos::broadcast(comm, 0, 3, counts);
+  r.negative = counts[0], r.positive = counts[1], r.tinyPivots = counts[2];
+  Teuchos::broadcast(comm, 0, &r.maxPivotRatio);
+  int len = static_cast<int>(r.failure.size());
+  Teuchos::broadcast(comm, 0, &len);
+  r.failure.resize(len);
+  if (len > 0) Teuchos::broadcast(comm, 0, len, &r.failure[0]);
+  return r;
+}
+
+void checkSquare(const CrsMatrix& A, const char* what) {
+  CMS_INPUT_CHECK(!A.isFillComplete() || !A.getRowMap()->isSameAs(*A.getRangeMap()) ||
+                      !A.getRowMap()->isSameAs(*A.getDomainMap()),
+                  "inertia: " << what << " must be fill-complete with equal row, range and domain maps");
+}
+
+}  // namespace
+
+SparseInertia inertia(const CrsMatrix& A) {
+  checkSquare(A, "A");
+  const RootRows a = gatherRows(A);
+  SparseInertia r;
+  if (A.getComm()->getRank() == 0) {
+    // Symmetric: row j is column j; keep its upper part (i <= j).
+    std::vector<std::vector<std::pair<int, double>>> cols(a.n);
+    for (std::size_t j = 0; j < a.n; ++j)
+      for (const auto& [i, v] : a.rows[j])
+        if (static_cast<std::size_t>(i) <= j) cols[j].emplace_back(i, v);
+    r = ldltInertia(cols);
+  }
+  return broadcast(*A.getComm(), r);
+}
+
+SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B) {
+  checkSquare(A, "A");
+  checkSquare(B, "B");
+  CMS_INPUT_CHECK(!A.getRowMap()->isSameAs(*B.getRowMap()), "inertia: A and B must share their row map");
+  const RootRows a = gatherRows(A), b = gatherRows(B);
+  SparseInertia r;
+  if (A.getComm()->getRank() == 0) {
+    // Upper triangle of E = [[A, -B], [B, A]] by columns. Column j < n: A's
+    // (i, j), i <= j. Column n + j: the block -B, whose column j is row j of
+    // B (B^T = -B), then A's (i, j), i <= j, at rows n + i.
+    const std::size_t n = a.n;
+    std::vector<std::vector<std::pair<int, double>>> cols(2 * n);
+    for (std::size_t j = 0; j < n; ++j) {
+      for (const auto& [i, v] : a.rows[j])
+        if (static_cast<std::size_t>(i) <= j) {
+          cols[j].emplace_back(i, v);
+          cols[n + j].emplace_back(static_cast<int>(n) + i, v);
+        }
+      for (const auto& [i, v] : b.rows[j]) cols[n + j].emplace_back(i, v);
+    }
+    r = ldltInertia(cols);
+    if (r.failure.empty() && r.tinyPivots == 0 && (r.negative % 2 != 0 || r.positive % 2 != 0))
+      r.failure = "the real embedding of A + iB has " + std::to_string(r.negative) +
+                  " negative pivots, an odd number (each eigenvalue of A + iB is one of the "
+                  "embedding's twice): the factorisation is not to be trusted";
+    r.negative /= 2, r.positive /= 2, r.tinyPivots = (r.tinyPivots + 1) / 2;
+  }
+  return broadcast(*A.getComm(), r);
+}
+
+}  // namespace cms
