@@ -97,7 +97,7 @@ def truncate(rows, out):
     for r in rows[1:]:
         ax.annotate(r["changed"], (num(r["dofs"]), max(num(r["max_rel_error"]), 1e-16)), fontsize=7)
     ax.set_xlabel("reduced DOFs")
-    ax.set_ylabel("max relative frequency error")
+    ax.set_ylabel("max estimated relative frequency error")
     ax.set_title("truncation study (label: substructure given more vectors)")
     ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
