@@ -119,6 +119,7 @@ private:
 /// --plot: drivers/plot_results.py with Debian's python3-matplotlib, when present.
 bool plotRequested = false;
 bool vtuRequested = false;
+bool truthRequested = false;  ///< modes, truncate: also solve the truth (--truth)
 void plot(const std::string& kind, const std::filesystem::path& csv) {
   if (!plotRequested) return;
   const auto png = std::filesystem::path(csv).replace_extension(".png");
@@ -300,6 +301,16 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   // Each mode's estimated relative error against the truth, from the
   // residual of the substructures' full equations (theory §11.8; collective).
   const auto estimates = s.errorEstimates(modes);
+  // --truth: the true error beside the estimate (the validation of §11.8
+  // on the user's own structure; costs the solve a reduction avoids).
+  std::vector<double> trueErrors;
+  if (truthRequested) {
+    const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+    const auto truthModes = truth.solve(speeds, sc.solve);
+    const int n = static_cast<int>(std::min(modes.result.modes.size(), truthModes.result.modes.size()));
+    for (const auto& a : analysis::compareWithTruth(s, modes, truth, truthModes, n).modes)
+      trueErrors.push_back(std::abs(a.relativeError));
+  }
   auto estimate = [&](std::size_t m) {
     std::ostringstream os;
     os << std::setprecision(2);
@@ -365,7 +376,9 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     std::cout << std::setw(5) << m + 1 << std::setw(12) << std::setprecision(6) << md.hz << std::setw(12) << md.omega
               << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
               << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual
-              << std::setw(11) << estimate(m) << "  " << reps[top].name << " " << std::setprecision(3) << character[m].kineticShare[top]
+              << std::setw(11) << estimate(m);
+    if (m < trueErrors.size()) std::cout << " (true " << std::setprecision(2) << trueErrors[m] << ")";
+    std::cout << "  " << reps[top].name << " " << std::setprecision(3) << character[m].kineticShare[top]
               << (character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
     for (const auto& w : whirls[m]) std::cout << "  " << w;
     std::cout << '\n';
@@ -437,7 +450,10 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
       const auto& md = modes.result.modes[m];
       o << "    {\"hz\": " << md.hz << ", \"rad_per_s\": " << md.omega << ", \"growth_rate\": " << md.growthRate
         << ", \"stability\": " << jsonString(toString(md.stability)) << ", \"residual\": " << md.residual
-        << ", \"error_estimate\": " << (estimates[m] >= 0.0 ? std::to_string(estimates[m]) : std::string("null"))
+        << ", \"error_estimate\": ";
+      if (estimates[m] >= 0.0) o << estimates[m]; else o << "null";
+      if (m < trueErrors.size()) o << ", \"true_error\": " << trueErrors[m];
+      o
         << ", \"frame_artefact\": " << (character[m].frameArtefact ? "true" : "false") << ", \"whirl\": [";
       for (std::size_t w = 0; w < whirls[m].size(); ++w) o << (w ? ", " : "") << jsonString(whirls[m][w]);
       o << "], \"kinetic_share\": [";
@@ -933,7 +949,6 @@ int main(int argc, char* argv[]) {
     std::string output, countsText = "2,4,8", ordersText = "1", meshText;
     int steps = 21, start = 2, step = 2;
     double maxFactor = 2.0, accuracy = 1e-3;
-    bool useTruth = false;
     Teuchos::CommandLineProcessor clp(false, true);
     clp.setDocString("cms modes|compare|campbell|truncate [SCENE] [options]: see doc/user-guide.md");
     clp.setOption("output", &output, "results directory (default: the scene's, else ./cms-results)");
@@ -950,7 +965,8 @@ int main(int argc, char* argv[]) {
     clp.setOption("start", &start, "truncate: vectors per substructure to start from");
     clp.setOption("step", &step, "truncate: vectors added per step");
     clp.setOption("accuracy", &accuracy, "truncate: target max relative error of the lowest modes (estimated)");
-    clp.setOption("truth", "no-truth", &useTruth, "truncate: also solve the truth and print the true error");
+    clp.setOption("truth", "no-truth", &truthRequested,
+                  "modes, truncate: also solve the truth model and print the true error beside each estimate");
     std::vector<char*> rest{argv[0]};
     for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
     const auto parsed = clp.parse(static_cast<int>(rest.size()), rest.data());
@@ -1013,7 +1029,7 @@ int main(int argc, char* argv[]) {
     // 3. Run.
     int code = ExitSuccess;
     if (command == "campbell") code = runCampbell(sc, outDir, steps, maxFactor, orders, root);
-    else if (command == "truncate") code = runTruncate(sc, outDir, start, step, accuracy, useTruth, root);
+    else if (command == "truncate") code = runTruncate(sc, outDir, start, step, accuracy, truthRequested, root);
     else code = command == "modes" ? runModes(sc, outDir, root) : runCompare(sc, outDir, counts, root);
     if (timers) Teuchos::TimeMonitor::summarize(std::cout);
     return code;
