@@ -120,6 +120,7 @@ private:
 bool plotRequested = false;
 bool vtuRequested = false;
 bool truthRequested = false;  ///< modes, truncate: also solve the truth (--truth)
+bool countRequested = false;  ///< modes: the truth's Sturm count at the highest frequency (--check-count)
 void plot(const std::string& kind, const std::filesystem::path& csv) {
   if (!plotRequested) return;
   const auto png = std::filesystem::path(csv).replace_extension(".png");
@@ -326,6 +327,15 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   double cutoff = 0.0;
   for (const auto& md : modes.result.modes) cutoff = std::max(cutoff, md.omega);
   const auto coverage = s.coverage(cutoff);
+  // --check-count: the assembled truth's frequencies below just above the
+  // highest reduced one (Ritz frequencies lie above the truth's, so the
+  // truth has at least as many): more means modes the reduced model lacks.
+  long long truthCount = -2, reducedCount = 0;
+  const double countAt = cutoff * (1.0 + 1e-6);
+  if (countRequested) {
+    truthCount = analysis::truthFrequenciesBelow(structure, speeds, countAt);
+    for (const auto& md : modes.result.modes) reducedCount += md.omega < countAt;
+  }
   // Whirl of each spinning substructure in each mode (collective).
   std::vector<std::vector<std::string>> whirls(modes.result.modes.size());
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
@@ -362,6 +372,13 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
             << " Hz (the highest mode; Sturm count of each substructure with its attachment held):";
   for (const auto& c : coverage)
     if (c.verdict != "Full" && c.verdict != "rigid") std::cout << "\n  " << c.name << ": " << c.verdict;
+  if (truthCount >= 0)
+    std::cout << "\n  structure: the truth has " << truthCount << " frequencies below " << countAt / (2 * M_PI)
+              << " Hz, the reduced model " << reducedCount
+              << (truthCount > reducedCount ? ": MODES MISSING (a family the bases lack, or errors that push modes past it)"
+                                            : ": none missing");
+  else if (truthCount == -1)
+    std::cout << "\n  structure: the truth's count was not reliable (a frequency at the cut-off)";
   std::cout << '\n';
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << speeds[i];
@@ -442,7 +459,9 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
         << ", \"sturm_count\": " << c.sturmCount << ", \"represented\": " << c.represented
         << ", \"coordinates\": " << c.coordinates << ", \"verdict\": " << jsonString(c.verdict) << "}";
     }
-    o << "]}";
+    o << "]";
+    if (truthCount >= -1) o << ", \"structure_truth_count\": " << truthCount << ", \"structure_reduced_count\": " << reducedCount;
+    o << "}";
     o << ",\n  \"solver\": " << jsonString(modes.result.solver) << ",\n  \"path\": " << jsonString(modes.path)
       << ",\n  \"status\": " << jsonString(toString(modes.result.status)) << ",\n  \"reason\": "
       << jsonString(modes.result.reason) << ",\n  \"modes\": [\n";
@@ -965,6 +984,8 @@ int main(int argc, char* argv[]) {
     clp.setOption("start", &start, "truncate: vectors per substructure to start from");
     clp.setOption("step", &step, "truncate: vectors added per step");
     clp.setOption("accuracy", &accuracy, "truncate: target max relative error of the lowest modes (estimated)");
+    clp.setOption("check-count", "no-check-count", &countRequested,
+                  "modes: count the truth's frequencies below the highest one (one factorisation of the assembled model)");
     clp.setOption("truth", "no-truth", &truthRequested,
                   "modes, truncate: also solve the truth model and print the true error beside each estimate");
     std::vector<char*> rest{argv[0]};

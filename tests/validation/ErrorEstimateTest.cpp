@@ -150,3 +150,21 @@ TEST(Coverage, CutoffFrequencyTakesEveryModeBelowIt) {
   bad[1].set("Cutoff Frequency", -1.0);
   EXPECT_THROW(SynthesizedStructure::synthesize(structure, bad), InputError);
 }
+
+// --check-count's structure-level count (analysis::truthFrequenciesBelow,
+// one LDL^T of the assembled K - w^2 M + i w G) equals the number of the
+// truth's frequencies below w from its dense gyroscopic solve, between and
+// around its (spinning) frequencies.
+TEST(Coverage, TruthSturmCountMatchesTheTruthSolve) {
+  const auto structure = AssembledStructure::assemble(hb.structure(false, "Full", 0), Teuchos::DefaultComm<int>::getComm());
+  const auto truth = SynthesizedStructure::synthesize(structure, true);
+  const auto t = solve(truth, 16);
+  std::vector<double> w;
+  for (const auto& m : t.result.modes) w.push_back(m.omega);
+  for (std::size_t j = 0; j + 1 < w.size(); ++j) {
+    if (w[j + 1] - w[j] < 1e-6 * w[j + 1]) continue;  // inside a (near) repeated pair
+    const double cut = 0.5 * (w[j] + w[j + 1]);
+    EXPECT_EQ(analysis::truthFrequenciesBelow(structure, {hb.Omega}, cut), static_cast<long long>(j + 1))
+        << "cut " << cut << " rad/s";
+  }
+}

@@ -9,6 +9,9 @@
 #include <Tpetra_Vector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/SparseInertia.hpp"
+#include <Tpetra_CrsMatrix.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
 
 namespace cms::analysis {
 
@@ -130,6 +133,19 @@ std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse
                    (coarse[r] - fine[r + k]) / coarse[r]});
   }
   return v;
+}
+
+long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
+                                double omega) {
+  const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+  const auto sys = truth.system(speeds);
+  const auto A = Tpetra::MatrixMatrix::add(1.0, false, *sys.K, -omega * omega, false, *sys.M);
+  auto B = Teuchos::rcp(new CrsMatrix(*sys.G, Teuchos::Copy));
+  B->resumeFill();
+  B->scale(omega);
+  B->fillComplete(sys.G->getDomainMap(), sys.G->getRangeMap());
+  const auto count = B->getFrobeniusNorm() > 0.0 ? inertia(*A, *B) : inertia(*A);
+  return count.reliable() ? count.negative : -1;
 }
 
 }  // namespace cms::analysis

@@ -55,4 +55,13 @@ std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse
 /// omega of each mode, ascending (as returned by the solvers).
 std::vector<double> frequencies(const synthesis::StructureModes& modes);
 
+/// The truth model's frequencies below omega (rad/s) at `speeds`, counted
+/// by a Sturm sequence: the inertia of the Hermitian K - omega^2 M +
+/// i omega G of the structure with every basis Full (one sparse LDL^T of
+/// the assembled model; doc/theory.md §11.9). Valid when K >= 0 (a
+/// gyroscopically stable structure); -1 when the count is not reliable (a
+/// pivot zero to rounding: omega is a frequency). Collective.
+long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
+                                double omega);
+
 }  // namespace cms::analysis
