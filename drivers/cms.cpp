@@ -77,6 +77,7 @@
 #include "PeakMemory.hpp"
 #include "cms/analysis/ModeShapeFiles.hpp"
 #include "cms/analysis/TruthComparison.hpp"
+#include "cms/analysis/Enrichment.hpp"
 #include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/reduction/RitzBasis.hpp"
@@ -263,10 +264,33 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
   progress("reducing: factorising the stiffness and building the bases of " +
            std::to_string(structure.numSubstructures()) + " substructures");
   const auto t1 = Clock::now();
+  // The scene's bases, or with "Target Accuracy" the bases enriched until
+  // every wanted mode's estimated error is below it (analysis/Enrichment).
+  std::vector<Teuchos::ParameterList> reductions;
+  for (std::size_t k = 0; k < structure.numSubstructures(); ++k) reductions.push_back(structure.substructure(k).reduction);
+  analysis::Enrichment enrichment;
+  enrichment.reached = true;
+  if (sc.targetAccuracy > 0.0) {
+    try {
+      enrichment = analysis::enrichToAccuracy(structure, scaledSpeeds(structure, sc.speedFactor), sc.solve,
+                                              sc.targetAccuracy, reductions);
+    } catch (const InputError& e) {
+      throw InputError(sc.path + ": " + e.what());
+    }
+    if (root)
+      for (const auto& n : enrichment.notes) std::cout << "target accuracy " << sc.targetAccuracy << ": " << n << '\n';
+    if (!enrichment.reached) {
+      if (root)
+        std::cerr << "cms: " << drivers::kNotConverged.message << " (exit " << drivers::kNotConverged.code
+                  << "): Target Accuracy " << sc.targetAccuracy << " not reached (worst estimate "
+                  << enrichment.worstEstimate << "); no files written\n";
+      return drivers::kNotConverged.code;
+    }
+  }
   const auto s = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 2. reduction and synthesis"));
     try {
-      return synthesis::SynthesizedStructure::synthesize(structure);
+      return synthesis::SynthesizedStructure::synthesize(structure, reductions);
     } catch (const InputError& e) {  // name the scene file (issue item 9)
       throw InputError(sc.path + ": " + e.what());
     }

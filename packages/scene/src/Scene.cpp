@@ -40,6 +40,9 @@ ParameterList sceneKeys() {
   a.set("Solver", "Auto", "Auto, Dense or Sparse");
   a.set("Dense Limit", 1500, "largest number of coordinates solved densely under Auto");
   a.set("Speed Factor", 1.0, "multiplies every nominal spin rate");
+  a.set("Target Accuracy", 0.0,
+        "> 0: cms modes enriches the reduced substructures until every one of the Number of Modes has an "
+        "estimated relative frequency error below it (doc/theory.md §11.8); 0: the scene's bases as written");
   ParameterList& o = p.sublist("Output");
   o.set("Directory", "", "where results go (relative to the scene); empty: the command line's choice");
   o.set("JSON", true, "write <name>.json");
@@ -314,6 +317,10 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
     CMS_INPUT_CHECK(!(denseLimit >= 1) || std::floor(denseLimit) != denseLimit || denseLimit > 1e9,
                     ap << "/Dense Limit = " << denseLimit << " must be an integer from 1 to 1e9");
     scene.solve.set("Dense Limit", static_cast<int>(denseLimit));
+    scene.targetAccuracy = getNumber(a, "Target Accuracy", ap, 0.0);
+    CMS_INPUT_CHECK(!std::isfinite(scene.targetAccuracy) || scene.targetAccuracy < 0 || scene.targetAccuracy >= 0.1,
+                    ap << "/Target Accuracy = " << scene.targetAccuracy
+                       << " must be >= 0 and below 0.1 (a relative frequency error; 0: off)");
     scene.speedFactor = getNumber(a, "Speed Factor", ap, 1.0);
     CMS_INPUT_CHECK(!std::isfinite(scene.speedFactor) || scene.speedFactor < 0,
                     ap << "/Speed Factor = " << scene.speedFactor

@@ -27,6 +27,9 @@ struct Scene {
   /// nominal spin rate.
   Teuchos::ParameterList solve = Teuchos::ParameterList("Solve");
   double speedFactor = 1.0;
+  /// "Analysis/Target Accuracy": > 0, the estimated relative error every
+  /// mode must reach (cms modes enriches the bases); 0 off.
+  double targetAccuracy = 0.0;
   /// "Output": directory (relative to the scene; empty: the caller's
   /// choice) and which files to write.
   std::string outputDirectory;
