@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <sstream>
 
@@ -188,18 +187,21 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
 
   // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order
   //    that neither wastes columns nor loses a family (doc/theory.md §11.3):
-  //    every column's continuation K^-1 M x joins a first-in-first-out queue
-  //    (the Krylov sequence that refines what the basis holds, as Lanczos
-  //    does); the other static shapes wait, and the softest of them (lowest
-  //    Rayleigh quotient x^T K x / x^T M x after projection off the basis) is
-  //    taken before the queue's front
-  //    whenever it is no stiffer than that front. A stiff shape (axial
-  //    stretching of a beam) thus waits until the refinements reach its
-  //    stiffness instead of spending a column early, and a family that no
-  //    load of the Krylov sequence excites (torsion of a beam under
-  //    transverse loads) still enters at its own stiffness. The sequence does
-  //    not depend on `count`, so the first k columns of a longer basis are
-  //    the k-column basis (nested, for the inclusion principle).
+  //    every column's continuation K^-1 M x becomes a candidate beside the
+  //    static shapes still waiting, and the softest candidate (lowest
+  //    Rayleigh quotient x^T K x / x^T M x after projection off the basis)
+  //    is taken next, static shapes first on ties. The basis thus fills the
+  //    spectrum from below across families: a stiff shape (axial stretching
+  //    of a beam, a plate's in-plane loads) and the continuations it spawns
+  //    wait until the refinements of the soft families reach their
+  //    stiffness, instead of taking columns in turn with them (the earlier
+  //    first-in-first-out queue of continuations did, and stalled a clamped
+  //    plate at 4.8e-3 from 12 to 16 vectors, doc/benchmarks.md), and a
+  //    family that no load of the Krylov sequence excites (torsion of a beam
+  //    under transverse loads) still enters at its own stiffness. The
+  //    sequence does not depend on `count`, so the first k columns of a
+  //    longer basis are the k-column basis (nested, for the inclusion
+  //    principle).
   const auto map = X.getMap();
   using VectorPtr = Teuchos::RCP<Vector>;
   std::vector<VectorPtr> kept, Mkept, Kkept;  // the columns and their products with M and K
@@ -251,12 +253,12 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     c.quotient = c.x->dot(*c.Kx);
     return true;
   };
-  std::deque<Candidate> queue;
+  std::vector<Candidate> continuations;  // in the order they were made
   auto enqueueContinuation = [&](std::size_t k, const std::string& of) {
     Vector next(map);
     K.solve(*Mkept[k], next);
     Candidate c = candidate(next, "Krylov: K^-1 M (" + of + ")");
-    if (c.norm0 > 0.0) queue.push_back(c);
+    if (c.norm0 > 0.0) continuations.push_back(c);
   };
   for (std::size_t k = 0; k < kept.size(); ++k) enqueueContinuation(k, basis.labels[k]);  // interface shapes' first
   // The static shapes wait as they are. One that repeats those before it
@@ -287,26 +289,35 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     if (project(c)) waiting.push_back(c);
   }
   while (static_cast<int>(kept.size()) < count) {
-    std::vector<Candidate> alive;
-    for (auto& c : waiting)
-      if (project(c)) alive.push_back(c);
-    waiting.swap(alive);
-    while (!queue.empty() && !project(queue.front())) queue.pop_front();
-    if (waiting.empty() && queue.empty()) break;
+    auto alive = [&](std::vector<Candidate>& cs) {
+      std::vector<Candidate> out;
+      for (auto& c : cs)
+        if (project(c)) out.push_back(c);
+      cs.swap(out);
+    };
+    alive(waiting), alive(continuations);
+    if (waiting.empty() && continuations.empty()) break;
     // Every comparison has a relative margin of 1e-8, far above rounding:
     // mirror-image substructures (two identical booms) and different rank
     // counts must make the same choices, or identical parts get different
     // bases and a symmetric structure's repeated frequencies split. Ties keep
-    // the patterns' order and prefer the static shape.
+    // the patterns' (and the continuations') order and prefer the static
+    // shape.
     constexpr double margin = 1e-8;
-    std::size_t soft = 0;
-    for (std::size_t j = 1; j < waiting.size(); ++j)
-      if (waiting[j].quotient < waiting[soft].quotient * (1.0 - margin)) soft = j;
+    auto softest = [&](const std::vector<Candidate>& cs) {
+      std::size_t soft = 0;
+      for (std::size_t j = 1; j < cs.size(); ++j)
+        if (cs[j].quotient < cs[soft].quotient * (1.0 - margin)) soft = j;
+      return soft;
+    };
+    const std::size_t softStatic = softest(waiting), softKrylov = softest(continuations);
     const bool fromStatic =
-        !waiting.empty() && (queue.empty() || waiting[soft].quotient <= queue.front().quotient * (1.0 + margin));
-    Candidate pick = fromStatic ? waiting[soft] : queue.front();
-    if (fromStatic) waiting.erase(waiting.begin() + static_cast<std::ptrdiff_t>(soft));
-    else queue.pop_front();
+        !waiting.empty() &&
+        (continuations.empty() || waiting[softStatic].quotient <= continuations[softKrylov].quotient * (1.0 + margin));
+    auto& from = fromStatic ? waiting : continuations;
+    const std::size_t j = fromStatic ? softStatic : softKrylov;
+    Candidate pick = from[j];
+    from.erase(from.begin() + static_cast<std::ptrdiff_t>(j));
     // The products were updated by recurrence: recompute them, and
     // reorthogonalise once more against every column, so that the columns are
     // M-orthonormal to working precision rather than to the drift.

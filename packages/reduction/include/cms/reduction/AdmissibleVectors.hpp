@@ -12,10 +12,12 @@
 
 namespace cms::reduction {
 
-/// `patterns`: "interfaces", "uniform", "centrifugal", "tip" (see
-/// validParameters()). Returns up to `count` M-orthonormal columns in the
-/// order static shapes (pattern by pattern), then Krylov blocks; fewer only
-/// when the Krylov sequence stops growing (reported in `dropped`).
+/// `patterns`: "interfaces", "uniform", "rotation", "centrifugal", "tip"
+/// (see validParameters()). Returns up to `count` M-orthonormal columns: the
+/// interface shapes first, then, one at a time, the softest (lowest Rayleigh
+/// quotient after projection) of the other static shapes and the Krylov
+/// continuations K^-1 M x of the columns kept; fewer only when no candidate
+/// is left (reported in `dropped`).
 RitzBasis admissibleVectors(const substructure::Substructure& s, const SubstructureBoundary& boundary,
                             const std::vector<std::string>& patterns, int count, double dependenceTolerance);
 
