@@ -377,6 +377,12 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       if (!known) spectrum.push_back(l);
     }
   const double systemScale = scale;
+  // A structure-preserving solve (the Meirovitch path: K > 0, every
+  // eigenvalue exactly imaginary and semisimple) has no defective cluster
+  // to split: only the first-order radius applies. Without this, the low
+  // modes of a soft blade on a stiff hub (below 10 eps^(1/4) s) were taken
+  // for a split defective zero and called rigid.
+  const bool structured = std::all_of(modes.begin(), modes.end(), [](const GyroscopicMode& m) { return m.lambda.real() == 0.0; });
   for (auto& m : modes) {
     const double scale = m.scale > 0.0 ? std::min(m.scale, systemScale) : systemScale;
     const double eta = std::max(m.residual, eps);
@@ -384,7 +390,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // A defective eigenvalue of multiplicity k splits into k computed values,
     // up to 2k with their mirrors; more within r_k means r_k reaches other
     // eigenvalues, not a cluster of one.
-    for (int k = 1; k <= 4; ++k) {
+    for (int k = 1; k <= (structured ? 1 : 4); ++k) {
       const double r = 10.0 * std::pow(eta, 1.0 / k) * scale;
       int near = 0;
       for (cplx l : spectrum) near += std::abs(l - m.lambda) <= r;
