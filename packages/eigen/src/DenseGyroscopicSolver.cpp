@@ -184,14 +184,14 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
   // any eigensolver, checks the set, and the full SVD replaces it if wrong.
   const double clusterTol = 1e-10 * A.normFrobenius();
   Triplets t = smallestTriplets(A, nModes, clusterTol);
-  std::string confirmation, why = sturmDisagreement(sys, t, nModes, clusterTol, confirmation);
-  if (!why.empty()) {
-    note = "dgesvdx's set failed the check (" + why + "); recomputed by the full SVD (dgesvd)";
-    t = allSingularTriplets(A);
-    why = sturmDisagreement(sys, t, nModes, clusterTol, confirmation);
-  }
-  complete = why.empty();
-  note += (note.empty() ? "" : "; ") + (complete ? confirmation : "and still " + why);
+  const SetConfirmation checked = confirmLowestSet(
+      [&](std::string& confirmation) { return sturmDisagreement(sys, t, nModes, clusterTol, confirmation); },
+      "dgesvdx's set", [&] {
+        t = allSingularTriplets(A);
+        return std::string("recomputed by the full SVD (dgesvd)");
+      });
+  complete = checked.complete;
+  note = checked.note;
   const std::vector<double>& s = t.s;
   const DenseMatrix& VT = t.VT;
   const int ns = static_cast<int>(s.size());

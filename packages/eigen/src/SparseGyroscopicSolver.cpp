@@ -24,6 +24,7 @@
 #include "cms/core/HashRandom.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
+#include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
 
@@ -155,15 +156,27 @@ SparseGyroscopicSolver::SparseGyroscopicSolver(const Teuchos::ParameterList& par
                   "SparseGyroscopicSolver: \"Shift\" must be finite");
 }
 
-GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys) const {
-  sys.validate();
-  Config c{params_.get<std::string>("Method"), params_.get<std::string>("Eigensolver"),
-           params_.get<std::string>("Linear Solver"), params_.get<int>("Number of Modes"),
-           params_.get<int>("Block Size"), params_.get<int>("Number of Blocks"),
-           params_.get<int>("Maximum Restarts"), params_.get<int>("Verbosity"),
-           params_.get<double>("Convergence Tolerance"), params_.get<double>("Shift"),
-           params_.get<double>("Residual Tolerance"), params_.get<double>("Rigid Body Tolerance"),
-           params_.get<double>("Instability Tolerance")};
+namespace {
+
+/// One run of the iteration for `nModes` modes, and what the Sturm check of
+/// its set needs: every accurate frequency it found (ascending; the returned
+/// ones are the lowest of them) and whether the check applies.
+struct Attempt {
+  GyroscopicResult result;
+  std::vector<double> known;
+  bool checkable = false;  ///< symmetric path (K > 0), lowest frequencies targeted (s >= 0)
+};
+
+Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopicSystem& sys, int nModes) {
+  Config c{params.get<std::string>("Method"), params.get<std::string>("Eigensolver"),
+           params.get<std::string>("Linear Solver"), nModes,
+           params.get<int>("Block Size"), params.get<int>("Number of Blocks"),
+           params.get<int>("Maximum Restarts"), params.get<int>("Verbosity"),
+           params.get<double>("Convergence Tolerance"), params.get<double>("Shift"),
+           params.get<double>("Residual Tolerance"), params.get<double>("Rigid Body Tolerance"),
+           params.get<double>("Instability Tolerance")};
+  Attempt attempt;
+  GyroscopicResult& result = attempt.result;
   const GlobalOrdinal N = sys.globalSize();
   CMS_INPUT_CHECK(c.nModes > N, "SparseGyroscopicSolver: \"Number of Modes\" = "
                                     << c.nModes << " but the system has only " << N
@@ -173,7 +186,6 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
 
   // 1. Which form: Meirovitch's needs K > 0, which CHOLMOD tells (and its
   //    factor is the K-solve of the unshifted transform).
-  GyroscopicResult result;
   result.numRequested = c.nModes;
   bool symmetric = c.method == "Symmetric";
   std::shared_ptr<SparseDirectSolver> kFactor;
@@ -208,7 +220,7 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     result.status = SolveStatus::NumericalIssue;
     result.solver = "none";
     result.reason += "; " + why;
-    return result;
+    return attempt;
   }
   const auto state = R->getDomainMap();
   auto Istar = Teuchos::rcp(new detail::StateInnerProduct(sys));
@@ -228,7 +240,7 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
     result.reason += "; " + std::to_string(N) + " DOFs leave no room for a Krylov subspace of " +
                      std::to_string(numBlocks) + " blocks of " + std::to_string(c.blockSize) + " for " +
                      std::to_string(c.nModes) + " modes: use DenseGyroscopicSolver for a model this small";
-    return result;
+    return attempt;
   }
   Teuchos::RCP<MultiVector> ritz;
   int converged = 0;
@@ -243,7 +255,7 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
       result.status = SolveStatus::NumericalIssue;
       result.solver = solverName;
       result.reason += "; ARPACK: " + out.message;
-      return result;
+      return attempt;
     }
     if (!out.message.empty()) result.reason += "; ARPACK: " + out.message;
     ritz = out.vectors;
@@ -322,7 +334,7 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
       result.solver = "Anasazi " + c.eigensolver;
       result.reason += "; Anasazi broke down: " + breakdown.substr(0, 300);
       result.numOperatorApplies = R->numApplies();
-      return result;
+      return attempt;
     }
     solverName = "Anasazi " + c.eigensolver + (symmetric ? " (Hermitian, I* inner product)" : " (non-Hermitian)");
     const auto& sol = problem->getSolution();
@@ -336,7 +348,7 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   result.numOperatorApplies = R->numApplies();
   if (ritz.is_null() || converged == 0) {
     result.status = SolveStatus::NotConverged;
-    return result;
+    return attempt;
   }
 
   // 4. Quadratic Rayleigh-Ritz on the halves of the converged vectors.
@@ -456,6 +468,12 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   // Accurate candidates first (in order of preference), then the first nModes.
   std::stable_partition(rm.begin(), rm.end(),
                         [&](const GyroscopicMode& m) { return m.residual <= c.residualTol; });
+  // Every accurate frequency, for the Sturm check: the returned ones and the
+  // further ones beyond them that locate the gap after the last cluster.
+  for (const auto& m : rm)
+    if (m.residual <= c.residualTol) attempt.known.push_back(m.omega);
+  std::sort(attempt.known.begin(), attempt.known.end());
+  attempt.checkable = symmetric && c.shift >= 0.0;
   if (static_cast<int>(rm.size()) > c.nModes) rm.resize(c.nModes);
   std::stable_sort(rm.begin(), rm.end(), [](const GyroscopicMode& a, const GyroscopicMode& b) {
     return std::abs(a.lambda) < std::abs(b.lambda);
@@ -477,6 +495,77 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
        << " (worst " << result.maxResidual() << ")";
     result.reason += os.str();
   }
+  return attempt;
+}
+
+/// Frequencies within this relative distance are one cluster for the Sturm
+/// check: above the spread rounding and the Residual Tolerance (1e-8) leave
+/// between the members of a repeated frequency, below any separation a
+/// model's distinct modes have in practice; the count is taken at least half
+/// this far from every known frequency, which keeps its +-1e-8 retry in the gap.
+const double kClusterRelTol = 1e-6;
+
+/// Status for `modes` as the returned set of a request for `nModes`.
+SolveStatus statusOf(const std::vector<GyroscopicMode>& modes, int nModes, double residualTol) {
+  const bool accurate = std::all_of(modes.begin(), modes.end(),
+                                    [&](const GyroscopicMode& m) { return m.residual <= residualTol; });
+  return static_cast<int>(modes.size()) == nModes && accurate ? SolveStatus::Converged : SolveStatus::NotConverged;
+}
+
+}  // namespace
+
+GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys) const {
+  sys.validate();
+  const int nModes = params_.get<int>("Number of Modes");
+  Attempt a = solveAttempt(params_, sys, nModes);
+  // The set is checked by a Sturm count when the count applies (K > 0, the
+  // lowest frequencies wanted) and the iteration claims success; a failure
+  // is already reported by its status.
+  if (!a.checkable || a.result.status != SolveStatus::Converged) return a.result;
+  return checkLowestModes(sys, std::move(a.result), a.known, [&](int asked, std::vector<double>& known) {
+    Attempt b = solveAttempt(params_, sys, asked);
+    known = b.known;
+    return b.result;
+  }, nullptr, params_.get<double>("Residual Tolerance"));
+}
+
+GyroscopicResult checkLowestModes(const SparseGyroscopicSystem& sys, GyroscopicResult result,
+                                  const std::vector<double>& known,
+                                  const std::function<GyroscopicResult(int, std::vector<double>&)>& resolve,
+                                  const std::function<SparseSturmCount(double)>& countBelow,
+                                  double residualTol) {
+  const int nModes = result.numRequested;
+  const GlobalOrdinal N = sys.globalSize();
+  const auto counter = countBelow ? countBelow : [&](double w) { return sturmCount(sys, w); };
+  std::vector<double> omegas = known;
+  LowestSetCheck last;
+  const auto check = [&](std::string& confirmation) -> std::string {
+    last = checkLowestSet(omegas, nModes, kClusterRelTol, counter);
+    if (last.verdict == LowestSetCheck::Verdict::Disagrees) return last.message;
+    confirmation = last.message;
+    return "";
+  };
+  const auto recompute = [&]() -> std::string {
+    // The shortfall plus a margin (a quarter more, at least one pair).
+    const long long shortfall = std::max<long long>(last.counted - last.known, 0);
+    const int asked = static_cast<int>(
+        std::min<GlobalOrdinal>(N, nModes + shortfall + std::max(2, nModes / 4)));
+    GyroscopicResult again = resolve(asked, omegas);
+    // The lowest nModes of the new set (modes are sorted by |lambda|).
+    if (static_cast<int>(again.modes.size()) > nModes) again.modes.resize(nModes);
+    if (again.status == SolveStatus::Converged || again.status == SolveStatus::NotConverged)
+      again.status = statusOf(again.modes, nModes, residualTol);
+    again.numRequested = nModes;
+    const std::string how = "re-solved asking for " + std::to_string(asked) + " modes (" + again.reason + ")";
+    result = std::move(again);
+    result.reason.clear();
+    return how;
+  };
+  const std::string before = result.reason;
+  const SetConfirmation conf = confirmLowestSet(check, "the iteration's set", recompute);
+  result.reason = before + "; " + conf.note;
+  if (!conf.complete) result.status = SolveStatus::NumericalIssue;
+  else if (!last.clusterNote.empty()) result.reason += "; " + last.clusterNote;
   return result;
 }
 

@@ -7,6 +7,7 @@
 // K - w^2 M + i w G, zhetrf), itself checked against the companion spectrum.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -103,4 +104,80 @@ TEST(SturmCount, CountsTheFrequenciesBelowAnyGap) {
         EXPECT_EQ(sturmCount(s, 0.5 * (w[k - 1] + w[k])), k) << "n " << n << " gyro " << gyro;
     }
   EXPECT_THROW(sturmCount(fixtures::randomGyroscopic(3, rng), -1.0), InputError);
+}
+
+// The policy both paths follow when the count disagrees (confirmLowestSet):
+// recompute once, check again; a set that still disagrees is not complete,
+// which DenseGyroscopicSolver turns into NumericalIssue (the branch the
+// dense solver reaches only if dgesvd itself returned a wrong set) and the
+// sparse solver too (SparseSturmCountTest).
+TEST(LowestSetPolicy, StillDisagreeingAfterTheRecomputationIsNotComplete) {
+  int recomputed = 0;
+  const SetConfirmation still = confirmLowestSet(
+      [](std::string&) { return std::string("the Sturm count finds 4 frequencies below 9 rad/s, the solver 3"); },
+      "dgesvdx's set", [&] { ++recomputed; return std::string("recomputed by the full SVD (dgesvd)"); });
+  EXPECT_EQ(recomputed, 1);
+  EXPECT_FALSE(still.complete);
+  EXPECT_NE(still.note.find("dgesvdx's set failed the check (the Sturm count finds 4"), std::string::npos) << still.note;
+  EXPECT_NE(still.note.find("recomputed by the full SVD"), std::string::npos) << still.note;
+  EXPECT_NE(still.note.find("and still the Sturm count finds 4"), std::string::npos) << still.note;
+
+  int checks = 0;
+  const SetConfirmation fixed = confirmLowestSet(
+      [&](std::string& confirmation) {
+        if (checks++ == 0) return std::string("the Sturm count finds 4 frequencies below 9 rad/s, the solver 3");
+        confirmation = "Sturm count at 9 rad/s confirms the 4 lowest";
+        return std::string();
+      },
+      "dgesvdx's set", [] { return std::string("recomputed by the full SVD (dgesvd)"); });
+  EXPECT_TRUE(fixed.complete);
+  EXPECT_NE(fixed.note.find("recomputed by the full SVD (dgesvd); Sturm count at 9 rad/s confirms"), std::string::npos)
+      << fixed.note;
+
+  const SetConfirmation first = confirmLowestSet(
+      [](std::string& confirmation) { confirmation = "Sturm count at 1 rad/s confirms the 1 lowest"; return std::string(); },
+      "dgesvdx's set", [&] { ++recomputed; return std::string(); });
+  EXPECT_TRUE(first.complete);
+  EXPECT_EQ(first.note, "Sturm count at 1 rad/s confirms the 1 lowest");
+  EXPECT_EQ(recomputed, 1);  // not called when the first set agrees
+}
+
+// Where checkLowestSet cuts and what it expects, with an injected count: just
+// past the whole cluster of the N-th frequency (members within 1e-6
+// relative), 1e-5 relative above it, or in the middle of the gap to the next
+// known value when that is nearer.
+TEST(LowestSetPolicy, CutsJustPastTheWholeClusterOfTheLastReturnedFrequency) {
+  const std::vector<double> w{1.0, 1.0, 2.0, 2.0 * (1 + 1e-9), 3.0, 3.0 * (1 + 4e-6)};
+  double at = 0.0;
+  const auto truth = [&](double omega) {
+    at = omega;
+    SparseSturmCount c;
+    c.omega = omega, c.reliable = true;
+    c.count = std::count_if(w.begin(), w.end(), [&](double x) { return x < omega; });
+    return c;
+  };
+  // N = 3 cuts the pair at 2: the cut is 1e-5 above its top, four expected, a note.
+  LowestSetCheck c = checkLowestSet(w, 3, 1e-6, truth);
+  EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Confirmed) << c.message;
+  EXPECT_NEAR(at, 2.0 * (1 + 1e-9) * (1 + 1e-5), 1e-15 * 3.0);
+  EXPECT_EQ(c.known, 4);
+  EXPECT_NE(c.clusterNote.find("modes 3 to 4"), std::string::npos) << c.clusterNote;
+  EXPECT_NE(c.clusterNote.find("ask for 4"), std::string::npos) << c.clusterNote;
+  // N = 5: the next known value (4e-6 above) is nearer than 1e-5: mid-gap.
+  c = checkLowestSet(w, 5, 1e-6, truth);
+  EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Confirmed) << c.message;
+  EXPECT_NEAR(at, 3.0 * (1 + 2e-6), 1e-15 * 3.0);
+  EXPECT_TRUE(c.clusterNote.empty());
+  // A pair member missing from what the solver knew: disagreement, named.
+  const std::vector<double> missing{1.0, 2.0, 2.0, 3.0};
+  c = checkLowestSet(missing, 2, 1e-6, truth);
+  EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Disagrees);
+  EXPECT_EQ(c.known, 3);
+  EXPECT_EQ(c.counted, 2 + 2);  // both 1s and both 2s lie below the cut just above 2
+  EXPECT_NE(c.message.find("the Sturm count finds 4 frequencies below 2.00002 rad/s, the solver 3"), std::string::npos)
+      << c.message;
+  // An unreliable count confirms nothing and says so.
+  c = checkLowestSet(w, 1, 1e-6, [](double omega) { SparseSturmCount s; s.omega = omega; s.note = "pivots"; return s; });
+  EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Unreliable);
+  EXPECT_NE(c.message.find("not confirmed"), std::string::npos) << c.message;
 }

@@ -17,13 +17,19 @@
 // Anasazi's non-Hermitian Block Krylov-Schur or PARPACK dnaupd on R_s.
 // Either way the modes are extracted by a Rayleigh-Ritz projection of the
 // quadratic problem onto the converged vectors, solved by the dense solver,
-// and every mode's residual is recomputed from M, G, K.
+// and every mode's residual is recomputed from M, G, K. When K > 0 and the
+// lowest frequencies are wanted (Shift >= 0), the returned set is checked by
+// a Sturm count (checkLowestModes, doc/theory.md §5).
 #pragma once
+
+#include <functional>
+#include <vector>
 
 #include <Teuchos_ParameterList.hpp>
 
 #include "cms/eigen/GyroscopicModes.hpp"
 #include "cms/eigen/SparseGyroscopicSystem.hpp"
+#include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
 
@@ -34,11 +40,30 @@ public:
   explicit SparseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList());
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
 
-  /// Collective. Modes carry this rank's rows of q.
+  /// Collective. Modes carry this rank's rows of q. On the symmetric path with
+  /// Shift >= 0 a converged set is checked by checkLowestModes.
   GyroscopicResult solve(const SparseGyroscopicSystem& system) const;
 
 private:
   Teuchos::ParameterList params_;
 };
+
+/// The sparse path's completeness check, factored out of solve() so that a
+/// wrong set can be injected in tests. `result` holds the returned modes
+/// (sorted by frequency, result.numRequested of them wanted); `known` every
+/// accurate frequency the iteration found, ascending (the returned ones
+/// first). The Sturm count (`countBelow`, by default sturmCount(system, w))
+/// at a cut past the cluster of the highest returned frequency must equal
+/// the number known below it. If not, `resolve(asked, known)` runs the
+/// iteration once more for `asked` = requested + shortfall + margin modes
+/// (filling `known` anew) and its lowest numRequested modes are checked
+/// again; a set that still disagrees comes back as NumericalIssue with the
+/// counts and the frequency in its reason. A set that agrees gets the
+/// confirmation appended to its reason, and, when the request cuts a
+/// cluster, which modes share it. Collective.
+GyroscopicResult checkLowestModes(
+    const SparseGyroscopicSystem& system, GyroscopicResult result, const std::vector<double>& known,
+    const std::function<GyroscopicResult(int asked, std::vector<double>& known)>& resolve,
+    const std::function<SparseSturmCount(double)>& countBelow = nullptr, double residualTol = 1e-8);
 
 }  // namespace cms::eigen
