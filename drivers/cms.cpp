@@ -446,6 +446,14 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     }
     f.commit();
   }
+  if (sc.csv) {  // the missing-mode check per substructure (theory §11.9)
+    AtomicFile f(outDir / (sc.name + "-coverage.csv"));
+    f.stream() << "substructure,basis,cutoff_hz,sturm_count,represented,coordinates,verdict\n";
+    for (const auto& c : coverage)
+      f.stream() << c.name << ',' << c.basis << ',' << c.cutoff / (2 * M_PI) << ',' << c.sturmCount << ','
+                 << c.represented << ',' << c.coordinates << ",\"" << c.verdict << "\"\n";
+    f.commit();
+  }
   if (sc.json) {
     AtomicFile f(outDir / (sc.name + ".json"));
     auto& o = f.stream();
@@ -507,7 +515,8 @@ int runModes(const scene::Scene& sc, const std::filesystem::path& outDir, bool r
     o << "  ]\n}\n";
     f.commit();
   }
-  std::cout << "\nwrote " << (outDir / sc.name).string() << (sc.json ? ".json " : " ") << (sc.csv ? "(and -modes.csv)" : "")
+  std::cout << "\nwrote " << (outDir / sc.name).string() << (sc.json ? ".json " : " ")
+            << (sc.csv ? "(and -modes.csv, -coverage.csv)" : "")
             << '\n';
   if (vtuRequested) {
     const auto files = analysis::writeModeShapes(structure, s, modes, outDir.string(), sc.name);
