@@ -4,25 +4,41 @@
 #include <array>
 #include <cctype>
 #include <cerrno>
+#include <chrono>
+#include <cstdio>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <map>
 #include <new>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <thread>
 #include <type_traits>
 #include <utility>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gmsh.h>
 
 #include "cms/core/Error.hpp"
+#include "GmshSession.hpp"
 #include "MshStructureCheck.hpp"
+
+extern char** environ;
 
 namespace cms::fem {
 
@@ -108,45 +124,11 @@ bool endsWith(const std::string& s, const char* suffix) {
 }
 
 // ---------------------------------------------------------------------------
-// Gmsh session and the mesh read through it.
+// The mesh read through a Gmsh session (GmshSession.hpp).
 // ---------------------------------------------------------------------------
 
-/// Gmsh's SDK is one global state: initialise it for one read (which resets
-/// every option a previous .geo script set) and always finalise it, also
-/// when the read throws. The ONELAB parameters survive finalize(): without
-/// clearing them, a script's DefineConstant takes the value a previous
-/// script gave a parameter of the same name instead of its own default.
-/// (Each initialize/finalize pair leaks a little in Gmsh 4.8, growing with
-/// the number of pairs: ~55 MB after 2000 reads; nothing for the handful of
-/// reads of a normal run. Keeping one session instead would let options
-/// leak from one script into the next, and 4.8 cannot restore defaults.)
-class GmshSession {
-public:
-  GmshSession() {
-    gmsh::initialize(0, nullptr, false);  // no gmshrc / gmsh-options from the user's home
-    active_ = true;
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::logger::start();  // for the first error of a script (see firstError)
-    gmsh::onelab::clear();
-    // MSH 2 periodic links are not read (the Mesh has no use for them, and
-    // the scan above does not validate them): Gmsh's default, made explicit.
-    gmsh::option::setNumber("Mesh.IgnorePeriodicity", 1);
-  }
-  ~GmshSession() {
-    if (!active_) return;
-    try {
-      gmsh::logger::stop();  // and clear: the log outlives finalize()
-      gmsh::onelab::clear();
-      gmsh::finalize();
-    } catch (...) {
-    }
-  }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
-
-private:
-  bool active_ = false;
-};
+using detail::GmshSession;
+using detail::firstError;
 
 CellType cellType(int gmshType) {
   switch (gmshType) {
@@ -348,71 +330,305 @@ void readGroups(Mesh& mesh) {
   }
 }
 
-/// The first error Gmsh logged in this session, without its "Error" tag:
-/// a script's parser goes on after a syntax error, and its last message
-/// (what it throws) is often "line 0: syntax error" at the end of the file.
-std::string firstError() {
-  std::vector<std::string> log;
-  try {
-    gmsh::logger::get(log);
-  } catch (...) {
-    return {};
-  }
-  for (const auto& l : log)
-    if (l.compare(0, 5, "Error") == 0) {
-      const std::size_t colon = l.find(':');
-      return colon == std::string::npos ? l : l.substr(l.find_first_not_of(' ', colon + 1));
-    }
-  return {};
-}
-
-Mesh readThroughGmsh(const std::string& path, bool script, const std::map<std::string, double>& parameters) {
-  if (script)
-    for (const auto& [name, value] : parameters) gmsh::onelab::setNumber("Parameters/" + name, {value});
-  gmsh::open(path);
-  if (script) {
-    std::vector<int> types;
-    std::vector<std::vector<std::size_t>> elementTags, nodeTags;
-    gmsh::model::mesh::getElements(types, elementTags, nodeTags);
-    if (types.empty()) {
-      gmsh::vectorpair entities;
-      gmsh::model::getEntities(entities);
-      int dim = -1;
-      for (const auto& e : entities) dim = std::max(dim, e.first);
-      // A point at an infinite coordinate (1e309 in the script) aborts
-      // Gmsh 4.8's mesher (SIGABRT, found by the fuzz driver): named first.
-      for (const auto& [d, tag] : entities) {
-        if (d != 0) continue;
-        std::vector<double> x;
-        gmsh::model::getValue(0, tag, {}, x);
-        for (double v : x)
-          CMS_INPUT_CHECK(!std::isfinite(v), path << ": point " << tag << " has a non-finite coordinate (" << v << ")");
-      }
-      if (dim >= 0) {
-        // Gmsh 4.8 throws its meshing errors from inside OpenMP regions,
-        // which ends the process (std::terminate: a plane surface made
-        // non-planar, found by the fuzz driver). Meshing with errors
-        // logged instead (and no "Continue?" prompt on the terminal), the
-        // first one is the input error.
-        double abortOnError = 0, expertMode = 0;
-        gmsh::option::getNumber("General.AbortOnError", abortOnError);
-        gmsh::option::getNumber("General.ExpertMode", expertMode);
-        gmsh::option::setNumber("General.AbortOnError", 0);
-        gmsh::option::setNumber("General.ExpertMode", 1);
-        gmsh::model::mesh::generate(dim);
-        gmsh::option::setNumber("General.AbortOnError", abortOnError);
-        gmsh::option::setNumber("General.ExpertMode", expertMode);
-        const std::string error = firstError();
-        CMS_INPUT_CHECK(!error.empty(), path << ": meshing failed: " << error);
-      }
-    }
-  }
+/// Reads the mesh of the current Gmsh session; messages name `source`.
+Mesh readSessionMesh(const std::string& source) {
   Mesh mesh;
-  mesh.source = path;
+  mesh.source = source;
   readNodes(mesh);
   checkDistinctNodes(mesh);
   readGroups(mesh);
   return mesh;
+}
+
+/// Reads a .msh through Gmsh in this process (the file passed
+/// checkMshStructure); every failure is an InputError naming `source`.
+Mesh readMshInProcess(const std::string& path, const std::string& source) {
+  try {
+    GmshSession session;
+    try {
+      gmsh::open(path);
+      return readSessionMesh(source);
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::string& message) {  // how Gmsh 4.8 raises its errors
+      const std::string first = firstError();
+      throw InputError(source + ": " + (first.empty() ? message : first));
+    } catch (...) {
+      // Read Gmsh's message while the session that raised it is still open.
+      std::string message = firstError();
+      try {
+        if (message.empty()) gmsh::logger::getLastError(message);
+      } catch (...) {
+      }
+      if (!message.empty()) throw InputError(source + ": " + message);
+      throw;
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    // Past the scan no count in the file drives an allocation: running out
+    // of memory is the machine's limit, not malformed input.
+    throw;
+  } catch (const std::string& message) {  // from initialize / finalize
+    throw InputError(source + ": " + message);
+  } catch (const std::exception& e) {
+    throw InputError(source + ": Gmsh failed: " + e.what());
+  } catch (...) {
+    throw InputError(source + ": Gmsh failed to read the file");
+  }
+}
+
+// ---------------------------------------------------------------------------
+// .geo scripts: run and meshed by the cms-geo-mesher helper (GeoMesher.cpp)
+// in a child process with a time and an address-space limit, its .msh read
+// back in this process.
+// ---------------------------------------------------------------------------
+
+/// A positive number from the environment, or `fallback` when unset.
+double positiveFromEnvironment(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  if (!v || !*v) return fallback;
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(v, &end);
+  CMS_INPUT_CHECK(end == v || *end != '\0' || errno != 0 || !std::isfinite(x) || x <= 0,
+                  "environment variable " << name << " = \"" << v << "\" must be a positive number");
+  return x;
+}
+
+/// The helper: $CMS_GEO_MESHER, else next to the running executable, else
+/// where the build put it.
+std::string geoMesherPath() {
+  if (const char* v = std::getenv("CMS_GEO_MESHER"); v && *v) return v;
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path sibling = self.parent_path() / "cms-geo-mesher";
+    if (::access(sibling.c_str(), X_OK) == 0) return sibling.string();
+  }
+  return CMS_GEO_MESHER_BUILD_PATH;
+}
+
+/// The cms-geo-mesher server of this process (GeoMesher.cpp): started by
+/// the first .geo read, kept for the next ones, ended (it reads end of file)
+/// when this process exits. A process forked from this one starts its own.
+class GeoMesherServer {
+public:
+  /// Sends a request, returns the answer line ("T" or "S <status>"), or ""
+  /// when the server died without answering.
+  std::string ask(const std::vector<std::string>& fields, double seconds) {
+    std::string request;
+    for (const std::string& f : fields) request += f + '\0';
+    request += '\0';
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      start();
+      if (sendAll(request)) break;
+      stop();  // a dead server (killed?): one fresh start
+      if (attempt == 1) return {};
+    }
+    // The server enforces the time limit; this is a backstop should it hang.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds + 30);
+    std::string line;
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) {
+        stop();
+        return "T";
+      }
+      pollfd p{fd_, POLLIN, 0};
+      const int r = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000000)));
+      if (r < 0 && errno == EINTR) continue;
+      if (r == 0) continue;
+      char c = 0;
+      const ssize_t n = r > 0 ? ::read(fd_, &c, 1) : -1;
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        stop();
+        return {};
+      }
+      if (c == '\n') return line;
+      line += c;
+    }
+  }
+  ~GeoMesherServer() {
+    if (owner_ == ::getpid()) stop();
+  }
+
+private:
+  void start() {
+    if (fd_ >= 0 && owner_ == ::getpid()) return;
+    if (fd_ >= 0) ::close(fd_);  // inherited from the process this one was forked from: its server
+    fd_ = -1;
+    pid_ = -1;
+    int sv[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
+      throw std::runtime_error(std::string("cannot start the .geo mesher: socketpair: ") + std::strerror(errno));
+    const std::string helper = geoMesherPath();
+    std::string serve = "--serve";
+    std::string program = helper;
+    char* argv[] = {program.data(), serve.data(), nullptr};
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, sv[1], 3);
+    pid_t pid = 0;
+    const int spawned = ::posix_spawn(&pid, helper.c_str(), &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(sv[1]);
+    if (spawned != 0) {
+      ::close(sv[0]);
+      throw std::runtime_error("cannot start the .geo mesher " + helper + " (set CMS_GEO_MESHER to its path): " +
+                               std::strerror(spawned));
+    }
+    fd_ = sv[0];
+    pid_ = pid;
+    owner_ = ::getpid();
+  }
+  void stop() {
+    if (fd_ >= 0) ::close(fd_);
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      while (::waitpid(pid_, nullptr, 0) < 0 && errno == EINTR) {
+      }
+    }
+    fd_ = -1;
+    pid_ = -1;
+  }
+  bool sendAll(const std::string& s) {
+    for (std::size_t done = 0; done < s.size();) {
+      const ssize_t n = ::send(fd_, s.data() + done, s.size() - done, MSG_NOSIGNAL);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      done += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  int fd_ = -1;
+  pid_t pid_ = -1, owner_ = -1;
+};
+
+/// A private directory for the helper's files, removed with this object.
+class TemporaryDirectory {
+public:
+  TemporaryDirectory() {
+    const char* base = std::getenv("TMPDIR");
+    std::string pattern = std::string(base && *base ? base : "/tmp") + "/cms-geo-XXXXXX";
+    if (!::mkdtemp(pattern.data()))
+      throw std::runtime_error("cannot create a temporary directory " + pattern + " for meshing: " +
+                               std::strerror(errno));
+    path_ = pattern;
+  }
+  ~TemporaryDirectory() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TemporaryDirectory(const TemporaryDirectory&) = delete;
+  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+  std::string file(const char* name) const { return (path_ / name).string(); }
+
+private:
+  std::filesystem::path path_;
+};
+
+/// What the mesher was doing last, from its Gmsh log: " while meshing
+/// surface 3" (the last entity it started), or "".
+std::string lastActivity(const std::string& log) {
+  std::string bytes;
+  try {
+    bytes = readFile(log);
+  } catch (...) {
+    return {};
+  }
+  static const std::regex meshing(R"(Meshing (curve|surface|volume) (\d+))");
+  std::string last;
+  for (std::sregex_iterator it(bytes.begin(), bytes.end(), meshing), end; it != end; ++it)
+    last = " while meshing " + (*it)[1].str() + " " + (*it)[2].str();
+  return last;
+}
+
+/// The line of a script's first `Exit;` command (0 if none is found).
+long exitCommandLine(const std::string& script) {
+  std::ifstream in(script, std::ios::binary);
+  static const std::regex exitCommand(R"((^|[^A-Za-z0-9_])Exit\s*;)");
+  std::string line;
+  for (long n = 1; std::getline(in, line); ++n) {
+    const std::size_t comment = line.find("//");
+    if (std::regex_search(line.substr(0, comment), exitCommand)) return n;
+  }
+  return 0;
+}
+
+Mesh meshScriptInChild(const std::string& path, const std::map<std::string, double>& parameters) {
+  const double seconds = positiveFromEnvironment("CMS_GEO_TIME_LIMIT", 600);
+  // Default: the machine's memory (no swapping storm); in MB.
+  const double physicalMb =
+      static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE)) / 1048576.0;
+  const double memoryMb = positiveFromEnvironment("CMS_GEO_MEMORY_LIMIT", physicalMb > 0 ? physicalMb : 0x1p30);
+  const TemporaryDirectory dir;
+  const std::string out = dir.file("mesh.msh"), verdict = dir.file("verdict"), log = dir.file("gmsh.log");
+  std::ostringstream limit;
+  limit << std::setprecision(17) << seconds;
+  // Fields travel NUL-terminated, an empty one ending the request.
+  CMS_INPUT_CHECK(path.find('\0') != std::string::npos, path << ": the file name has a NUL character");
+  for (const auto& [name, value] : parameters)
+    CMS_INPUT_CHECK(name.empty() || name.find('\0') != std::string::npos,
+                    path << ": mesh parameter \"" << name << "\": the name is empty or has a NUL character");
+  // Absolute: the helper keeps the directory this process had when it started it.
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+  std::vector<std::string> fields = {limit.str(), ec ? path : absolute.string(), out, verdict, log,
+                                     std::to_string(static_cast<unsigned long long>(memoryMb * 1048576.0))};
+  for (const auto& [name, value] : parameters) {
+    char number[40];
+    std::snprintf(number, sizeof number, "%.17g", value);
+    fields.push_back(name);
+    fields.push_back(number);
+  }
+  static GeoMesherServer server;
+  const std::string answer = server.ask(fields, seconds);
+  const bool timedOut = answer == "T";
+  int status = 0;
+  if (answer.compare(0, 2, "S ") == 0) status = std::atoi(answer.c_str() + 2);
+  CMS_INPUT_CHECK(answer.empty(), path << ": the Gmsh mesher process died while meshing this script"
+                                       << lastActivity(log) << " - out of memory?");
+
+  std::string said;
+  {
+    std::ifstream in(verdict, std::ios::binary);
+    said.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::ostringstream limits;
+  limits << " (limits: " << seconds << " s, set by CMS_GEO_TIME_LIMIT; " << std::llround(memoryMb)
+         << " MB, set by CMS_GEO_MEMORY_LIMIT)";
+  CMS_INPUT_CHECK(timedOut, path << ": Gmsh did not finish this script within " << seconds << " s"
+                                 << lastActivity(log) << limits.str());
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    const char* name = ::strsignal(sig);
+    CMS_INPUT_CHECK(true, path << ": Gmsh crashed on this script (signal " << sig << ", " << (name ? name : "?")
+                               << ")" << lastActivity(log)
+                               << (sig == SIGKILL ? " - out of memory?" : "")
+                               << limits.str());
+  }
+  if (said.compare(0, 6, "ERROR\n") == 0) throw InputError(path + ": " + said.substr(6));
+  if (said != "OK") {
+    const long exitLine = exitCommandLine(path);
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    CMS_INPUT_CHECK(exitLine > 0, path << ": line " << exitLine
+                                       << ": the script's Exit command ended Gmsh before the mesh was made");
+    CMS_INPUT_CHECK(true, path << ": Gmsh ended (exit status " << code << ") before the mesh was made"
+                               << lastActivity(log));
+  }
+  // Gmsh's own output: scanned all the same (cheap next to meshing).
+  try {
+    detail::checkMshStructure(out, readFile(out));
+  } catch (const InputError& e) {
+    throw InputError(path + ": the mesh Gmsh made from this script cannot be read back: " + e.what());
+  }
+  return readMshInProcess(out, path);
 }
 
 }  // namespace
@@ -429,40 +645,7 @@ Mesh readGmsh(const std::string& path, const std::map<std::string, double>& para
                                        ".geo script");
     }
   }
-  try {
-    GmshSession session;
-    try {
-      return readThroughGmsh(path, script, parameters);
-    } catch (const InputError&) {
-      throw;
-    } catch (const std::bad_alloc&) {
-      throw;
-    } catch (const std::string& message) {  // how Gmsh 4.8 raises its errors
-      const std::string first = firstError();
-      throw InputError(path + ": " + (first.empty() ? message : first));
-    } catch (...) {
-      // Read Gmsh's message while the session that raised it is still open.
-      std::string message = firstError();
-      try {
-        if (message.empty()) gmsh::logger::getLastError(message);
-      } catch (...) {
-      }
-      if (!message.empty()) throw InputError(path + ": " + message);
-      throw;
-    }
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    // Past the scan no count in the file drives an allocation: running out
-    // of memory is the machine's limit, not malformed input.
-    throw;
-  } catch (const std::string& message) {  // from initialize / finalize
-    throw InputError(path + ": " + message);
-  } catch (const std::exception& e) {
-    throw InputError(path + ": Gmsh failed: " + e.what());
-  } catch (...) {
-    throw InputError(path + ": Gmsh failed to read the file");
-  }
+  return script ? meshScriptInChild(path, parameters) : readMshInProcess(path, path);
 }
 
 }  // namespace cms::fem

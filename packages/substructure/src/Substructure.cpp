@@ -2,6 +2,7 @@
 
 #include "cms/core/Redistribution.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -45,6 +46,11 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
   long long lineNo = 0;
   CMS_INPUT_CHECK(!std::getline(in, line), path << ": empty file");
   ++lineNo;
+  // Tpetra's reader wants the banner at the first column (a leading space
+  // made it throw std::invalid_argument, found by the fuzz driver).
+  CMS_INPUT_CHECK(line.compare(0, 14, "%%MatrixMarket") != 0,
+                  path << ":1: the banner must start with %%MatrixMarket at the first column (banner \"" << line
+                       << "\")");
   std::istringstream banner(line);
   std::string magic, object, format, field, symmetry;
   banner >> magic >> object >> format >> field >> symmetry;
@@ -233,7 +239,28 @@ Substructure Substructure::fromMatrixMarket(const std::string& sidecarPath,
     if (it == f.matrices.end()) return Teuchos::null;
     checkMatrixMarketFile(it->second, t.rows());
     Teuchos::RCP<const Map> colMap;
-    return Reader::readSparseFile(it->second, s.map_, colMap, s.map_, s.map_, true, false, false);
+    // The checks above are meant to catch everything Tpetra's reader
+    // refuses; whatever they miss still becomes an input error naming the
+    // file (Tpetra's banner and size-line failures are collective: every
+    // rank throws).
+    try {
+      return Reader::readSparseFile(it->second, s.map_, colMap, s.map_, s.map_, true, false, false);
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      std::string what = e.what();
+      // Tpetra's TEUCHOS_TEST_FOR_EXCEPTION text: source location, then the message.
+      const std::size_t at = what.find("Throw test that evaluated to true:");
+      if (at != std::string::npos) {
+        const std::size_t eol = what.find('\n', at);
+        what = eol == std::string::npos ? std::string() : what.substr(eol + 1);
+      }
+      while (!what.empty() && std::isspace(static_cast<unsigned char>(what.back()))) what.pop_back();
+      throw InputError(it->second + ": Tpetra's Matrix Market reader refused the file: " +
+                       (what.empty() ? std::string(e.what()) : what));
+    }
   };
   s.M_ = read("M");
   s.K_ = read("K");
