@@ -71,7 +71,8 @@ TEST(RotatingPointMass, MatchesClosedFormAtAllSpeedRegimes) {
     for (int k = 0; k < 2; ++k)
       EXPECT_LT(std::abs(r.modes[k].lambda - ex[k]), 1e-9 * std::abs(ex[k]) + 16 * eps * scale)
           << "Omega=" << W << " k=" << k << " got " << r.modes[k].lambda << " exact " << ex[k];
-    EXPECT_LT(r.maxResidual(), 1e-12) << "Omega=" << W;
+    // Normwise backward error of a 2-DOF solve: a small multiple of eps.
+    EXPECT_LT(r.maxResidual(), 1000 * eps) << "Omega=" << W;
   }
 }
 
