@@ -807,6 +807,10 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
   if (structure_->freeFloating())
     for (GlobalOrdinal g = 0; g < 6; ++g) rigidRows.insert(g);
   const auto Mrr = gatherRows(*M_, rigidRows);
+  // ||K_s||_F once per substructure, not per mode (a collective reduction).
+  std::vector<double> normK(parts.size(), 0.0);
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (parts[k]->sub) normK[k] = parts[k]->sub->K()->getFrobeniusNorm();
   std::vector<ModeCharacter> out;
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
     const auto& mode = modes.result.modes[m];
@@ -834,8 +838,8 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
         Teuchos::Array<double> e(2), uu(2);
         u[k]->dot(Ku, e());
         u[k]->dot(*u[k], uu());
-        const double normK = K.getFrobeniusNorm(), size = uu[0] + uu[1];
-        strain = normK > 0.0 && size > 0.0 ? std::abs(e[0] + e[1]) / (normK * size) : 0.0;
+        const double size = uu[0] + uu[1];
+        strain = normK[k] > 0.0 && size > 0.0 ? std::abs(e[0] + e[1]) / (normK[k] * size) : 0.0;
       }
       c.relativeStrain.push_back(strain);
     }
