@@ -29,6 +29,26 @@ namespace {
 
 auto world() { return Teuchos::DefaultComm<int>::getComm(); }
 
+/// A frame blade along x on [0, 1], clamped at its root, spinning about z
+/// in its own frame with stress stiffening when `spinning`.
+fem::FiniteElementModel clampedBlade(int elements, const fem::IsotropicMaterial& mat, const fem::BeamSection& sec,
+                                     bool spinning) {
+  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, elements), mat, sec);
+  fem::FixedSet root;
+  root.name = "clamped root";
+  root.nodeSet = "root";
+  root.all = true;
+  model.fixed.push_back(root);
+  if (spinning) {
+    fem::SpinDefinition spin;
+    spin.spin.axis = {0.0, 0.0, 1.0};  // flapwise motion is along the spin axis
+    spin.frame = fem::SpinDefinition::Frame::Rotating;
+    spin.stressStiffening = true;
+    model.spin = spin;
+  }
+  return model;
+}
+
 /// Unit properties: rho A = 1, E Iy = 1, L = 1, so omega-bar = omega and T =
 /// Omega. A = 1 and Iy = 1e-6 make the radius of gyration 1e-3 L: rotary
 /// inertia (kept, so torsion has mass) changes the third flap frequency by
@@ -44,20 +64,7 @@ fem::FiniteElementModel wrightBlade(int elements, bool spinning, bool rotaryIner
   sec.J = 2e-6;
   sec.orientation = {0.0, 1.0, 0.0};  // local y = chordwise (global y), local z = flapwise (global z)
   sec.rotaryInertia = rotaryInertia;
-  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, elements), mat, sec);
-  fem::FixedSet root;
-  root.name = "clamped root";
-  root.nodeSet = "root";
-  root.all = true;
-  model.fixed.push_back(root);
-  if (spinning) {
-    fem::SpinDefinition spin;
-    spin.spin.axis = {0.0, 0.0, 1.0};  // flapwise motion is along the spin axis
-    spin.frame = fem::SpinDefinition::Frame::Rotating;
-    spin.stressStiffening = true;
-    model.spin = spin;
-  }
-  return model;
+  return clampedBlade(elements, mat, sec, spinning);
 }
 
 /// The lowest `count` flapwise frequencies (modes moving > 99% along z).
@@ -251,18 +258,7 @@ fem::FiniteElementModel chordwiseBlade(int elements, double a) {
   sec.J = 5e-6;
   sec.orientation = {0.0, 1.0, 0.0};
   sec.rotaryInertia = false;
-  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, elements), mat, sec);
-  fem::FixedSet root;
-  root.name = "clamped root";
-  root.nodeSet = "root";
-  root.all = true;
-  model.fixed.push_back(root);
-  fem::SpinDefinition spin;
-  spin.spin.axis = {0.0, 0.0, 1.0};
-  spin.frame = fem::SpinDefinition::Frame::Rotating;
-  spin.stressStiffening = true;
-  model.spin = spin;
-  return model;
+  return clampedBlade(elements, mat, sec, true);
 }
 
 /// The lowest `count` modes moving mostly (> 90%) along `c`.
