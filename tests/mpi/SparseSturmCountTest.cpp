@@ -9,9 +9,8 @@
 // same on every rank.
 #include <gtest/gtest.h>
 
-#include <limits>
-
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include <Teuchos_CommHelpers.hpp>
@@ -21,6 +20,7 @@
 #include <Tpetra_Map.hpp>
 
 #include "BeamModels.hpp"
+#include "DenseOf.hpp"
 #include "RandomSystems.hpp"
 #include "cms/core/SparseInertia.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
@@ -77,25 +77,8 @@ SparseGyroscopicSystem postWithArm() {
 }
 
 /// A distributed matrix as a dense one on every rank (columns A e_j).
-DenseMatrix denseOf(const CrsMatrix& A) {
-  const auto n = static_cast<int>(A.getGlobalNumRows());
-  MultiVector E(A.getDomainMap(), n), AE(A.getRangeMap(), n);
-  for (std::size_t l = 0; l < A.getDomainMap()->getNodeNumElements(); ++l)
-    E.replaceLocalValue(l, A.getDomainMap()->getGlobalElement(static_cast<LocalOrdinal>(l)), 1.0);
-  A.apply(E, AE);
-  auto rep = Teuchos::rcp(new Map(static_cast<GlobalOrdinal>(n), 0, A.getComm(), Tpetra::LocallyReplicated));
-  MultiVector R(rep, n);
-  R.doImport(AE, Tpetra::Import<>(A.getRangeMap(), rep), Tpetra::INSERT);
-  DenseMatrix D(n, n);
-  for (int j = 0; j < n; ++j) {
-    auto c = R.getData(j);
-    for (int i = 0; i < n; ++i) D(i, j) = c[i];
-  }
-  return D;
-}
-
 GyroscopicSystem denseOf(const SparseGyroscopicSystem& s) {
-  return {denseOf(*s.M), denseOf(*s.G), denseOf(*s.K)};
+  return {fixtures::denseOf(*s.M), fixtures::denseOf(*s.G), fixtures::denseOf(*s.K)};
 }
 
 GyroscopicResult sparseSolve(const SparseGyroscopicSystem& s, int nModes) {
