@@ -16,6 +16,7 @@
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
@@ -120,6 +121,718 @@ struct ItemMatrices {
   SpinMatrices spin;  ///< G1, KT1, f1 (empty when no spin)
 };
 
+/// The assembly of one model, in the phases `run` calls in order. Each phase
+/// leaves its results in members that the later phases read; none of them
+/// communicates except where its comment says so (the maps, the ghost
+/// pattern's export, the reduction of element failures, the final exports
+/// and the prestress solve), so every rank calls them in the same order.
+class Assembler {
+ public:
+  Assembler(const FiniteElementModel& model, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+            const PrestressConditions& prestress)
+      : model_(model), mesh_(*model.mesh), comm_(comm), prestress_(prestress),
+        numNodes_(static_cast<std::int64_t>(model.mesh->nodeCount())), rank_(comm->getRank()),
+        nranks_(comm->getSize()) {}
+
+  /// t0: when the assembly began (for the reported times).
+  AssembledMatrices run(std::chrono::steady_clock::time_point t0) {
+    listItems();
+    layOutDofs();
+    partitionNodes();
+    mapItemRows();
+    buildOverlapPattern();
+    buildOwnedPattern();
+    out_.setupSeconds = secondsSince(t0);
+    out_.localItems = static_cast<long long>(localItems_.size());
+    out_.ghostRows = static_cast<long long>(ghosts_.size());
+
+    const auto tElements = std::chrono::steady_clock::now();
+    assembleElements();
+    out_.elementSeconds = secondsSince(tElements);
+
+    const auto tExport = std::chrono::steady_clock::now();
+    exportMatrices();
+    out_.elementCount = static_cast<long long>(numElements_);
+    out_.exportSeconds = secondsSince(tExport);
+    out_.assemblySeconds = secondsSince(t0);
+
+    CMS_INPUT_CHECK(!prestress_.empty() && !(rotatingFrame_ && model_.spin->stressStiffening),
+                    model_.name << ": prestress conditions given, but the model has no rotating-frame "
+                                   "spin with stress stiffening");
+    if (rotatingFrame_ && model_.spin->stressStiffening) {
+      const auto t1 = std::chrono::steady_clock::now();
+      out_.u1 = prestressDisplacement();
+      assembleGeometricStiffness(*out_.u1);
+      out_.prestressSeconds = secondsSince(t1);
+    }
+    return std::move(out_);
+  }
+
+ private:
+  using GO = GlobalOrdinal;
+  using LO = LocalOrdinal;
+  using Graph = Tpetra::CrsGraph<>;
+  using Values = CrsMatrix::local_matrix_device_type::values_type;  // host memory (Serial node)
+  /// One matrix's values on the shared pattern: the owned rows' final
+  /// arrays and the ghost rows' small array.
+  struct Target {
+    Values owned, ghost;
+  };
+
+  // 1. Items, in set order: the same list on every rank (elements of every
+  // element set, then point masses, grounded springs and node-pair springs).
+  void listItems() {
+    for (std::size_t s = 0; s < model_.elementSets.size(); ++s) {
+      const auto& set = model_.elementSets[s];
+      const auto kind = set.kind == ElementSet::Kind::Frame ? Item::Kind::Frame : Item::Kind::Solid;
+      for (const CellBlock& b : mesh_.group(set.group).blocks)
+        for (std::size_t c = 0; c < b.size(); ++c)
+          items_.push_back({kind, static_cast<int>(s), &b, static_cast<std::int64_t>(c), -1});
+    }
+    numElements_ = items_.size();
+    for (std::size_t s = 0; s < model_.pointMasses.size(); ++s)
+      for (std::int64_t n : mesh_.nodeSet(model_.pointMasses[s].nodeSet))
+        items_.push_back({Item::Kind::PointMass, static_cast<int>(s), nullptr, n, -1});
+    for (std::size_t s = 0; s < model_.springs.size(); ++s) {
+      const auto& sp = model_.springs[s];
+      if (sp.toNodeSet.empty()) {
+        for (std::int64_t n : mesh_.nodeSet(sp.nodeSet))
+          items_.push_back({Item::Kind::GroundSpring, static_cast<int>(s), nullptr, n, -1});
+      } else {
+        for (auto [a, b] : springPairs(mesh_, sp))
+          items_.push_back({Item::Kind::Spring, static_cast<int>(s), nullptr, a, b});
+      }
+    }
+  }
+
+  /// The item's nodes into out (at most 27); returns their count.
+  int itemNodes(const Item& it, std::int64_t* out) const {
+    if (it.block) {
+      const int n = it.block->nodesPerCell;
+      std::copy_n(&it.block->nodes[it.cell * n], n, out);
+      return n;
+    }
+    out[0] = it.cell;
+    if (it.kind == Item::Kind::Spring) { out[1] = it.other; return 2; }
+    return 1;
+  }
+
+  // 2. Components per node (doc/architecture.md, "DOF layout"): elements
+  // decide which components a node carries, lumped items may only add
+  // translations (a rotation needs a frame node), every node must carry
+  // something, fixed sets remove rows; rows are numbered in mesh order.
+  void layOutDofs() {
+    DofLayout& L = out_.layout;
+    L.present.assign(numNodes_, 0);
+    L.fixed.assign(numNodes_, 0);
+    std::int64_t nodes[32];
+    for (const Item& it : items_) {
+      if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
+      const int nn = itemNodes(it, nodes);
+      for (int a = 0; a < nn; ++a)
+        L.present[nodes[a]] |= it.kind == Item::Kind::Frame ? kAllComponents : kTranslations;
+    }
+    for (const Item& it : items_) {
+      if (it.kind == Item::Kind::Frame || it.kind == Item::Kind::Solid) continue;
+      const int nn = itemNodes(it, nodes);
+      const bool rotations = itemNodeDofs(it, model_) == 6;
+      const std::string& name =
+          it.kind == Item::Kind::PointMass ? model_.pointMasses[it.set].name : model_.springs[it.set].name;
+      for (int a = 0; a < nn; ++a) {
+        CMS_INPUT_CHECK(rotations && (L.present[nodes[a]] & kAllComponents) != kAllComponents,
+                        model_.name << ": " << (it.kind == Item::Kind::PointMass ? "point mass '" : "spring '")
+                                    << name << "' acts on the rotations of " << nodeName(mesh_, nodes[a])
+                                    << ", which has none (only nodes of frame elements do)");
+        L.present[nodes[a]] |= kTranslations;
+      }
+    }
+    {
+      std::vector<std::size_t> loose;
+      for (std::int64_t n = 0; n < numNodes_; ++n)
+        if (!L.present[n]) loose.push_back(mesh_.nodeTags[n]);
+      if (!loose.empty()) {
+        std::ostringstream os;
+        os << mesh_.source << ": " << loose.size()
+           << " node(s) belong to no element set or lumped item (unconnected), e.g. node";
+        for (std::size_t i = 0; i < std::min<std::size_t>(loose.size(), 5); ++i) os << ' ' << loose[i];
+        os << "; add their physical group to an element set or remove them from the mesh";
+        throw InputError(os.str());
+      }
+    }
+    for (const FixedSet& f : model_.fixed) {
+      for (std::int64_t n : mesh_.nodeSet(f.nodeSet)) {
+        if (f.all) { L.fixed[n] |= L.present[n]; continue; }
+        for (Component c : f.components) {
+          const std::uint8_t bit = 1u << static_cast<int>(c);
+          CMS_INPUT_CHECK(!(L.present[n] & bit), "boundary condition '" << f.name << "' fixes "
+                                                     << componentName(c) << " at " << nodeName(mesh_, n)
+                                                     << ", which has no such DOF");
+          L.fixed[n] |= bit;
+        }
+      }
+    }
+    L.first.assign(numNodes_, 0);
+    long long next = 0;
+    for (std::int64_t n = 0; n < numNodes_; ++n) {
+      L.first[n] = next;
+      next += L.componentCount(n);
+    }
+    L.size = next;
+    CMS_INPUT_CHECK(L.size == 0, model_.name << ": every DOF is fixed; nothing to assemble");
+  }
+
+  // 3. Ownership: a coordinate-slab partition of the nodes (sorted along the
+  // mesh's longest extent, cut into equal counts), whose rows each rank owns;
+  // an item belongs to the rank owning its first node, so rows shared between
+  // ranks occur only at the slab interfaces. Gmsh numbers boundary entities'
+  // nodes first, so blocks of node numbers were not compact: 14% of the rows
+  // were ghosts on 2 ranks (doc/benchmarks.md, "Assembly"). Rows keep the
+  // mesh-order numbering, so matrices do not depend on the rank count.
+  // Collective: the owned-row map.
+  void partitionNodes() {
+    const DofLayout& L = out_.layout;
+    std::vector<int> owner(numNodes_, 0);
+    if (nranks_ > 1) {
+      int axis = 0;
+      double extent[3];
+      for (int c = 0; c < 3; ++c) {
+        double lo = mesh_.x(0)[c], hi = lo;
+        for (std::int64_t n = 1; n < numNodes_; ++n) {
+          lo = std::min(lo, mesh_.x(n)[c]);
+          hi = std::max(hi, mesh_.x(n)[c]);
+        }
+        extent[c] = hi - lo;
+        if (extent[c] > extent[axis]) axis = c;
+      }
+      std::vector<std::int64_t> order(numNodes_);
+      std::iota(order.begin(), order.end(), 0);
+      std::stable_sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
+        return mesh_.x(a)[axis] < mesh_.x(b)[axis];
+      });
+      for (std::int64_t k = 0; k < numNodes_; ++k) owner[order[k]] = static_cast<int>(k * nranks_ / numNodes_);
+    }
+    for (std::size_t i = 0; i < items_.size(); ++i) {
+      const std::int64_t n0 = items_[i].block ? items_[i].block->nodes[items_[i].cell * items_[i].block->nodesPerCell]
+                                              : items_[i].cell;
+      if (owner[n0] == rank_) localItems_.push_back(i);
+    }
+    for (std::int64_t n = 0; n < numNodes_; ++n)
+      if (owner[n] == rank_)
+        for (int c = 0; c < L.componentCount(n); ++c) overlapGids_.push_back(static_cast<GO>(L.first[n] + c));
+    numOwned_ = static_cast<LO>(overlapGids_.size());
+    ownedMap_ = Teuchos::rcp(new Map(static_cast<GO>(L.size), Teuchos::ArrayView<const GO>(overlapGids_), 0, comm_));
+  }
+
+  // 4. Each local item's global rows (-1 for fixed), then the overlap map:
+  // owned rows first, then the ghost rows in ascending order; and each item
+  // row's local index in it. Collective: the overlap map.
+  void mapItemRows() {
+    const DofLayout& L = out_.layout;
+    std::int64_t nodes[32];
+    itemDofStart_.assign(localItems_.size() + 1, 0);
+    for (std::size_t k = 0; k < localItems_.size(); ++k) {
+      const Item& it = items_[localItems_[k]];
+      const int nn = itemNodes(it, nodes), nd = itemNodeDofs(it, model_);
+      for (int a = 0; a < nn; ++a)
+        for (int c = 0; c < nd; ++c) itemDofs_.push_back(L.row(nodes[a], static_cast<Component>(c)));
+      itemDofStart_[k + 1] = static_cast<std::int64_t>(itemDofs_.size());
+    }
+    rowLid_.assign(L.size, -1);  // global row -> overlap lid (one int per row: 4 MB at 10^6)
+    for (LO l = 0; l < numOwned_; ++l) rowLid_[overlapGids_[l]] = l;
+    for (long long g : itemDofs_)
+      if (g >= 0 && rowLid_[g] < 0) ghosts_.push_back(g);
+    std::sort(ghosts_.begin(), ghosts_.end());
+    ghosts_.erase(std::unique(ghosts_.begin(), ghosts_.end()), ghosts_.end());
+    numOverlap_ = numOwned_ + static_cast<LO>(ghosts_.size());
+    for (std::size_t k = 0; k < ghosts_.size(); ++k) {
+      rowLid_[ghosts_[k]] = numOwned_ + static_cast<LO>(k);
+      overlapGids_.push_back(static_cast<GO>(ghosts_[k]));
+    }
+    overlapMap_ = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                       Teuchos::ArrayView<const GO>(overlapGids_), 0, comm_));
+    itemLids_.resize(itemDofs_.size());
+    std::transform(itemDofs_.begin(), itemDofs_.end(), itemLids_.begin(),
+                   [&](long long g) { return g < 0 ? LO(-1) : rowLid_[g]; });
+  }
+
+  // 5. The shared CSR pattern over the overlap rows (columns: overlap lids):
+  // every pair of an item's free rows, counted, filled, then each row sorted
+  // and deduplicated in place, compacting the arrays.
+  void buildOverlapPattern() {
+    rowPtr_ = Teuchos::ArrayRCP<std::size_t>(numOverlap_ + 1, 0);
+    for (std::size_t i = 0; i + 1 < itemDofStart_.size(); ++i) {
+      const auto b = itemDofStart_[i], e = itemDofStart_[i + 1];
+      for (auto p = b; p < e; ++p)
+        if (itemLids_[p] >= 0) rowPtr_[itemLids_[p] + 1] += static_cast<std::size_t>(e - b);
+    }
+    for (LO r = 0; r < numOverlap_; ++r) rowPtr_[r + 1] += rowPtr_[r];
+    cols_.assign(rowPtr_[numOverlap_], 0);
+    {
+      std::vector<std::size_t> fill(rowPtr_.begin(), rowPtr_.end() - 1);
+      for (std::size_t i = 0; i + 1 < itemDofStart_.size(); ++i) {
+        const auto b = itemDofStart_[i], e = itemDofStart_[i + 1];
+        for (auto p = b; p < e; ++p) {
+          if (itemLids_[p] < 0) continue;
+          for (auto q = b; q < e; ++q)
+            if (itemLids_[q] >= 0) cols_[fill[itemLids_[p]]++] = itemLids_[q];
+        }
+      }
+    }
+    std::size_t write = 0;
+    for (LO r = 0; r < numOverlap_; ++r) {
+      const std::size_t b = rowPtr_[r], e = rowPtr_[r + 1];
+      std::sort(cols_.begin() + b, cols_.begin() + e);
+      const std::size_t start = write;
+      for (std::size_t p = b; p < e; ++p)
+        if (p == b || cols_[p] != cols_[p - 1]) cols_[write++] = cols_[p];
+      rowPtr_[r] = start;
+    }
+    rowPtr_[numOverlap_] = write;
+    cols_.resize(write);
+    cols_.shrink_to_fit();
+  }
+
+  // 6. The owned pattern, before any value is computed. Only the ghost rows
+  // (a slab interface) cross ranks: their pattern is exported once and
+  // merged into the owned rows' own pattern locally; element values are then
+  // scattered straight into the owned rows' final arrays and a small ghost
+  // array, which an Export (ADD) sends to the owners. Exporting every matrix
+  // whole with Tpetra's exportAndFillComplete, or even just the whole
+  // pattern, cost more than the element loop at 10^6 DOFs
+  // (doc/benchmarks.md, "Assembly"). Collective: the exporters, the ghost
+  // pattern's export, the column map and the graphs' fill.
+  void buildOwnedPattern() {
+    exporter_ = Teuchos::rcp(new Tpetra::Export<>(overlapMap_, ownedMap_));
+    ghostMap_ = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                     Teuchos::ArrayView<const GO>(ghosts_.empty() ? nullptr : overlapGids_.data() + numOwned_,
+                                                                  ghosts_.size()),
+                                     0, comm_));
+    ghostBegin_ = rowPtr_[numOwned_];
+    {
+      Teuchos::ArrayRCP<std::size_t> ghostRowPtr(ghosts_.size() + 1);
+      for (std::size_t r = 0; r <= ghosts_.size(); ++r) ghostRowPtr[r] = rowPtr_[numOwned_ + r] - ghostBegin_;
+      Teuchos::ArrayRCP<LO> ghostCols(cols_.size() - ghostBegin_);
+      std::copy(cols_.begin() + ghostBegin_, cols_.end(), ghostCols.begin());
+      auto g = Teuchos::rcp(new Graph(ghostMap_, overlapMap_, ghostRowPtr, ghostCols));
+      g->expertStaticFillComplete(ownedMap_, ownedMap_);
+      ghostGraph_ = g;
+    }
+    ghostExporter_ = Teuchos::rcp(new Tpetra::Export<>(ghostMap_, ownedMap_));
+    // The owned pattern: columns numbered as in the overlap map (so an owned
+    // row's own entries keep their column lids), then the columns only other
+    // ranks' elements bring, appended.
+    Teuchos::ArrayRCP<std::size_t> ownedRowPtr(numOwned_ + 1, 0);
+    std::vector<LO> ownedCols;
+    std::vector<GO> colGids(overlapGids_);
+    {
+      const auto received = Tpetra::exportAndFillCompleteCrsGraph<Graph>(ghostGraph_, *ghostExporter_, ownedMap_, ownedMap_);
+      const auto rec = received->getLocalGraphHost();
+      const auto& recCols = *received->getColMap();
+      std::unordered_map<GO, LO> extra;
+      ownedCols.reserve(ghostBegin_ + rec.entries.extent(0));
+      for (LO r = 0; r < numOwned_; ++r) {
+        const std::size_t start = ownedCols.size();
+        ownedCols.insert(ownedCols.end(), cols_.begin() + rowPtr_[r], cols_.begin() + rowPtr_[r + 1]);
+        const std::size_t rb = rec.row_map(r), re = rec.row_map(r + 1);
+        for (std::size_t p = rb; p < re; ++p) {
+          const GO g = recCols.getGlobalElement(rec.entries(p));
+          LO l = g < static_cast<GO>(rowLid_.size()) ? rowLid_[g] : -1;
+          if (l < 0) {
+            auto [it, fresh] = extra.emplace(g, static_cast<LO>(colGids.size()));
+            if (fresh) colGids.push_back(g);
+            l = it->second;
+          }
+          ownedCols.push_back(l);
+        }
+        if (re > rb) {
+          std::sort(ownedCols.begin() + start, ownedCols.end());
+          ownedCols.erase(std::unique(ownedCols.begin() + start, ownedCols.end()), ownedCols.end());
+        }
+        ownedRowPtr[r + 1] = ownedCols.size();
+      }
+    }
+    std::vector<LO>().swap(rowLid_);
+    auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                       Teuchos::ArrayView<const GO>(colGids), 0, comm_));
+    ownedNnz_ = ownedCols.size();
+    {
+      Teuchos::ArrayRCP<LO> c(ownedNnz_);
+      std::copy(ownedCols.begin(), ownedCols.end(), c.begin());
+      std::vector<LO>().swap(ownedCols);
+      auto g = Teuchos::rcp(new Graph(ownedMap_, colMap, ownedRowPtr, c));
+      g->expertStaticFillComplete(ownedMap_, ownedMap_);
+      ownedGraph_ = g;
+    }
+    ownedLocal_ = ownedGraph_->getLocalGraphHost();
+  }
+
+  /// Positions of a local item's entries: found once per item (a binary
+  /// search per entry) and reused by every matrix of that item. p >= 0:
+  /// entry p of the owned arrays; p <= -2: entry -p-2 of the ghost arrays;
+  /// -1: fixed DOF.
+  void locate(std::size_t local) {
+    const auto& owned = ownedLocal_;
+    const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
+    const int n = static_cast<int>(e - b);
+    positions_.assign(static_cast<std::size_t>(n) * n, -1);
+    for (int i = 0; i < n; ++i) {
+      const LO r = itemLids_[b + i];
+      if (r < 0) continue;
+      const bool mine = r < numOwned_;
+      const LO* base = mine ? owned.entries.data() : cols_.data();
+      const LO* rb = base + (mine ? owned.row_map(r) : rowPtr_[r]);
+      const LO* re = base + (mine ? owned.row_map(r + 1) : rowPtr_[r + 1]);
+      for (int j = 0; j < n; ++j) {
+        const LO c = itemLids_[b + j];
+        if (c < 0) continue;
+        const std::int64_t at = std::lower_bound(rb, re, c) - base;
+        positions_[static_cast<std::size_t>(i) * n + j] =
+            mine ? at : -2 - (at - static_cast<std::int64_t>(ghostBegin_));
+      }
+    }
+  }
+  Target target(const char* name) const {
+    return Target{Values(std::string(name) + " owned", ownedNnz_),
+                  Values(std::string(name) + " ghost", cols_.size() - ghostBegin_)};
+  }
+  /// Adds an element matrix at the positions the last locate() found.
+  void scatter(const ElementMatrix& A, Target& t) const {
+    const std::size_t nn = positions_.size();
+    for (std::size_t k = 0; k < nn; ++k) {
+      const std::int64_t p = positions_[k];
+      if (p >= 0) t.owned(p) += A.a[k];
+      else if (p <= -2) t.ghost(-2 - p) += A.a[k];
+    }
+  }
+  void scatterVector(std::size_t local, const std::vector<double>& f, std::vector<double>& v) const {
+    const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
+    for (auto p = b; p < e; ++p)
+      if (itemLids_[p] >= 0) v[itemLids_[p]] += f[p - b];
+  }
+
+  FrameElement frameOf(const Item& it) const {
+    const auto& set = model_.elementSets[it.set];
+    FrameElement fe;
+    const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
+    std::copy_n(mesh_.x(cn[0]), 3, fe.x1.begin());
+    std::copy_n(mesh_.x(cn[1]), 3, fe.x2.begin());
+    fe.material = model_.materials.at(set.material);
+    fe.section = set.section;
+    fe.theory = set.theory;
+    return fe;
+  }
+  SolidElement solidOf(const Item& it) {
+    const auto& set = model_.elementSets[it.set];
+    const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
+    for (int a = 0; a < it.block->nodesPerCell; ++a) std::copy_n(mesh_.x(cn[a]), 3, &xyz_[3 * a]);
+    return SolidElement{solidTypeOf(it.block->type), xyz_.data(), model_.materials.at(set.material)};
+  }
+  PointMass pointMassOf(const Item& it) const {
+    PointMass p;
+    p.m = model_.pointMasses[it.set].mass;
+    p.inertia = model_.pointMasses[it.set].inertia;
+    std::copy_n(mesh_.x(it.cell), 3, p.x.begin());
+    return p;
+  }
+
+  /// The item's element matrices: K and M, and the spin terms the model's
+  /// frame needs (rotating: G1, KT1, f1; stationary: G1, and the tilt
+  /// stiffness in KT1 when the frame itself turns).
+  ItemMatrices itemMatrices(const Item& it) {
+    const int nd = itemNodeDofs(it, model_);
+    const Spin spin = spinning_ ? model_.spin->spin : Spin{};
+    ItemMatrices m;
+    switch (it.kind) {
+      case Item::Kind::Frame: {
+        const FrameElement fe = frameOf(it);
+        m.K = frameStiffness(fe);
+        m.M = frameMass(fe);
+        if (rotatingFrame_) m.spin = frameSpinMatrices(fe, spin);
+        else if (spinning_) m.spin.G1 = frameStationaryGyroscopic(fe, spin.axis);
+        if (tilt_) m.spin.KT1 = frameStationaryTiltStiffness(fe, spin.axis, *model_.spin->frameAxis);
+        break;
+      }
+      case Item::Kind::Solid: {
+        const SolidElement se = solidOf(it);
+        m.K = solidStiffness(se);
+        m.M = solidMass(se);
+        if (rotatingFrame_) m.spin = solidSpinMatrices(se, spin);
+        break;
+      }
+      case Item::Kind::PointMass: {
+        const PointMass p = pointMassOf(it);
+        m.M = pointMassMatrix(p, nd);
+        m.K = ElementMatrix(nd);
+        if (rotatingFrame_) m.spin = pointMassSpinMatrices(p, spin, nd);
+        else if (spinning_ && nd == 6) m.spin.G1 = pointMassStationaryGyroscopic(p, spin.axis);
+        if (tilt_ && nd == 6) m.spin.KT1 = pointMassStationaryTiltStiffness(p, spin.axis, *model_.spin->frameAxis);
+        break;
+      }
+      case Item::Kind::GroundSpring:
+        m.K = groundedSpringMatrix(model_.springs[it.set].stiffness, nd);
+        break;
+      case Item::Kind::Spring:
+        m.K = twoNodeSpringMatrix(model_.springs[it.set].stiffness, nd);
+        break;
+    }
+    return m;
+  }
+
+  // 7. Element matrices into the owned and ghost arrays. Errors are collected
+  // and reduced so every rank throws together (a rank's own elements may be
+  // the only bad ones). Collective: that reduction.
+  void assembleElements() {
+    spinning_ = model_.spin.has_value();
+    rotatingFrame_ = spinning_ && model_.spin->frame == SpinDefinition::Frame::Rotating;
+    tilt_ = spinning_ && !rotatingFrame_ && model_.spin->frameAxis.has_value();
+    vM_ = target("M");
+    vK_ = target("K");
+    if (spinning_) vG_ = target("G1");
+    if (rotatingFrame_) { vKT_ = target("KT1"); vf_.assign(numOverlap_, 0.0); }
+    if (tilt_) vKT_ = target("KX1");
+
+    for (std::size_t local = 0; local < localItems_.size() && failure_.empty(); ++local) {
+      const Item& it = items_[localItems_[local]];
+      try {
+        const ItemMatrices m = itemMatrices(it);
+        locate(local);
+        scatter(m.K, vK_);
+        if (m.M.n) scatter(m.M, vM_);
+        if (m.spin.G1.n) scatter(m.spin.G1, vG_);
+        if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatter(m.spin.KT1, vKT_);
+        if (rotatingFrame_ && !m.spin.f1.empty()) scatterVector(local, m.spin.f1, vf_);
+      } catch (const std::exception& e) {
+        std::ostringstream os;
+        os << model_.name << ": ";
+        if (it.block) os << "element " << it.block->cellTags[it.cell] << " of set '"
+                         << model_.elementSets[it.set].group << "'";
+        else os << nodeName(mesh_, it.cell);
+        os << ": " << e.what();
+        failure_ = os.str();
+        failureIsInput_ = dynamic_cast<const InputError*>(&e) != nullptr;
+      }
+    }
+    throwIfAnyFailed();
+  }
+
+  /// Collective: throws on every rank the message of the lowest rank whose
+  /// elements failed (InputError if any failure was one, else NumericalError).
+  void throwIfAnyFailed() const {
+    int bad = failure_.empty() ? 0 : (failureIsInput_ ? 2 : 1), anyBad = 0;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, bad, Teuchos::outArg(anyBad));
+    if (!anyBad) return;
+    int src = bad ? rank_ : nranks_, lowest = 0;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, src, Teuchos::outArg(lowest));
+    int len = static_cast<int>(failure_.size());
+    Teuchos::broadcast(*comm_, lowest, Teuchos::outArg(len));
+    std::string msg = failure_;
+    msg.resize(len);
+    Teuchos::broadcast(*comm_, lowest, len, msg.data());
+    if (anyBad == 2) throw InputError(msg);
+    throw NumericalError(msg);
+  }
+
+  /// Collective: the owned matrix of one target, its ghost rows added by
+  /// the Export (ADD); the target's arrays are released.
+  Teuchos::RCP<const CrsMatrix> finish(Target& t) const {
+    CrsMatrix ghost(ghostGraph_, t.ghost);
+    if (!ghost.isFillComplete()) ghost.fillComplete(ownedMap_, ownedMap_);
+    auto A = Teuchos::rcp(new CrsMatrix(ownedGraph_, t.owned));
+    t = Target();
+    A->resumeFill();
+    A->doExport(ghost, *ghostExporter_, Tpetra::ADD);
+    A->fillComplete(ownedMap_, ownedMap_);
+    return A;
+  }
+
+  // 8. The ghost rows sent to their owners: the finished M, K and spin
+  // matrices and the centrifugal load f1. Collective.
+  void exportMatrices() {
+    out_.map = ownedMap_;
+    out_.M = finish(vM_);
+    out_.K = finish(vK_);
+    if (spinning_) out_.G1 = finish(vG_);
+    if (tilt_) out_.KX1 = finish(vKT_);
+    if (rotatingFrame_) {
+      out_.KT1 = finish(vKT_);
+      MultiVector fOverlap(overlapMap_, 1);
+      {
+        auto view = fOverlap.getDataNonConst(0);
+        std::copy(vf_.begin(), vf_.end(), view.begin());
+      }
+      auto f1 = Teuchos::rcp(new MultiVector(ownedMap_, 1));
+      f1->doExport(fOverlap, *exporter_, Tpetra::ADD);
+      out_.f1 = f1;
+    }
+  }
+
+  /// The row of a held or loaded DOF of the PrestressConditions (-1 if the
+  /// model fixes it); an InputError if the node or component does not exist.
+  long long prestressRow(const PrestressConditions::NodalValue& v, const char* what) const {
+    const DofLayout& L = out_.layout;
+    CMS_INPUT_CHECK(v.node < 0 || v.node >= numNodes_,
+                    model_.name << ": prestress " << what << " at node index " << v.node << " (mesh has "
+                                << numNodes_ << " nodes)");
+    CMS_INPUT_CHECK(!(L.present[v.node] & (1u << static_cast<int>(v.component))),
+                    model_.name << ": prestress " << what << " on " << componentName(v.component) << " at "
+                                << nodeName(mesh_, v.node) << ", which has no such DOF");
+    return L.row(v.node, v.component);
+  }
+
+  // 9a. Centrifugal prestress (theory §10): u1 per unit Omega^2, either the
+  // structure's own (it solved the coupled static problem, theory §11.4) or
+  // this substructure's K u1 = f1 + loads with the held DOFs held (§10.2),
+  // whose reactions are recorded. Collective: the solve and the reactions.
+  Teuchos::RCP<const MultiVector> prestressDisplacement() {
+    const DofLayout& L = out_.layout;
+    if (!prestress_.displacement.empty()) {
+      CMS_INPUT_CHECK(static_cast<long long>(prestress_.displacement.size()) != L.size,
+                      model_.name << ": prestress displacement has " << prestress_.displacement.size()
+                                  << " entries for " << L.size << " DOFs");
+      auto u1 = Teuchos::rcp(new MultiVector(ownedMap_, 1));
+      auto uv = u1->getDataNonConst(0);
+      for (std::size_t l = 0; l < ownedMap_->getNodeNumElements(); ++l)
+        uv[l] = prestress_.displacement[ownedMap_->getGlobalElement(static_cast<LocalOrdinal>(l))];
+      return u1;
+    }
+    // Held DOFs and children's loads: rows resolved here, where the layout
+    // is known. A held DOF the model already fixes has no row and needs no
+    // hold; a hold on a component the node does not carry is no constraint.
+    std::vector<long long> heldRows;
+    std::vector<PrestressConditions::NodalValue> heldDofs;
+    for (const auto& h : prestress_.held) {
+      if (h.node >= 0 && h.node < numNodes_ && !(L.present[h.node] & (1u << static_cast<int>(h.component))))
+        continue;
+      const long long r = prestressRow(h, "hold");
+      if (r < 0 || std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
+      heldRows.push_back(r);
+      heldDofs.push_back(h);
+    }
+    auto f = Teuchos::rcp(new MultiVector(*out_.f1, Teuchos::Copy));
+    {
+      auto fv = f->getDataNonConst(0);
+      for (const auto& l : prestress_.loads) {
+        const long long r = prestressRow(l, "load");
+        const auto lid = ownedMap_->getLocalElement(static_cast<GlobalOrdinal>(r));
+        if (r >= 0 && lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += l.value;
+      }
+    }
+    Teuchos::RCP<const CrsMatrix> Ksolve = out_.K;
+    auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
+    if (!heldRows.empty()) {
+      // Held rows and columns replaced by the identity, held loads zeroed:
+      // u1 = 0 there, the rest is the supported problem.
+      const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
+      Ksolve = holdDofsScaled(*out_.K, rows);
+      zeroHeldRows(*fSolve, rows);
+    }
+    SparseDirectSolver solver(Ksolve, "CHOLMOD");
+    const auto outcome = solver.factor();
+    if (outcome != SparseDirectSolver::Outcome::Factored)
+      throw NumericalError(model_.name + ": the centrifugal prestress needs a stiffness matrix that is "
+                           "positive definite (a substructure restrained against rigid-body motion); "
+                           "CHOLMOD: " + solver.failure() +
+                           ". Add boundary conditions or set \"Stress Stiffening\" to false");
+    auto u1 = Teuchos::rcp(new MultiVector(ownedMap_, 1));
+    solver.solve(*fSolve, *u1);
+    if (!heldRows.empty()) recordReactions(*u1, *f, heldRows, heldDofs);
+    return u1;
+  }
+
+  /// The force each hold exerts per unit Omega^2, r = K u1 - f, on every
+  /// rank (a sum over the owners of the held rows). Collective.
+  void recordReactions(const MultiVector& u1, const MultiVector& f, const std::vector<long long>& heldRows,
+                       const std::vector<PrestressConditions::NodalValue>& heldDofs) {
+    MultiVector r(ownedMap_, 1);
+    out_.K->apply(u1, r);
+    r.update(-1.0, f, 1.0);
+    auto rv = r.getData(0);
+    std::vector<double> local(heldRows.size(), 0.0), global(heldRows.size(), 0.0);
+    for (std::size_t i = 0; i < heldRows.size(); ++i) {
+      const auto lid = ownedMap_->getLocalElement(static_cast<GlobalOrdinal>(heldRows[i]));
+      if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local[i] = rv[lid];
+    }
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
+    for (std::size_t i = 0; i < heldDofs.size(); ++i) {
+      out_.reactions1.push_back(heldDofs[i]);
+      out_.reactions1.back().value = global[i];
+    }
+  }
+
+  // 9b. The geometric stiffness KS1 of the element stresses of u1 (theory
+  // §10), a second pass over the local elements on the same pattern (lumped
+  // items carry no stress). Collective: u1's import, the failure reduction
+  // and the export.
+  void assembleGeometricStiffness(const MultiVector& u1) {
+    MultiVector uOverlap(overlapMap_, 1);
+    uOverlap.doImport(u1, Tpetra::Import<>(ownedMap_, overlapMap_), Tpetra::INSERT);
+    auto u = uOverlap.getData(0);
+    const Spin spin = model_.spin->spin;
+    Target vKS = target("KS1");
+    std::vector<double> ue(6 * 27);
+    for (std::size_t local = 0; local < localItems_.size() && failure_.empty(); ++local) {
+      const Item& it = items_[localItems_[local]];
+      if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
+      const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
+      for (auto p = b; p < e; ++p) ue[p - b] = itemLids_[p] >= 0 ? u[itemLids_[p]] : 0.0;
+      try {
+        if (it.kind == Item::Kind::Frame) {
+          const FrameElement fe = frameOf(it);
+          locate(local);
+          // N(x) from the element's equilibrium under its own
+          // centrifugal load: quadratic along it (theory §10).
+          scatter(frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin)), vKS);
+        } else {
+          locate(local);
+          scatter(solidGeometricStiffness(solidOf(it), ue.data()), vKS);
+        }
+      } catch (const std::exception& ex) {
+        failureIsInput_ = dynamic_cast<const InputError*>(&ex) != nullptr;
+        failure_ = model_.name + ": element " + std::to_string(it.block->cellTags[it.cell]) + ": " + ex.what();
+      }
+    }
+    throwIfAnyFailed();
+    out_.KS1 = finish(vKS);
+  }
+
+  const FiniteElementModel& model_;
+  const Mesh& mesh_;
+  Teuchos::RCP<const Teuchos::Comm<int>> comm_;
+  const PrestressConditions& prestress_;
+  const std::int64_t numNodes_;
+  const int rank_, nranks_;
+  AssembledMatrices out_;
+
+  // listItems
+  std::vector<Item> items_;
+  std::size_t numElements_ = 0;
+  // partitionNodes, mapItemRows: rows and maps
+  std::vector<std::size_t> localItems_;  ///< indices into items_ of this rank's items
+  std::vector<GO> overlapGids_;          ///< owned rows, then ghost rows
+  LO numOwned_ = 0, numOverlap_ = 0;
+  Teuchos::RCP<const Map> ownedMap_, overlapMap_, ghostMap_;
+  std::vector<std::int64_t> itemDofStart_;  ///< local item k's rows: itemDofs_[itemDofStart_[k] ..]
+  std::vector<long long> itemDofs_;
+  std::vector<LO> itemLids_;             ///< itemDofs_ as overlap lids (-1: fixed)
+  std::vector<LO> rowLid_;               ///< global row -> overlap lid, until the owned pattern is built
+  std::vector<long long> ghosts_;
+  // buildOverlapPattern, buildOwnedPattern
+  Teuchos::ArrayRCP<std::size_t> rowPtr_;
+  std::vector<LO> cols_;
+  std::size_t ghostBegin_ = 0, ownedNnz_ = 0;
+  Teuchos::RCP<Tpetra::Export<>> exporter_, ghostExporter_;
+  Teuchos::RCP<const Graph> ghostGraph_, ownedGraph_;
+  decltype(std::declval<const Graph&>().getLocalGraphHost()) ownedLocal_;  ///< ownedGraph_'s CSR arrays
+  // assembleElements
+  bool spinning_ = false, rotatingFrame_ = false, tilt_ = false;
+  std::vector<std::int64_t> positions_;
+  std::vector<double> xyz_ = std::vector<double>(3 * 27);
+  Target vM_, vK_, vG_, vKT_;
+  std::vector<double> vf_;
+  std::string failure_;
+  bool failureIsInput_ = false;  ///< an element's data is bad, not the numerics
+};
+
 }  // namespace
 
 int DofLayout::componentCount(std::int64_t node) const {
@@ -138,596 +851,7 @@ AssembledMatrices assemble(const FiniteElementModel& model,
                            const PrestressConditions& prestress) {
   const auto t0 = std::chrono::steady_clock::now();
   model.validate();
-  const Mesh& mesh = *model.mesh;
-  const std::int64_t numNodes = static_cast<std::int64_t>(mesh.nodeCount());
-  const int rank = comm->getRank(), nranks = comm->getSize();
-
-  // 1. Items, in set order: the same list on every rank.
-  std::vector<Item> items;
-  for (std::size_t s = 0; s < model.elementSets.size(); ++s) {
-    const auto& set = model.elementSets[s];
-    const auto kind = set.kind == ElementSet::Kind::Frame ? Item::Kind::Frame : Item::Kind::Solid;
-    for (const CellBlock& b : mesh.group(set.group).blocks)
-      for (std::size_t c = 0; c < b.size(); ++c)
-        items.push_back({kind, static_cast<int>(s), &b, static_cast<std::int64_t>(c), -1});
-  }
-  const std::size_t numElements = items.size();
-  for (std::size_t s = 0; s < model.pointMasses.size(); ++s)
-    for (std::int64_t n : mesh.nodeSet(model.pointMasses[s].nodeSet))
-      items.push_back({Item::Kind::PointMass, static_cast<int>(s), nullptr, n, -1});
-  for (std::size_t s = 0; s < model.springs.size(); ++s) {
-    const auto& sp = model.springs[s];
-    if (sp.toNodeSet.empty()) {
-      for (std::int64_t n : mesh.nodeSet(sp.nodeSet))
-        items.push_back({Item::Kind::GroundSpring, static_cast<int>(s), nullptr, n, -1});
-    } else {
-      for (auto [a, b] : springPairs(mesh, sp))
-        items.push_back({Item::Kind::Spring, static_cast<int>(s), nullptr, a, b});
-    }
-  }
-
-  auto itemNodes = [&](const Item& it, std::int64_t* out) -> int {
-    if (it.block) {
-      const int n = it.block->nodesPerCell;
-      std::copy_n(&it.block->nodes[it.cell * n], n, out);
-      return n;
-    }
-    out[0] = it.cell;
-    if (it.kind == Item::Kind::Spring) { out[1] = it.other; return 2; }
-    return 1;
-  };
-
-  // 2. Components per node (doc/architecture.md, "DOF layout").
-  AssembledMatrices out;
-  DofLayout& L = out.layout;
-  L.present.assign(numNodes, 0);
-  L.fixed.assign(numNodes, 0);
-  std::int64_t nodes[32];
-  for (const Item& it : items) {
-    if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
-    const int nn = itemNodes(it, nodes);
-    for (int a = 0; a < nn; ++a)
-      L.present[nodes[a]] |= it.kind == Item::Kind::Frame ? kAllComponents : kTranslations;
-  }
-  for (const Item& it : items) {
-    if (it.kind == Item::Kind::Frame || it.kind == Item::Kind::Solid) continue;
-    const int nn = itemNodes(it, nodes);
-    const bool rotations = itemNodeDofs(it, model) == 6;
-    const std::string& name =
-        it.kind == Item::Kind::PointMass ? model.pointMasses[it.set].name : model.springs[it.set].name;
-    for (int a = 0; a < nn; ++a) {
-      CMS_INPUT_CHECK(rotations && (L.present[nodes[a]] & kAllComponents) != kAllComponents,
-                      model.name << ": " << (it.kind == Item::Kind::PointMass ? "point mass '" : "spring '")
-                                 << name << "' acts on the rotations of " << nodeName(mesh, nodes[a])
-                                 << ", which has none (only nodes of frame elements do)");
-      L.present[nodes[a]] |= kTranslations;
-    }
-  }
-  {
-    std::vector<std::size_t> loose;
-    for (std::int64_t n = 0; n < numNodes; ++n)
-      if (!L.present[n]) loose.push_back(mesh.nodeTags[n]);
-    if (!loose.empty()) {
-      std::ostringstream os;
-      os << mesh.source << ": " << loose.size()
-         << " node(s) belong to no element set or lumped item (unconnected), e.g. node";
-      for (std::size_t i = 0; i < std::min<std::size_t>(loose.size(), 5); ++i) os << ' ' << loose[i];
-      os << "; add their physical group to an element set or remove them from the mesh";
-      throw InputError(os.str());
-    }
-  }
-  for (const FixedSet& f : model.fixed) {
-    for (std::int64_t n : mesh.nodeSet(f.nodeSet)) {
-      if (f.all) { L.fixed[n] |= L.present[n]; continue; }
-      for (Component c : f.components) {
-        const std::uint8_t bit = 1u << static_cast<int>(c);
-        CMS_INPUT_CHECK(!(L.present[n] & bit), "boundary condition '" << f.name << "' fixes "
-                                                   << componentName(c) << " at " << nodeName(mesh, n)
-                                                   << ", which has no such DOF");
-        L.fixed[n] |= bit;
-      }
-    }
-  }
-  L.first.assign(numNodes, 0);
-  long long next = 0;
-  for (std::int64_t n = 0; n < numNodes; ++n) {
-    L.first[n] = next;
-    next += L.componentCount(n);
-  }
-  L.size = next;
-  CMS_INPUT_CHECK(L.size == 0, model.name << ": every DOF is fixed; nothing to assemble");
-
-  // 3. Ownership: a coordinate-slab partition of the nodes (sorted along the
-  // mesh's longest extent, cut into equal counts), whose rows each rank owns;
-  // an item belongs to the rank owning its first node, so rows shared between
-  // ranks occur only at the slab interfaces. Gmsh numbers boundary entities'
-  // nodes first, so blocks of node numbers were not compact: 14% of the rows
-  // were ghosts on 2 ranks (doc/benchmarks.md, "Assembly"). Rows keep the
-  // mesh-order numbering, so matrices do not depend on the rank count.
-  using GO = GlobalOrdinal;
-  using LO = LocalOrdinal;
-  std::vector<int> owner(numNodes, 0);
-  if (nranks > 1) {
-    int axis = 0;
-    double extent[3];
-    for (int c = 0; c < 3; ++c) {
-      double lo = mesh.x(0)[c], hi = lo;
-      for (std::int64_t n = 1; n < numNodes; ++n) {
-        lo = std::min(lo, mesh.x(n)[c]);
-        hi = std::max(hi, mesh.x(n)[c]);
-      }
-      extent[c] = hi - lo;
-      if (extent[c] > extent[axis]) axis = c;
-    }
-    std::vector<std::int64_t> order(numNodes);
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
-      return mesh.x(a)[axis] < mesh.x(b)[axis];
-    });
-    for (std::int64_t k = 0; k < numNodes; ++k) owner[order[k]] = static_cast<int>(k * nranks / numNodes);
-  }
-  std::vector<std::size_t> localItems;
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    const std::int64_t n0 = items[i].block ? items[i].block->nodes[items[i].cell * items[i].block->nodesPerCell]
-                                           : items[i].cell;
-    if (owner[n0] == rank) localItems.push_back(i);
-  }
-  std::vector<GO> overlapGids;
-  for (std::int64_t n = 0; n < numNodes; ++n)
-    if (owner[n] == rank)
-      for (int c = 0; c < L.componentCount(n); ++c) overlapGids.push_back(static_cast<GO>(L.first[n] + c));
-  const LO numOwned = static_cast<LO>(overlapGids.size());
-  auto ownedMap = Teuchos::rcp(new Map(static_cast<GO>(L.size), Teuchos::ArrayView<const GO>(overlapGids), 0, comm));
-
-  // 4. Each item's global rows (-1 for fixed), then the overlap map: owned
-  // rows first, then the ghost rows in ascending order.
-  std::vector<std::int64_t> itemDofStart(localItems.size() + 1, 0);
-  std::vector<long long> itemDofs;
-  for (std::size_t k = 0; k < localItems.size(); ++k) {
-    const Item& it = items[localItems[k]];
-    const int nn = itemNodes(it, nodes), nd = itemNodeDofs(it, model);
-    for (int a = 0; a < nn; ++a)
-      for (int c = 0; c < nd; ++c) itemDofs.push_back(L.row(nodes[a], static_cast<Component>(c)));
-    itemDofStart[k + 1] = static_cast<std::int64_t>(itemDofs.size());
-  }
-  std::vector<LO> rowLid(L.size, -1);  // global row -> overlap lid (one int per row: 4 MB at 10^6)
-  for (LO l = 0; l < numOwned; ++l) rowLid[overlapGids[l]] = l;
-  std::vector<long long> ghosts;
-  for (long long g : itemDofs)
-    if (g >= 0 && rowLid[g] < 0) ghosts.push_back(g);
-  std::sort(ghosts.begin(), ghosts.end());
-  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
-  const LO numOverlap = numOwned + static_cast<LO>(ghosts.size());
-  for (std::size_t k = 0; k < ghosts.size(); ++k) {
-    rowLid[ghosts[k]] = numOwned + static_cast<LO>(k);
-    overlapGids.push_back(static_cast<GO>(ghosts[k]));
-  }
-  auto overlapMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                         Teuchos::ArrayView<const GO>(overlapGids), 0, comm));
-  std::vector<LO> itemLids(itemDofs.size());
-  std::transform(itemDofs.begin(), itemDofs.end(), itemLids.begin(),
-                 [&](long long g) { return g < 0 ? LO(-1) : rowLid[g]; });
-
-  // 5. The shared CSR pattern over the overlap rows (columns: overlap lids).
-  Teuchos::ArrayRCP<std::size_t> rowPtr(numOverlap + 1, 0);
-  for (std::size_t i = 0; i + 1 < itemDofStart.size(); ++i) {
-    const auto b = itemDofStart[i], e = itemDofStart[i + 1];
-    for (auto p = b; p < e; ++p)
-      if (itemLids[p] >= 0) rowPtr[itemLids[p] + 1] += static_cast<std::size_t>(e - b);
-  }
-  for (LO r = 0; r < numOverlap; ++r) rowPtr[r + 1] += rowPtr[r];
-  std::vector<LO> cols(rowPtr[numOverlap]);
-  {
-    std::vector<std::size_t> fill(rowPtr.begin(), rowPtr.end() - 1);
-    for (std::size_t i = 0; i + 1 < itemDofStart.size(); ++i) {
-      const auto b = itemDofStart[i], e = itemDofStart[i + 1];
-      for (auto p = b; p < e; ++p) {
-        if (itemLids[p] < 0) continue;
-        for (auto q = b; q < e; ++q)
-          if (itemLids[q] >= 0) cols[fill[itemLids[p]]++] = itemLids[q];
-      }
-    }
-  }
-  // Sort and deduplicate each row in place, compacting the arrays.
-  std::size_t write = 0;
-  for (LO r = 0; r < numOverlap; ++r) {
-    const std::size_t b = rowPtr[r], e = rowPtr[r + 1];
-    std::sort(cols.begin() + b, cols.begin() + e);
-    const std::size_t start = write;
-    for (std::size_t p = b; p < e; ++p)
-      if (p == b || cols[p] != cols[p - 1]) cols[write++] = cols[p];
-    rowPtr[r] = start;
-  }
-  rowPtr[numOverlap] = write;
-  cols.resize(write);
-  cols.shrink_to_fit();
-
-  // 6. The owned pattern, before any value is computed. Only the ghost rows
-  // (a slab interface) cross ranks: their pattern is exported once and
-  // merged into the owned rows' own pattern locally; element values are then
-  // scattered straight into the owned rows' final arrays and a small ghost
-  // array, which an Export (ADD) sends to the owners. Exporting every matrix
-  // whole with Tpetra's exportAndFillComplete, or even just the whole
-  // pattern, cost more than the element loop at 10^6 DOFs
-  // (doc/benchmarks.md, "Assembly").
-  Tpetra::Export<> exporter(overlapMap, ownedMap);
-  using Graph = Tpetra::CrsGraph<>;
-  auto ghostMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                       Teuchos::ArrayView<const GO>(ghosts.empty() ? nullptr : overlapGids.data() + numOwned,
-                                                                    ghosts.size()),
-                                       0, comm));
-  const std::size_t ghostBegin = rowPtr[numOwned];
-  Teuchos::RCP<const Graph> ghostGraph;
-  {
-    Teuchos::ArrayRCP<std::size_t> ghostRowPtr(ghosts.size() + 1);
-    for (std::size_t r = 0; r <= ghosts.size(); ++r) ghostRowPtr[r] = rowPtr[numOwned + r] - ghostBegin;
-    Teuchos::ArrayRCP<LO> ghostCols(cols.size() - ghostBegin);
-    std::copy(cols.begin() + ghostBegin, cols.end(), ghostCols.begin());
-    auto g = Teuchos::rcp(new Graph(ghostMap, overlapMap, ghostRowPtr, ghostCols));
-    g->expertStaticFillComplete(ownedMap, ownedMap);
-    ghostGraph = g;
-  }
-  Tpetra::Export<> ghostExporter(ghostMap, ownedMap);
-  // The owned pattern: columns numbered as in the overlap map (so an owned
-  // row's own entries keep their column lids), then the columns only other
-  // ranks' elements bring, appended.
-  Teuchos::ArrayRCP<std::size_t> ownedRowPtr(numOwned + 1, 0);
-  std::vector<LO> ownedCols;
-  std::vector<GO> colGids(overlapGids);
-  {
-    const auto received = Tpetra::exportAndFillCompleteCrsGraph<Graph>(ghostGraph, ghostExporter, ownedMap, ownedMap);
-    const auto rec = received->getLocalGraphHost();
-    const auto& recCols = *received->getColMap();
-    std::unordered_map<GO, LO> extra;
-    ownedCols.reserve(ghostBegin + rec.entries.extent(0));
-    for (LO r = 0; r < numOwned; ++r) {
-      const std::size_t start = ownedCols.size();
-      ownedCols.insert(ownedCols.end(), cols.begin() + rowPtr[r], cols.begin() + rowPtr[r + 1]);
-      const std::size_t rb = rec.row_map(r), re = rec.row_map(r + 1);
-      for (std::size_t p = rb; p < re; ++p) {
-        const GO g = recCols.getGlobalElement(rec.entries(p));
-        LO l = g < static_cast<GO>(rowLid.size()) ? rowLid[g] : -1;
-        if (l < 0) {
-          auto [it, fresh] = extra.emplace(g, static_cast<LO>(colGids.size()));
-          if (fresh) colGids.push_back(g);
-          l = it->second;
-        }
-        ownedCols.push_back(l);
-      }
-      if (re > rb) {
-        std::sort(ownedCols.begin() + start, ownedCols.end());
-        ownedCols.erase(std::unique(ownedCols.begin() + start, ownedCols.end()), ownedCols.end());
-      }
-      ownedRowPtr[r + 1] = ownedCols.size();
-    }
-  }
-  std::vector<LO>().swap(rowLid);
-  auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                     Teuchos::ArrayView<const GO>(colGids), 0, comm));
-  const std::size_t ownedNnz = ownedCols.size();
-  Teuchos::RCP<const Graph> ownedGraph;
-  {
-    Teuchos::ArrayRCP<LO> c(ownedNnz);
-    std::copy(ownedCols.begin(), ownedCols.end(), c.begin());
-    std::vector<LO>().swap(ownedCols);
-    auto g = Teuchos::rcp(new Graph(ownedMap, colMap, ownedRowPtr, c));
-    g->expertStaticFillComplete(ownedMap, ownedMap);
-    ownedGraph = g;
-  }
-
-  // Positions of an item's entries: found once per item (a binary search per
-  // entry) and reused by every matrix of that item. p >= 0: entry p of the
-  // owned arrays; p <= -2: entry -p-2 of the ghost arrays; -1: fixed DOF.
-  const auto owned = ownedGraph->getLocalGraphHost();
-  std::vector<std::int64_t> positions;
-  auto locate = [&](std::size_t local) {
-    const auto b = itemDofStart[local], e = itemDofStart[local + 1];
-    const int n = static_cast<int>(e - b);
-    positions.assign(static_cast<std::size_t>(n) * n, -1);
-    for (int i = 0; i < n; ++i) {
-      const LO r = itemLids[b + i];
-      if (r < 0) continue;
-      const bool mine = r < numOwned;
-      const LO* base = mine ? owned.entries.data() : cols.data();
-      const LO* rb = base + (mine ? owned.row_map(r) : rowPtr[r]);
-      const LO* re = base + (mine ? owned.row_map(r + 1) : rowPtr[r + 1]);
-      for (int j = 0; j < n; ++j) {
-        const LO c = itemLids[b + j];
-        if (c < 0) continue;
-        const std::int64_t at = std::lower_bound(rb, re, c) - base;
-        positions[static_cast<std::size_t>(i) * n + j] =
-            mine ? at : -2 - (at - static_cast<std::int64_t>(ghostBegin));
-      }
-    }
-  };
-  using Values = CrsMatrix::local_matrix_device_type::values_type;  // host memory (Serial node)
-  struct Target {
-    Values owned, ghost;
-  };
-  auto target = [&](const char* name) {
-    return Target{Values(std::string(name) + " owned", ownedNnz), Values(std::string(name) + " ghost", cols.size() - ghostBegin)};
-  };
-  auto scatter = [&](const ElementMatrix& A, Target& t) {
-    const std::size_t nn = positions.size();
-    for (std::size_t k = 0; k < nn; ++k) {
-      const std::int64_t p = positions[k];
-      if (p >= 0) t.owned(p) += A.a[k];
-      else if (p <= -2) t.ghost(-2 - p) += A.a[k];
-    }
-  };
-  auto scatterVector = [&](std::size_t local, const std::vector<double>& f, std::vector<double>& v) {
-    const auto b = itemDofStart[local], e = itemDofStart[local + 1];
-    for (auto p = b; p < e; ++p)
-      if (itemLids[p] >= 0) v[itemLids[p]] += f[p - b];
-  };
-
-  out.setupSeconds = secondsSince(t0);
-  out.localItems = static_cast<long long>(localItems.size());
-  out.ghostRows = static_cast<long long>(ghosts.size());
-  const auto tElements = std::chrono::steady_clock::now();
-  // 7. Element matrices. Errors are collected and reduced so every rank
-  // throws together (a rank's own elements may be the only bad ones).
-  const bool spinning = model.spin.has_value();
-  const bool rotatingFrame = spinning && model.spin->frame == SpinDefinition::Frame::Rotating;
-  const Spin spin = spinning ? model.spin->spin : Spin{};
-  Target vM = target("M"), vK = target("K"), vG, vKT;
-  std::vector<double> vf;
-  if (spinning) vG = target("G1");
-  const bool tilt = spinning && !rotatingFrame && model.spin->frameAxis.has_value();
-  if (rotatingFrame) { vKT = target("KT1"); vf.assign(numOverlap, 0.0); }
-  if (tilt) vKT = target("KX1");
-
-  auto frameOf = [&](const Item& it) {
-    const auto& set = model.elementSets[it.set];
-    FrameElement fe;
-    const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
-    std::copy_n(mesh.x(cn[0]), 3, fe.x1.begin());
-    std::copy_n(mesh.x(cn[1]), 3, fe.x2.begin());
-    fe.material = model.materials.at(set.material);
-    fe.section = set.section;
-    fe.theory = set.theory;
-    return fe;
-  };
-  std::vector<double> xyz(3 * 27);
-  auto solidOf = [&](const Item& it) {
-    const auto& set = model.elementSets[it.set];
-    const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
-    for (int a = 0; a < it.block->nodesPerCell; ++a) std::copy_n(mesh.x(cn[a]), 3, &xyz[3 * a]);
-    return SolidElement{solidTypeOf(it.block->type), xyz.data(), model.materials.at(set.material)};
-  };
-  auto pointMassOf = [&](const Item& it) {
-    PointMass p;
-    p.m = model.pointMasses[it.set].mass;
-    p.inertia = model.pointMasses[it.set].inertia;
-    std::copy_n(mesh.x(it.cell), 3, p.x.begin());
-    return p;
-  };
-
-  std::string failure;
-  bool failureIsInput = false;  // an element's data is bad, not the numerics
-  for (std::size_t local = 0; local < localItems.size() && failure.empty(); ++local) {
-    const Item& it = items[localItems[local]];
-    const int nd = itemNodeDofs(it, model);
-    try {
-      ItemMatrices m;
-      switch (it.kind) {
-        case Item::Kind::Frame: {
-          const FrameElement fe = frameOf(it);
-          m.K = frameStiffness(fe);
-          m.M = frameMass(fe);
-          if (rotatingFrame) m.spin = frameSpinMatrices(fe, spin);
-          else if (spinning) m.spin.G1 = frameStationaryGyroscopic(fe, spin.axis);
-          if (tilt) m.spin.KT1 = frameStationaryTiltStiffness(fe, spin.axis, *model.spin->frameAxis);
-          break;
-        }
-        case Item::Kind::Solid: {
-          const SolidElement se = solidOf(it);
-          m.K = solidStiffness(se);
-          m.M = solidMass(se);
-          if (rotatingFrame) m.spin = solidSpinMatrices(se, spin);
-          break;
-        }
-        case Item::Kind::PointMass: {
-          const PointMass p = pointMassOf(it);
-          m.M = pointMassMatrix(p, nd);
-          m.K = ElementMatrix(nd);
-          if (rotatingFrame) m.spin = pointMassSpinMatrices(p, spin, nd);
-          else if (spinning && nd == 6) m.spin.G1 = pointMassStationaryGyroscopic(p, spin.axis);
-          if (tilt && nd == 6) m.spin.KT1 = pointMassStationaryTiltStiffness(p, spin.axis, *model.spin->frameAxis);
-          break;
-        }
-        case Item::Kind::GroundSpring:
-          m.K = groundedSpringMatrix(model.springs[it.set].stiffness, nd);
-          break;
-        case Item::Kind::Spring:
-          m.K = twoNodeSpringMatrix(model.springs[it.set].stiffness, nd);
-          break;
-      }
-      locate(local);
-      scatter(m.K, vK);
-      if (m.M.n) scatter(m.M, vM);
-      if (m.spin.G1.n) scatter(m.spin.G1, vG);
-      if ((rotatingFrame || tilt) && m.spin.KT1.n) scatter(m.spin.KT1, vKT);
-      if (rotatingFrame && !m.spin.f1.empty()) scatterVector(local, m.spin.f1, vf);
-    } catch (const std::exception& e) {
-      std::ostringstream os;
-      os << model.name << ": ";
-      if (it.block) os << "element " << it.block->cellTags[it.cell] << " of set '"
-                       << model.elementSets[it.set].group << "'";
-      else os << nodeName(mesh, it.cell);
-      os << ": " << e.what();
-      failure = os.str();
-      failureIsInput = dynamic_cast<const InputError*>(&e) != nullptr;
-    }
-  }
-  auto throwIfAnyFailed = [&](const std::string& what) {
-    int bad = what.empty() ? 0 : (failureIsInput ? 2 : 1), anyBad = 0;
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, bad, Teuchos::outArg(anyBad));
-    if (!anyBad) return;
-    // The message of the lowest failing rank, on every rank.
-    int src = bad ? rank : nranks, lowest = 0;
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, src, Teuchos::outArg(lowest));
-    int len = static_cast<int>(what.size());
-    Teuchos::broadcast(*comm, lowest, Teuchos::outArg(len));
-    std::string msg = what;
-    msg.resize(len);
-    Teuchos::broadcast(*comm, lowest, len, msg.data());
-    if (anyBad == 2) throw InputError(msg);
-    throw NumericalError(msg);
-  };
-  throwIfAnyFailed(failure);
-  out.elementSeconds = secondsSince(tElements);
-  const auto tExport = std::chrono::steady_clock::now();
-
-  auto finish = [&](Target& t) -> Teuchos::RCP<const CrsMatrix> {
-    CrsMatrix ghost(ghostGraph, t.ghost);
-    if (!ghost.isFillComplete()) ghost.fillComplete(ownedMap, ownedMap);
-    auto A = Teuchos::rcp(new CrsMatrix(ownedGraph, t.owned));
-    t = Target();
-    A->resumeFill();
-    A->doExport(ghost, ghostExporter, Tpetra::ADD);
-    A->fillComplete(ownedMap, ownedMap);
-    return A;
-  };
-  out.map = ownedMap;
-  out.M = finish(vM);
-  out.K = finish(vK);
-  if (spinning) out.G1 = finish(vG);
-  if (tilt) out.KX1 = finish(vKT);
-  if (rotatingFrame) {
-    out.KT1 = finish(vKT);
-    MultiVector fOverlap(overlapMap, 1);
-    {
-      auto view = fOverlap.getDataNonConst(0);
-      std::copy(vf.begin(), vf.end(), view.begin());
-    }
-    auto f1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
-    f1->doExport(fOverlap, exporter, Tpetra::ADD);
-    out.f1 = f1;
-  }
-  out.elementCount = static_cast<long long>(numElements);
-  out.exportSeconds = secondsSince(tExport);
-  out.assemblySeconds = secondsSince(t0);
-
-  // 8. Centrifugal prestress (theory §10): K u1 = f1 per unit Omega^2, then
-  // the geometric stiffness of the element stresses of u1.
-  CMS_INPUT_CHECK(!prestress.empty() && !(rotatingFrame && model.spin->stressStiffening),
-                  model.name << ": prestress conditions given, but the model has no rotating-frame "
-                                "spin with stress stiffening");
-  if (rotatingFrame && model.spin->stressStiffening) {
-    const auto t1 = std::chrono::steady_clock::now();
-    // Held DOFs and children's loads (theory §10.2): rows resolved here,
-    // where the layout is known. A held DOF the model already fixes has no
-    // row and needs no hold.
-    auto rowOf = [&](const PrestressConditions::NodalValue& v, const char* what) {
-      CMS_INPUT_CHECK(v.node < 0 || v.node >= numNodes,
-                      model.name << ": prestress " << what << " at node index " << v.node << " (mesh has "
-                                 << numNodes << " nodes)");
-      CMS_INPUT_CHECK(!(L.present[v.node] & (1u << static_cast<int>(v.component))),
-                      model.name << ": prestress " << what << " on " << componentName(v.component) << " at "
-                                 << nodeName(mesh, v.node) << ", which has no such DOF");
-      return L.row(v.node, v.component);
-    };
-    Teuchos::RCP<MultiVector> u1;
-    if (!prestress.displacement.empty()) {
-      // The structure solved the coupled static problem (theory §11.4): use
-      // its u1 on this substructure's rows.
-      CMS_INPUT_CHECK(static_cast<long long>(prestress.displacement.size()) != L.size,
-                      model.name << ": prestress displacement has " << prestress.displacement.size()
-                                 << " entries for " << L.size << " DOFs");
-      u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
-      auto uv = u1->getDataNonConst(0);
-      for (std::size_t l = 0; l < ownedMap->getNodeNumElements(); ++l)
-        uv[l] = prestress.displacement[ownedMap->getGlobalElement(static_cast<LocalOrdinal>(l))];
-      out.u1 = u1;
-    } else {
-      std::vector<long long> heldRows;
-      std::vector<PrestressConditions::NodalValue> heldDofs;
-      for (const auto& h : prestress.held) {
-        // A hold on a component the node does not carry is no constraint.
-        if (h.node >= 0 && h.node < numNodes && !(L.present[h.node] & (1u << static_cast<int>(h.component))))
-          continue;
-        const long long r = rowOf(h, "hold");
-        if (r < 0 || std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
-        heldRows.push_back(r);
-        heldDofs.push_back(h);
-      }
-      auto f = Teuchos::rcp(new MultiVector(*out.f1, Teuchos::Copy));
-      {
-        auto fv = f->getDataNonConst(0);
-        for (const auto& l : prestress.loads) {
-          const long long r = rowOf(l, "load");
-          const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(r));
-          if (r >= 0 && lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += l.value;
-        }
-      }
-      Teuchos::RCP<const CrsMatrix> Ksolve = out.K;
-      auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
-      if (!heldRows.empty()) {
-        // Held rows and columns replaced by the identity, held loads zeroed:
-        // u1 = 0 there, the rest is the supported problem.
-        const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
-        Ksolve = holdDofsScaled(*out.K, rows);
-        zeroHeldRows(*fSolve, rows);
-      }
-      SparseDirectSolver solver(Ksolve, "CHOLMOD");
-      const auto outcome = solver.factor();
-      if (outcome != SparseDirectSolver::Outcome::Factored)
-        throw NumericalError(model.name + ": the centrifugal prestress needs a stiffness matrix that is "
-                             "positive definite (a substructure restrained against rigid-body motion); "
-                             "CHOLMOD: " + solver.failure() +
-                             ". Add boundary conditions or set \"Stress Stiffening\" to false");
-      u1 = Teuchos::rcp(new MultiVector(ownedMap, 1));
-      solver.solve(*fSolve, *u1);
-      out.u1 = u1;
-      if (!heldRows.empty()) {
-        MultiVector r(ownedMap, 1);
-        out.K->apply(*u1, r);
-        r.update(-1.0, *f, 1.0);
-        auto rv = r.getData(0);
-        std::vector<double> local(heldRows.size(), 0.0), global(heldRows.size(), 0.0);
-        for (std::size_t i = 0; i < heldRows.size(); ++i) {
-          const auto lid = ownedMap->getLocalElement(static_cast<GlobalOrdinal>(heldRows[i]));
-          if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local[i] = rv[lid];
-        }
-        Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
-        for (std::size_t i = 0; i < heldDofs.size(); ++i) {
-          out.reactions1.push_back(heldDofs[i]);
-          out.reactions1.back().value = global[i];
-        }
-      }
-    }
-    MultiVector uOverlap(overlapMap, 1);
-    uOverlap.doImport(*u1, Tpetra::Import<>(ownedMap, overlapMap), Tpetra::INSERT);
-    auto u = uOverlap.getData(0);
-    Target vKS = target("KS1");
-    std::vector<double> ue(6 * 27);
-    for (std::size_t local = 0; local < localItems.size() && failure.empty(); ++local) {
-      const Item& it = items[localItems[local]];
-      if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
-      const auto b = itemDofStart[local], e = itemDofStart[local + 1];
-      for (auto p = b; p < e; ++p) ue[p - b] = itemLids[p] >= 0 ? u[itemLids[p]] : 0.0;
-      try {
-        if (it.kind == Item::Kind::Frame) {
-          const FrameElement fe = frameOf(it);
-          locate(local);
-          // N(x) from the element's equilibrium under its own
-          // centrifugal load: quadratic along it (theory §10).
-          scatter(frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin)), vKS);
-        } else {
-          locate(local);
-          scatter(solidGeometricStiffness(solidOf(it), ue.data()), vKS);
-        }
-      } catch (const std::exception& ex) {
-        failureIsInput = dynamic_cast<const InputError*>(&ex) != nullptr;
-        failure = model.name + ": element " + std::to_string(it.block->cellTags[it.cell]) + ": " + ex.what();
-      }
-    }
-    throwIfAnyFailed(failure);
-    out.KS1 = finish(vKS);
-    out.prestressSeconds = secondsSince(t1);
-  }
-  return out;
+  return Assembler(model, comm, prestress).run(t0);
 }
 
 }  // namespace cms::fem

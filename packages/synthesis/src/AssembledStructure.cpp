@@ -234,6 +234,408 @@ std::vector<detail::NodalCoefficient> referenceDofs(const fem::Mesh& mesh, const
   return out;
 }
 
+using Part = AssembledStructure::Part;
+using Parts = std::vector<std::shared_ptr<Part>>;
+
+std::string who(const Part& p) { return "substructure '" + p.spec.name + "' (" + toString(p.spec.kind) + ")"; }
+
+// 1. Tree order (pre-order from C): parents before children, so frames
+// and attachment maps can be worked out in one pass; each part knows its
+// parent's and children's indices.
+Parts orderParts(const StructureDescription& d) {
+  const int nsub = static_cast<int>(d.substructures.size());
+  std::vector<std::vector<int>> children(nsub);
+  int root = -1;
+  for (int i = 0; i < nsub; ++i) {
+    if (d.substructures[i].kind == SubstructureKind::Central) root = i;
+    else children[d.find(d.substructures[i].parent)].push_back(i);
+  }
+  std::vector<int> order, partOf(nsub, -1);
+  std::function<void(int)> visit = [&](int i) {
+    partOf[i] = static_cast<int>(order.size());
+    order.push_back(i);
+    for (int c : children[i]) visit(c);
+  };
+  visit(root);
+  Parts parts;
+  for (int i : order) {
+    auto p = std::make_shared<Part>();
+    p->spec = d.substructures[i];
+    p->parent = p->spec.parent.empty() ? -1 : partOf[d.find(p->spec.parent)];
+    for (int c : children[i]) p->children.push_back(partOf[c]);
+    parts.push_back(p);
+  }
+  return parts;
+}
+
+/// A rotor (A) spins in its own frame (Rotating: its attachment must be
+/// immovable; about its parent frame's axis if that spins), in its parent's
+/// (Stationary: axisymmetric, parent frame not spinning), or, stationary
+/// inside a spinning frame, as a compound spin (theory §11.5).
+void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
+  const Vec3 a = unit(p.spec.spin->axis);
+  if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary && inherited.spinning) {
+    // Compound spin (theory §11.5): the parent frame's terms as for an
+    // E, plus the rotor's own spin (G1 per omega) and the cross
+    // stiffness per Omega omega, from a second, stationary assembly.
+    CMS_INPUT_CHECK(inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                    who(p) << ": a stationary-frame rotor on the stationary-frame rotor '" << parent->spec.name
+                           << "' (not supported)");
+    p.frame = inherited;
+    p.compound = true;
+  } else if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
+    p.frame.spinning = true;
+    p.frame.kind = fem::SpinDefinition::Frame::Stationary;
+    p.frame.axis = a;
+    p.frame.origin = p.point;
+    p.frame.coefficients = {{p.speedParam, 1.0}};
+    p.frame.stressStiffening = false;
+  } else {
+    CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                    who(p) << ": a rotating-frame rotor on the stationary-frame rotor '" << parent->spec.name
+                           << "' (not supported)");
+    p.frame.spinning = true;
+    p.frame.axis = a;
+    p.frame.origin = p.point;
+    p.frame.coefficients = inherited.coefficients;
+    p.frame.coefficients.push_back({p.speedParam, 1.0});
+    p.frame.stressStiffening = p.spec.spin->stressStiffening;
+    if (inherited.spinning) {
+      // Absolute spin (Omega_parent + omega) e about one fixed line:
+      // a steady frame only if the two axes are one line.
+      const double scale = std::max(1.0, norm(sub(p.point, inherited.origin)));
+      CMS_INPUT_CHECK(norm(cross(a, inherited.axis)) > 1e-9 ||
+                          norm(cross(sub(p.point, inherited.origin), inherited.axis)) > 1e-9 * scale,
+                      who(p) << ": its spin axis is not the axis of its spinning parent's frame ('"
+                             << parent->spec.name << "'): the coefficients would be periodic");
+    }
+  }
+}
+
+// 2. Frames and spin parameters (§11.1) of one part, its parent's already
+// set: its attachment point and map H, its own speed parameter, and its
+// frame. C's spin is the frame of C and of every E below it; an A spins
+// in its own frame or its parent's (setRotorFrame); an R spins relative to
+// its parent's frame. Combinations with periodic coefficients are refused.
+void setFrame(Part& p, const Part* parent, std::vector<SpeedParameter>& speeds) {
+  if (p.spec.kind != SubstructureKind::Central) {
+    // Attachment point and map (the parent's model exists: R has no children).
+    if (p.spec.attachment.type == Attachment::Type::Boolean)
+      p.H = booleanMap(p.spec, parent->spec, p.point, p.booleanDofs);
+    else
+      p.H = attachmentMap(p.spec, parent->spec, p.point);
+  }
+  if (p.spec.spin) {
+    p.speedParam = static_cast<int>(speeds.size());
+    speeds.push_back({p.spec.name, p.spec.spin->rate});
+  }
+  const Frame inherited = parent ? parent->frame : Frame();
+  switch (p.spec.kind) {
+    case SubstructureKind::Central:
+      if (p.spec.spin) {
+        p.frame.spinning = true;
+        p.frame.axis = unit(p.spec.spin->axis);
+        p.frame.origin = p.spec.spin->origin;
+        p.frame.coefficients = {{p.speedParam, 1.0}};
+        p.frame.stressStiffening = p.spec.spin->stressStiffening;
+      }
+      break;
+    case SubstructureKind::Elastic:
+      CMS_INPUT_CHECK(parent->compound, who(p) << ": attached to the spinning rotor '" << parent->spec.name
+                                               << "', it would spin with it: its coefficients are periodic "
+                                                  "(not supported)");
+      CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                      who(p) << ": attached to the stationary-frame rotor '" << parent->spec.name
+                             << "', it would spin with it: its coefficients are periodic (not supported)");
+      p.frame = inherited;
+      break;
+    case SubstructureKind::Rigid:
+      CMS_INPUT_CHECK(parent->compound, who(p) << ": a rotor on the spinning rotor '" << parent->spec.name
+                                               << "' has periodic coefficients (not supported)");
+      CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                      who(p) << ": a rotor on the stationary-frame rotor '" << parent->spec.name
+                             << "' has periodic coefficients (not supported)");
+      p.frame = inherited;  // the wheel's transport frame
+      break;
+    case SubstructureKind::Rotating:
+      setRotorFrame(p, parent, inherited);
+      break;
+  }
+}
+
+// 3. Held DOFs (attachment of an elastic child; a free C's reference, whose
+// point is the node or the set's centroid) as nodal DOFs, before assembly:
+// the prestress solves hold them.
+void setHeldDofs(Part& p, const std::string& freeReference) {
+  if (p.spec.kind == SubstructureKind::Rigid) return;
+  const fem::Mesh& mesh = *p.spec.model->mesh;
+  if (p.spec.kind == SubstructureKind::Central) {
+    if (freeReference.empty()) return;
+    const auto nodes = nodeSet(p.spec, freeReference, "free reference");
+    p.point = nodes.size() == 1 ? nodePosition(mesh, nodes.front()) : centroid(mesh, nodes);
+    p.floating = true;
+    if (nodes.size() == 1) {
+      for (int c = 0; c < 6; ++c) p.heldDofs.push_back({nodes.front(), static_cast<Component>(c), 1.0});
+    } else {
+      p.heldDofs = referenceDofs(mesh, nodes, p.point, who(p));
+    }
+    return;
+  }
+  for (auto n : nodeSet(p.spec, p.spec.attachment.childNodes, "attachment"))
+    for (int c = 0; c < 6; ++c) p.heldDofs.push_back({n, static_cast<Component>(c), 1.0});
+}
+
+// 4. A rigid rotor's matrices: M on a = (u_P, theta), the parent frame's
+// transport terms (a point mass with inertia J, theory §9.3) and the
+// wheel's own gyroscopic and frame-coupling terms (§11.5); its centrifugal
+// force goes to the parent's prestress loads.
+void buildRigidRotor(Part& p, Part& parent) {
+  const Vec3 a = unit(p.spec.spin->axis);
+  const auto& r = p.spec.rotor;
+  fem::PointMass pm;
+  pm.m = r.mass;
+  pm.x = p.point;
+  double J[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) J[i][j] = r.transverseInertia * ((i == j) - a[i] * a[j]) + r.axialInertia * a[i] * a[j];
+  pm.inertia = {J[0][0], J[1][1], J[2][2], J[0][1], J[1][2], J[0][2]};
+  // With a free spin angle phi: omega_z = w + phi' + a'.(Omega e + w_rel)
+  // adds Ia phi'^2 / 2 + Ia phi' a.theta' (mass) and Ia Omega phi' (a x e).theta
+  // (gyroscopic, per unit frame speed) to the Lagrangian (theory §11.5).
+  const int n = r.spinCoordinate ? 7 : 6;
+  auto grow = [n](const fem::ElementMatrix& E) {
+    fem::ElementMatrix F(n);
+    for (int i = 0; i < E.n; ++i)
+      for (int j = 0; j < E.n; ++j) F(i, j) = E(i, j);
+    return F;
+  };
+  p.rotor.M = grow(fem::pointMassMatrix(pm, 6));
+  if (r.spinCoordinate) {
+    p.rotor.M(6, 6) = r.axialInertia;
+    for (int i = 0; i < 3; ++i) p.rotor.M(6, 3 + i) = p.rotor.M(3 + i, 6) = r.axialInertia * a[i];
+  }
+  const fem::ElementMatrix Gw = grow(fem::pointMassStationaryGyroscopic(pm, a));
+  p.rotor.G.push_back({p.speedParam, Gw});
+  if (!p.frame.spinning) return;
+  const fem::SpinMatrices sm = fem::pointMassSpinMatrices(pm, fem::Spin{p.frame.axis, p.frame.origin}, 6);
+  for (auto [i, ci] : p.frame.coefficients) {
+    fem::ElementMatrix G = grow(sm.G1);
+    for (double& v : G.a) v *= ci;
+    if (r.spinCoordinate) {
+      // L has phi' c.theta with c = Ia (a x e): F(theta, phi) = c, G = F^T - F.
+      const Vec3 c = cross(a, p.frame.axis);
+      for (int x = 0; x < 3; ++x) {
+        G(6, 3 + x) += ci * r.axialInertia * c[x];
+        G(3 + x, 6) -= ci * r.axialInertia * c[x];
+      }
+    }
+    p.rotor.G.push_back({i, G});
+    for (auto [j, cj] : p.frame.coefficients) {
+      if (j < i) continue;
+      fem::ElementMatrix K = grow(sm.KT1);
+      for (double& v : K.a) v *= -(i == j ? ci * cj : 2.0 * ci * cj);
+      p.rotor.K.push_back({i, j, K});
+    }
+    // theta-theta coupling of the wheel's momentum h = Ia w with the
+    // frame's rotation: -Ia (sym(e a^T) - (e.a) I) per unit Omega w.
+    const Vec3& e = p.frame.axis;
+    const double ea = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
+    fem::ElementMatrix K(n);
+    for (int x = 0; x < 3; ++x)
+      for (int y = 0; y < 3; ++y)
+        K(3 + x, 3 + y) = -ci * r.axialInertia * (0.5 * (e[x] * a[y] + a[x] * e[y]) - (x == y ? ea : 0.0));
+    p.rotor.K.push_back({std::min(i, p.speedParam), std::max(i, p.speedParam), K});
+  }
+  // Its centrifugal force on the parent's prestress, through H^T.
+  p.rotor.f1.assign(sm.f1.begin(), sm.f1.end());
+  p.rotor.f1.resize(n, 0.0);
+  if (parent.frame.kind == fem::SpinDefinition::Frame::Rotating && parent.frame.stressStiffening)
+    for (std::size_t k = 0; k < 6; ++k)
+      for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * sm.f1[k]});
+}
+
+// 5. One elastic part assembled: its model gets its frame's spin; its
+// prestress holds its attachment and carries its children's reactions
+// (§11.4), which is why parts are assembled leaves first. A compound rotor
+// is assembled a second time in its own stationary frame. Collective.
+void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  fem::FiniteElementModel model = *p.spec.model;
+  model.name = p.spec.name;
+  if (p.frame.spinning)
+    model.spin = fem::SpinDefinition{fem::Spin{p.frame.axis, p.frame.origin}, p.frame.kind,
+                                     p.frame.stressStiffening};
+  fem::PrestressConditions pc;
+  if (p.frame.spinning && p.frame.kind == fem::SpinDefinition::Frame::Rotating && p.frame.stressStiffening) {
+    for (const auto& h : p.heldDofs) pc.held.push_back({h.node, h.component, 0.0});
+    pc.loads = p.childLoads;
+  }
+  p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+  if (p.compound) {
+    fem::FiniteElementModel own = *p.spec.model;
+    own.name = p.spec.name;
+    fem::SpinDefinition sd;
+    sd.spin = fem::Spin{unit(p.spec.spin->axis), p.point};
+    sd.frame = fem::SpinDefinition::Frame::Stationary;
+    sd.stressStiffening = false;
+    sd.frameAxis = p.frame.axis;
+    own.spin = sd;
+    p.stationary = substructure::Substructure::fromFiniteElementModel(own, comm);
+  }
+}
+
+/// A prestressed part's reaction, as generalised forces on its attachment
+/// coordinates a (F_a = -X^T r), passed to its parent through H^T when both
+/// spin in the same frame (an A on an immovable attachment: the support
+/// takes it).
+void passReactionToParent(const Part& p, Part& parent) {
+  if (parent.frame.coefficients != p.frame.coefficients) return;
+  std::vector<double> Fa(p.H.size(), 0.0);
+  const fem::Mesh& mesh = *p.spec.model->mesh;
+  for (const auto& r : p.sub->prestressReactions()) {
+    const auto x = p.attachmentRow(nodePosition(mesh, r.node), r.node, static_cast<int>(r.component));
+    for (std::size_t k = 0; k < Fa.size(); ++k) Fa[k] -= x[k] * r.value;
+  }
+  for (std::size_t k = 0; k < Fa.size(); ++k)
+    if (Fa[k] != 0.0)  // a Boolean interface's rotations at solid nodes carry nothing
+      for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * Fa[k]});
+}
+
+/// A free structure spins steadily only about a principal axis through its
+/// centre of mass: otherwise its centrifugal loads do not balance and the
+/// reference carries a reaction (theory §11.4). There is then no steady
+/// state to linearise about: refuse rather than answer.
+void checkFreeSpinBalances(const Part& c) {
+  double reaction = 0.0, load = c.sub->f1()->getVector(0)->norm2();
+  for (const auto& r : c.sub->prestressReactions()) reaction = std::max(reaction, std::abs(r.value));
+  for (const auto& l : c.childLoads) load += std::abs(l.value);
+  CMS_INPUT_CHECK(reaction > 1e-6 * load,
+                  who(c) << ": the free structure's centrifugal loads do not balance (reaction " << reaction
+                         << " at the reference, loads " << load << ", per (rad/s)^2): the spin axis is not a "
+                            "principal axis through the centre of mass, so there is no steady spin to "
+                            "linearise about");
+}
+
+// 6a. Held nodal DOFs as sorted rows of the part's own layout; a free
+// reference must give the six of a rigid motion.
+void resolveHeldRows(Part& p, const std::string& freeReference) {
+  const auto& t = p.sub->dofs();
+  for (const auto& h : p.heldDofs) {
+    const long long r = t.row(h.node, h.component);
+    if (r >= 0) p.held.push_back(static_cast<GlobalOrdinal>(r));
+  }
+  std::sort(p.held.begin(), p.held.end());
+  p.held.erase(std::unique(p.held.begin(), p.held.end()), p.held.end());
+  if (p.floating)
+    CMS_INPUT_CHECK(p.held.size() != 6,
+                    who(p) << ": the free reference '" << freeReference << "' gives " << p.held.size()
+                           << " DOFs, not the six of a rigid motion (one node needs rotations)");
+}
+
+// 6b. The attachment map H as rows of the parent's layout, and the checks
+// only the layouts allow: a Node attachment needs the parent node's
+// rotations, a Boolean interface a parent DOF for each child DOF, and a
+// rotor spinning in its own frame an immovable attachment.
+void resolveAttachmentRows(Part& p, const Part& parent) {
+  const auto& t = parent.sub->dofs();
+  bool rotations = false;
+  p.Hrows.assign(p.H.size(), {});
+  for (std::size_t k = 0; k < p.H.size(); ++k)
+    for (const auto& h : p.H[k]) {
+      const long long r = t.row(h.node, h.component);
+      if (h.component >= Component::RX && r >= 0) rotations = true;
+      if (r >= 0) p.Hrows[k].push_back({static_cast<GlobalOrdinal>(r), h.coefficient});
+    }
+  if (p.spec.attachment.type == Attachment::Type::Node) {
+    const auto n = p.H[3].empty() ? -1 : p.H[3].front().node;
+    bool anyRow = false;
+    for (const auto& h : p.Hrows) anyRow = anyRow || !h.empty();
+    CMS_INPUT_CHECK(anyRow && !rotations && n >= 0 && t.row(n, Component::RX) < 0 && t.row(n, Component::RY) < 0 &&
+                        t.row(n, Component::RZ) < 0 && t.row(n, Component::UX) >= 0,
+                    who(p) << ": the parent node in '" << p.spec.attachment.parentNodes << "' of '"
+                           << parent.spec.name << "' has no rotational DOFs; a solid needs a RigidFit attachment");
+  }
+  if (p.boolean()) {
+    // Each child DOF needs a parent DOF: a component the parent's node does
+    // not carry (a frame child on a solid parent) would be clamped silently.
+    const auto& ct = p.sub->dofs();
+    for (std::size_t k = 0; k < p.booleanDofs.size(); ++k) {
+      const auto [cnode, comp] = p.booleanDofs[k];
+      const auto pnode = p.H[k].front().node;
+      const bool parentHasNode = t.offsets[pnode + 1] > t.offsets[pnode];
+      CMS_INPUT_CHECK(ct.row(cnode, comp) >= 0 && t.row(pnode, comp) < 0 && parentHasNode &&
+                          comp >= Component::RX && t.row(pnode, Component::RX) < 0 &&
+                          t.row(pnode, Component::RY) < 0 && t.row(pnode, Component::RZ) < 0,
+                      who(p) << ": Boolean interface node " << ct.nodeIds[cnode] << " has rotations, the node of '"
+                             << parent.spec.name << "' it meets has none (use a Node or RigidFit attachment)");
+    }
+  }
+  if (p.spec.kind == SubstructureKind::Rotating && !p.compound &&
+      p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
+    bool moves = false;
+    for (const auto& h : p.Hrows) moves = moves || !h.empty();
+    CMS_INPUT_CHECK(moves, who(p) << ": spins in its own frame relative to '" << parent.spec.name
+                                  << "', whose attachment moves: the coefficients are periodic. Supported: "
+                                     "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "
+                                     "axisymmetric rotor");
+  }
+}
+
+// 7. A Boolean interface deforms, so holding it in the child's prestress
+// solve is not exact (K Psi != 0): solve the coupled static problem of one
+// frame family (the parts spinning with these coefficients) on the truth
+// model and give each of its substructures its own part of u1, reassembled
+// (theory §11.4). Returns how many were reassembled. Collective.
+int solveFamilyPrestress(const AssembledStructure& out, const std::vector<std::pair<int, double>>& family) {
+  const Parts& parts = out.parts();
+  const auto comm = out.comm();
+  const auto truth = SynthesizedStructure::synthesize(out, true);
+  const auto& T = truth.transforms();
+  auto K = truth.system(std::vector<double>(out.speeds().size(), 0.0)).K;
+  if (out.freeFloating()) K = holdDofsScaled(*K, {0, 1, 2, 3, 4, 5});
+  MultiVector f(truth.coordinateMap(), 1);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const Part& q = *parts[k];
+    if (q.frame.coefficients != family) continue;
+    if (q.prestressed()) {
+      T[k]->apply(*q.sub->f1(), f, Teuchos::TRANS, 1.0, 1.0);
+    } else if (q.spec.kind == SubstructureKind::Rigid && !q.rotor.f1.empty()) {
+      MultiVector fr(T[k]->getRangeMap(), 1);
+      for (std::size_t l = 0; l < fr.getLocalLength(); ++l)
+        fr.replaceLocalValue(l, 0, q.rotor.f1[T[k]->getRangeMap()->getGlobalElement(static_cast<LocalOrdinal>(l))]);
+      T[k]->apply(fr, f, Teuchos::TRANS, 1.0, 1.0);
+    }
+  }
+  if (out.freeFloating()) zeroHeldRows(f, {0, 1, 2, 3, 4, 5});
+  SparseDirectSolver solver(K, "CHOLMOD");
+  if (solver.factor() != SparseDirectSolver::Outcome::Factored)
+    throw NumericalError("structure: the coupled centrifugal prestress needs a positive definite stiffness "
+                         "(CHOLMOD: " + solver.failure() + ")");
+  MultiVector q1(truth.coordinateMap(), 1);
+  solver.solve(f, q1);
+  int count = 0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    Part& q = *parts[k];
+    if (!q.prestressed() || q.frame.coefficients != family) continue;
+    const auto map = T[k]->getRangeMap();
+    MultiVector u(map, 1);
+    T[k]->apply(q1, u);
+    const auto n = static_cast<GlobalOrdinal>(q.sub->dofs().rows());
+    auto rep = Teuchos::rcp(new Map(n, 0, comm, Tpetra::LocallyReplicated));
+    MultiVector ur(rep, 1);
+    ur.doImport(u, Tpetra::Import<>(map, rep), Tpetra::INSERT);
+    fem::FiniteElementModel model = *q.spec.model;
+    model.name = q.spec.name;
+    model.spin = fem::SpinDefinition{fem::Spin{q.frame.axis, q.frame.origin}, q.frame.kind, true};
+    fem::PrestressConditions pc;
+    auto v = ur.getData(0);
+    pc.displacement.assign(v.begin(), v.end());
+    q.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+    q.prestressSolvedGlobally = true;
+    ++count;
+  }
+  return count;
+}
+
 }  // namespace
 
 const SubstructureSpec& AssembledStructure::substructure(std::size_t k) const { return parts_.at(k)->spec; }
@@ -256,6 +658,8 @@ std::vector<std::pair<std::string, long long>> AssembledStructure::substructureD
   return out;
 }
 
+// The phases in the order they happen (theory §11.1-§11.5); each is a
+// function above with the why.
 AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
                                                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -263,393 +667,35 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
   AssembledStructure out;
   out.comm_ = comm;
   out.free_ = !d.freeReference.empty();
-
-  // 1. Tree order (pre-order from C) and parts.
-  const int nsub = static_cast<int>(d.substructures.size());
-  std::vector<std::vector<int>> children(nsub);
-  int root = -1;
-  for (int i = 0; i < nsub; ++i) {
-    if (d.substructures[i].kind == SubstructureKind::Central) root = i;
-    else children[d.find(d.substructures[i].parent)].push_back(i);
-  }
-  std::vector<int> order, partOf(nsub, -1);
-  std::function<void(int)> visit = [&](int i) {
-    partOf[i] = static_cast<int>(order.size());
-    order.push_back(i);
-    for (int c : children[i]) visit(c);
-  };
-  visit(root);
-  for (int i : order) {
-    auto p = std::make_shared<Part>();
-    p->spec = d.substructures[i];
-    p->parent = p->spec.parent.empty() ? -1 : partOf[d.find(p->spec.parent)];
-    for (int c : children[i]) p->children.push_back(partOf[c]);
-    out.parts_.push_back(p);
-  }
+  out.parts_ = orderParts(d);  // 1.
   auto& parts = out.parts_;
-  auto who = [](const Part& p) { return "substructure '" + p.spec.name + "' (" + toString(p.spec.kind) + ")"; };
 
-  // 2. Frames and spin parameters (§11.1): C's spin is the frame of C and of
-  // every E below it; an A spins in its own frame (Rotating: its attachment
-  // must be immovable) or in its parent's (Stationary: axisymmetric, parent
-  // frame not spinning); an R spins relative to its parent's frame.
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    Part& p = *parts[k];
-    const Part* parent = p.parent >= 0 ? parts[p.parent].get() : nullptr;
-    if (p.spec.kind != SubstructureKind::Central) {
-      // Attachment point and map (the parent's model exists: R has no children).
-      if (p.spec.attachment.type == Attachment::Type::Boolean)
-        p.H = booleanMap(p.spec, parent->spec, p.point, p.booleanDofs);
-      else
-        p.H = attachmentMap(p.spec, parent->spec, p.point);
-    }
-    if (p.spec.spin) {
-      p.speedParam = static_cast<int>(out.speeds_.size());
-      out.speeds_.push_back({p.spec.name, p.spec.spin->rate});
-    }
-    const Frame inherited = parent ? parent->frame : Frame();
-    switch (p.spec.kind) {
-      case SubstructureKind::Central:
-        if (p.spec.spin) {
-          p.frame.spinning = true;
-          p.frame.axis = unit(p.spec.spin->axis);
-          p.frame.origin = p.spec.spin->origin;
-          p.frame.coefficients = {{p.speedParam, 1.0}};
-          p.frame.stressStiffening = p.spec.spin->stressStiffening;
-        }
-        break;
-      case SubstructureKind::Elastic:
-        CMS_INPUT_CHECK(parent->compound, who(p) << ": attached to the spinning rotor '" << parent->spec.name
-                                                 << "', it would spin with it: its coefficients are periodic "
-                                                    "(not supported)");
-        CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
-                        who(p) << ": attached to the stationary-frame rotor '" << parent->spec.name
-                               << "', it would spin with it: its coefficients are periodic (not supported)");
-        p.frame = inherited;
-        break;
-      case SubstructureKind::Rigid:
-        CMS_INPUT_CHECK(parent->compound, who(p) << ": a rotor on the spinning rotor '" << parent->spec.name
-                                                 << "' has periodic coefficients (not supported)");
-        CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
-                        who(p) << ": a rotor on the stationary-frame rotor '" << parent->spec.name
-                               << "' has periodic coefficients (not supported)");
-        p.frame = inherited;  // the wheel's transport frame
-        break;
-      case SubstructureKind::Rotating: {
-        const Vec3 a = unit(p.spec.spin->axis);
-        if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary && inherited.spinning) {
-          // Compound spin (theory §11.5): the parent frame's terms as for an
-          // E, plus the rotor's own spin (G1 per omega) and the cross
-          // stiffness per Omega omega, from a second, stationary assembly.
-          CMS_INPUT_CHECK(inherited.kind == fem::SpinDefinition::Frame::Stationary,
-                          who(p) << ": a stationary-frame rotor on the stationary-frame rotor '" << parent->spec.name
-                                 << "' (not supported)");
-          p.frame = inherited;
-          p.compound = true;
-        } else if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
-          p.frame.spinning = true;
-          p.frame.kind = fem::SpinDefinition::Frame::Stationary;
-          p.frame.axis = a;
-          p.frame.origin = p.point;
-          p.frame.coefficients = {{p.speedParam, 1.0}};
-          p.frame.stressStiffening = false;
-        } else {
-          CMS_INPUT_CHECK(inherited.spinning && inherited.kind == fem::SpinDefinition::Frame::Stationary,
-                          who(p) << ": a rotating-frame rotor on the stationary-frame rotor '" << parent->spec.name
-                                 << "' (not supported)");
-          p.frame.spinning = true;
-          p.frame.axis = a;
-          p.frame.origin = p.point;
-          p.frame.coefficients = inherited.coefficients;
-          p.frame.coefficients.push_back({p.speedParam, 1.0});
-          p.frame.stressStiffening = p.spec.spin->stressStiffening;
-          if (inherited.spinning) {
-            // Absolute spin (Omega_parent + omega) e about one fixed line:
-            // a steady frame only if the two axes are one line.
-            const double scale = std::max(1.0, norm(sub(p.point, inherited.origin)));
-            CMS_INPUT_CHECK(norm(cross(a, inherited.axis)) > 1e-9 ||
-                                norm(cross(sub(p.point, inherited.origin), inherited.axis)) > 1e-9 * scale,
-                            who(p) << ": its spin axis is not the axis of its spinning parent's frame ('"
-                                   << parent->spec.name << "'): the coefficients would be periodic");
-          }
-        }
-        break;
-      }
-    }
-  }
+  for (auto& p : parts)  // 2. parents first
+    setFrame(*p, p->parent >= 0 ? parts[p->parent].get() : nullptr, out.speeds_);
+  for (auto& p : parts) setHeldDofs(*p, d.freeReference);  // 3.
+  for (auto& p : parts)                                     // 4.
+    if (p->spec.kind == SubstructureKind::Rigid) buildRigidRotor(*p, *parts[p->parent]);
 
-  // 3. Held DOFs (attachment of an elastic child; a free C's reference) as
-  // nodal DOFs, before assembly.
-  for (auto& pp : parts) {
-    Part& p = *pp;
-    if (p.spec.kind == SubstructureKind::Rigid) continue;
-    const fem::Mesh& mesh = *p.spec.model->mesh;
-    if (p.spec.kind == SubstructureKind::Central) {
-      if (!out.free_) continue;
-      const auto nodes = nodeSet(p.spec, d.freeReference, "free reference");
-      p.point = nodes.size() == 1 ? nodePosition(mesh, nodes.front()) : centroid(mesh, nodes);
-      p.floating = true;
-      if (nodes.size() == 1) {
-        for (int c = 0; c < 6; ++c) p.heldDofs.push_back({nodes.front(), static_cast<Component>(c), 1.0});
-      } else {
-        p.heldDofs = referenceDofs(mesh, nodes, p.point, who(p));
-      }
-      continue;
-    }
-    for (auto n : nodeSet(p.spec, p.spec.attachment.childNodes, "attachment"))
-      for (int c = 0; c < 6; ++c) p.heldDofs.push_back({n, static_cast<Component>(c), 1.0});
-  }
-
-  // 4. Rigid rotors: M on a = (u_P, theta), the parent frame's transport
-  // terms (a point mass with inertia J, theory §9.3) and the wheel's own
-  // gyroscopic and frame-coupling terms (§11.5).
-  for (auto& pp : parts) {
-    Part& p = *pp;
-    if (p.spec.kind != SubstructureKind::Rigid) continue;
-    const Vec3 a = unit(p.spec.spin->axis);
-    const auto& r = p.spec.rotor;
-    fem::PointMass pm;
-    pm.m = r.mass;
-    pm.x = p.point;
-    double J[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) J[i][j] = r.transverseInertia * ((i == j) - a[i] * a[j]) + r.axialInertia * a[i] * a[j];
-    pm.inertia = {J[0][0], J[1][1], J[2][2], J[0][1], J[1][2], J[0][2]};
-    // With a free spin angle phi: omega_z = w + phi' + a'.(Omega e + w_rel)
-    // adds Ia phi'^2 / 2 + Ia phi' a.theta' (mass) and Ia Omega phi' (a x e).theta
-    // (gyroscopic, per unit frame speed) to the Lagrangian (theory §11.5).
-    const int n = r.spinCoordinate ? 7 : 6;
-    auto grow = [n](const fem::ElementMatrix& E) {
-      fem::ElementMatrix F(n);
-      for (int i = 0; i < E.n; ++i)
-        for (int j = 0; j < E.n; ++j) F(i, j) = E(i, j);
-      return F;
-    };
-    p.rotor.M = grow(fem::pointMassMatrix(pm, 6));
-    if (r.spinCoordinate) {
-      p.rotor.M(6, 6) = r.axialInertia;
-      for (int i = 0; i < 3; ++i) p.rotor.M(6, 3 + i) = p.rotor.M(3 + i, 6) = r.axialInertia * a[i];
-    }
-    const fem::ElementMatrix Gw = grow(fem::pointMassStationaryGyroscopic(pm, a));
-    p.rotor.G.push_back({p.speedParam, Gw});
-    if (p.frame.spinning) {
-      const fem::SpinMatrices sm = fem::pointMassSpinMatrices(pm, fem::Spin{p.frame.axis, p.frame.origin}, 6);
-      for (auto [i, ci] : p.frame.coefficients) {
-        fem::ElementMatrix G = grow(sm.G1);
-        for (double& v : G.a) v *= ci;
-        if (r.spinCoordinate) {
-          // L has phi' c.theta with c = Ia (a x e): F(theta, phi) = c, G = F^T - F.
-          const Vec3 c = cross(a, p.frame.axis);
-          for (int x = 0; x < 3; ++x) {
-            G(6, 3 + x) += ci * r.axialInertia * c[x];
-            G(3 + x, 6) -= ci * r.axialInertia * c[x];
-          }
-        }
-        p.rotor.G.push_back({i, G});
-        for (auto [j, cj] : p.frame.coefficients) {
-          if (j < i) continue;
-          fem::ElementMatrix K = grow(sm.KT1);
-          for (double& v : K.a) v *= -(i == j ? ci * cj : 2.0 * ci * cj);
-          p.rotor.K.push_back({i, j, K});
-        }
-        // theta-theta coupling of the wheel's momentum h = Ia w with the
-        // frame's rotation: -Ia (sym(e a^T) - (e.a) I) per unit Omega w.
-        const Vec3& e = p.frame.axis;
-        const double ea = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
-        fem::ElementMatrix K(n);
-        for (int x = 0; x < 3; ++x)
-          for (int y = 0; y < 3; ++y)
-            K(3 + x, 3 + y) = -ci * r.axialInertia * (0.5 * (e[x] * a[y] + a[x] * e[y]) - (x == y ? ea : 0.0));
-        p.rotor.K.push_back({std::min(i, p.speedParam), std::max(i, p.speedParam), K});
-      }
-      // Its centrifugal force on the parent's prestress, through H^T.
-      p.rotor.f1.assign(sm.f1.begin(), sm.f1.end());
-      p.rotor.f1.resize(n, 0.0);
-      Part& parent = *parts[p.parent];
-      if (parent.frame.kind == fem::SpinDefinition::Frame::Rotating && parent.frame.stressStiffening)
-        for (std::size_t k = 0; k < 6; ++k)
-          for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * sm.f1[k]});
-    }
-  }
-
-  // 5. Assembly, leaves first (reverse pre-order): each elastic part's
-  // model gets its frame's spin; its prestress holds its attachment and
-  // carries its children's reactions (§11.4).
-  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {  // 5. leaves first
     Part& p = **it;
     if (p.spec.kind == SubstructureKind::Rigid) continue;
-    fem::FiniteElementModel model = *p.spec.model;
-    model.name = p.spec.name;
-    if (p.frame.spinning)
-      model.spin = fem::SpinDefinition{fem::Spin{p.frame.axis, p.frame.origin}, p.frame.kind,
-                                       p.frame.stressStiffening};
-    fem::PrestressConditions pc;
-    const bool prestressed = p.frame.spinning && p.frame.kind == fem::SpinDefinition::Frame::Rotating &&
-                             p.frame.stressStiffening;
-    if (prestressed) {
-      for (const auto& h : p.heldDofs) pc.held.push_back({h.node, h.component, 0.0});
-      pc.loads = p.childLoads;
-    }
-    p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
-    if (p.compound) {
-      fem::FiniteElementModel own = *p.spec.model;
-      own.name = p.spec.name;
-      fem::SpinDefinition sd;
-      sd.spin = fem::Spin{unit(p.spec.spin->axis), p.point};
-      sd.frame = fem::SpinDefinition::Frame::Stationary;
-      sd.stressStiffening = false;
-      sd.frameAxis = p.frame.axis;
-      own.spin = sd;
-      p.stationary = substructure::Substructure::fromFiniteElementModel(own, comm);
-    }
-    // This part's reaction, as generalised forces on its attachment
-    // coordinates a (F_a = -X^T r), passed to the parent through H^T.
-    if (p.parent < 0 || !prestressed) continue;
-    Part& parent = *parts[p.parent];
-    const bool sameFrame = parent.frame.coefficients == p.frame.coefficients;
-    if (!sameFrame) continue;  // an A on an immovable attachment: the support takes it
-    std::vector<double> Fa(p.H.size(), 0.0);
-    const fem::Mesh& mesh = *p.spec.model->mesh;
-    for (const auto& r : p.sub->prestressReactions()) {
-      const auto x = p.attachmentRow(nodePosition(mesh, r.node), r.node, static_cast<int>(r.component));
-      for (std::size_t k = 0; k < Fa.size(); ++k) Fa[k] -= x[k] * r.value;
-    }
-    for (std::size_t k = 0; k < Fa.size(); ++k)
-      if (Fa[k] != 0.0)  // a Boolean interface's rotations at solid nodes carry nothing
-        for (const auto& h : p.H[k]) parent.childLoads.push_back({h.node, h.component, h.coefficient * Fa[k]});
+    assemblePart(p, comm);
+    if (p.parent >= 0 && p.prestressed()) passReactionToParent(p, *parts[p.parent]);
   }
-  // A free structure spins steadily only about a principal axis through its
-  // centre of mass: otherwise its centrifugal loads do not balance and the
-  // reference carries a reaction (theory §11.4). There is then no steady
-  // state to linearise about: refuse rather than answer.
-  if (out.free_ && parts.front()->prestressed()) {
-    const Part& c = *parts.front();
-    double reaction = 0.0, load = c.sub->f1()->getVector(0)->norm2();
-    for (const auto& r : c.sub->prestressReactions()) reaction = std::max(reaction, std::abs(r.value));
-    for (const auto& l : c.childLoads) load += std::abs(l.value);
-    CMS_INPUT_CHECK(reaction > 1e-6 * load,
-                    who(c) << ": the free structure's centrifugal loads do not balance (reaction " << reaction
-                           << " at the reference, loads " << load << ", per (rad/s)^2): the spin axis is not a "
-                              "principal axis through the centre of mass, so there is no steady spin to "
-                              "linearise about");
+  if (out.free_ && parts.front()->prestressed()) checkFreeSpinBalances(*parts.front());
+
+  for (auto& p : parts) {  // 6. nodal DOFs to rows, now that every layout is known
+    if (p->sub) resolveHeldRows(*p, d.freeReference);
+    if (p->parent >= 0) resolveAttachmentRows(*p, *parts[p->parent]);
   }
 
-  // 6. Resolve nodal DOFs to rows now that every layout is known.
-  for (auto& pp : parts) {
-    Part& p = *pp;
-    if (p.sub) {
-      const auto& t = p.sub->dofs();
-      for (const auto& h : p.heldDofs) {
-        const long long r = t.row(h.node, h.component);
-        if (r >= 0) p.held.push_back(static_cast<GlobalOrdinal>(r));
-      }
-      std::sort(p.held.begin(), p.held.end());
-      p.held.erase(std::unique(p.held.begin(), p.held.end()), p.held.end());
-      if (p.floating)
-        CMS_INPUT_CHECK(p.held.size() != 6,
-                        who(p) << ": the free reference '" << d.freeReference << "' gives " << p.held.size()
-                               << " DOFs, not the six of a rigid motion (one node needs rotations)");
-    }
-    if (p.parent < 0) continue;
-    const Part& parent = *parts[p.parent];
-    const auto& t = parent.sub->dofs();
-    bool rotations = false;
-    p.Hrows.assign(p.H.size(), {});
-    for (std::size_t k = 0; k < p.H.size(); ++k)
-      for (const auto& h : p.H[k]) {
-        const long long r = t.row(h.node, h.component);
-        if (h.component >= Component::RX && r >= 0) rotations = true;
-        if (r >= 0) p.Hrows[k].push_back({static_cast<GlobalOrdinal>(r), h.coefficient});
-      }
-    if (p.spec.attachment.type == Attachment::Type::Node) {
-      const auto n = p.H[3].empty() ? -1 : p.H[3].front().node;
-      bool anyRow = false;
-      for (const auto& h : p.Hrows) anyRow = anyRow || !h.empty();
-      CMS_INPUT_CHECK(anyRow && !rotations && n >= 0 && t.row(n, Component::RX) < 0 && t.row(n, Component::RY) < 0 &&
-                          t.row(n, Component::RZ) < 0 && t.row(n, Component::UX) >= 0,
-                      who(p) << ": the parent node in '" << p.spec.attachment.parentNodes << "' of '"
-                             << parent.spec.name << "' has no rotational DOFs; a solid needs a RigidFit attachment");
-    }
-    if (p.boolean()) {
-      // Each child DOF needs a parent DOF: a component the parent's node does
-      // not carry (a frame child on a solid parent) would be clamped silently.
-      const auto& ct = p.sub->dofs();
-      for (std::size_t k = 0; k < p.booleanDofs.size(); ++k) {
-        const auto [cnode, comp] = p.booleanDofs[k];
-        const auto pnode = p.H[k].front().node;
-        const bool parentHasNode = t.offsets[pnode + 1] > t.offsets[pnode];
-        CMS_INPUT_CHECK(ct.row(cnode, comp) >= 0 && t.row(pnode, comp) < 0 && parentHasNode &&
-                            comp >= Component::RX && t.row(pnode, Component::RX) < 0 &&
-                            t.row(pnode, Component::RY) < 0 && t.row(pnode, Component::RZ) < 0,
-                        who(p) << ": Boolean interface node " << ct.nodeIds[cnode] << " has rotations, the node of '"
-                               << parent.spec.name << "' it meets has none (use a Node or RigidFit attachment)");
-      }
-    }
-    if (p.spec.kind == SubstructureKind::Rotating && !p.compound &&
-        p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
-      bool moves = false;
-      for (const auto& h : p.Hrows) moves = moves || !h.empty();
-      CMS_INPUT_CHECK(moves, who(p) << ": spins in its own frame relative to '" << parent.spec.name
-                                    << "', whose attachment moves: the coefficients are periodic. Supported: "
-                                       "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "
-                                       "axisymmetric rotor");
-    }
-  }
-  // 7. A Boolean interface deforms, so holding it in the child's prestress
-  // solve is not exact (K Psi != 0): solve the coupled static problem of
-  // the frame family on the truth model and give each of its substructures
-  // its own part of u1 (theory §11.4). Costs a second assembly of the family.
-  for (const auto& pb : parts) {
+  for (const auto& pb : parts) {  // 7. each frame family with a Boolean interface, once
     if (!pb->boolean() || !pb->prestressed()) continue;
     const auto family = pb->frame.coefficients;
     bool done = false;
     for (const auto& q : parts) done = done || (q->prestressSolvedGlobally && q->frame.coefficients == family);
     if (done) continue;
-    const auto truth = SynthesizedStructure::synthesize(out, true);
-    const auto& T = truth.transforms();
-    auto K = truth.system(std::vector<double>(out.speeds_.size(), 0.0)).K;
-    if (out.free_) K = holdDofsScaled(*K, {0, 1, 2, 3, 4, 5});
-    MultiVector f(truth.coordinateMap(), 1);
-    for (std::size_t k = 0; k < parts.size(); ++k) {
-      const Part& q = *parts[k];
-      if (q.frame.coefficients != family) continue;
-      if (q.prestressed()) {
-        T[k]->apply(*q.sub->f1(), f, Teuchos::TRANS, 1.0, 1.0);
-      } else if (q.spec.kind == SubstructureKind::Rigid && !q.rotor.f1.empty()) {
-        MultiVector fr(T[k]->getRangeMap(), 1);
-        for (std::size_t l = 0; l < fr.getLocalLength(); ++l)
-          fr.replaceLocalValue(l, 0, q.rotor.f1[T[k]->getRangeMap()->getGlobalElement(static_cast<LocalOrdinal>(l))]);
-        T[k]->apply(fr, f, Teuchos::TRANS, 1.0, 1.0);
-      }
-    }
-    if (out.free_) zeroHeldRows(f, {0, 1, 2, 3, 4, 5});
-    SparseDirectSolver solver(K, "CHOLMOD");
-    if (solver.factor() != SparseDirectSolver::Outcome::Factored)
-      throw NumericalError("structure: the coupled centrifugal prestress needs a positive definite stiffness "
-                           "(CHOLMOD: " + solver.failure() + ")");
-    MultiVector q1(truth.coordinateMap(), 1);
-    solver.solve(f, q1);
-    int count = 0;
-    for (std::size_t k = 0; k < parts.size(); ++k) {
-      Part& q = *parts[k];
-      if (!q.prestressed() || q.frame.coefficients != family) continue;
-      const auto map = T[k]->getRangeMap();
-      MultiVector u(map, 1);
-      T[k]->apply(q1, u);
-      const auto n = static_cast<GlobalOrdinal>(q.sub->dofs().rows());
-      auto rep = Teuchos::rcp(new Map(n, 0, comm, Tpetra::LocallyReplicated));
-      MultiVector ur(rep, 1);
-      ur.doImport(u, Tpetra::Import<>(map, rep), Tpetra::INSERT);
-      fem::FiniteElementModel model = *q.spec.model;
-      model.name = q.spec.name;
-      model.spin = fem::SpinDefinition{fem::Spin{q.frame.axis, q.frame.origin}, q.frame.kind, true};
-      fem::PrestressConditions pc;
-      auto v = ur.getData(0);
-      pc.displacement.assign(v.begin(), v.end());
-      q.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
-      q.prestressSolvedGlobally = true;
-      ++count;
-    }
+    const int count = solveFamilyPrestress(out, family);
     out.notes_.push_back("centrifugal prestress of " + std::to_string(count) + " substructures joined by Boolean "
                          "interfaces solved as one static problem (they were assembled twice)");
   }

@@ -1,0 +1,24 @@
+// Internal to the eigen package: gyroscopic modes from the converged
+// vectors of the spectral transform (SparseEigenproblem.hpp for the roles),
+// by a Rayleigh-Ritz projection of the quadratic problem onto the halves of
+// those vectors, solved by the dense solver, each mode expanded and its
+// residual recomputed from the full M, G, K (doc/theory.md, "Sparse path").
+#pragma once
+
+#include <vector>
+
+#include "cms/core/TpetraTypes.hpp"
+#include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/SparseGyroscopicSystem.hpp"
+
+namespace cms::eigen::detail {
+
+/// Every Ritz mode of span{q, v halves of `vectors`}, ordered by preference
+/// of the transform (largest |1 / (lambda^2 - shift)| first), each with this
+/// rank's rows of q (M-normalised, phase fixed by its largest entry),
+/// backward error, energies, scale, and classified (classifyModes).
+/// Collective.
+std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys, const MultiVector& vectors,
+                                               double shift, double rigidTol, double instabTol);
+
+}  // namespace cms::eigen::detail
