@@ -99,7 +99,7 @@ int main(int argc, char* argv[]) {
       tRead.start();
       fem::FiniteElementModel model;
       model.name = "bench blade";
-      model.mesh = std::make_shared<fem::Mesh>(fem::readGmsh(msh));
+      model.mesh = std::make_shared<mesh::Mesh>(mesh::readGmsh(msh));
       tRead.stop();
       model.materials["steel"] = {2.1e11, 0.3, 7800.0};
       model.elementSets.push_back({"blade", fem::ElementSet::Kind::Solid, "steel", {}, {}});

@@ -11,14 +11,14 @@
 #include <vector>
 
 #include "cms/fem/FiniteElementModel.hpp"
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 
 namespace cms::fixtures {
 
-inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::vector<std::int64_t>& nodes) {
-  fem::PhysicalGroup g{name, 0, static_cast<int>(mesh.groups.size()) + 1, {}};
-  fem::CellBlock b;
-  b.type = fem::CellType::Point1;
+inline void addPointGroup(mesh::Mesh& mesh, const std::string& name, const std::vector<std::int64_t>& nodes) {
+  mesh::PhysicalGroup g{name, 0, static_cast<int>(mesh.groups.size()) + 1, {}};
+  mesh::CellBlock b;
+  b.type = mesh::CellType::Point1;
   b.gmshType = 15;
   b.nodesPerCell = 1;
   for (auto n : nodes) {
@@ -31,18 +31,18 @@ inline void addPointGroup(fem::Mesh& mesh, const std::string& name, const std::v
 
 /// Frame elements along a straight segment from p0 to p1 (`elements` even):
 /// groups "beam", "start", "end", "mid" and "ends".
-inline std::shared_ptr<fem::Mesh> segmentMesh(const std::array<double, 3>& p0, const std::array<double, 3>& p1,
+inline std::shared_ptr<mesh::Mesh> segmentMesh(const std::array<double, 3>& p0, const std::array<double, 3>& p1,
                                               int elements, std::size_t firstTag = 1) {
-  auto mesh = std::make_shared<fem::Mesh>();
+  auto mesh = std::make_shared<mesh::Mesh>();
   mesh->source = "segment mesh (in code)";
   for (int i = 0; i <= elements; ++i) {
     const double t = double(i) / elements;
     mesh->nodeTags.push_back(firstTag + static_cast<std::size_t>(i));
     for (int d = 0; d < 3; ++d) mesh->coordinates.push_back(p0[d] + t * (p1[d] - p0[d]));
   }
-  fem::PhysicalGroup beam{"beam", 1, 1, {}};
-  fem::CellBlock lines;
-  lines.type = fem::CellType::Line2;
+  mesh::PhysicalGroup beam{"beam", 1, 1, {}};
+  mesh::CellBlock lines;
+  lines.type = mesh::CellType::Line2;
   lines.gmshType = 1;
   lines.nodesPerCell = 2;
   for (int e = 0; e < elements; ++e) {
@@ -60,7 +60,7 @@ inline std::shared_ptr<fem::Mesh> segmentMesh(const std::array<double, 3>& p0, c
 
 /// The segment from the origin to (length, 0, 0), with the groups above
 /// plus "root" (x = 0) and "tip" (x = L).
-inline std::shared_ptr<fem::Mesh> lineMesh(double length, int elements) {
+inline std::shared_ptr<mesh::Mesh> lineMesh(double length, int elements) {
   auto mesh = segmentMesh({0.0, 0.0, 0.0}, {length, 0.0, 0.0}, elements);
   mesh->source = "line mesh (in code)";
   addPointGroup(*mesh, "root", {0});
@@ -69,7 +69,7 @@ inline std::shared_ptr<fem::Mesh> lineMesh(double length, int elements) {
 }
 
 /// A frame model of the line mesh: one material, one section.
-inline fem::FiniteElementModel frameModel(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat,
+inline fem::FiniteElementModel frameModel(std::shared_ptr<const mesh::Mesh> mesh, const fem::IsotropicMaterial& mat,
                                           const fem::BeamSection& section,
                                           fem::BeamTheory theory = fem::BeamTheory::EulerBernoulli) {
   fem::FiniteElementModel m;

@@ -34,7 +34,7 @@ struct HubBoom {
   double tipMass = 0.0;  ///< kg, a point mass at each boom tip (0: none)
 
   /// A frame model of a segment mesh, local z along global z.
-  fem::FiniteElementModel frame(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat,
+  fem::FiniteElementModel frame(std::shared_ptr<const mesh::Mesh> mesh, const fem::IsotropicMaterial& mat,
                                 fem::BeamSection sec, const std::string& name) const {
     sec.orientation = {0.0, 0.0, 1.0};
     auto m = frameModel(std::move(mesh), mat, sec);
@@ -83,7 +83,7 @@ struct HubBoom {
   /// One frame model of the whole: nodes along x, groups "hub" and "booms"
   /// (element sets) and "centre" (node set).
   fem::FiniteElementModel monolithic(bool free) const {
-    auto mesh = std::make_shared<fem::Mesh>();
+    auto mesh = std::make_shared<mesh::Mesh>();
     mesh->source = "hub and booms, one mesh (in code)";
     std::vector<double> xs;
     for (int i = 0; i <= boomElements; ++i) xs.push_back(-(h + L) + L * i / boomElements);
@@ -94,9 +94,9 @@ struct HubBoom {
       mesh->coordinates.insert(mesh->coordinates.end(), {xs[i], 0.0, 0.0});
     }
     auto lineGroup = [&](const std::string& name, int tag, const std::vector<int>& elements) {
-      fem::PhysicalGroup g{name, 1, tag, {}};
-      fem::CellBlock b;
-      b.type = fem::CellType::Line2;
+      mesh::PhysicalGroup g{name, 1, tag, {}};
+      mesh::CellBlock b;
+      b.type = mesh::CellType::Line2;
       b.gmshType = 1;
       b.nodesPerCell = 2;
       for (int e : elements) {

@@ -10,7 +10,7 @@
 
 #include "BeamModels.hpp"
 #include "cms/fem/FiniteElementModel.hpp"
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 
 namespace cms::fixtures {
 
@@ -19,9 +19,9 @@ namespace cms::fixtures {
 /// centre node), "reference" (the centre and its neighbours along +x and +y:
 /// three non-collinear nodes), "corner" (the node at +a/2, +b/2, +c/2), and
 /// the end faces "xmin" and "xmax".
-inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, std::array<int, 3> n,
+inline std::shared_ptr<mesh::Mesh> boxMesh(double a, double b, double c, std::array<int, 3> n,
                                           const std::array<double, 3>& centre = {0.0, 0.0, 0.0}) {
-  auto mesh = std::make_shared<fem::Mesh>();
+  auto mesh = std::make_shared<mesh::Mesh>();
   mesh->source = "box mesh (in code)";
   const auto [nx, ny, nz] = n;
   auto id = [&](int i, int j, int k) { return static_cast<std::int64_t>(i + (nx + 1) * (j + (ny + 1) * k)); };
@@ -33,9 +33,9 @@ inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, std::arr
                                  {centre[0] + a * (double(i) / nx - 0.5), centre[1] + b * (double(j) / ny - 0.5),
                                   centre[2] + c * (double(k) / nz - 0.5)});
       }
-  fem::PhysicalGroup solid{"solid", 3, 1, {}};
-  fem::CellBlock hex;
-  hex.type = fem::CellType::Hex8;
+  mesh::PhysicalGroup solid{"solid", 3, 1, {}};
+  mesh::CellBlock hex;
+  hex.type = mesh::CellType::Hex8;
   hex.gmshType = 5;
   hex.nodesPerCell = 8;
   for (int k = 0; k < nz; ++k)
@@ -60,12 +60,12 @@ inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, std::arr
   return mesh;
 }
 
-inline std::shared_ptr<fem::Mesh> boxMesh(double a, double b, double c, int n,
+inline std::shared_ptr<mesh::Mesh> boxMesh(double a, double b, double c, int n,
                                           const std::array<double, 3>& centre = {0.0, 0.0, 0.0}) {
   return boxMesh(a, b, c, {n, n, n}, centre);
 }
 
-inline fem::FiniteElementModel solidModel(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat) {
+inline fem::FiniteElementModel solidModel(std::shared_ptr<const mesh::Mesh> mesh, const fem::IsotropicMaterial& mat) {
   fem::FiniteElementModel m;
   m.name = "solid";
   m.mesh = std::move(mesh);

@@ -42,7 +42,7 @@ const std::string kMeshes = std::string(CMS_TEST_DATA_DIR) + "/meshes/";
 fem::FiniteElementModel spinningSolidBlade() {
   fem::FiniteElementModel m;
   m.name = "solid blade";
-  m.mesh = std::make_shared<fem::Mesh>(fem::readGmsh(kMeshes + "blade_tet10.geo"));
+  m.mesh = std::make_shared<mesh::Mesh>(mesh::readGmsh(kMeshes + "blade_tet10.geo"));
   m.materials["steel"] = {2.1e11, 0.3, 7800.0};
   fem::ElementSet set;
   set.group = "blade";
@@ -279,7 +279,7 @@ TEST(Assembly, MalformedMatrixMarketFilesAreReportedOnEveryRank) {
 
 TEST(Assembly, ModelErrorsNameTheSetNodeOrElement) {
   auto unconnected = spinningSolidBlade();
-  auto mesh = std::make_shared<fem::Mesh>(*unconnected.mesh);
+  auto mesh = std::make_shared<mesh::Mesh>(*unconnected.mesh);
   mesh->nodeTags.push_back(999999);
   mesh->coordinates.insert(mesh->coordinates.end(), {5.0, 5.0, 5.0});
   unconnected.mesh = mesh;

@@ -31,7 +31,7 @@ namespace {
 
 auto world() { return Teuchos::DefaultComm<int>::getComm(); }
 
-fem::FiniteElementModel frame(std::shared_ptr<const fem::Mesh> mesh, const fem::IsotropicMaterial& mat,
+fem::FiniteElementModel frame(std::shared_ptr<const mesh::Mesh> mesh, const fem::IsotropicMaterial& mat,
                               const fem::BeamSection& sec, const std::string& name) {
   fixtures::HubBoom hb;
   return hb.frame(std::move(mesh), mat, sec, name);
@@ -215,7 +215,7 @@ TEST(StationaryRotors, ShaftAndWheelOnAFlexibleSupportMatchEmbeddedMonolithicMod
     // Monolithic: support and shaft (or a point mass with the wheel's
     // inertia) in one non-spinning model; the spin's gyroscopic matrix is
     // the shaft's (or the wheel's Ia [a]x^T) placed by node coordinates.
-    auto mesh = std::make_shared<fem::Mesh>();
+    auto mesh = std::make_shared<mesh::Mesh>();
     mesh->source = "support + rotor (in code)";
     const int ns = 6, nr = wheel ? 0 : 10;
     for (int i = 0; i <= ns + nr; ++i) {
@@ -224,9 +224,9 @@ TEST(StationaryRotors, ShaftAndWheelOnAFlexibleSupportMatchEmbeddedMonolithicMod
       mesh->coordinates.insert(mesh->coordinates.end(), {x, 0.0, 0.0});
     }
     auto lines = [&](const std::string& name, int from, int to) {
-      fem::PhysicalGroup g{name, 1, static_cast<int>(mesh->groups.size()) + 1, {}};
-      fem::CellBlock b;
-      b.type = fem::CellType::Line2, b.gmshType = 1, b.nodesPerCell = 2;
+      mesh::PhysicalGroup g{name, 1, static_cast<int>(mesh->groups.size()) + 1, {}};
+      mesh::CellBlock b;
+      b.type = mesh::CellType::Line2, b.gmshType = 1, b.nodesPerCell = 2;
       for (int e = from; e < to; ++e) b.nodes.insert(b.nodes.end(), {e, e + 1}), b.cellTags.push_back(e + 1);
       g.blocks.push_back(b);
       mesh->groups.push_back(g);

@@ -36,7 +36,7 @@ fem::SpinDefinition spinAboutZ() {
 Substructure solidBlade() {
   fem::FiniteElementModel m;
   m.name = "solid blade";
-  m.mesh = std::make_shared<fem::Mesh>(fem::readGmsh(std::string(CMS_TEST_DATA_DIR) + "/meshes/blade_tet10.geo"));
+  m.mesh = std::make_shared<mesh::Mesh>(mesh::readGmsh(std::string(CMS_TEST_DATA_DIR) + "/meshes/blade_tet10.geo"));
   m.materials["steel"] = steel;
   m.elementSets.push_back({"blade", fem::ElementSet::Kind::Solid, "steel", {}, {}});
   m.fixed.push_back({"root", "root", {}, true});

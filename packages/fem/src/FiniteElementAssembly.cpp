@@ -50,26 +50,26 @@ struct Item {
   enum class Kind : std::uint8_t { Frame, Solid, PointMass, GroundSpring, Spring };
   Kind kind;
   int set;                 ///< index into the model's sets of that kind
-  const CellBlock* block;  ///< Frame, Solid
+  const mesh::CellBlock* block;  ///< Frame, Solid
   std::int64_t cell;       ///< Frame, Solid: cell index; lumped: first node
   std::int64_t other;      ///< Spring: second node
 };
 
-SolidType solidTypeOf(CellType t) {
+SolidType solidTypeOf(mesh::CellType t) {
   switch (t) {
-    case CellType::Tet4: return SolidType::Tet4;
-    case CellType::Tet10: return SolidType::Tet10;
+    case mesh::CellType::Tet4: return SolidType::Tet4;
+    case mesh::CellType::Tet10: return SolidType::Tet10;
     default: return SolidType::Hex8;
   }
 }
 
-std::string nodeName(const Mesh& mesh, std::int64_t node) {
+std::string nodeName(const mesh::Mesh& mesh, std::int64_t node) {
   return "node " + std::to_string(mesh.nodeTags[node]);
 }
 
 /// Nodes of a and b paired by coincident coordinates (a joint between two
 /// coincident node sets), or the single pair when both hold one node.
-std::vector<std::pair<std::int64_t, std::int64_t>> springPairs(const Mesh& mesh,
+std::vector<std::pair<std::int64_t, std::int64_t>> springPairs(const mesh::Mesh& mesh,
                                                                const SpringSet& s) {
   const auto a = mesh.nodeSet(s.nodeSet), b = mesh.nodeSet(s.toNodeSet);
   std::vector<std::pair<std::int64_t, std::int64_t>> pairs;
@@ -185,7 +185,7 @@ class Assembler {
     for (std::size_t s = 0; s < model_.elementSets.size(); ++s) {
       const auto& set = model_.elementSets[s];
       const auto kind = set.kind == ElementSet::Kind::Frame ? Item::Kind::Frame : Item::Kind::Solid;
-      for (const CellBlock& b : mesh_.group(set.group).blocks)
+      for (const mesh::CellBlock& b : mesh_.group(set.group).blocks)
         for (std::size_t c = 0; c < b.size(); ++c)
           items_.push_back({kind, static_cast<int>(s), &b, static_cast<std::int64_t>(c), -1});
     }
@@ -796,7 +796,7 @@ class Assembler {
   }
 
   const FiniteElementModel& model_;
-  const Mesh& mesh_;
+  const mesh::Mesh& mesh_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   const PrestressConditions& prestress_;
   const std::int64_t numNodes_;

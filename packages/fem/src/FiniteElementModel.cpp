@@ -251,7 +251,7 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     CMS_INPUT_CHECK(!meshParameters.empty() && mesh.extension() != ".geo",
                     path << "/Mesh Parameters: apply to a .geo script only, not " << mesh.filename().string());
   }
-  m.mesh = std::make_shared<Mesh>(readGmsh(mesh.string(), meshParameters));
+  m.mesh = std::make_shared<mesh::Mesh>(mesh::readGmsh(mesh.string(), meshParameters));
   m.validate();
   return m;
 }
@@ -266,17 +266,17 @@ void FiniteElementModel::validate() const {
   for (const ElementSet& s : elementSets) {
     const std::string what = name + ": element set '" + s.group + "'";
     CMS_INPUT_CHECK(!seen.insert(s.group).second, what << " is listed twice");
-    const PhysicalGroup& g = mesh->group(s.group);
+    const mesh::PhysicalGroup& g = mesh->group(s.group);
     auto mat = materials.find(s.material);
     CMS_INPUT_CHECK(mat == materials.end(), what << ": unknown material '" << s.material << "'");
     mat->second.validate(("material '" + s.material + "'").c_str());
     if (s.kind == ElementSet::Kind::Frame) s.section.validate(what.c_str());
-    for (const CellBlock& b : g.blocks) {
+    for (const mesh::CellBlock& b : g.blocks) {
       const bool ok = s.kind == ElementSet::Kind::Frame
-                          ? b.type == CellType::Line2
-                          : (b.type == CellType::Tet4 || b.type == CellType::Tet10 || b.type == CellType::Hex8);
+                          ? b.type == mesh::CellType::Line2
+                          : (b.type == mesh::CellType::Tet4 || b.type == mesh::CellType::Tet10 || b.type == mesh::CellType::Hex8);
       CMS_INPUT_CHECK(!ok, what << " (" << mesh->source << ", physical group of dimension " << g.dim
-                                << "): cells of type " << cellTypeName(b.type) << " (Gmsh type " << b.gmshType
+                                << "): cells of type " << mesh::cellTypeName(b.type) << " (Gmsh type " << b.gmshType
                                 << ", e.g. element " << (b.cellTags.empty() ? 0 : b.cellTags[0])
                                 << ") are not supported by "
                                 << (s.kind == ElementSet::Kind::Frame ? "Frame sets (2-node lines only)"

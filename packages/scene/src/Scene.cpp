@@ -114,15 +114,15 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
   const int elements = static_cast<int>(n);
   const double length = std::sqrt(std::pow(p1[0] - p0[0], 2) + std::pow(p1[1] - p0[1], 2) + std::pow(p1[2] - p0[2], 2));
   CMS_INPUT_CHECK(!(length > 0), path << ": \"From\" and \"To\" coincide");
-  auto mesh = std::make_shared<fem::Mesh>();
+  auto mesh = std::make_shared<mesh::Mesh>();
   mesh->source = path;
   for (int i = 0; i <= elements; ++i) {
     mesh->nodeTags.push_back(static_cast<std::size_t>(i + 1));
     for (int d = 0; d < 3; ++d) mesh->coordinates.push_back(p0[d] + (p1[d] - p0[d]) * i / elements);
   }
-  fem::PhysicalGroup beam{"beam", 1, 1, {}};
-  fem::CellBlock lines;
-  lines.type = fem::CellType::Line2, lines.gmshType = 1, lines.nodesPerCell = 2;
+  mesh::PhysicalGroup beam{"beam", 1, 1, {}};
+  mesh::CellBlock lines;
+  lines.type = mesh::CellType::Line2, lines.gmshType = 1, lines.nodesPerCell = 2;
   for (int e = 0; e < elements; ++e) {
     lines.nodes.insert(lines.nodes.end(), {e, e + 1});
     lines.cellTags.push_back(static_cast<std::size_t>(e + 1));
@@ -130,9 +130,9 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
   beam.blocks.push_back(lines);
   mesh->groups.push_back(beam);
   auto points = [&](const std::string& g, std::vector<std::int64_t> nodes) {
-    fem::PhysicalGroup pg{g, 0, static_cast<int>(mesh->groups.size()) + 1, {}};
-    fem::CellBlock blk;
-    blk.type = fem::CellType::Point1, blk.gmshType = 15, blk.nodesPerCell = 1;
+    mesh::PhysicalGroup pg{g, 0, static_cast<int>(mesh->groups.size()) + 1, {}};
+    mesh::CellBlock blk;
+    blk.type = mesh::CellType::Point1, blk.gmshType = 15, blk.nodesPerCell = 1;
     for (auto v : nodes) blk.nodes.push_back(v), blk.cellTags.push_back(static_cast<std::size_t>(elements + 2 + v));
     pg.blocks.push_back(blk);
     mesh->groups.push_back(pg);
@@ -237,7 +237,7 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
                        R[2][0] * x[0] + R[2][1] * x[1] + R[2][2] * x[2]};
     };
     auto model = std::make_shared<fem::FiniteElementModel>(*s.model);
-    auto mesh = std::make_shared<fem::Mesh>(*model->mesh);
+    auto mesh = std::make_shared<mesh::Mesh>(*model->mesh);
     for (std::size_t n = 0; n < mesh->nodeCount(); ++n) {
       const auto x = rotate({mesh->coordinates[3 * n], mesh->coordinates[3 * n + 1], mesh->coordinates[3 * n + 2]});
       for (int d = 0; d < 3; ++d) mesh->coordinates[3 * n + d] = x[d] + t[d];

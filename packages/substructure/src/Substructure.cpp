@@ -179,7 +179,7 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   s.reactions1_ = a.reactions1;
   s.f1_ = a.f1;
   s.KX1_ = a.KX1;
-  const fem::Mesh& mesh = *model.mesh;
+  const mesh::Mesh& mesh = *model.mesh;
   DofTable& t = s.dofs_;
   t.nodeIds.assign(mesh.nodeTags.begin(), mesh.nodeTags.end());
   t.coordinates = mesh.coordinates;

@@ -67,15 +67,15 @@ Vec3 unit(const Vec3& a) {
   return {a[0] / n, a[1] / n, a[2] / n};
 }
 
-Vec3 nodePosition(const fem::Mesh& mesh, std::int64_t n) {
+Vec3 nodePosition(const mesh::Mesh& mesh, std::int64_t n) {
   return {mesh.coordinates[3 * n], mesh.coordinates[3 * n + 1], mesh.coordinates[3 * n + 2]};
 }
 
 /// Node indices of a named set of a model's mesh, with the error naming both.
 std::vector<std::int64_t> nodeSet(const SubstructureSpec& s, const std::string& set, const char* role) {
-  const fem::Mesh& mesh = *s.model->mesh;
+  const mesh::Mesh& mesh = *s.model->mesh;
   const bool known = std::any_of(mesh.groups.begin(), mesh.groups.end(),
-                                 [&](const fem::PhysicalGroup& g) { return g.name == set; });
+                                 [&](const mesh::PhysicalGroup& g) { return g.name == set; });
   CMS_INPUT_CHECK(!known, "substructure '" << s.name << "': " << role << " node set '" << set
                                            << "' is not a physical group of " << mesh.source);
   auto nodes = mesh.nodeSet(set);
@@ -83,7 +83,7 @@ std::vector<std::int64_t> nodeSet(const SubstructureSpec& s, const std::string& 
   return nodes;
 }
 
-Vec3 centroid(const fem::Mesh& mesh, const std::vector<std::int64_t>& nodes) {
+Vec3 centroid(const mesh::Mesh& mesh, const std::vector<std::int64_t>& nodes) {
   Vec3 c{0, 0, 0};
   for (auto n : nodes)
     for (int d = 0; d < 3; ++d) c[d] += mesh.coordinates[3 * n + d];
@@ -95,7 +95,7 @@ Vec3 centroid(const fem::Mesh& mesh, const std::vector<std::int64_t>& nodes) {
 /// or a RigidFit (least-squares rigid motion of the set's translations).
 std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const SubstructureSpec& child,
                                                                 const SubstructureSpec& parent, Vec3& point) {
-  const fem::Mesh& mesh = *parent.model->mesh;
+  const mesh::Mesh& mesh = *parent.model->mesh;
   const auto nodes = nodeSet(parent, child.attachment.parentNodes, ("attachment of '" + child.name + "':").c_str());
   std::vector<std::vector<detail::NodalCoefficient>> H(6);
   if (child.attachment.point) {
@@ -176,8 +176,8 @@ std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const Substruct
 std::vector<std::vector<detail::NodalCoefficient>> booleanMap(
     const SubstructureSpec& child, const SubstructureSpec& parent, Vec3& point,
     std::vector<std::pair<std::int64_t, Component>>& childDofs) {
-  const fem::Mesh& pm = *parent.model->mesh;
-  const fem::Mesh& cm = *child.model->mesh;
+  const mesh::Mesh& pm = *parent.model->mesh;
+  const mesh::Mesh& cm = *child.model->mesh;
   const auto pn = nodeSet(parent, child.attachment.parentNodes, ("interface of '" + child.name + "':").c_str());
   const auto cn = nodeSet(child, child.attachment.childNodes, "interface");
   double extent = 0;
@@ -206,7 +206,7 @@ std::vector<std::vector<detail::NodalCoefficient>> booleanMap(
 
 /// Six statically determinate translation DOFs of a free body's reference
 /// set (greedy: each adds a rigid motion the previous ones do not fix).
-std::vector<detail::NodalCoefficient> referenceDofs(const fem::Mesh& mesh, const std::vector<std::int64_t>& nodes,
+std::vector<detail::NodalCoefficient> referenceDofs(const mesh::Mesh& mesh, const std::vector<std::int64_t>& nodes,
                                                     const Vec3& point, const std::string& who) {
   std::vector<std::array<double, 6>> kept;
   std::vector<detail::NodalCoefficient> out;
@@ -368,7 +368,7 @@ void setFrame(Part& p, const Part* parent, std::vector<SpeedParameter>& speeds) 
 // the prestress solves hold them.
 void setHeldDofs(Part& p, const std::string& freeReference) {
   if (p.spec.kind == SubstructureKind::Rigid) return;
-  const fem::Mesh& mesh = *p.spec.model->mesh;
+  const mesh::Mesh& mesh = *p.spec.model->mesh;
   if (p.spec.kind == SubstructureKind::Central) {
     if (freeReference.empty()) return;
     const auto nodes = nodeSet(p.spec, freeReference, "free reference");
@@ -490,7 +490,7 @@ void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
 void passReactionToParent(const Part& p, Part& parent) {
   if (parent.frame.coefficients != p.frame.coefficients) return;
   std::vector<double> Fa(p.H.size(), 0.0);
-  const fem::Mesh& mesh = *p.spec.model->mesh;
+  const mesh::Mesh& mesh = *p.spec.model->mesh;
   for (const auto& r : p.sub->prestressReactions()) {
     const auto x = p.attachmentRow(nodePosition(mesh, r.node), r.node, static_cast<int>(r.component));
     for (std::size_t k = 0; k < Fa.size(); ++k) Fa[k] -= x[k] * r.value;

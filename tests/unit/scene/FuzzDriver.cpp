@@ -54,7 +54,7 @@
 
 #include "cms/core/Error.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/substructure/Substructure.hpp"
 
@@ -281,7 +281,7 @@ public:
         if (sceneText.empty() && !scenePath.empty()) cms::scene::Scene::read(scenePath.string());
         else cms::scene::Scene::parse(sceneText, scenePath.string());
       } else if (kind == "msh" || kind == "geo") {
-        const auto m = cms::fem::readGmsh(input.string());
+        const auto m = cms::mesh::readGmsh(input.string());
         if (m.coordinates.size() != 3 * m.nodeCount()) throw std::logic_error("coordinates do not match the nodes");
         for (const auto& g : m.groups)
           for (const auto& b : g.blocks)

@@ -16,9 +16,15 @@
 
 #include "cms/fem/ElementMatrix.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 
 namespace cms::fem {
+
+// The mesh types a model holds, also under the names they had while the
+// readers lived in fem (before packages/mesh, issue 17), for callers not
+// yet moved to cms::mesh.
+using mesh::CellType;
+using mesh::Mesh;
 
 struct ElementSet {
   enum class Kind { Solid, Frame };
@@ -64,7 +70,7 @@ struct SpinDefinition {
 
 struct FiniteElementModel {
   std::string name = "substructure";
-  std::shared_ptr<const Mesh> mesh;
+  std::shared_ptr<const mesh::Mesh> mesh;
   std::map<std::string, IsotropicMaterial> materials;
   std::vector<ElementSet> elementSets;
   std::vector<PointMassSet> pointMasses;

@@ -1,4 +1,4 @@
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 
 #include <algorithm>
 #include <array>
@@ -40,7 +40,7 @@
 
 extern char** environ;
 
-namespace cms::fem {
+namespace cms::mesh {
 
 const char* cellTypeName(CellType type) {
   switch (type) {
@@ -648,4 +648,4 @@ Mesh readGmsh(const std::string& path, const std::map<std::string, double>& para
   return script ? meshScriptInChild(path, parameters) : readMshInProcess(path, path);
 }
 
-}  // namespace cms::fem
+}  // namespace cms::mesh

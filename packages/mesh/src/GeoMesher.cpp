@@ -1,5 +1,5 @@
 // cms-geo-mesher: runs and meshes Gmsh .geo scripts, each in a process of
-// its own, for cms::fem::readGmsh (Mesh.cpp), which reads the mesh back.
+// its own, for cms::mesh::readGmsh (Mesh.cpp), which reads the mesh back.
 //
 //   cms-geo-mesher --serve     (fd 3: a socket to the cms process)
 //
@@ -50,8 +50,8 @@
 
 namespace {
 
-using cms::fem::detail::GmshSession;
-using cms::fem::detail::loggedErrors;
+using cms::mesh::detail::GmshSession;
+using cms::mesh::detail::loggedErrors;
 
 /// Does a Gmsh message say where ("line 12", "curve 4", "surface 1")?
 bool hasPlace(const std::string& message) {

@@ -3,7 +3,7 @@
 // section) and node sets (boundary conditions, interface and attachment
 // nodes); which is which is decided by the model that uses the mesh
 // (FiniteElementModel), not here. Every rank holds the whole mesh: it is small
-// beside the matrices assembled from it (doc/architecture.md, "Meshes").
+// beside the matrices assembled from it (doc/architecture.md, "mesh").
 #pragma once
 
 #include <cstddef>
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace cms::fem {
+namespace cms::mesh {
 
 /// Cell shapes the element library knows, plus Other for anything else (kept
 /// so that an element set using it can be reported by name and type).
@@ -72,4 +72,4 @@ struct Mesh {
 /// (a mesh-size study without copies of the script); ignored for .msh files.
 Mesh readGmsh(const std::string& path, const std::map<std::string, double>& parameters = {});
 
-}  // namespace cms::fem
+}  // namespace cms::mesh

@@ -40,7 +40,7 @@
 
 #include "cms/core/Error.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 
 #ifndef CMS_TEST_DATA_DIR
 #define CMS_TEST_DATA_DIR "tests/data"
@@ -285,7 +285,7 @@ struct Broken : std::logic_error {
 };
 
 void readMesh(const std::string& path) {
-  const cms::fem::Mesh m = cms::fem::readGmsh(path);
+  const cms::mesh::Mesh m = cms::mesh::readGmsh(path);
   auto check = [](bool ok, const char* what) {
     if (!ok) throw Broken(what);
   };

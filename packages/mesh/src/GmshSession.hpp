@@ -7,7 +7,7 @@
 
 #include <gmsh.h>
 
-namespace cms::fem::detail {
+namespace cms::mesh::detail {
 
 /// Gmsh's SDK is one global state: initialise it for one read (which resets
 /// every option a previous read set) and always finalise it, also when the
@@ -76,4 +76,4 @@ inline std::string firstError() {
   return errors.empty() ? std::string() : errors.front();
 }
 
-}  // namespace cms::fem::detail
+}  // namespace cms::mesh::detail

@@ -1,6 +1,6 @@
-// The Gmsh reader (through Gmsh's SDK, behind a scan of .msh files) and the
-// Matrix Market sidecar reader/writer: the test meshes, the four MSH
-// flavours agreeing, and every rejected input named in the message.
+// The Gmsh reader (through Gmsh's SDK, behind a scan of .msh files): the
+// test meshes, the four MSH flavours agreeing, and every rejected input
+// named in the message. (The Matrix Market sidecar: tests/unit/fem.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,17 +19,15 @@
 #include <vector>
 
 #include "cms/core/Error.hpp"
-#include "cms/fem/MatrixSubstructureFile.hpp"
-#include "cms/fem/Mesh.hpp"
+#include "cms/mesh/Mesh.hpp"
 
 #ifndef CMS_TEST_DATA_DIR
 #define CMS_TEST_DATA_DIR "tests/data"
 #endif
 
 namespace fs = std::filesystem;
-using cms::fem::CellType;
-using cms::fem::Component;
-using cms::fem::Mesh;
+using cms::mesh::CellType;
+using cms::mesh::Mesh;
 
 namespace {
 
@@ -81,7 +79,7 @@ void expectInputError(const std::function<void()>& fn, std::initializer_list<std
   }
 }
 
-const cms::fem::CellBlock& onlyBlock(const Mesh& m, const std::string& group) {
+const cms::mesh::CellBlock& onlyBlock(const Mesh& m, const std::string& group) {
   const auto& g = m.group(group);
   EXPECT_EQ(g.blocks.size(), 1u) << group;
   return g.blocks.at(0);
@@ -95,7 +93,7 @@ void expectWellFormed(const Mesh& m) {
     for (const auto& b : g.blocks) {
       EXPECT_EQ(b.nodes.size(), b.size() * static_cast<std::size_t>(b.nodesPerCell));
       if (b.type != CellType::Other) {
-        EXPECT_EQ(b.nodesPerCell, cms::fem::cellNodeCount(b.type));
+        EXPECT_EQ(b.nodesPerCell, cms::mesh::cellNodeCount(b.type));
       }
       for (std::int64_t n : b.nodes) {
         EXPECT_GE(n, 0);
@@ -109,7 +107,7 @@ void expectWellFormed(const Mesh& m) {
 // ---------------------------------------------------------------------------
 
 TEST(MeshReader, BarHexGeo) {
-  const Mesh m = cms::fem::readGmsh(kMeshes + "bar_hex.geo");
+  const Mesh m = cms::mesh::readGmsh(kMeshes + "bar_hex.geo");
   expectWellFormed(m);
   EXPECT_EQ(m.source, kMeshes + "bar_hex.geo");
   EXPECT_EQ(m.nodeCount(), 21u * 3 * 3);  // nx = 20, ns = 2
@@ -139,7 +137,7 @@ TEST(MeshReader, BarHexGeo) {
 }
 
 TEST(MeshReader, BarTet10Geo) {
-  const Mesh m = cms::fem::readGmsh(kMeshes + "bar_tet10.geo");
+  const Mesh m = cms::mesh::readGmsh(kMeshes + "bar_tet10.geo");
   expectWellFormed(m);
   const auto& blade = onlyBlock(m, "blade");
   EXPECT_EQ(blade.type, CellType::Tet10);
@@ -157,7 +155,7 @@ TEST(MeshReader, BarTet10Geo) {
 }
 
 TEST(MeshReader, BeamLineGeo) {
-  const Mesh m = cms::fem::readGmsh(kMeshes + "beam_line.geo");
+  const Mesh m = cms::mesh::readGmsh(kMeshes + "beam_line.geo");
   expectWellFormed(m);
   EXPECT_EQ(m.nodeCount(), 11u);
   const auto& beam = onlyBlock(m, "beam");
@@ -180,14 +178,14 @@ TEST(MeshReader, BeamLineGeo) {
 TEST(MeshReader, FourMshFormatsAgree) {
   const char* files[] = {"bar_hex_small_v22_ascii.msh", "bar_hex_small_v22_binary.msh",
                          "bar_hex_small_v41_ascii.msh", "bar_hex_small_v41_binary.msh"};
-  const Mesh ref = cms::fem::readGmsh(kMeshes + files[0]);
+  const Mesh ref = cms::mesh::readGmsh(kMeshes + files[0]);
   expectWellFormed(ref);
   EXPECT_EQ(ref.nodeCount(), 7u * 3 * 3);  // nx = 6, ns = 2
   EXPECT_EQ(onlyBlock(ref, "blade").size(), 6u * 2 * 2);
   for (auto n : ref.nodeSet("root")) EXPECT_EQ(ref.x(n)[0], 0.0);
   for (const char* f : files) {
     SCOPED_TRACE(f);
-    const Mesh m = cms::fem::readGmsh(kMeshes + f);
+    const Mesh m = cms::mesh::readGmsh(kMeshes + f);
     expectWellFormed(m);
     EXPECT_EQ(m.nodeTags, ref.nodeTags);
     ASSERT_EQ(m.coordinates.size(), ref.coordinates.size());
@@ -219,21 +217,21 @@ TEST(MeshReader, ScriptsDoNotInheritEachOthersSettings) {
   // parameters across sessions unless they are cleared.
   std::string coarse = slurp(kMeshes + "bar_hex.geo");
   coarse = replaced(coarse, "nx = {20,", "nx = {5,");
-  EXPECT_EQ(cms::fem::readGmsh(kMeshes + "bar_hex.geo").nodeCount(), 21u * 9);
-  EXPECT_EQ(cms::fem::readGmsh(dir.write("coarse.geo", coarse)).nodeCount(), 6u * 9);
+  EXPECT_EQ(cms::mesh::readGmsh(kMeshes + "bar_hex.geo").nodeCount(), 21u * 9);
+  EXPECT_EQ(cms::mesh::readGmsh(dir.write("coarse.geo", coarse)).nodeCount(), 6u * 9);
   // Mesh.ElementOrder = 2 in bar_tet10.geo must not carry over.
-  EXPECT_EQ(onlyBlock(cms::fem::readGmsh(kMeshes + "bar_tet10.geo"), "blade").type, CellType::Tet10);
+  EXPECT_EQ(onlyBlock(cms::mesh::readGmsh(kMeshes + "bar_tet10.geo"), "blade").type, CellType::Tet10);
   const std::string linear = dir.write(
       "linear.geo", replaced(slurp(kMeshes + "bar_tet10.geo"), "Mesh.ElementOrder = 2;", ""));
-  EXPECT_EQ(onlyBlock(cms::fem::readGmsh(linear), "blade").type, CellType::Tet4);
+  EXPECT_EQ(onlyBlock(cms::mesh::readGmsh(linear), "blade").type, CellType::Tet4);
 }
 
 TEST(MeshReader, CellNamesAndCounts) {
-  EXPECT_STREQ(cms::fem::cellTypeName(CellType::Tet10), "Tet10");
-  EXPECT_STREQ(cms::fem::cellTypeName(CellType::Other), "Other");
-  EXPECT_EQ(cms::fem::cellNodeCount(CellType::Hex8), 8);
-  EXPECT_EQ(cms::fem::cellNodeCount(CellType::Point1), 1);
-  EXPECT_EQ(cms::fem::cellNodeCount(CellType::Other), 0);
+  EXPECT_STREQ(cms::mesh::cellTypeName(CellType::Tet10), "Tet10");
+  EXPECT_STREQ(cms::mesh::cellTypeName(CellType::Other), "Other");
+  EXPECT_EQ(cms::mesh::cellNodeCount(CellType::Hex8), 8);
+  EXPECT_EQ(cms::mesh::cellNodeCount(CellType::Point1), 1);
+  EXPECT_EQ(cms::mesh::cellNodeCount(CellType::Other), 0);
 }
 
 TEST(MeshReader, OtherCellTypesAreKeptWithTheirGmshType) {
@@ -245,7 +243,7 @@ TEST(MeshReader, OtherCellTypesAreKeptWithTheirGmshType) {
                                     "Transfinite Curve{1, 2, 3} = 2; Transfinite Surface{1};\n"
                                     "v[] = Extrude {0, 0, 1} { Surface{1}; Layers{1}; Recombine; };\n"
                                     "Physical Volume(\"wedge\") = {v[1]};\n");
-  const Mesh m = cms::fem::readGmsh(geo);
+  const Mesh m = cms::mesh::readGmsh(geo);
   const auto& b = onlyBlock(m, "wedge");
   EXPECT_EQ(b.type, CellType::Other);
   EXPECT_EQ(b.gmshType, 6);  // 6-node prism
@@ -297,7 +295,7 @@ $EndElements
 
 TEST(MeshReaderErrors, HandWrittenMeshReads) {
   TempDir dir;
-  const Mesh m = cms::fem::readGmsh(dir.write("line.msh", kLine41));
+  const Mesh m = cms::mesh::readGmsh(dir.write("line.msh", kLine41));
   expectWellFormed(m);
   EXPECT_EQ(m.nodeCount(), 3u);
   EXPECT_EQ(m.nodeSet("beam").size(), 3u);
@@ -309,7 +307,7 @@ TEST(MeshReaderErrors, WindowsLineEndingsRead) {
   TempDir dir;
   std::string crlf;
   for (char c : kLine41) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
-  const Mesh m = cms::fem::readGmsh(dir.write("crlf.msh", crlf));
+  const Mesh m = cms::mesh::readGmsh(dir.write("crlf.msh", crlf));
   EXPECT_EQ(m.nodeCount(), 3u);
   EXPECT_EQ(m.nodeSet("beam").size(), 3u);
 }
@@ -317,27 +315,27 @@ TEST(MeshReaderErrors, WindowsLineEndingsRead) {
 TEST(MeshReaderErrors, MissingAndUnrecognisedFiles) {
   TempDir dir;
   const std::string missing = (dir.path() / "nope.msh").string();
-  expectInputError([&] { cms::fem::readGmsh(missing); }, {missing, "cannot open"});
+  expectInputError([&] { cms::mesh::readGmsh(missing); }, {missing, "cannot open"});
   const std::string junk = dir.write("junk.msh", "Point(1) = {0, 0, 0};\n");
-  expectInputError([&] { cms::fem::readGmsh(junk); }, {junk, "not a Gmsh mesh"});
+  expectInputError([&] { cms::mesh::readGmsh(junk); }, {junk, "not a Gmsh mesh"});
   const std::string version = dir.write("v3.msh", replaced(kLine41, "4.1 0 8", "3.0 0 8"));
-  expectInputError([&] { cms::fem::readGmsh(version); }, {version + ":2:", "version 3.0"});
+  expectInputError([&] { cms::mesh::readGmsh(version); }, {version + ":2:", "version 3.0"});
   const std::string script = dir.write("broken.geo", "Point(1) = {0, 0, 0};\nLine(1) = {1, ;\n");
-  expectInputError([&] { cms::fem::readGmsh(script); }, {script + ": ", "rror"});
+  expectInputError([&] { cms::mesh::readGmsh(script); }, {script + ": ", "rror"});
 }
 
 TEST(MeshReaderErrors, EmptyMesh) {
   TempDir dir;
   const std::string msh = dir.write("empty.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
-  expectInputError([&] { cms::fem::readGmsh(msh); }, {msh, "empty mesh"});
+  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "empty mesh"});
   const std::string geo = dir.write("empty.geo", "// nothing here\n");
-  expectInputError([&] { cms::fem::readGmsh(geo); }, {geo, "empty mesh"});
+  expectInputError([&] { cms::mesh::readGmsh(geo); }, {geo, "empty mesh"});
 }
 
 TEST(MeshReaderErrors, NoPhysicalGroups) {
   TempDir dir;
   const std::string geo = dir.write("bare.geo", "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Line(1) = {1, 2};\n");
-  expectInputError([&] { cms::fem::readGmsh(geo); }, {geo, "no physical groups"});
+  expectInputError([&] { cms::mesh::readGmsh(geo); }, {geo, "no physical groups"});
 }
 
 TEST(MeshReaderErrors, PhysicalGroupWithoutCells) {
@@ -345,24 +343,24 @@ TEST(MeshReaderErrors, PhysicalGroupWithoutCells) {
   // Group "root" keeps its point entity, but the point element is gone.
   const std::string msh =
       dir.write("nocells.msh", replaced(replaced(kLine41, "0 1 15 1\n1 1\n", ""), "2 3 1 3\n", "1 2 2 3\n"));
-  expectInputError([&] { cms::fem::readGmsh(msh); }, {msh, "\"root\"", "has no cells"});
+  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "\"root\"", "has no cells"});
 }
 
 TEST(MeshReaderErrors, NonFiniteCoordinate) {
   TempDir dir;
   for (const char* bad : {"nan", "inf", "-1e999"}) {
     const std::string msh = dir.write("nan.msh", replaced(kLine41, "\n3\n0.5 0 0\n", std::string("\n3\n0.5 ") + bad + " 0\n"));
-    expectInputError([&] { cms::fem::readGmsh(msh); }, {msh, "node 3", "non-finite coordinate y"});
+    expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "node 3", "non-finite coordinate y"});
   }
 }
 
 TEST(MeshReaderErrors, CoincidentNodes) {
   TempDir dir;
   const std::string msh = dir.write("dup.msh", replaced(kLine41, "\n3\n0.5 0 0\n", "\n3\n1e-12 0 0\n"));
-  expectInputError([&] { cms::fem::readGmsh(msh); }, {msh, "nodes 1 and 3 coincide"});
+  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "nodes 1 and 3 coincide"});
   // Far apart at the 1e-9 scale: distinct.
   const std::string ok = dir.write("ok.msh", replaced(kLine41, "\n3\n0.5 0 0\n", "\n3\n1e-8 0 0\n"));
-  EXPECT_EQ(cms::fem::readGmsh(ok).nodeCount(), 3u);
+  EXPECT_EQ(cms::mesh::readGmsh(ok).nodeCount(), 3u);
 }
 
 // A chain of line elements through random points, the corners of the unit
@@ -397,9 +395,9 @@ TEST(MeshReaderErrors, CoincidentNodesFoundInEveryDirection) {
   for (int trial = 0; trial < 100; ++trial) {
     SCOPED_TRACE(trial);
     const std::string close = dir.write("close.msh", chainWithPair(rng, 0.9));
-    expectInputError([&] { cms::fem::readGmsh(close); }, {close, "coincide"});
+    expectInputError([&] { cms::mesh::readGmsh(close); }, {close, "coincide"});
     const std::string apart = dir.write("apart.msh", chainWithPair(rng, 1.1));
-    EXPECT_EQ(cms::fem::readGmsh(apart).nodeCount(), 44u);
+    EXPECT_EQ(cms::mesh::readGmsh(apart).nodeCount(), 44u);
   }
 }
 
@@ -407,215 +405,74 @@ TEST(MeshReaderErrors, DuplicatePhysicalNames) {
   TempDir dir;
   const std::string msh =
       dir.write("names.msh", replaced(kLine41, "2\n0 2 \"root\"\n1 1 \"beam\"\n", "3\n0 2 \"root\"\n1 1 \"beam\"\n1 5 \"beam\"\n"));
-  expectInputError([&] { cms::fem::readGmsh(msh); }, {msh + ":8:", "\"beam\"", "used twice", "tags 1 and 5"});
+  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh + ":8:", "\"beam\"", "used twice", "tags 1 and 5"});
   // The same name in two dimensions is two groups.
   const std::string ok = dir.write("ok.msh", replaced(kLine41, "0 2 \"root\"", "0 2 \"beam\""));
-  const Mesh m = cms::fem::readGmsh(ok);
+  const Mesh m = cms::mesh::readGmsh(ok);
   EXPECT_EQ(m.groups.size(), 2u);
 }
 
 TEST(MeshReaderErrors, UnknownNodeInElement) {
   TempDir dir;
   const std::string msh = dir.write("unknown.msh", replaced(kLine41, "3 3 2\n", "3 3 9\n"));
-  expectInputError([&] { cms::fem::readGmsh(msh); }, {msh + ":33:", "element 3", "node 9"});
+  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh + ":33:", "element 3", "node 9"});
 }
 
 TEST(MeshReaderErrors, DuplicateNodeTag) {
   TempDir dir;
   const std::string msh = dir.write("duptag.msh", replaced(kLine41, "\n3\n0.5 0 0\n", "\n2\n0.5 0 0\n"));
-  expectInputError([&] { cms::fem::readGmsh(msh); }, {msh, "node tag 2 appears twice"});
+  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "node tag 2 appears twice"});
 }
 
 TEST(MeshReaderErrors, TruncatedFiles) {
   TempDir dir;
   const std::string ascii = dir.write("cut.msh", kLine41.substr(0, kLine41.find("1 1 0 1\n")));
-  expectInputError([&] { cms::fem::readGmsh(ascii); }, {ascii + ":23:", "file ends inside $Nodes"});
+  expectInputError([&] { cms::mesh::readGmsh(ascii); }, {ascii + ":23:", "file ends inside $Nodes"});
   for (const char* f : {"bar_hex_small_v41_binary.msh", "bar_hex_small_v22_binary.msh"}) {
     const std::string full = slurp(kMeshes + f);
     const std::string cut = dir.write(std::string("cut_") + f, full.substr(0, full.find("$EndNodes") - 40));
-    expectInputError([&] { cms::fem::readGmsh(cut); }, {cut + ":", "$Nodes (binary) at byte"});
+    expectInputError([&] { cms::mesh::readGmsh(cut); }, {cut + ":", "$Nodes (binary) at byte"});
   }
 }
 
 TEST(MeshReaderErrors, HugeCounts) {
   TempDir dir;
   const std::string nodes = dir.write("huge.msh", replaced(kLine41, "3 3 1 3\n", "3 99999999999 1 3\n"));
-  expectInputError([&] { cms::fem::readGmsh(nodes); }, {nodes + ":16:", "number of nodes is 99999999999"});
+  expectInputError([&] { cms::mesh::readGmsh(nodes); }, {nodes + ":16:", "number of nodes is 99999999999"});
   const std::string names = dir.write("names.msh", replaced(kLine41, "$PhysicalNames\n2\n", "$PhysicalNames\n2147483647\n"));
-  expectInputError([&] { cms::fem::readGmsh(names); }, {names + ":5:", "2147483647"});
+  expectInputError([&] { cms::mesh::readGmsh(names); }, {names + ":5:", "2147483647"});
   const std::string negative = dir.write("neg.msh", replaced(kLine41, "0 1 0 1\n", "0 1 0 -1\n"));
-  expectInputError([&] { cms::fem::readGmsh(negative); }, {negative + ":17:", "-1", "out of range"});
+  expectInputError([&] { cms::mesh::readGmsh(negative); }, {negative + ":17:", "-1", "out of range"});
   // A 2.2 binary node count beyond the data.
   std::string bin = slurp(kMeshes + "bar_hex_small_v22_binary.msh");
   bin = replaced(bin, "$Nodes\n63\n", "$Nodes\n6300000\n");
   const std::string b = dir.write("huge22.msh", bin);
-  expectInputError([&] { cms::fem::readGmsh(b); }, {b + ":", "number of nodes is 6300000", "bytes left"});
+  expectInputError([&] { cms::mesh::readGmsh(b); }, {b + ":", "number of nodes is 6300000", "bytes left"});
 }
 
 TEST(MeshReaderErrors, UnsupportedSectionsAndTrailingText) {
   TempDir dir;
   const std::string post = dir.write("post.msh", kLine41 + "$NodeData\n1\n\"u\"\n$EndNodeData\n");
-  expectInputError([&] { cms::fem::readGmsh(post); }, {post + ":35:", "$NodeData", "not supported"});
+  expectInputError([&] { cms::mesh::readGmsh(post); }, {post + ":35:", "$NodeData", "not supported"});
   const std::string extra = dir.write("extra.msh", replaced(kLine41, "0.5 0 0\n", "0.5 0 0 7\n"));
-  expectInputError([&] { cms::fem::readGmsh(extra); }, {extra + ":25:", "unexpected \"7\" after node coordinates"});
+  expectInputError([&] { cms::mesh::readGmsh(extra); }, {extra + ":25:", "unexpected \"7\" after node coordinates"});
   const std::string outside = dir.write("outside.msh", kLine41 + "stray text\n");
-  expectInputError([&] { cms::fem::readGmsh(outside); }, {outside + ":35:", "outside a section"});
+  expectInputError([&] { cms::mesh::readGmsh(outside); }, {outside + ":35:", "outside a section"});
   const std::string tab = dir.write("tab.msh", replaced(kLine41, "0.5 0 0\n", "0.5\t0 0\n"));
-  expectInputError([&] { cms::fem::readGmsh(tab); }, {tab + ":25:", "control character 9"});
+  expectInputError([&] { cms::mesh::readGmsh(tab); }, {tab + ":25:", "control character 9"});
   const std::string split = dir.write("split.msh", replaced(kLine41, "0.5 0 0\n", "0.5 0\n0\n"));
-  expectInputError([&] { cms::fem::readGmsh(split); }, {split + ":25:", "line ends before coordinate 3 of node 3"});
+  expectInputError([&] { cms::mesh::readGmsh(split); }, {split + ":25:", "line ends before coordinate 3 of node 3"});
   // Comments and other unknown sections are skipped, as Gmsh does.
   const std::string comment = dir.write("comment.msh", kLine41 + "$Comments\nwritten by hand\n$EndComments\n");
-  EXPECT_EQ(cms::fem::readGmsh(comment).nodeCount(), 3u);
+  EXPECT_EQ(cms::mesh::readGmsh(comment).nodeCount(), 3u);
 }
 
 TEST(MeshReaderErrors, MissingGroupNamesTheAlternatives) {
-  const Mesh m = cms::fem::readGmsh(kMeshes + "beam_line.geo");
+  const Mesh m = cms::mesh::readGmsh(kMeshes + "beam_line.geo");
   EXPECT_TRUE(m.hasGroup("beam"));
   EXPECT_FALSE(m.hasGroup("hub"));
   expectInputError([&] { m.group("hub"); }, {"beam_line.geo", "\"hub\"", "\"beam\"", "\"root\"", "\"tip\""});
   expectInputError([&] { m.nodeSet("hub"); }, {"\"hub\""});
-}
-
-// ---------------------------------------------------------------------------
-// Matrix Market sidecar.
-// ---------------------------------------------------------------------------
-
-cms::fem::MatrixSubstructureFile sample() {
-  cms::fem::MatrixSubstructureFile f;
-  f.matrices = {{"K", "blade_K.mtx"}, {"M", "blade_M.mtx"}, {"G1", "sub/blade_G1.mtx"}};
-  f.hasSpinAxis = true;
-  f.spinAxis = {0, 0, 1};
-  f.spinOrigin = {-0.1, 1.0 / 3.0, 0};
-  f.nodeIds = {12, 13, -7};
-  f.coordinates = {0.0, 0.5, 1.0, 0.1, 0.6, 1.0, 1e-300, -2.5e10, 0.7};
-  f.components = {{Component::UX, Component::UY, Component::UZ},
-                  {Component::UX, Component::UY, Component::UZ, Component::RX, Component::RY, Component::RZ},
-                  {Component::RZ, Component::UX}};
-  f.nodeSets = {{"root", {12, 13}}, {"tip", {-7}}};
-  return f;
-}
-
-TEST(Sidecar, RoundTrip) {
-  TempDir dir;
-  const auto f = sample();
-  const std::string path = (dir.path() / "blade.cms").string();
-  cms::fem::writeMatrixSubstructureFile(f, path);
-  const auto g = cms::fem::readMatrixSubstructureFile(path);
-  EXPECT_EQ(g.path, path);
-  EXPECT_EQ(g.units, "SI");
-  ASSERT_EQ(g.matrices.size(), 3u);
-  EXPECT_EQ(g.matrices.at("K"), (dir.path() / "blade_K.mtx").string());
-  EXPECT_EQ(g.matrices.at("G1"), (dir.path() / "sub/blade_G1.mtx").string());
-  EXPECT_TRUE(g.hasSpinAxis);
-  EXPECT_EQ(g.spinAxis, f.spinAxis);
-  EXPECT_EQ(g.spinOrigin, f.spinOrigin);  // exact: written with 17 digits
-  EXPECT_EQ(g.nodeIds, f.nodeIds);
-  EXPECT_EQ(g.coordinates, f.coordinates);
-  EXPECT_EQ(g.components, f.components);
-  EXPECT_EQ(g.nodeSets, f.nodeSets);
-  EXPECT_EQ(g.dofCount(), 11);
-  EXPECT_EQ(g.rowOffsets(), (std::vector<long long>{0, 3, 9, 11}));
-  EXPECT_STREQ(cms::fem::componentName(Component::RY), "ry");
-}
-
-TEST(Sidecar, CommentsAbsolutePathsAndOptionalRecords) {
-  TempDir dir;
-  const std::string p = dir.write("s.cms",
-                                  "# header comment\n\n   cms-substructure 1   # trailing comment\n"
-                                  "matrix K /abs/K.mtx\r\nmatrix M M.mtx\nset ends 5\nnode 5 0 0 0 uz\n");
-  const auto f = cms::fem::readMatrixSubstructureFile(p);
-  EXPECT_EQ(f.matrices.at("K"), "/abs/K.mtx");
-  EXPECT_EQ(f.matrices.at("M"), (dir.path() / "M.mtx").string());
-  EXPECT_FALSE(f.hasSpinAxis);
-  EXPECT_EQ(f.units, "SI");
-  EXPECT_EQ(f.nodeSets.at("ends"), std::vector<long long>{5});
-  EXPECT_EQ(f.dofCount(), 1);
-}
-
-TEST(Sidecar, MalformedRecordsNameTheLine) {
-  TempDir dir;
-  const std::string head = "cms-substructure 1\nmatrix K K.mtx\nmatrix M M.mtx\n";  // lines 1-3
-  const std::string node = "node 12 0 0 0 ux uy uz\n";                                 // line 4
-  struct Case {
-    std::string text, line, what;
-  };
-  const Case cases[] = {
-      {"substructure 1\n", ":1:", "expected 'cms-substructure 1'"},
-      {"# c\ncms-substructure 2\n", ":2:", "version 2 is not supported"},
-      {"cms-substructure one\n", ":1:", "version 'one' is not an integer"},
-      {"cms-substructure 1 x\n", ":1:", "unexpected 'x'"},
-      {head + node + "cms-substructure 1\n", ":5:", "second 'cms-substructure'"},
-      {head + node + "nodes 13 0 0 0 ux\n", ":5:", "unknown record 'nodes'"},
-      {head + "matrix X X.mtx\n" + node, ":4:", "unknown matrix name 'X'"},
-      {head + "matrix K K2.mtx\n" + node, ":4:", "matrix K is given twice (first on line 2)"},
-      {head + "matrix G1\n" + node, ":4:", "truncated 'matrix' record"},
-      {head + "matrix G1 a b\n" + node, ":4:", "unexpected 'b'"},
-      {head + "units SI extra\n" + node, ":4:", "unexpected 'extra'"},
-      {head + "units imperial\n" + node, ":4:", "units 'imperial'"},
-      {head + "spin-axis 0 0\n" + node, ":4:", "truncated 'spin-axis'"},
-      {head + "spin-axis 0 0 0\n" + node, ":4:", "zero vector"},
-      {head + "spin-axis 0 0 nan\n" + node, ":4:", "'nan' is not a finite number"},
-      {head + "spin-origin 1e999 0 0\n" + node, ":4:", "'1e999' is not a finite number"},
-      {head + node + "node 12 1 0 0 ux\n", ":5:", "node 12 is given twice (first on line 4)"},
-      {head + "node 12 0 0 0 ux uy ux\n", ":4:", "component ux of node 12 is given twice"},
-      {head + "node 12 0 0 0 ux uw\n", ":4:", "unknown component 'uw'"},
-      {head + "node 12 0 0\n", ":4:", "truncated 'node' record"},
-      {head + "node 12 0 inf 0 ux\n", ":4:", "'inf' is not a finite number"},
-      {head + "node 12 0 1.0.0 0 ux\n", ":4:", "'1.0.0' is not a number"},
-      {head + "node 12x 0 0 0 ux\n", ":4:", "node id '12x' is not an integer"},
-      {head + "node 99999999999999999999 0 0 0 ux\n", ":4:", "out of range"},
-      {head + node + "set root 12 13\n", ":5:", "set root names node 13, which has no 'node' record"},
-      {head + "set root 12 12\n" + node, ":4:", "set root names node 12 twice"},
-      {head + node + "set root\n", ":5:", "set root names no nodes"},
-      {head + node + "set root 12\nset root 12\n", ":6:", "set root is given twice"},
-      {head + node + "set root 1e3\n", ":5:", "node id '1e3' is not an integer"},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.text);
-    const std::string p = dir.write("bad.cms", c.text);
-    expectInputError([&] { cms::fem::readMatrixSubstructureFile(p); }, {p + c.line, c.what});
-  }
-}
-
-TEST(Sidecar, MissingPieces) {
-  TempDir dir;
-  const std::string node = "node 12 0 0 0 ux\n";
-  struct Case {
-    std::string text, what;
-  };
-  const Case cases[] = {
-      {"", "empty file"},
-      {"# only a comment\n", "empty file"},
-      {"cms-substructure 1\nmatrix K K.mtx\nmatrix M M.mtx\n", "no 'node' records"},
-      {"cms-substructure 1\nmatrix M M.mtx\n" + node, "no stiffness matrix"},
-      {"cms-substructure 1\nmatrix K K.mtx\n" + node, "no mass matrix"},
-  };
-  for (const Case& c : cases) {
-    const std::string p = dir.write("bad.cms", c.text);
-    expectInputError([&] { cms::fem::readMatrixSubstructureFile(p); }, {p + ": ", c.what});
-  }
-  const std::string missing = (dir.path() / "missing.cms").string();
-  expectInputError([&] { cms::fem::readMatrixSubstructureFile(missing); }, {missing, "cannot open"});
-}
-
-TEST(Sidecar, WriterRejectsWhatCannotBeReadBack) {
-  TempDir dir;
-  const std::string p = (dir.path() / "w.cms").string();
-  auto f = sample();
-  f.matrices["K"] = "my matrix.mtx";
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "whitespace"});
-  f = sample();
-  f.nodeSets["a b"] = {12};
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "set name"});
-  f = sample();
-  f.coordinates[4] = std::nan("");
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "non-finite"});
-  f = sample();
-  f.matrices["X"] = "x.mtx";
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "unknown matrix name 'X'"});
-  const std::string nowhere = (dir.path() / "no/such/dir/w.cms").string();
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(sample(), nowhere); }, {nowhere, "cannot open"});
 }
 
 }  // namespace

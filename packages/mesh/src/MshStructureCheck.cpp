@@ -22,7 +22,7 @@
 
 #include "cms/core/Error.hpp"
 
-namespace cms::fem::detail {
+namespace cms::mesh::detail {
 
 namespace {
 
@@ -30,7 +30,7 @@ namespace {
 // Pre-validation of .msh files.
 //
 // Gmsh 4.8's MSH readers trust the file. Fed corrupted copies of valid
-// meshes (tests/unit/fem/MeshReaderFuzzTest.cpp, and the inputs kept in
+// meshes (tests/unit/mesh/MeshReaderFuzzTest.cpp, and the inputs kept in
 // tests/data/fuzz/gmsh/regressions/), it allocates from declared counts
 // before reading the data (std::bad_alloc under a memory limit, the OOM
 // killer without one), indexes arrays with dimensions read from the file,
@@ -720,4 +720,4 @@ void checkMshStructure(const std::string& path, const std::string& bytes) {
   MshScanner(path, bytes).run();
 }
 
-}  // namespace cms::fem::detail
+}  // namespace cms::mesh::detail
