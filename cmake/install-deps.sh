@@ -15,6 +15,7 @@ packages=(
   calculix-ccx                                      # a peer FE code to compare with (benchmarks)
   python3-matplotlib                                # plots of the cms driver (--plot)
   python3-vtk9                                      # reading the mode-shape files back in a test
+  nlohmann-json3-dev                                # JSON results (packages/io)
   liblapack-dev libblas-dev libopenblas0-pthread   # optimised BLAS/LAPACK through Debian's alternatives
 )
 

@@ -29,17 +29,14 @@
 #include <Teuchos_Time.hpp>
 #include <Tpetra_Core.hpp>
 
-#include "PeakMemory.hpp"
+#include "DataDirectory.hpp"
+#include "cms/core/PeakMemory.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
 
-#ifndef CMS_BENCH_DIR
-#define CMS_BENCH_DIR "drivers/bench"
-#endif
-
 int main(int argc, char* argv[]) {
   using namespace cms;
-  using drivers::peakRssMiB;
+  using cms::peakRssMiB;
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
@@ -78,7 +75,7 @@ int main(int argc, char* argv[]) {
                 << std::setw(12) << "assemble s" << std::setw(13) << "prestress s" << std::setw(14)
                 << "peak MiB/rank" << '\n';
     }
-    const std::string geo = std::string(CMS_BENCH_DIR) + "/blade_hex.geo";
+    const std::string geo = drivers::dataFile("bench/blade_hex.geo").string();  // <prefix>/share/cms
     for (int nx : nxs) {
       // 2. Generate the mesh (rank 0, gmsh command) and read it everywhere.
       const std::string msh = (std::filesystem::temp_directory_path() /

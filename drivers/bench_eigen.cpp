@@ -27,7 +27,7 @@
 #include <Teuchos_Time.hpp>
 #include <Tpetra_Core.hpp>
 
-#include "PeakMemory.hpp"
+#include "cms/core/PeakMemory.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
@@ -46,7 +46,7 @@ struct Row {
 
 int main(int argc, char* argv[]) {
   using namespace cms;
-  using drivers::peakRssMiB;
+  using cms::peakRssMiB;
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;

@@ -47,17 +47,14 @@
 #include <Tpetra_Core.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 
+#include "DataDirectory.hpp"
 #include "DriverBoundary.hpp"
-#include "PeakMemory.hpp"
+#include "cms/core/PeakMemory.hpp"
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
-
-#ifndef CMS_BENCH_DIR
-#define CMS_BENCH_DIR "drivers/bench"
-#endif
 
 namespace {
 
@@ -83,11 +80,11 @@ struct Memory {
 };
 double baseline = 0;  ///< VmRSS at the last reset (this rank)
 void resetPeak() {
-  drivers::resetPeakRss();
-  baseline = drivers::residentMiB();
+  cms::resetPeakRss();
+  baseline = cms::residentMiB();
 }
 Memory peak(const Teuchos::Comm<int>& comm) {
-  double mine = drivers::windowPeakRssMiB(), mx = 0, sm = 0, b = 0;
+  double mine = cms::windowPeakRssMiB(), mx = 0, sm = 0, b = 0;
   Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, 1, &mine, &mx);
   Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, 1, &mine, &sm);
   Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, 1, &baseline, &b);
@@ -144,7 +141,7 @@ int main(int argc, char* argv[]) {
   const int ranks = comm->getSize();
   return drivers::reportErrors("bench_rotor", root, [&]() -> int {
     // 1. Options.
-    std::string scenePath = std::string(CMS_BENCH_DIR) + "/rotor/rotor.yaml";
+    std::string scenePath;  // default: <prefix>/share/cms/bench/rotor/rotor.yaml
     std::string sizesText = "0.03,0.015", strategiesText = "Admissible,Modes,Craig-Bampton", countsText = "6,12,24";
     std::string csvPath = "bench_rotor.csv";
     int modes = 20, steps = 101;
@@ -152,7 +149,9 @@ int main(int argc, char* argv[]) {
     bool doPlot = false, doTruth = true, doFloor = true;
     Teuchos::CommandLineProcessor clp(false, true);
     clp.setDocString("Speed/accuracy trade of reduction strategies against the truth and one CHOLMOD factorisation.");
-    clp.setOption("scene", &scenePath, "scene whose meshed substructures take \"Mesh Parameters/h\"");
+    clp.setOption("scene", &scenePath,
+                  "scene whose meshed substructures take \"Mesh Parameters/h\" (default: the rotor, "
+                  "<prefix>/share/cms/bench/rotor/rotor.yaml)");
     clp.setOption("h", &sizesText, "comma-separated mesh sizes (m), one run each");
     clp.setOption("strategies", &strategiesText, "comma-separated bases: Admissible, Modes, Craig-Bampton, Guyan");
     clp.setOption("counts", &countsText, "comma-separated vectors per substructure");
@@ -164,6 +163,7 @@ int main(int argc, char* argv[]) {
     clp.setOption("csv", &csvPath, "output CSV file");
     clp.setOption("plot", "no-plot", &doPlot, "also draw CSV -> PNG with plot_results.py");
     if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
+    if (scenePath.empty()) scenePath = drivers::dataFile("bench/rotor/rotor.yaml").string();
     std::vector<double> sizes;
     for (const auto& w : split(sizesText)) {
       char* end = nullptr;
@@ -446,8 +446,8 @@ int main(int argc, char* argv[]) {
     if (root) std::cout << "\nwrote " << csvPath << '\n';
     if (root && doPlot) {
       const auto png = std::filesystem::path(csvPath).replace_extension(".png").string();
-      const std::string cmd = std::string(CMS_PYTHON) + " '" + CMS_SCRIPT_DIR + "/plot_results.py' rotor '" + csvPath +
-                              "' '" + png + "'";
+      const std::string cmd = std::string(CMS_PYTHON) + " '" + drivers::dataFile("plot_results.py").string() +
+                              "' rotor '" + csvPath + "' '" + png + "'";
       if (std::system(cmd.c_str()) == 0) std::cout << "plotted " << png << '\n';
       else std::cout << "no plot: " << cmd << " failed\n";
     }

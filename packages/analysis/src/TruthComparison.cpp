@@ -1,5 +1,7 @@
 #include "cms/analysis/TruthComparison.hpp"
 
+#include <limits>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -80,23 +82,36 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
   for (int m = 0; m < count; ++m) truthShapes[m] = truth.expand(tm, m);
   TruthComparison out;
   double sum = 0.0;
+  const auto character = reduced.characterise(rm);  // frame-rate modes (collective)
+  std::vector<double> error(count);
+  for (int m = 0; m < count; ++m) {
+    const double wt = tm.result.modes[m].omega;
+    error[m] = (rm.result.modes[m].omega - wt) / (wt < 1e-6 * scale ? scale : wt);
+  }
   for (int m = 0; m < count; ++m) {
     ModeAccuracy a;
     a.index = m;
     a.omega = rm.result.modes[m].omega;
     a.truthOmega = tm.result.modes[m].omega;
-    const bool rigid = a.truthOmega < 1e-6 * scale;
-    a.relativeError = (a.omega - a.truthOmega) / (rigid ? scale : a.truthOmega);
-    // The truth modes of (numerically) the same frequency as truth mode m.
+    a.rigid = a.truthOmega < 1e-6 * scale;
+    a.frameRate = m < static_cast<int>(character.size()) && character[m].frameArtefact;
+    a.relativeError = error[m];
+    a.missing = std::abs(a.relativeError) > 1.0;
+    // The truth modes of (numerically) the same frequency as truth mode m:
+    // the subspace a reduced mode cannot be told apart within at its own
+    // accuracy. Rigid-body zeros form one cluster (their computed values
+    // are rounding); otherwise the truth modes within max(1e-6, twice this
+    // mode's or a neighbour's error, at most 10%) of truth mode m (close
+    // pairs or triples of symmetric structures split differently in each
+    // model, and a neighbour's error shifts the pairing).
+    double spread = std::abs(error[m]);
+    if (m > 0) spread = std::max(spread, std::abs(error[m - 1]));
+    if (m + 1 < count) spread = std::max(spread, std::abs(error[m + 1]));
+    const double window = std::min(0.1, std::max(1e-6, 2.0 * spread)) * a.truthOmega;
     std::vector<int> cluster;
-    // Rigid-body zeros form one cluster (their computed values are rounding);
-    // otherwise the truth modes the reduced mode cannot tell apart at its own
-    // accuracy: within max(1e-6, 2 |relative error|) of truth mode m (close
-    // pairs of symmetric structures split differently in each model).
-    const double window = std::max(1e-6, 2.0 * std::abs(a.relativeError)) * a.truthOmega;
     for (int t = 0; t < count; ++t) {
       const double wt = tm.result.modes[t].omega;
-      if (rigid ? wt < 1e-6 * scale : std::abs(wt - a.truthOmega) <= window) cluster.push_back(t);
+      if (a.rigid ? wt < 1e-6 * scale : std::abs(wt - a.truthOmega) <= window) cluster.push_back(t);
     }
     const Shape u = reduced.expand(rm, m);
     std::vector<std::vector<cplx>> G(cluster.size(), std::vector<cplx>(cluster.size()));
@@ -111,7 +126,8 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
     const double uu = inner(u, u).real();
     a.mac = uu > 0.0 ? std::min(1.0, proj.real() / uu) : 0.0;
     out.maxRelativeError = std::max(out.maxRelativeError, std::abs(a.relativeError));
-    out.worstMac = std::min(out.worstMac, a.mac);
+    if (!a.rigid && !a.frameRate) out.worstMac = std::min(out.worstMac, a.mac);
+    out.missingModes += a.missing;
     sum += std::abs(a.relativeError);
     out.modes.push_back(a);
   }
@@ -131,6 +147,30 @@ std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse
     if (r + k < fine.size() && coarse[r] > fine[r + k] + tol)
       v.push_back({static_cast<int>(r), "coarse[r] <= fine[r+" + std::to_string(k) + "]",
                    (coarse[r] - fine[r + k]) / coarse[r]});
+  }
+  return v;
+}
+
+std::vector<InclusionViolation> checkInclusion(const synthesis::StructureModes& coarse,
+                                               const synthesis::StructureModes& fine, int added) {
+  CMS_INPUT_CHECK(added < 1, "checkInclusion: " << added << " added coordinates; must be >= 1");
+  const auto& c = coarse.result.modes;
+  const auto& f = fine.result.modes;
+  // What the solve's residual can do to this mode's frequency, relative.
+  auto roundOff = [](const eigen::GyroscopicMode& m) {
+    const double w = std::max(m.omega, std::numeric_limits<double>::min());
+    const double kappa = m.scale > w ? (m.scale / w) * (m.scale / w) : 1.0;
+    return kappa * std::max(10.0 * m.residual, 100.0 * std::numeric_limits<double>::epsilon());
+  };
+  std::vector<InclusionViolation> v;
+  const std::size_t k = static_cast<std::size_t>(added);
+  for (std::size_t r = 0; r < c.size() && r < f.size(); ++r) {
+    const double scale = std::max(std::abs(c[r].omega), std::numeric_limits<double>::min());
+    if (f[r].omega > c[r].omega + (roundOff(c[r]) + roundOff(f[r])) * scale)
+      v.push_back({static_cast<int>(r), "fine[r] <= coarse[r]", (f[r].omega - c[r].omega) / scale});
+    if (r + k < f.size() && c[r].omega > f[r + k].omega + (roundOff(c[r]) + roundOff(f[r + k])) * scale)
+      v.push_back({static_cast<int>(r), "coarse[r] <= fine[r+" + std::to_string(k) + "]",
+                   (c[r].omega - f[r + k].omega) / scale});
   }
   return v;
 }

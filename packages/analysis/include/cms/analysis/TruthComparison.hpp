@@ -22,11 +22,21 @@ struct ModeAccuracy {
   /// symmetric structure has no unique shape at that accuracy (all
   /// rigid-body zeros together): 1 = same shape.
   double mac = 0.0;
+  bool rigid = false;      ///< a zero frequency of the truth (rigid-body motion)
+  bool frameRate = false;  ///< rigid motion seen at a spin rate (synthesis::ModeCharacter::frameArtefact)
+  /// |relativeError| > 1: the reduced mode pairs with a truth mode at less
+  /// than half its frequency — modes the reduced model lacks, not an error
+  /// of this one (the error is then not a number to read).
+  bool missing = false;
 };
 
 struct TruthComparison {
   std::vector<ModeAccuracy> modes;
-  double maxRelativeError = 0.0, meanRelativeError = 0.0, worstMac = 1.0;
+  double maxRelativeError = 0.0, meanRelativeError = 0.0;
+  /// Smallest subspace MAC over the vibration modes (rigid and frame-rate
+  /// modes excluded: their shapes are any combination of the rigid motions).
+  double worstMac = 1.0;
+  int missingModes = 0;  ///< modes flagged `missing`
 };
 
 /// Pairs the lowest `count` modes of each in frequency order (both must have
@@ -51,6 +61,16 @@ struct InclusionViolation {
 /// hyperbolic case, theory §6); the caller decides.
 std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse, const std::vector<double>& fine,
                                                double relTol = 1e-9, int added = 1);
+
+/// The same check between two solved nested models, each frequency with
+/// its own round-off threshold derived from its solve (theory §11.7):
+/// a normwise backward error (residual) eta moves a frequency by about
+/// kappa eta, kappa = (scale / omega)^2 with the mode's componentwise
+/// frequency scale (eigen::GyroscopicMode::scale, >= omega); a pair is a
+/// finding only when its difference exceeds the sum of the two thresholds,
+/// each at least 10 eta kappa and 100 eps kappa. Meaningful only for K > 0.
+std::vector<InclusionViolation> checkInclusion(const synthesis::StructureModes& coarse,
+                                               const synthesis::StructureModes& fine, int added);
 
 /// omega of each mode, ascending (as returned by the solvers).
 std::vector<double> frequencies(const synthesis::StructureModes& modes);

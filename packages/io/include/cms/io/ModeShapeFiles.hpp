@@ -11,7 +11,7 @@
 
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
-namespace cms::analysis {
+namespace cms::io {
 
 /// Collective; rank 0 writes <directory>/<name>-mode-<k>.vtu (k from 1) and
 /// <name>-modes.pvd, each under a temporary name renamed when complete.
@@ -21,4 +21,4 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
                                          const synthesis::StructureModes& modes, const std::string& directory,
                                          const std::string& name);
 
-}  // namespace cms::analysis
+}  // namespace cms::io

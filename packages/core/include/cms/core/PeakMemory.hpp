@@ -1,4 +1,4 @@
-// The process's peak memory, for the benchmark drivers' reports.
+// The process's peak memory, for the drivers' and studies' reports (Linux).
 #pragma once
 
 #include <fstream>
@@ -6,7 +6,7 @@
 
 #include <sys/resource.h>
 
-namespace cms::drivers {
+namespace cms {
 
 /// Maximum resident set size of this process so far, in MiB (Linux reports KiB).
 inline double peakRssMiB() {
@@ -43,4 +43,4 @@ inline double residentMiB() {
   return 0.0;
 }
 
-}  // namespace cms::drivers
+}  // namespace cms

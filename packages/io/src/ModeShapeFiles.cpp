@@ -1,4 +1,4 @@
-#include "cms/analysis/ModeShapeFiles.hpp"
+#include "cms/io/ModeShapeFiles.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -11,7 +11,7 @@
 
 #include "cms/core/Error.hpp"
 
-namespace cms::analysis {
+namespace cms::io {
 
 namespace {
 
@@ -160,4 +160,4 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
   return written;
 }
 
-}  // namespace cms::analysis
+}  // namespace cms::io

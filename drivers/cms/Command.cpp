@@ -1,0 +1,192 @@
+#include "Command.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include <Teuchos_CommandLineProcessor.hpp>
+#include <Teuchos_DefaultComm.hpp>
+
+#include "../DataDirectory.hpp"
+#include "cms/core/Error.hpp"
+
+namespace cms::drivers {
+
+namespace {
+template <class T>
+std::string text(const T& v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+/// "name=value,...": the "Mesh Parameters" of every substructure meshed from a .geo.
+std::map<std::string, double> meshParameters(const std::string& text) {
+  std::map<std::string, double> out;
+  std::istringstream is(text);
+  std::string item;
+  while (std::getline(is, item, ',')) {
+    const auto eq = item.find('=');
+    char* end = nullptr;
+    const double v = eq == std::string::npos ? 0.0 : std::strtod(item.c_str() + eq + 1, &end);
+    CMS_INPUT_CHECK(eq == std::string::npos || eq == 0 || end == item.c_str() + eq + 1 || *end != '\0' ||
+                        !std::isfinite(v),
+                    "--mesh-parameters: \"" << item << "\" is not name=number");
+    std::string name = item.substr(0, eq);
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    CMS_INPUT_CHECK(name.empty(), "--mesh-parameters: \"" << item << "\" has no name");
+    out[name] = v;
+  }
+  return out;
+}
+}  // namespace
+
+Options::Options(std::string command, std::string summary) : command_(std::move(command)), summary_(std::move(summary)) {}
+
+void Options::add(const char* name, std::string* value, const char* help) {
+  entries_.push_back({name, help, "\"" + *value + "\"",
+                      [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, value, help); }});
+}
+void Options::add(const char* name, int* value, const char* help) {
+  entries_.push_back({name, help, text(*value), [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, value, help); }});
+}
+void Options::add(const char* name, double* value, const char* help) {
+  entries_.push_back({name, help, text(*value), [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, value, help); }});
+}
+void Options::flag(const char* name, bool* value, const char* help) {
+  const std::string no = std::string("no-") + name;
+  entries_.push_back({std::string(name) + "|--" + no, help, *value ? "on" : "off",
+                      [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, no.c_str(), value, help); }});
+}
+
+void Options::printHelp(std::ostream& os) const {
+  os << "usage: cms " << command_ << " [SCENE] [options]\n\n" << summary_ << "\n\n"
+     << "SCENE: a YAML scene (doc/user-guide.md, \"Scenes\"); default: the built-in spacecraft\n"
+     << "       (<prefix>/share/cms/scenes/spacecraft.yaml)\n\noptions:\n";
+  for (const auto& e : entries_) {
+    const std::string flag = "--" + e.name + (e.name.find('|') == std::string::npos ? "=" : "");
+    os << "  " << flag << (flag.size() < 28 ? std::string(28 - flag.size(), ' ') : "\n" + std::string(30, ' '))
+       << e.help << " (default " << e.fallback << ")\n";
+  }
+}
+
+std::optional<SceneRun> SceneRun::start(Options& options, int argc, char* argv[], int& exitCode) {
+  SceneRun run;
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  run.root = comm->getRank() == 0;
+  // 1. The command line: [SCENE] then this subcommand's options and the common ones.
+  std::string scenePath, output, meshText;
+  int first = 2;
+  if (argc > 2 && argv[2][0] != '-') scenePath = argv[first++];
+  options.add("output", &output, "results directory (default: the scene's \"Output\", else ./cms-results)");
+  options.add("mesh-parameters", &meshText,
+              "name=value,...: \"Mesh Parameters\" of every substructure meshed from a .geo (e.g. h=0.01)");
+  options.flag("timers", &run.timers, "print the Teuchos::TimeMonitor summary at the end");
+  for (int i = first; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      if (run.root) options.printHelp(std::cout);
+      exitCode = ExitSuccess;
+      return std::nullopt;
+    }
+  Teuchos::CommandLineProcessor clp(false, true);
+  for (const auto& e : options.entries_) e.declare(clp);
+  std::vector<char*> rest{argv[0]};
+  for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
+  std::ostringstream errors;  // Teuchos' message replaced by one naming the subcommand
+  if (clp.parse(static_cast<int>(rest.size()), rest.data(), &errors) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) {
+    if (run.root) {
+      // Teuchos' message: its first non-empty line names the option.
+      std::istringstream lines(errors.str());
+      std::string why, line;
+      while (why.empty() && std::getline(lines, line))
+        if (line.find_first_not_of(" \t") != std::string::npos) why = line;
+      std::cerr << "cms " << options.command() << ": bad input: " << why << " (cms " << options.command()
+                << " --help lists the options)\n";
+    }
+    exitCode = ExitInputError;
+    return std::nullopt;
+  }
+  // 2. The scene, checked key by key before anything is computed.
+  if (scenePath.empty()) scenePath = defaultScene();
+  const auto mesh = meshParameters(meshText);
+  run.scene = scene::Scene::read(scenePath, mesh);
+  if (!mesh.empty()) {
+    bool used = false;
+    for (const auto& s : run.scene.structure.substructures)
+      used = used || (s.model && s.model->mesh && s.model->mesh->source.size() > 4 &&
+                      s.model->mesh->source.compare(s.model->mesh->source.size() - 4, 4, ".geo") == 0);
+    CMS_INPUT_CHECK(!used, "--mesh-parameters: no substructure of " << scenePath << " is meshed from a .geo script");
+  }
+  // 3. The output directory, writable before anything is computed.
+  run.outDir = !output.empty() ? output
+                               : (!run.scene.outputDirectory.empty() ? run.scene.outputDirectory : "cms-results");
+  std::error_code ec;
+  if (std::filesystem::create_directories(run.outDir, ec) && run.root) createdOutput() = run.outDir;
+  CMS_INPUT_CHECK(ec || !std::filesystem::is_directory(run.outDir),
+                  run.outDir.string() << ": cannot create the output directory (" << ec.message() << ")");
+  if (run.root)
+    std::cout << "cms " << options.command() << ": scene " << run.scene.path << " (\"" << run.scene.name << "\", units "
+              << run.scene.units << ", " << run.scene.structure.substructures.size() << " substructures, "
+              << comm->getSize() << " rank(s))\n";
+  return run;
+}
+
+std::filesystem::path& createdOutput() {
+  static std::filesystem::path created;
+  return created;
+}
+
+void removeCreatedOutputIfEmpty() {
+  std::error_code ec;
+  const auto& dir = createdOutput();
+  if (!dir.empty() && std::filesystem::is_empty(dir, ec) && !ec) std::filesystem::remove(dir, ec);
+}
+
+std::vector<int> positiveIntegers(const std::string& text, const char* option) {
+  std::vector<int> out;
+  std::istringstream is(text);
+  std::string item;
+  while (std::getline(is, item, ',')) {
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    CMS_INPUT_CHECK(item.empty() || *end != '\0' || v < 1 || v > 100000,
+                    option << ": \"" << item << "\" is not a positive integer");
+    out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
+// The built-in scene and the plot script: <prefix>/share/cms, found from the
+// executable (DataDirectory.hpp), never a source path compiled in.
+std::string defaultScene() { return drivers::dataFile("scenes/spacecraft.yaml").string(); }
+
+void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv) {
+  if (!options.plot()) return;
+  const auto png = std::filesystem::path(csv).replace_extension(".png");
+  std::string script;
+  try {
+    script = drivers::dataFile("plot_results.py").string();
+  } catch (const InputError& e) {
+    std::cout << "no plot: " << e.what() << '\n';
+    return;
+  }
+  const std::string cmd = std::string(CMS_PYTHON) + " '" + script + "' " + kind + " '" +
+                          csv.string() + "' '" + png.string() + "'";
+  if (std::system(cmd.c_str()) == 0)
+    std::cout << "plotted " << png.string() << '\n';
+  else
+    std::cout << "no plot: " << cmd << " failed (plots need Debian's python3-matplotlib: "
+              << "apt-get install python3-matplotlib)\n";
+}
+
+std::string stamp(double seconds) {
+  std::ostringstream os;
+  os << "[" << std::fixed << std::setprecision(2) << seconds << " s] ";
+  return os.str();
+}
+
+}  // namespace cms::drivers

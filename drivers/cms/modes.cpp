@@ -1,0 +1,219 @@
+// cms modes: the structure's lowest modes at the scene's speeds, each with
+// its accuracy (doc/user-guide.md, "cms modes").
+//
+// For every mode: frequency (Hz, rad/s), growth rate and stability, the
+// residual of the reduced equations, the estimated relative error against
+// the truth model without solving it (doc/theory.md §11.8), the
+// substructure carrying most of its kinetic energy and the whirl of each
+// spinning part. For every substructure: its basis, its own frequencies
+// (the paper's truncation guide) and whether its basis can miss modes below
+// the highest frequency found (a Sturm count, §11.9).
+//
+// Sample runs:
+//   cms modes
+//   cms modes drivers/scenes/rotor-chain.yaml --truth --check-count
+//   mpiexec -n 2 cms modes drivers/scenes/spacecraft.yaml --vtu --output=/tmp/sc
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include <Teuchos_DefaultComm.hpp>
+
+#include "../DriverBoundary.hpp"
+#include "cms/core/PeakMemory.hpp"
+#include "Command.hpp"
+#include "cms/analysis/ModalAnalysis.hpp"
+#include "cms/io/ModeShapeFiles.hpp"
+#include "cms/io/ModesReport.hpp"
+#include "cms/reduction/RitzBasis.hpp"
+
+namespace cms::drivers {
+
+namespace {
+
+/// A basis with fewer vectors than its "Vectors" asks: one line naming the
+/// substructure, the counts asked and kept, and why (the JSON's "dropped"
+/// lists every candidate); empty when nothing is lost.
+std::string droppedNote(const synthesis::SubstructureReduction& r, const Teuchos::ParameterList& reduction) {
+  if (r.dropped.empty()) return {};
+  Teuchos::ParameterList p(reduction);
+  p.validateParametersAndSetDefaults(*reduction::validParameters());
+  const int asked = p.get<int>("Vectors");
+  const bool modes = r.basis == "Craig-Bampton";  // "Vectors" counts its fixed-interface modes
+  int kept = 0;
+  for (const auto& l : r.labels) kept += !modes || l.rfind("mode ", 0) == 0;
+  if (kept >= asked) return {};
+  int dependent = 0, massless = 0;
+  std::string other;
+  for (const auto& d : r.dropped) {
+    if (d.find("zero M-norm") != std::string::npos) ++massless;
+    else if (d.find("after projection") != std::string::npos) ++dependent;
+    else other += "; " + d;
+  }
+  std::ostringstream os;
+  os << "note: " << r.name << ": " << r.basis << " basis: " << asked << (modes ? " modes" : " vectors") << " asked, "
+     << kept << " kept: ";
+  if (dependent) os << dependent << " candidate(s) linearly dependent on those kept (dropped at \"Dependence Tolerance\" "
+                    << p.get<double>("Dependence Tolerance") << ")";
+  if (massless) os << (dependent ? ", " : "") << massless << " with no mass on the free DOFs";
+  os << other << " (the list: \"dropped\" in the JSON)";
+  return os.str();
+}
+
+/// Past 10% the first-order estimate is a flag, not a number (theory §11.8).
+std::string estimateText(double e) {
+  std::ostringstream os;
+  os << std::setprecision(2);
+  if (e >= 0.1) os << "unresolved";
+  else if (e >= 0.0) os << e;
+  else os << "-";
+  return os.str();
+}
+
+void printSubstructures(const analysis::ModalResult& r) {
+  const auto& structure = *r.structure;
+  const auto& reps = r.reduced->reductions();
+  std::cout << "substructure  kind  DOFs      basis          coords  lowest own frequencies (Hz, attachment held)\n";
+  for (const auto& s : reps) {
+    std::cout << std::left << std::setw(14) << s.name << std::setw(6) << s.kind << std::setw(10) << s.physicalDofs
+              << std::setw(15) << s.basis << std::setw(8) << s.coordinates << std::right;
+    for (std::size_t k = 0; k < std::min<std::size_t>(4, s.frequencyEstimates.size()); ++k)
+      std::cout << std::setprecision(5) << s.frequencyEstimates[k] / (2 * M_PI) << ' ';
+    std::cout << '\n';
+  }
+  for (std::size_t k = 0; k < reps.size(); ++k)
+    if (const auto n = droppedNote(reps[k], structure.substructure(k).reduction); !n.empty()) std::cout << n << '\n';
+  for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';
+  // Missing-mode detection (theory §11.9).
+  std::cout << "coverage below " << std::setprecision(5) << r.cutoff / (2 * M_PI)
+            << " Hz (the highest mode; Sturm count of each substructure with its attachment held):";
+  for (const auto& c : r.coverage)
+    if (c.verdict != "Full" && c.verdict != "rigid") std::cout << "\n  " << c.name << ": " << c.verdict;
+  if (r.truthCount >= 0)
+    std::cout << "\n  structure: the truth has " << r.truthCount << " frequencies below " << r.countAt / (2 * M_PI)
+              << " Hz, the reduced model " << r.reducedCount
+              << (r.truthCount > r.reducedCount
+                      ? ": MODES MISSING (a family the bases lack, or errors that push modes past it)"
+                      : ": none missing");
+  else if (r.truthCount == -1)
+    std::cout << "\n  structure: the truth's count was not reliable (a frequency at the cut-off)";
+  std::cout << '\n';
+}
+
+void printModes(const analysis::ModalResult& r) {
+  const auto& structure = *r.structure;
+  const auto& reps = r.reduced->reductions();
+  const auto& result = r.modes.result;
+  std::cout << "\nspeeds (rad/s):";
+  for (std::size_t i = 0; i < r.speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << r.speeds[i];
+  std::cout << "\nsolver: " << result.solver << (result.reason.empty() ? "" : " (" + condense(result.reason) + ")")
+            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual  est.error  largest share, whirl (FW/BW)\n";
+  for (std::size_t m = 0; m < result.modes.size(); ++m) {
+    const auto& md = result.modes[m];
+    const auto& share = r.character[m].kineticShare;
+    const std::size_t top = std::max_element(share.begin(), share.end()) - share.begin();
+    std::cout << std::setw(5) << m + 1 << std::setw(12) << std::setprecision(6) << md.hz << std::setw(12) << md.omega
+              << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
+              << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual
+              << std::setw(11) << estimateText(r.estimates[m]);
+    if (m < r.trueErrors.size()) std::cout << " (true " << std::setprecision(2) << r.trueErrors[m] << ")";
+    std::cout << "  " << reps[top].name << " " << std::setprecision(3) << share[top]
+              << (r.character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
+    for (const auto& w : r.whirls[m]) std::cout << "  " << w;
+    std::cout << '\n';
+  }
+}
+
+}  // namespace
+
+int modes(int argc, char* argv[]) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  // 1. Options and scene.
+  Options options("modes",
+                  "The structure's lowest modes at the scene's speeds, each with its residual and estimated error\n"
+                  "against the truth model (doc/theory.md 11.8), and each substructure's missing-mode check (11.9).");
+  bool vtu = false, truth = false, checkCount = false;
+  options.flag("vtu", &vtu, "mode shapes for ParaView (.vtu per mode, .pvd)");
+  options.flag("truth", &truth, "also solve the truth model and print the true error beside each estimate");
+  options.flag("check-count", &checkCount,
+               "count the truth's frequencies below the highest one (one factorisation of the assembled model)");
+  int code = ExitSuccess;
+  const auto run = SceneRun::start(options, argc, argv, code);
+  if (!run) return code;
+  const auto& sc = run->scene;
+  const bool root = run->root;
+
+  // 2. The analysis (analysis::ModalAnalysis: assemble, reduce, solve, judge).
+  Teuchos::ParameterList study;
+  study.set("Speed Factor", sc.speedFactor);
+  study.set("Target Accuracy", sc.targetAccuracy);
+  study.set("Truth", truth);
+  study.set("Check Count", checkCount);
+  analysis::ModalAnalysis modal(sc.structure, sc.solve, study);
+  if (root && sc.estimatedDofs > scene::Scene::kLargeDofs) {  // nobody waits minutes in silence
+    std::cout << stamp(seconds()) << std::setprecision(3) << "assembling " << sc.structure.substructures.size()
+              << " substructures: " << sc.estimatedDofs << " DOFs, at least " << sc.estimatedBytes / 1e9 << " GB of the "
+              << scene::availableMemoryBytes() / 1e9 << " GB available" << std::endl;
+    modal.setProgress([&](const std::string& what) { std::cout << stamp(seconds()) << what << std::endl; });
+  }
+  const auto r = [&] {
+    try {
+      return modal.run(Teuchos::DefaultComm<int>::getComm());
+    } catch (const InputError& e) {  // name the scene file
+      throw InputError(sc.path + ": " + e.what());
+    } catch (const NumericalError& e) {
+      throw NumericalError(sc.path + ": " + e.what());
+    }
+  }();
+  if (root)
+    for (const auto& n : r.enrichment.notes) std::cout << "target accuracy " << sc.targetAccuracy << ": " << n << '\n';
+  if (!r.enrichment.reached) {
+    if (root)
+      std::cerr << "cms: " << kNotConverged.message << " (exit " << kNotConverged.code << "): Target Accuracy "
+                << sc.targetAccuracy << " not reached (worst estimate " << r.enrichment.worstEstimate
+                << "); no files written\n";
+    return kNotConverged.code;
+  }
+
+  // 3. The report, then the files: only a success writes files.
+  const Outcome outcome = drivers::outcome(r.modes.result.status);
+  if (root) {
+    std::cout << stamp(seconds()) << "solved (" << r.modes.path << "): " << r.reduced->size() << " coordinates\n\n";
+    printSubstructures(r);
+    printModes(r);
+  }
+  if (outcome.code != ExitSuccess) {
+    if (root)
+      std::cerr << "cms: " << outcome.message << " (status " << toString(r.modes.result.status) << ", exit "
+                << outcome.code << "): " << condense(r.modes.result.reason) << "; no files written\n";
+    return outcome.code;
+  }
+  const auto base = run->outDir / sc.name;
+  if (root) {
+    if (sc.csv) {
+      io::writeModesCsv(base.string() + "-modes.csv", r);
+      io::writeCoverageCsv(base.string() + "-coverage.csv", r);
+    }
+    if (sc.json) {
+      std::ifstream sceneFile(sc.path);
+      std::stringstream text;
+      text << sceneFile.rdbuf();
+      io::writeModesJson(base.string() + ".json", r,
+                         {sc.path, text.str(), sc.name, sc.units, CMS_VERSION,
+                          Teuchos::DefaultComm<int>::getComm()->getSize(), peakRssMiB()});
+    }
+    std::cout << "\nwrote " << base.string() << (sc.json ? ".json " : " ")
+              << (sc.csv ? "(and -modes.csv, -coverage.csv)" : "") << '\n';
+  }
+  if (vtu) {  // collective
+    const auto files = io::writeModeShapes(*r.structure, *r.reduced, r.modes, run->outDir.string(), sc.name);
+    if (root) std::cout << "wrote " << files.size() - 1 << " mode shapes for ParaView: " << files.back() << '\n';
+  }
+  return ExitSuccess;
+}
+
+}  // namespace cms::drivers

@@ -1,0 +1,185 @@
+#include "cms/analysis/ModalAnalysis.hpp"
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <map>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_TimeMonitor.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/analysis/TruthComparison.hpp"
+#include "cms/analysis/ZeroFrequencies.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/core/ParameterReading.hpp"
+
+namespace cms::analysis {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+Teuchos::RCP<const Teuchos::ParameterList> ModalAnalysis::validParameters() {
+  auto p = Teuchos::rcp(new Teuchos::ParameterList("Modal Analysis"));
+  p->set("Speed Factor", 1.0, "every nominal spin rate is multiplied by this (>= 0)");
+  p->set("Target Accuracy", 0.0,
+         "> 0: bases enriched until every wanted mode's estimated relative error is below it (theory 11.10)");
+  p->set("Truth", false, "also solve the truth model (every basis Full) and report the true error per mode");
+  p->set("Check Count", false,
+         "count the truth's frequencies below the highest one found (one factorisation of the assembled model)");
+  return p;
+}
+
+ModalAnalysis::ModalAnalysis(synthesis::StructureDescription description, Teuchos::ParameterList solve,
+                             const Teuchos::ParameterList& options)
+    : description_(std::move(description)), solve_(std::move(solve)), options_(options) {
+  checkKeys(options_, *validParameters(), "Modal Analysis");
+  try {
+    options_.validateParametersAndSetDefaults(*validParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("Modal Analysis: ") + e.what());
+  }
+  CMS_INPUT_CHECK(!(options_.get<double>("Speed Factor") >= 0.0),
+                  "Modal Analysis: \"Speed Factor\" = " << options_.get<double>("Speed Factor") << " must be >= 0");
+  CMS_INPUT_CHECK(!(options_.get<double>("Target Accuracy") >= 0.0),
+                  "Modal Analysis: \"Target Accuracy\" = " << options_.get<double>("Target Accuracy")
+                                                           << " must be >= 0");
+}
+
+ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) const {
+  auto say = [&](const std::string& s) {
+    if (progress_) progress_(s);
+  };
+  ModalResult r;
+  // 1. Assembly of every substructure (with its prestress, leaves first).
+  const auto t0 = Clock::now();
+  r.structure = [&] {
+    Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 1. assembly of the substructures"));
+    return synthesis::AssembledStructure::assemble(description_, comm);
+  }();
+  const auto& structure = *r.structure;
+  r.assemblySeconds = since(t0);
+  r.speeds = structure.nominalSpeeds();
+  for (double& v : r.speeds) v *= options_.get<double>("Speed Factor");
+
+  say("assembled " + std::to_string(structure.numSubstructures()) + " substructures");
+  // 2. The bases: as given, or enriched to "Target Accuracy" (theory §11.10).
+  say("reducing: factorising the stiffness and building the bases of " +
+      std::to_string(structure.numSubstructures()) + " substructures");
+  const auto t1 = Clock::now();
+  std::vector<Teuchos::ParameterList> reductions;
+  for (std::size_t k = 0; k < structure.numSubstructures(); ++k) reductions.push_back(structure.substructure(k).reduction);
+  r.enrichment.reached = true;
+  if (const double target = options_.get<double>("Target Accuracy"); target > 0.0) {
+    r.enrichment = enrichToAccuracy(structure, r.speeds, solve_, target, reductions);
+    if (!r.enrichment.reached) return r;
+  }
+
+  // 3. Reduction and coupling; massless coordinates refused before solving.
+  r.reduced = [&] {
+    Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 2. reduction and synthesis"));
+    return synthesis::SynthesizedStructure::synthesize(structure, reductions);
+  }();
+  const auto& s = *r.reduced;
+  r.reductionSeconds = since(t1);
+  checkMass(structure, s);
+
+  // 4. The solve, then what each zero frequency means (theory §4.3): a
+  // critical speed is an answer, an unrestrained or ill-conditioned model is not.
+  say("solving: the lowest " + std::to_string(solve_.get<int>("Number of Modes")) + " modes of " +
+      std::to_string(s.size()) + " coordinates");
+  r.modes = [&] {
+    Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
+    return s.solve(r.speeds, solve_);
+  }();
+  checkZeroFrequencies(structure, s, r.modes, solve_);
+
+  // 5. Accuracy, without the truth (theory §11.8, §11.9), and with it on request.
+  r.character = s.characterise(r.modes);
+  r.estimates = s.errorEstimates(r.modes);
+  if (options_.get<bool>("Truth")) {
+    const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+    const auto truthModes = truth.solve(r.speeds, solve_);
+    const int n = static_cast<int>(std::min(r.modes.result.modes.size(), truthModes.result.modes.size()));
+    for (const auto& a : compareWithTruth(s, r.modes, truth, truthModes, n).modes)
+      r.trueErrors.push_back(std::abs(a.relativeError));
+  }
+  for (const auto& md : r.modes.result.modes) r.cutoff = std::max(r.cutoff, md.omega);
+  r.coverage = s.coverage(r.cutoff);
+  // Ritz frequencies lie above the truth's: the truth has at least as many
+  // below just above the highest reduced one; more means modes missing.
+  r.countAt = r.cutoff * (1.0 + 1e-6);
+  if (options_.get<bool>("Check Count")) {
+    r.truthCount = truthFrequenciesBelow(structure, r.speeds, r.countAt);
+    for (const auto& md : r.modes.result.modes) r.reducedCount += md.omega < r.countAt;
+  }
+
+  // 6. Whirl of each spinning substructure in each mode.
+  r.whirls.resize(r.modes.result.modes.size());
+  for (std::size_t m = 0; m < r.modes.result.modes.size(); ++m) {
+    const auto u = s.expand(r.modes, static_cast<int>(m));
+    for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
+      if (structure.substructure(k).kind != synthesis::SubstructureKind::Central && structure.substructure(k).spin)
+        r.whirls[m].push_back(structure.substructure(k).name + " " +
+                              substructureWhirl(structure, u, k, r.modes.result.modes[m]));
+  }
+  return r;
+}
+
+std::string substructureWhirl(const synthesis::AssembledStructure& a, const std::vector<Teuchos::RCP<MultiVector>>& u,
+                              std::size_t k, const eigen::GyroscopicMode& mode) {
+  const auto& spec = a.substructure(k);
+  if (!spec.spin) return "";
+  fem::Vec3 n = spec.spin->axis;
+  const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (double& v : n) v /= nn;
+  // e1, e2 transverse with e1 x e2 = n.
+  fem::Vec3 e1 = std::abs(n[0]) < 0.9 ? fem::Vec3{1, 0, 0} : fem::Vec3{0, 1, 0};
+  const double d = e1[0] * n[0] + e1[1] * n[1] + e1[2] * n[2];
+  for (int i = 0; i < 3; ++i) e1[i] -= d * n[i];
+  const double n1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+  for (double& v : e1) v /= n1;
+  const fem::Vec3 e2{n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+  const auto map = u[k]->getMap();
+  const auto* sub = a.assembled(k);
+  const auto nodeOf = sub ? sub->dofs().rowNodes() : std::vector<std::int64_t>();
+  // Per node (or the rigid rotor's centre): the complex 3-vector of the
+  // translations (elastic rotor) or tilts (rigid rotor).
+  std::map<long long, std::array<std::complex<double>, 3>> v;
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+    const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    int c = static_cast<int>(g);
+    long long node = 0;
+    if (sub) {
+      c = static_cast<int>(sub->dofs().components[g]);
+      if (c > 2) continue;
+      node = nodeOf[g];
+    } else {
+      if (c < 3) continue;
+      c -= 3;
+    }
+    v[node][c] = {u[k]->getData(0)[l], u[k]->getData(1)[l]};
+  }
+  double local[3] = {0, 0, 0}, global[3] = {0, 0, 0};
+  for (const auto& [node, x] : v) {
+    local[2] += std::norm(x[0]) + std::norm(x[1]) + std::norm(x[2]);
+    const std::complex<double> a1 = x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2];
+    const std::complex<double> a2 = x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2];
+    // x(t) = Re(a e^{lambda t}), lambda = i w: the orbit in (e1, e2) turns
+    // positively (about n) when Im(a1 conj(a2)) > 0 (whirlOf's rule, Campbell.hpp).
+    local[0] += std::imag(a1 * std::conj(a2)) * (mode.lambda.imag() >= 0 ? 1.0 : -1.0);
+    local[1] += std::norm(a1) + std::norm(a2);
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 3, local, global);
+  // No whirl: a mode moving mostly along the axis or twisting about it
+  // (transverse share < 10%), or a flat orbit (circularity < 1%).
+  if (!(global[1] > 0.1 * global[2]) || std::abs(2 * global[0]) < 1e-2 * global[1]) return "-";
+  const bool withSpin = (global[0] > 0) == (spec.spin->rate >= 0);
+  return withSpin ? "FW" : "BW";
+}
+
+}  // namespace cms::analysis

@@ -1,0 +1,142 @@
+#include "cms/analysis/TruncationStudy.hpp"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "cms/core/Error.hpp"
+#include "cms/core/ParameterReading.hpp"
+
+namespace cms::analysis {
+
+Teuchos::RCP<const Teuchos::ParameterList> TruncationStudy::validParameters() {
+  auto p = Teuchos::rcp(new Teuchos::ParameterList("Truncation Study"));
+  p->set("Start", 2, "vectors per reducible substructure to start from (>= 0)");
+  p->set("Step", 2, "vectors added per step (>= 1)");
+  p->set("Accuracy", 1e-3, "target: largest estimated relative frequency error of the wanted modes (> 0)");
+  p->set("Truth", false, "also solve the truth model and record the true error beside each estimate");
+  p->set("Max Steps", 200, "steps before the search gives up (>= 1)");
+  p->set("Speed Factor", 1.0, "every nominal spin rate is multiplied by this (>= 0)");
+  return p;
+}
+
+TruncationStudy::TruncationStudy(const synthesis::AssembledStructure& structure, Teuchos::ParameterList solve,
+                                 const Teuchos::ParameterList& options)
+    : structure_(structure), solve_(std::move(solve)), options_(options) {
+  checkKeys(options_, *validParameters(), "Truncation Study");
+  try {
+    options_.validateParametersAndSetDefaults(*validParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("Truncation Study: ") + e.what());
+  }
+  CMS_INPUT_CHECK(options_.get<int>("Start") < 0 || options_.get<int>("Step") < 1,
+                  "Truncation Study: \"Start\" must be >= 0 and \"Step\" >= 1 (--start, --step)");
+  CMS_INPUT_CHECK(!(options_.get<double>("Accuracy") > 0),
+                  "Truncation Study: \"Accuracy\" = " << options_.get<double>("Accuracy") << " must be positive");
+  CMS_INPUT_CHECK(options_.get<int>("Max Steps") < 1, "Truncation Study: \"Max Steps\" must be >= 1");
+}
+
+TruncationResult TruncationStudy::run(
+    const std::function<void(const TruncationStep&, const TruncationResult&)>& onStep) const {
+  const auto& structure = structure_;
+  auto speeds = structure.nominalSpeeds();
+  for (double& v : speeds) v *= options_.get<double>("Speed Factor");
+  const int nModes = solve_.get<int>("Number of Modes");
+  const int start = options_.get<int>("Start"), step = options_.get<int>("Step");
+  const double accuracy = options_.get<double>("Accuracy");
+  TruncationResult result;
+
+  // 1. The truth, only when asked: the cost a reduction exists to avoid.
+  std::optional<synthesis::SynthesizedStructure> truth;
+  synthesis::StructureModes truthModes;
+  if (options_.get<bool>("Truth")) {
+    truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+    truthModes = truth->solve(speeds, solve_);
+    CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
+                    "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);
+    result.truthSize = truth->size();
+  }
+
+  // 2. The reducible substructures (Admissible, Polynomial, Modes,
+  // Craig-Bampton bases) start from "Start" vectors.
+  const std::size_t ns = structure.numSubstructures();
+  std::vector<Teuchos::ParameterList> red(ns);
+  std::vector<int> count(ns, 0);
+  std::vector<long long> limit(ns, 0);
+  result.reducible.assign(ns, false);
+  for (std::size_t q = 0; q < ns; ++q) {
+    red[q] = structure.substructure(q).reduction;
+    red[q].setName("Reduction");
+    const std::string basis = red[q].get<std::string>("Basis", "Admissible");
+    result.reducible[q] = structure.assembled(q) && basis != "Full" && basis != "Guyan";
+    if (result.reducible[q]) {
+      limit[q] = structure.assembled(q)->dofs().rows() - 6;
+      count[q] = static_cast<int>(std::min<long long>(start, limit[q]));
+      red[q].set("Vectors", count[q]);
+    }
+  }
+
+  // 3. One model: its largest estimated error over the wanted modes (theory §11.8).
+  struct Model {
+    double estimate = std::numeric_limits<double>::infinity();
+    double trueError = std::numeric_limits<double>::quiet_NaN();
+    long long dofs = 0;
+    synthesis::StructureModes modes;
+  };
+  auto evaluate = [&](const std::vector<Teuchos::ParameterList>& r) {
+    Model model;
+    const auto s = synthesis::SynthesizedStructure::synthesize(structure, r);
+    model.dofs = s.size();
+    if (model.dofs < nModes) return model;
+    model.modes = s.solve(speeds, solve_);
+    if (static_cast<int>(model.modes.result.modes.size()) < nModes) return model;
+    if (truth) model.trueError = compareWithTruth(s, model.modes, *truth, truthModes, nModes).maxRelativeError;
+    const auto e = s.errorEstimates(model.modes);
+    model.estimate = 0.0;
+    for (int j = 0; j < nModes; ++j) model.estimate = std::max(model.estimate, e[j]);  // -1 (zero frequency): none
+    result.definite = model.modes.result.solver.find("Meirovitch") != std::string::npos;
+    return model;
+  };
+  auto record = [&](const std::string& changed, const Model& m, std::vector<InclusionViolation> findings) {
+    result.steps.push_back({static_cast<int>(result.steps.size()), changed, m.dofs, m.estimate, m.trueError,
+                            std::move(findings), count});
+    if (onStep) onStep(result.steps.back(), result);
+  };
+  Model current = evaluate(red);
+  record("(start)", current, {});
+
+  // 4. Greedy: the addition that lowers the estimate most per added coordinate.
+  for (int k = 1; current.estimate > accuracy && k <= options_.get<int>("Max Steps"); ++k) {
+    int best = -1;
+    double bestGain = -1;
+    Model bestModel;
+    for (std::size_t q = 0; q < ns; ++q) {
+      if (!result.reducible[q] || count[q] + step > limit[q]) continue;
+      auto trial = red;
+      trial[q].set("Vectors", count[q] + step);
+      Model m;
+      try {
+        m = evaluate(trial);
+      } catch (const InputError&) {
+        continue;  // e.g. more Craig-Bampton modes than the substructure has
+      }
+      if (m.dofs <= current.dofs) continue;  // no new coordinate (the substructure is complete)
+      const double gain = (std::min(current.estimate, 1e300) - m.estimate) / std::max<long long>(1, m.dofs - current.dofs);
+      if (best < 0 || gain > bestGain) best = static_cast<int>(q), bestGain = gain, bestModel = std::move(m);
+    }
+    if (best < 0) break;
+    // 5. Inclusion principle between the nested models (K > 0 only), above
+    // the round-off of the two solves.
+    std::vector<InclusionViolation> findings;
+    if (result.definite && !current.modes.result.modes.empty())
+      findings = checkInclusion(current.modes, bestModel.modes, static_cast<int>(bestModel.dofs - current.dofs));
+    count[best] += step;
+    red[best].set("Vectors", count[best]);
+    current = std::move(bestModel);
+    record(structure.substructure(best).name, current, std::move(findings));
+  }
+  result.reached = current.estimate <= accuracy;
+  return result;
+}
+
+}  // namespace cms::analysis

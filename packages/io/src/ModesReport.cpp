@@ -1,0 +1,115 @@
+#include "cms/io/ModesReport.hpp"
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "cms/io/AtomicFile.hpp"
+
+namespace cms::io {
+
+namespace {
+constexpr double kTwoPi = 2.0 * M_PI;
+using json = nlohmann::ordered_json;  // keys in the order written: the file reads top-down
+
+/// A number, or null when it is not one (no estimate: a zero frequency).
+json numberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+}  // namespace
+
+void writeModesJson(const std::filesystem::path& file, const analysis::ModalResult& r, const RunRecord& run) {
+  const auto& structure = *r.structure;
+  const auto& modes = r.modes.result.modes;
+  json o;
+  o["scene"] = run.scenePath;
+  o["scene_text"] = run.sceneText;
+  o["name"] = run.name;
+  o["units"] = {{"length", "m"}, {"mass", "kg"}, {"time", "s"}, {"frequency", "Hz and rad/s"}};
+  o["version"] = run.version;
+  o["ranks"] = run.ranks;
+  o["timings_s"] = {{"assembly", r.assemblySeconds},
+                    {"reduction_and_synthesis", r.reductionSeconds},
+                    {"solve", r.modes.seconds}};
+  o["peak_memory_mib"] = run.peakMemoryMiB;
+  o["speeds"] = json::array();
+  for (std::size_t i = 0; i < r.speeds.size(); ++i)
+    o["speeds"].push_back({{"name", structure.speeds()[i].name}, {"rad_per_s", r.speeds[i]}});
+  o["notes"] = structure.notes();
+  o["substructures"] = json::array();
+  for (const auto& s : r.reduced->reductions()) {
+    std::vector<double> hz;
+    for (double w : s.frequencyEstimates) hz.push_back(w / kTwoPi);
+    o["substructures"].push_back({{"name", s.name},
+                                  {"kind", s.kind},
+                                  {"physical_dofs", s.physicalDofs},
+                                  {"basis", s.basis},
+                                  {"coordinates", s.coordinates},
+                                  {"attachment_dofs", s.attachmentDofs},
+                                  {"basis_seconds", s.seconds},
+                                  {"frequency_estimates_hz", hz},
+                                  {"dropped", s.dropped}});
+  }
+  json coverage = {{"cutoff_hz", r.cutoff / kTwoPi}, {"substructures", json::array()}};
+  for (const auto& c : r.coverage)
+    coverage["substructures"].push_back({{"name", c.name},
+                                         {"basis", c.basis},
+                                         {"sturm_count", c.sturmCount},
+                                         {"represented", c.represented},
+                                         {"coordinates", c.coordinates},
+                                         {"verdict", c.verdict}});
+  if (r.truthCount >= -1) {
+    coverage["structure_truth_count"] = r.truthCount;
+    coverage["structure_reduced_count"] = r.reducedCount;
+  }
+  o["coverage"] = coverage;
+  o["solver"] = r.modes.result.solver;
+  o["path"] = r.modes.path;
+  o["status"] = toString(r.modes.result.status);
+  o["reason"] = r.modes.result.reason;
+  o["modes"] = json::array();
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    const auto& md = modes[m];
+    json j = {{"hz", md.hz},
+              {"rad_per_s", md.omega},
+              {"growth_rate", md.growthRate},
+              {"stability", toString(md.stability)},
+              {"residual", md.residual},
+              {"error_estimate", r.estimates[m] >= 0.0 ? json(r.estimates[m]) : json(nullptr)}};
+    if (m < r.trueErrors.size()) j["true_error"] = numberOrNull(r.trueErrors[m]);
+    j["frame_artefact"] = r.character[m].frameArtefact;
+    j["whirl"] = r.whirls[m];
+    j["kinetic_share"] = r.character[m].kineticShare;
+    o["modes"].push_back(j);
+  }
+  AtomicFile f(file);
+  f.stream() << o.dump(2) << '\n';
+  f.commit();
+}
+
+void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResult& r) {
+  AtomicFile f(file);
+  auto& out = f.stream();
+  out << "mode,hz,rad_per_s,growth_rate,stability,residual,error_estimate,frame_artefact";
+  for (const auto& s : r.reduced->reductions()) out << ",share_" << csvField(s.name);
+  out << '\n';
+  const auto& modes = r.modes.result.modes;
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    const auto& md = modes[m];
+    out << m + 1 << ',' << md.hz << ',' << md.omega << ',' << md.growthRate << ',' << toString(md.stability) << ','
+        << md.residual << ',' << (r.estimates[m] >= 0.0 ? r.estimates[m] : std::nan("")) << ','
+        << r.character[m].frameArtefact;
+    for (double v : r.character[m].kineticShare) out << ',' << v;
+    out << '\n';
+  }
+  f.commit();
+}
+
+void writeCoverageCsv(const std::filesystem::path& file, const analysis::ModalResult& r) {
+  AtomicFile f(file);
+  f.stream() << "substructure,basis,cutoff_hz,sturm_count,represented,coordinates,verdict\n";
+  for (const auto& c : r.coverage)
+    f.stream() << csvField(c.name) << ',' << csvField(c.basis) << ',' << c.cutoff / kTwoPi << ',' << c.sturmCount
+               << ',' << c.represented << ',' << c.coordinates << ',' << csvField(c.verdict) << '\n';
+  f.commit();
+}
+
+}  // namespace cms::io
