@@ -1,6 +1,8 @@
 #include "cms/analysis/Enrichment.hpp"
 
 #include <algorithm>
+#include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cms/core/Error.hpp"
@@ -33,8 +35,14 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
     r.set("Vectors", static_cast<int>(std::min<long long>(limit, v + std::max(2, v / 4))));
     return true;
   };
+  // Each step rebuilds only the substructure it grew: the others keep their
+  // bases, and every substructure its factorisations (synthesize's previous).
+  std::optional<synthesis::SynthesizedStructure> previous;
   for (int step = 0; step < 60; ++step) {
-    const auto s = synthesis::SynthesizedStructure::synthesize(structure, reductions);
+    previous = synthesis::SynthesizedStructure::synthesize(structure, reductions,
+                                                           synthesis::ReductionSchedule::Concurrent,
+                                                           previous ? &*previous : nullptr);
+    const auto& s = *previous;
     bool grown = false;
     if (s.size() < nModes) {
       for (std::size_t k = 0; k < ns; ++k)
@@ -54,6 +62,7 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
     if (worst >= 0) os << " (mode " << worst + 1 << ")";
     if (out.worstEstimate <= target && static_cast<int>(m.result.modes.size()) >= nModes) {
       out.reached = true;
+      out.synthesis = std::make_shared<const synthesis::SynthesizedStructure>(s);
       os << ": target " << target << " reached";
       out.notes.push_back(os.str());
       break;

@@ -356,32 +356,96 @@ reduction::SubstructureBoundary substructureBoundary(const std::vector<std::shar
 }
 }  // namespace
 
+/// The projected matrices of synthesize as they accumulate, part by part.
+struct SynthesizedStructure::Sums {
+  Teuchos::RCP<const CrsMatrix> M, K0;
+  std::vector<Teuchos::RCP<const CrsMatrix>> G;  ///< per speed parameter
+  std::map<std::pair<int, int>, Teuchos::RCP<const CrsMatrix>> K2;
+};
+
+/// What depends on a substructure's matrices and held rows but not on its
+/// basis: built once (on first use, collectively) and shared by copies of
+/// the synthesis and by later syntheses of the same assembled structure
+/// (synthesize's `previous`), so that neither the error estimates of every
+/// mode, nor a second call, nor an enrichment step factorises again.
+struct SynthesizedStructure::Factorisations {
+  explicit Factorisations(std::size_t n) : flexibility(n), carriedRigidly(n, -1), constraintModes(n), heldK(n), heldM(n) {}
+  /// K_a,s with its attachment held, factored (the estimates' flexibility, §11.8).
+  std::vector<std::shared_ptr<const reduction::StaticCorrection>> flexibility;
+  /// K_s X_s = 0 to rounding (1), or the part is grounded (0); -1 not yet known.
+  std::vector<int> carriedRigidly;
+  /// A Boolean child's static constraint modes (reduced bases only).
+  std::vector<Teuchos::RCP<MultiVector>> constraintModes;
+  /// K_a, M_a with the attachment held, and the coverage Sturm counts made
+  /// with them, per (part, cut-off).
+  std::vector<Teuchos::RCP<const CrsMatrix>> heldK, heldM;
+  std::map<std::pair<std::size_t, double>, SparseInertia> counts;
+};
+
 SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure,
                                                       const std::vector<Teuchos::ParameterList>& reductions,
-                                                      ReductionSchedule schedule) {
+                                                      ReductionSchedule schedule, const SynthesizedStructure* previous) {
   const auto t0 = Clock::now();
   const auto& parts = structure.parts();
   CMS_INPUT_CHECK(reductions.size() != parts.size(), "synthesis: " << reductions.size() << " reduction lists for "
                                                                    << parts.size() << " substructures");
-  auto comm = structure.comm();
-  const int rank = comm->getRank(), nranks = comm->getSize();
   SynthesizedStructure out;
   out.structure_ = std::make_shared<AssembledStructure>(structure);
-
+  // Only a synthesis of the same assembled parts has anything to give.
+  if (previous != nullptr && previous->structure_->parts() != parts) previous = nullptr;
+  out.factorisations_ = previous != nullptr ? previous->factorisations_ : std::make_shared<Factorisations>(parts.size());
   // 1. Bases (each substructure independently: §11.3).
-  std::vector<reduction::RitzBasis> bases(parts.size());
-  out.reports_.resize(parts.size());
+  out.buildBases(reductions, schedule, previous);
+  out.basesSeconds_ = since(t0);
+  // 2. Coordinates q.
+  const auto offset = out.layoutCoordinates();
+  // 3. Interface transforms and projections, parents first (a child's
+  // attachment motion reads its parent's transform).
+  Sums sums;
+  sums.G.resize(structure.speeds().size());
+  out.T_.resize(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    bool moves = false;
+    const auto A = out.attachmentMotion(k, moves);
+    if (parts[k]->sub) out.projectSubstructure(k, A, moves, offset[k], sums);
+    else out.projectRigidRotor(k, A, offset[k], sums);
+  }
+  // 4. The structure's matrices, exactly symmetric.
+  out.finishMatrices(sums);
+  out.seconds_ = since(t0);
+  return out;
+}
+
+/// Step 1 of synthesize: every substructure's basis and its report, reused
+/// from `previous` where its "Reduction" list is unchanged; the others on
+/// the schedule.
+void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>& reductions, ReductionSchedule schedule,
+                                      const SynthesizedStructure* previous) {
+  const auto& parts = structure_->parts();
+  const auto comm = structure_->comm();
+  const int rank = comm->getRank(), nranks = comm->getSize();
+  bases_.assign(parts.size(), reduction::RitzBasis());
+  reports_.assign(parts.size(), SubstructureReduction());
+  reductionLists_ = reductions;
+  std::vector<bool> reused(parts.size(), false);
+  if (previous != nullptr)
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      if (parts[k]->sub && Teuchos::haveSameValuesSorted(previous->reductionLists_[k], reductions[k])) {
+        bases_[k] = previous->bases_[k];
+        reports_[k] = previous->reports_[k];
+        reused[k] = true;
+      }
   auto boundaryOf = [&](std::size_t k) { return substructureBoundary(parts, k); };
   auto report = [&](std::size_t k) {
     const auto& p = *parts[k];
-    SubstructureReduction& rep = out.reports_[k];
-    rep.basis = bases[k].kind;
+    SubstructureReduction& rep = reports_[k];
+    rep.basis = bases_[k].kind;
     rep.physicalDofs = p.sub->dofs().rows();
     rep.attachmentDofs = static_cast<int>(p.held.size());
-    rep.labels = bases[k].labels;
-    rep.dropped = bases[k].dropped;
-    rep.eigensolverReport = bases[k].eigensolverReport;
-    rep.seconds = bases[k].seconds;
+    rep.labels = bases_[k].labels;
+    rep.dropped = bases_[k].dropped;
+    rep.eigensolverReport = bases_[k].eigensolverReport;
+    rep.seconds = bases_[k].seconds;
   };
   // The schedule: which rank reduces each substructure whole (-1: all ranks
   // together). Largest first onto the least-loaded rank, the cost taken as
@@ -391,8 +455,9 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   if (schedule == ReductionSchedule::Concurrent && nranks > 1) {
     std::vector<std::pair<double, std::size_t>> work;
     for (std::size_t k = 0; k < parts.size(); ++k)
-      if (parts[k]->sub && !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
-                                 reductions[k].get<std::string>("Basis") == "Full"))
+      if (parts[k]->sub && !reused[k] &&
+          !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
+            reductions[k].get<std::string>("Basis") == "Full"))
         work.push_back({std::pow(static_cast<double>(parts[k]->sub->dofs().rows()), 1.5), k});
     std::sort(work.begin(), work.end(), [](const auto& a, const auto& b) {
       return a.first > b.first || (a.first == b.first && a.second < b.second);
@@ -423,8 +488,8 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     for (std::size_t k = 0; k < parts.size(); ++k) {
       if (owner[k] != rank) continue;
       try {
-        bases[k] = reduction::buildRitzBasis(*local[k], boundaryOf(k), reductions[k]);
-        if (!bases[k].full && bases[k].size() > 0) estimates[k] = reduction::estimateFrequencies(*local[k], bases[k]);
+        bases_[k] = reduction::buildRitzBasis(*local[k], boundaryOf(k), reductions[k]);
+        if (!bases_[k].full && bases_[k].size() > 0) estimates[k] = reduction::estimateFrequencies(*local[k], bases_[k]);
       } catch (const InputError& e) {
         failure[k] = 1, message[k] = e.what();
       } catch (const NumericalError& e) {
@@ -438,7 +503,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     // substructures' own distributed maps.
     for (std::size_t k = 0; k < parts.size(); ++k) {
       if (owner[k] < 0) continue;
-      auto& b = bases[k];
+      auto& b = bases_[k];
       std::vector<std::string> text{b.kind, b.eigensolverReport, message[k]};
       text.insert(text.end(), b.labels.begin(), b.labels.end());
       text.insert(text.end(), b.dropped.begin(), b.dropped.end());
@@ -461,12 +526,12 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
       b.full = numbers[1] != 0.0;
       b.seconds = numbers[2];
       b.vectors = ncols > 0 ? V : Teuchos::null;
-      out.reports_[k].frequencyEstimates.assign(numbers.begin() + 6, numbers.end());
+      reports_[k].frequencyEstimates.assign(numbers.begin() + 6, numbers.end());
     }
   }
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const auto& p = *parts[k];
-    SubstructureReduction& rep = out.reports_[k];
+    SubstructureReduction& rep = reports_[k];
     rep.name = p.spec.name;
     rep.kind = toString(p.spec.kind);
     if (!p.sub) {
@@ -474,197 +539,216 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
       rep.physicalDofs = 6;
       continue;
     }
+    if (reused[k]) continue;
     if (owner[k] < 0) {
-      bases[k] = reduction::buildRitzBasis(*p.sub, boundaryOf(k), reductions[k]);
-      if (!bases[k].full && bases[k].size() > 0)
-        rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases[k]);
+      bases_[k] = reduction::buildRitzBasis(*p.sub, boundaryOf(k), reductions[k]);
+      if (!bases_[k].full && bases_[k].size() > 0)
+        rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases_[k]);
     }
     report(k);
   }
-  out.basesSeconds_ = since(t0);
+}
 
-  // 2. Coordinates: [w_OC, theta_C (free C)], then each part's own.
+/// Step 2 of synthesize: q = [w_OC, theta_C (free C)], then each part's own
+/// coordinates in tree order; returns where each part's begin.
+std::vector<GlobalOrdinal> SynthesizedStructure::layoutCoordinates() {
+  const auto& parts = structure_->parts();
   std::vector<GlobalOrdinal> offset(parts.size(), 0);
-  GlobalOrdinal n = structure.freeFloating() ? 6 : 0;
+  GlobalOrdinal n = structure_->freeFloating() ? 6 : 0;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     offset[k] = n;
     const auto& p = *parts[k];
     int own = p.spec.kind == SubstructureKind::Rigid && p.spec.rotor.spinCoordinate ? 1 : 0;
-    if (p.sub) own = bases[k].full ? static_cast<int>(p.sub->dofs().rows() - p.held.size()) : bases[k].size();
-    out.reports_[k].coordinates = own;
+    if (p.sub) own = bases_[k].full ? static_cast<int>(p.sub->dofs().rows() - p.held.size()) : bases_[k].size();
+    reports_[k].coordinates = own;
     n += own;
   }
   CMS_INPUT_CHECK(n == 0, "synthesis: the structure has no coordinates (every basis is empty)");
-  out.map_ = Teuchos::rcp(new Map(n, 0, comm));
+  map_ = Teuchos::rcp(new Map(n, 0, structure_->comm()));
+  return offset;
+}
 
-  // 3. Interface transforms, parents first: u_s = X_s a_s + V_s eta_s with
-  // a_s = H_s T_parent q (rows of T_parent gathered to every rank).
-  out.T_.resize(parts.size());
-  const auto nparam = structure.speeds().size();
-  std::vector<Teuchos::RCP<const CrsMatrix>> G(nparam);
-  std::map<std::pair<int, int>, Teuchos::RCP<const CrsMatrix>> K2;
-  Teuchos::RCP<const CrsMatrix> M, K0;
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    const auto& p = *parts[k];
-    std::vector<Row> A(p.floating ? 6 : p.Hrows.size());
-    bool hasA = false;
-    if (p.floating) {
-      for (int a = 0; a < 6; ++a) A[a] = {{a, 1.0}};
-      hasA = true;
-    } else if (p.parent >= 0) {
-      std::set<GlobalOrdinal> need;
-      for (const auto& h : p.Hrows)
-        for (auto [g, v] : h) need.insert(g);
-      const auto Tp = gatherRows(*out.T_[p.parent], need);
-      for (std::size_t a = 0; a < A.size(); ++a) {
-        std::vector<std::pair<double, const Row*>> terms;
-        for (auto [g, v] : p.Hrows[a]) {
-          auto it = Tp.find(g);
-          if (it != Tp.end()) terms.push_back({v, &it->second});
-        }
-        A[a] = combine(terms);
-        hasA = hasA || !A[a].empty();
-      }
-    }
-    if (!p.sub) {  // rigid rotor: its DOFs are a itself, and its spin angle if free
-      const int nr = p.rotor.M.n;
-      auto rmap = Teuchos::rcp(new Map(nr, comm->getRank() == 0 ? nr : 0, 0, comm));
-      std::vector<Row> rows(rmap->getNodeNumElements());
-      for (std::size_t l = 0; l < rows.size(); ++l) {
-        const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
-        rows[l] = g < 6 ? A[g] : Row{{offset[k], 1.0}};
-      }
-      out.T_[k] = fromRows(rmap, rows, out.map_, rmap);
-      const Projection project(*out.T_[k]);
-      M = addScaled(M, 1.0, project(*smallMatrix(rmap, p.rotor.M)));
-      for (const auto& [i, Gi] : p.rotor.G) G[i] = addScaled(G[i], 1.0, project(*smallMatrix(rmap, Gi)));
-      for (const auto& [i, j, Kij] : p.rotor.K)
-        K2[{i, j}] = addScaled(K2[{i, j}], 1.0, project(*smallMatrix(rmap, Kij)));
-      continue;
-    }
-    const auto& sub = *p.sub;
-    const auto& t = sub.dofs();
-    const auto smap = sub.map();
-    const auto nodeOf = t.rowNodes();
-    const std::size_t nloc = smap->getNodeNumElements();
-    std::vector<Row> rows(nloc);
-    const auto& basis = bases[k];
-    std::vector<Teuchos::ArrayRCP<const double>> cols;
-    if (!basis.full)
-      for (int j = 0; j < basis.size(); ++j) cols.push_back(basis.vectors->getData(j));
-    // A Boolean interface's motion enters the child through its static
-    // constraint modes (reduced) or by injection on the shared rows (Full).
-    std::vector<Teuchos::ArrayRCP<const double>> psi;
-    std::map<GlobalOrdinal, int> injected;
-    Teuchos::RCP<MultiVector> Psi;
-    if (p.boolean()) {
-      std::vector<GlobalOrdinal> unit;
-      for (auto [node, comp] : p.booleanDofs) unit.push_back(static_cast<GlobalOrdinal>(t.row(node, comp)));
-      if (basis.full) {
-        for (std::size_t a = 0; a < unit.size(); ++a)
-          if (unit[a] >= 0) injected[unit[a]] = static_cast<int>(a);
-      } else {
-        Psi = reduction::constraintModes(sub, p.held, unit);
-        for (std::size_t a = 0; a < unit.size(); ++a) psi.push_back(Psi->getData(a));
-      }
-    }
-    // A Full basis on a substructure with a distributing (RigidFit)
-    // attachment takes the absolute displacements of its free rows as
-    // coordinates, and only the held rows follow the parent: the same space
-    // as rigid motion plus relative displacement, so the same model, but T
-    // stays as sparse as the mesh, where the rigid part on every row would
-    // couple each DOF to every parent DOF of the fit (a dense n_s x n_face
-    // block: 10^9 entries at 5e5 DOFs). Elsewhere the relative (floating
-    // frame) form is kept: it is better conditioned when the parent is much
-    // stiffer (at a stiffness ratio of 1e6 the absolute form lost two more
-    // digits in the truth's lowest frequency, theory §11.2). Never for a free
-    // structure, whose first six coordinates must stay a rigid motion of the
-    // whole (K0 is made exactly zero there, below).
-    std::set<GlobalOrdinal> parentRows;
+/// Step 3a: part k's attachment coordinates a_k = H_k T_parent q as rows over
+/// q (rows of T_parent gathered to every rank; a free C's a is its six
+/// rigid-body coordinates); `moves` says whether any is nonzero.
+std::vector<SynthesizedStructure::SparseRow> SynthesizedStructure::attachmentMotion(std::size_t k, bool& moves) const {
+  const auto& p = *structure_->parts()[k];
+  std::vector<Row> A(p.floating ? 6 : p.Hrows.size());
+  moves = false;
+  if (p.floating) {
+    for (int a = 0; a < 6; ++a) A[a] = {{a, 1.0}};
+    moves = true;
+  } else if (p.parent >= 0) {
+    std::set<GlobalOrdinal> need;
     for (const auto& h : p.Hrows)
-      for (auto [g, v] : h) parentRows.insert(g);
-    const bool absolute = basis.full && !p.boolean() && !structure.freeFloating() && parentRows.size() > 6;
-    // The factors T = B C of a reduced substructure (Projection).
-    const int na = !basis.full && hasA ? static_cast<int>(A.size()) : 0;
-    Teuchos::RCP<MultiVector> B;
-    std::vector<Row> C;
-    std::vector<Teuchos::ArrayRCP<double>> bcol;
-    if (!basis.full && na + basis.size() > 0) {
-      B = Teuchos::rcp(new MultiVector(smap, static_cast<std::size_t>(na + basis.size())));
-      for (int j = 0; j < na + basis.size(); ++j) bcol.push_back(B->getDataNonConst(j));
-      for (int a = 0; a < na; ++a) C.push_back(A[a]);
-      for (int j = 0; j < basis.size(); ++j) C.push_back(Row{{offset[k] + static_cast<GlobalOrdinal>(j), 1.0}});
-    }
-    for (std::size_t l = 0; l < nloc; ++l) {
-      const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
+      for (auto [g, v] : h) need.insert(g);
+    const auto Tp = gatherRows(*T_[p.parent], need);
+    for (std::size_t a = 0; a < A.size(); ++a) {
       std::vector<std::pair<double, const Row*>> terms;
-      Row own;
-      if (hasA && p.boolean()) {
-        if (basis.full) {
-          const auto it = injected.find(g);
-          if (it != injected.end() && !A[it->second].empty()) terms.push_back({1.0, &A[it->second]});
-        } else {
-          for (std::size_t a = 0; a < psi.size(); ++a) {
-            if (psi[a][l] != 0.0 && !A[a].empty()) terms.push_back({psi[a][l], &A[a]});
-            if (na > 0) bcol[a][l] = psi[a][l];
-          }
-        }
-      } else if (hasA && (!absolute || std::binary_search(p.held.begin(), p.held.end(), g))) {
-        const auto nd = nodeOf[g];
-        const fem::Vec3 r{t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
-                          t.coordinates[3 * nd + 2] - p.point[2]};
-        const auto x = detail::rigidRow(r, static_cast<int>(t.components[g]));
-        for (int a = 0; a < 6; ++a) {
-          if (x[a] != 0.0 && !A[a].empty()) terms.push_back({x[a], &A[a]});
-          if (na > 0) bcol[a][l] = x[a];
-        }
+      for (auto [g, v] : p.Hrows[a]) {
+        auto it = Tp.find(g);
+        if (it != Tp.end()) terms.push_back({v, &it->second});
       }
-      const bool isHeld = std::binary_search(p.held.begin(), p.held.end(), g);
+      A[a] = combine(terms);
+      moves = moves || !A[a].empty();
+    }
+  }
+  return A;
+}
+
+/// Step 3b for a rigid rotor: its DOFs are a itself, and its spin angle if
+/// free; its 6 x 6 (7 x 7) matrices projected sparsely.
+void SynthesizedStructure::projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset,
+                                             Sums& sums) {
+  const auto& p = *structure_->parts()[k];
+  const auto comm = structure_->comm();
+  const int nr = p.rotor.M.n;
+  auto rmap = Teuchos::rcp(new Map(nr, comm->getRank() == 0 ? nr : 0, 0, comm));
+  std::vector<Row> rows(rmap->getNodeNumElements());
+  for (std::size_t l = 0; l < rows.size(); ++l) {
+    const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
+    rows[l] = g < 6 ? A[g] : Row{{offset, 1.0}};
+  }
+  T_[k] = fromRows(rmap, rows, map_, rmap);
+  const Projection project(*T_[k]);
+  sums.M = addScaled(sums.M, 1.0, project(*smallMatrix(rmap, p.rotor.M)));
+  for (const auto& [i, Gi] : p.rotor.G) sums.G[i] = addScaled(sums.G[i], 1.0, project(*smallMatrix(rmap, Gi)));
+  for (const auto& [i, j, Kij] : p.rotor.K)
+    sums.K2[{i, j}] = addScaled(sums.K2[{i, j}], 1.0, project(*smallMatrix(rmap, Kij)));
+}
+
+/// Step 3b for an elastic part: u_s = X_s a_s + V_s eta_s (or its Full
+/// form), T_s, and T_s^T A T_s of each of its matrices added to the sums.
+void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<SparseRow>& A, bool hasA,
+                                               GlobalOrdinal offset, Sums& sums) {
+  const auto& p = *structure_->parts()[k];
+  const auto& sub = *p.sub;
+  const auto& t = sub.dofs();
+  const auto smap = sub.map();
+  const auto nodeOf = t.rowNodes();
+  const std::size_t nloc = smap->getNodeNumElements();
+  std::vector<Row> rows(nloc);
+  const auto& basis = bases_[k];
+  std::vector<Teuchos::ArrayRCP<const double>> cols;
+  if (!basis.full)
+    for (int j = 0; j < basis.size(); ++j) cols.push_back(basis.vectors->getData(j));
+  // A Boolean interface's motion enters the child through its static
+  // constraint modes (reduced) or by injection on the shared rows (Full).
+  std::vector<Teuchos::ArrayRCP<const double>> psi;
+  std::map<GlobalOrdinal, int> injected;
+  if (p.boolean()) {
+    std::vector<GlobalOrdinal> unit;
+    for (auto [node, comp] : p.booleanDofs) unit.push_back(static_cast<GlobalOrdinal>(t.row(node, comp)));
+    if (basis.full) {
+      for (std::size_t a = 0; a < unit.size(); ++a)
+        if (unit[a] >= 0) injected[unit[a]] = static_cast<int>(a);
+    } else {
+      auto& Psi = factorisations_->constraintModes[k];  // independent of the basis: made once
+      if (Psi.is_null()) Psi = reduction::constraintModes(sub, p.held, unit);
+      for (std::size_t a = 0; a < unit.size(); ++a) psi.push_back(Psi->getData(a));
+    }
+  }
+  // A Full basis on a substructure with a distributing (RigidFit)
+  // attachment takes the absolute displacements of its free rows as
+  // coordinates, and only the held rows follow the parent: the same space
+  // as rigid motion plus relative displacement, so the same model, but T
+  // stays as sparse as the mesh, where the rigid part on every row would
+  // couple each DOF to every parent DOF of the fit (a dense n_s x n_face
+  // block: 10^9 entries at 5e5 DOFs). Elsewhere the relative (floating
+  // frame) form is kept: it is better conditioned when the parent is much
+  // stiffer (at a stiffness ratio of 1e6 the absolute form lost two more
+  // digits in the truth's lowest frequency, theory §11.2). Never for a free
+  // structure, whose first six coordinates must stay a rigid motion of the
+  // whole (K0 is made exactly zero there, below).
+  std::set<GlobalOrdinal> parentRows;
+  for (const auto& h : p.Hrows)
+    for (auto [g, v] : h) parentRows.insert(g);
+  const bool absolute = basis.full && !p.boolean() && !structure_->freeFloating() && parentRows.size() > 6;
+  // The factors T = B C of a reduced substructure (Projection).
+  const int na = !basis.full && hasA ? static_cast<int>(A.size()) : 0;
+  Teuchos::RCP<MultiVector> B;
+  std::vector<Row> C;
+  std::vector<Teuchos::ArrayRCP<double>> bcol;
+  if (!basis.full && na + basis.size() > 0) {
+    B = Teuchos::rcp(new MultiVector(smap, static_cast<std::size_t>(na + basis.size())));
+    for (int j = 0; j < na + basis.size(); ++j) bcol.push_back(B->getDataNonConst(j));
+    for (int a = 0; a < na; ++a) C.push_back(A[a]);
+    for (int j = 0; j < basis.size(); ++j) C.push_back(Row{{offset + static_cast<GlobalOrdinal>(j), 1.0}});
+  }
+  for (std::size_t l = 0; l < nloc; ++l) {
+    const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
+    std::vector<std::pair<double, const Row*>> terms;
+    Row own;
+    if (hasA && p.boolean()) {
       if (basis.full) {
-        if (!isHeld) {
-          const auto before = std::lower_bound(p.held.begin(), p.held.end(), g) - p.held.begin();
-          own.push_back({offset[k] + g - before, 1.0});
-        }
-      } else if (!isHeld) {
-        for (std::size_t j = 0; j < cols.size(); ++j) {
-          if (cols[j][l] != 0.0) own.push_back({offset[k] + static_cast<GlobalOrdinal>(j), cols[j][l]});
-          bcol[na + j][l] = cols[j][l];
+        const auto it = injected.find(g);
+        if (it != injected.end() && !A[it->second].empty()) terms.push_back({1.0, &A[it->second]});
+      } else {
+        for (std::size_t a = 0; a < psi.size(); ++a) {
+          if (psi[a][l] != 0.0 && !A[a].empty()) terms.push_back({psi[a][l], &A[a]});
+          if (na > 0) bcol[a][l] = psi[a][l];
         }
       }
-      terms.push_back({1.0, &own});
-      rows[l] = combine(terms);
-    }
-    out.T_[k] = fromRows(smap, rows, out.map_, smap);
-    bcol.clear();  // release the host views before B is read
-    const Projection project = B.is_null() ? Projection(*out.T_[k]) : Projection(*out.T_[k], B, C);
-    M = addScaled(M, 1.0, project(*sub.M()));
-    K0 = addScaled(K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
-    if (p.compound) {
-      // Its own spin inside the spinning parent frame (theory §11.5).
-      const auto& st = *p.stationary;
-      G[p.speedParam] = addScaled(G[p.speedParam], 1.0, project(*st.G1()));
-      if (!st.KX1().is_null()) {
-        const auto PX = project(*st.KX1());
-        for (auto [i, ci] : p.frame.coefficients) {
-          const std::pair<int, int> ij{std::min(i, p.speedParam), std::max(i, p.speedParam)};
-          K2[ij] = addScaled(K2[ij], ci, PX);
-        }
+    } else if (hasA && (!absolute || std::binary_search(p.held.begin(), p.held.end(), g))) {
+      const auto nd = nodeOf[g];
+      const fem::Vec3 r{t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
+                        t.coordinates[3 * nd + 2] - p.point[2]};
+      const auto x = detail::rigidRow(r, static_cast<int>(t.components[g]));
+      for (int a = 0; a < 6; ++a) {
+        if (x[a] != 0.0 && !A[a].empty()) terms.push_back({x[a], &A[a]});
+        if (na > 0) bcol[a][l] = x[a];
       }
     }
-    if (p.frame.spinning) {
-      Teuchos::RCP<const CrsMatrix> PG, PK;
-      if (!sub.G1().is_null()) PG = project(*sub.G1());
-      if (!sub.K2().is_null()) PK = project(*sub.K2());
+    const bool isHeld = std::binary_search(p.held.begin(), p.held.end(), g);
+    if (basis.full) {
+      if (!isHeld) {
+        const auto before = std::lower_bound(p.held.begin(), p.held.end(), g) - p.held.begin();
+        own.push_back({offset + g - before, 1.0});
+      }
+    } else if (!isHeld) {
+      for (std::size_t j = 0; j < cols.size(); ++j) {
+        if (cols[j][l] != 0.0) own.push_back({offset + static_cast<GlobalOrdinal>(j), cols[j][l]});
+        bcol[na + j][l] = cols[j][l];
+      }
+    }
+    terms.push_back({1.0, &own});
+    rows[l] = combine(terms);
+  }
+  T_[k] = fromRows(smap, rows, map_, smap);
+  bcol.clear();  // release the host views before B is read
+  const Projection project = B.is_null() ? Projection(*T_[k]) : Projection(*T_[k], B, C);
+  sums.M = addScaled(sums.M, 1.0, project(*sub.M()));
+  sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
+  if (p.compound) {
+    // Its own spin inside the spinning parent frame (theory §11.5).
+    const auto& st = *p.stationary;
+    sums.G[p.speedParam] = addScaled(sums.G[p.speedParam], 1.0, project(*st.G1()));
+    if (!st.KX1().is_null()) {
+      const auto PX = project(*st.KX1());
       for (auto [i, ci] : p.frame.coefficients) {
-        if (!PG.is_null()) G[i] = addScaled(G[i], ci, PG);
-        if (PK.is_null()) continue;
-        for (auto [j, cj] : p.frame.coefficients) {
-          if (j < i) continue;
-          K2[{i, j}] = addScaled(K2[{i, j}], i == j ? ci * cj : 2.0 * ci * cj, PK);
-        }
+        const std::pair<int, int> ij{std::min(i, p.speedParam), std::max(i, p.speedParam)};
+        sums.K2[ij] = addScaled(sums.K2[ij], ci, PX);
       }
     }
   }
+  if (p.frame.spinning) {
+    Teuchos::RCP<const CrsMatrix> PG, PK;
+    if (!sub.G1().is_null()) PG = project(*sub.G1());
+    if (!sub.K2().is_null()) PK = project(*sub.K2());
+    for (auto [i, ci] : p.frame.coefficients) {
+      if (!PG.is_null()) sums.G[i] = addScaled(sums.G[i], ci, PG);
+      if (PK.is_null()) continue;
+      for (auto [j, cj] : p.frame.coefficients) {
+        if (j < i) continue;
+        sums.K2[{i, j}] = addScaled(sums.K2[{i, j}], i == j ? ci * cj : 2.0 * ci * cj, PK);
+      }
+    }
+  }
+}
+
+/// Step 4 of synthesize: the accumulated matrices made exactly symmetric
+/// (G skew), a free structure's rigid-body stiffness made exactly zero.
+void SynthesizedStructure::finishMatrices(Sums& sums) {
   // T^T (A T) is symmetric (G skew) in exact arithmetic, but rounding
   // leaves eps ||A|| ||t_i|| ||t_j|| in entry (i, j), which for smooth
   // vectors on a fine mesh is far above eps |t_i^T A t_j| (found at 1e4 DOFs
@@ -674,24 +758,21 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     if (A.is_null()) return A;
     return Tpetra::MatrixMatrix::add(0.5, false, *A, 0.5 * sign, true, *A);
   };
-  M = symmetric(M, 1.0);
-  K0 = symmetric(K0, 1.0);
-  for (auto& Gi : G) Gi = symmetric(Gi, -1.0);
-  for (auto& [ij, Kij] : K2) Kij = symmetric(Kij, 1.0);
-  out.M_ = M;
-  out.K0_ = K0.is_null() ? zeroMatrix(out.map_) : K0;
-  if (structure.freeFloating()) {
+  M_ = symmetric(sums.M, 1.0);
+  const auto K0 = symmetric(sums.K0, 1.0);
+  for (auto& Gi : sums.G) Gi = symmetric(Gi, -1.0);
+  for (auto& [ij, Kij] : sums.K2) Kij = symmetric(Kij, 1.0);
+  K0_ = K0.is_null() ? zeroMatrix(map_) : K0;
+  if (structure_->freeFloating()) {
     // The elastic stiffness does no work on the rigid-body coordinates of a
     // free structure (K X = 0): made exact, because its rounding,
     // eps ||K||, would otherwise split the defective (Jordan) rigid-body
     // eigenvalues of a spinning free body by sqrt(eps ||K|| / ||K_T||)
     // (doc/theory.md §11.6).
-    out.K0_ = holdDofs(*out.K0_, {0, 1, 2, 3, 4, 5}, 0.0);
+    K0_ = holdDofs(*K0_, {0, 1, 2, 3, 4, 5}, 0.0);
   }
-  out.G_ = G;
-  for (auto& [ij, Kij] : K2) out.K2_.push_back({ij.first, ij.second, Kij});
-  out.seconds_ = since(t0);
-  return out;
+  G_ = sums.G;
+  for (auto& [ij, Kij] : sums.K2) K2_.push_back({ij.first, ij.second, Kij});
 }
 
 eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<double>& s) const {
@@ -884,7 +965,17 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
   return out;
 }
 
-std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& modes) const {
+const reduction::StaticCorrection& SynthesizedStructure::flexibility(std::size_t k) const {
+  auto& f = factorisations_->flexibility[k];
+  if (!f) {
+    reduction::SubstructureBoundary own;
+    own.held = structure_->parts()[k]->held;  // its attachment only: the interfaces move with f
+    f = std::make_shared<const reduction::StaticCorrection>(*structure_->parts()[k]->sub, own);
+  }
+  return *f;
+}
+
+std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const StructureModes& modes) const {
   const auto& parts = structure_->parts();
   const int nm = static_cast<int>(modes.result.modes.size()), nc = 2 * nm;  // real, imaginary per mode
   std::vector<double> correction(nm, 0.0);  // sum over substructures of Re(f^H K_a^-1 f)
@@ -994,17 +1085,26 @@ std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& m
     // A Full basis satisfies its own equations (with its children's forces)
     // to the solver's accuracy; a rigid rotor has no deformation.
     if (!p.sub || reports_[k].basis == "Full") continue;
-    reduction::SubstructureBoundary own;
-    own.held = p.held;  // its attachment only: the interfaces move with f
-    const reduction::StaticCorrection flexibility(*p.sub, own);
     MultiVector X(rmap, nc);
-    flexibility.solve(R, X);  // zero on the held rows
+    flexibility(k).solve(R, X);  // zero on the held rows; factored once per substructure
     Teuchos::Array<double> d(nc);
     R.dot(X, d());
     for (int m = 0; m < nm; ++m) correction[m] += d[2 * m] + d[2 * m + 1];
   }
+  return correction;
+}
+
+std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& modes) const {
+  std::vector<double> out;
+  for (const auto& a : accuracy(modes)) out.push_back(a.estimate);
+  return out;
+}
+
+std::vector<ModeAccuracy> SynthesizedStructure::accuracy(const StructureModes& modes) const {
+  const int nm = static_cast<int>(modes.result.modes.size());
+  const auto correction = residualFlexibilityNorms(modes);
   // d omega = -sum r^H K_b^-1 r / (2 omega q^H M q + g), q^H G q = i g (§11.8).
-  std::vector<double> out(nm, -1.0);
+  std::vector<ModeAccuracy> out(nm);
   const auto sys = system(modes.speeds);
   for (int m = 0; m < nm; ++m) {
     const auto& mode = modes.result.modes[m];
@@ -1025,9 +1125,104 @@ std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& m
     // g = Im(q^H G q) = a^T G b - b^T G a for q = a + i b.
     const double aGb = x.getVector(0)->dot(*Gx.getVector(1)), bGa = x.getVector(1)->dot(*Gx.getVector(0));
     const double denominator = 2.0 * mode.omega * (mm[0] + mm[1]) + (aGb - bGa);
-    out[m] = std::abs(denominator) > 0.0 ? std::abs(correction[m] / denominator) / mode.omega : -1.0;
+    out[m].estimate = std::abs(denominator) > 0.0 ? std::abs(correction[m] / denominator) / mode.omega : -1.0;
+    // A flexibility is positive definite, so only rounding makes this negative.
+    if (mm[0] + mm[1] > 0.0) out[m].residualSquared = std::max(0.0, correction[m]) / (mm[0] + mm[1]);
+  }
+  if (!boundsUnavailable(modes.speeds).empty()) return out;
+  // The symmetric positive definite case (theory §11.8): eps^2 is the
+  // truth's own K^-1 norm of the residual of x (x^T M x = 1, theta =
+  // omega^2 its Rayleigh quotient in the truth). Krylov-Bogoliubov: some
+  // truth lambda has (lambda - theta)^2 <= eps^2 lambda, i.e. sqrt(lambda)
+  // within eps/2 of s = sqrt(theta + eps^2/4).
+  std::vector<int> order;
+  for (int m = 0; m < nm; ++m)
+    if (out[m].estimate >= 0.0) order.push_back(m);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return modes.result.modes[a].omega < modes.result.modes[b].omega; });
+  auto lowerEnd = [&](int m) {  // the lower end of mode m's Krylov-Bogoliubov interval, in lambda
+    const double w = modes.result.modes[m].omega, e2 = out[m].residualSquared;
+    const double lo = std::sqrt(w * w + 0.25 * e2) - 0.5 * std::sqrt(e2);
+    return lo * lo;
+  };
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const int m = order[i];
+    const double w = modes.result.modes[m].omega, theta = w * w, e2 = out[m].residualSquared, e = std::sqrt(e2);
+    const double s = std::sqrt(theta + 0.25 * e2);
+    // (s + e/2 - omega) / omega without cancellation: s - omega = (e^2/4) / (s + omega).
+    out[m].bound = (0.5 * e + 0.25 * e2 / (s + w)) / w;
+    out[m].boundKind = "Krylov-Bogoliubov";
+    // Kato-Temple needs the gap b to the truth's next eigenvalue above
+    // theta: the lower Krylov-Bogoliubov end of the next distinct Ritz value
+    // (a cluster equal to 1e-8, the rounding of a computed repeated
+    // eigenvalue, skipped), assuming no truth mode between the two (the
+    // coverage check and --check-count test it). None above the highest.
+    std::size_t j = i + 1;
+    while (j < order.size() && modes.result.modes[order[j]].omega <= w * (1.0 + 1e-8)) ++j;
+    if (j == order.size()) continue;
+    const double b = lowerEnd(order[j]);
+    if (!(b > theta)) continue;
+    // With w = x^T M K^-1 M x = (eps^2 + theta) / theta^2 and no truth
+    // eigenvalue in (theta, b), sum c_i^2 (lambda_i - a)(lambda_i - b) /
+    // lambda_i >= 0 for a the largest truth eigenvalue <= theta gives
+    // theta - a <= eps^2 theta b / (eps^2 b + (b - theta) theta).
+    const double delta = e2 * theta * b / (e2 * b + (b - theta) * theta);
+    const double x = std::min(1.0, delta / theta);
+    out[m].bound = x / (1.0 + std::sqrt(1.0 - x));  // 1 - sqrt(1 - x)
+    out[m].boundKind = "Kato-Temple";
+    out[m].gapFactor = b / (b - theta);
   }
   return out;
+}
+
+bool SynthesizedStructure::carriedRigidly(std::size_t k) const {
+  auto& known = factorisations_->carriedRigidly[k];
+  if (known >= 0) return known == 1;
+  // K X against the rounding of its product, the rule Projection::stiffness
+  // uses (1e3 eps ||K||_F ||x_a|| per column): a part on springs or
+  // supports of its own stiffens its attachment, K X != 0.
+  const auto& p = *structure_->parts()[k];
+  const auto& t = p.sub->dofs();
+  const auto smap = p.sub->map();
+  const auto nodeOf = t.rowNodes();
+  MultiVector X(smap, 6), KX(smap, 6);
+  for (std::size_t l = 0; l < smap->getNodeNumElements(); ++l) {
+    const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
+    const auto nd = nodeOf[g];
+    const auto x = detail::rigidRow({t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
+                                     t.coordinates[3 * nd + 2] - p.point[2]},
+                                    static_cast<int>(t.components[g]));
+    for (int a = 0; a < 6; ++a) X.replaceLocalValue(l, a, x[a]);
+  }
+  p.sub->K()->apply(X, KX);
+  Teuchos::Array<double> kx(6), xn(6);
+  KX.norm2(kx());
+  X.norm2(xn());
+  const double floor = 1e3 * std::numeric_limits<double>::epsilon() * p.sub->K()->getFrobeniusNorm();
+  bool rigid = true;
+  for (int a = 0; a < 6; ++a) rigid = rigid && kx[a] <= floor * xn[a];
+  known = rigid ? 1 : 0;
+  return rigid;
+}
+
+std::string SynthesizedStructure::boundsUnavailable(const std::vector<double>& speeds) const {
+  for (std::size_t i = 0; i < speeds.size(); ++i)
+    if (speeds[i] != 0.0)
+      return "spinning (" + structure_->speeds()[i].name + "): G and the speed-dependent stiffness are not in the "
+             "substructures' static flexibility, so its residual norm is an estimate, not the truth's";
+  if (structure_->freeFloating()) return "free-floating: the truth's stiffness is singular (rigid-body modes)";
+  const auto& parts = structure_->parts();
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& p = *parts[k];
+    if (p.boolean())
+      return p.spec.name + " shares DOFs with its parent (Boolean): the truth's stiffness couples them";
+    if (!p.sub && p.spec.rotor.spinCoordinate)
+      return p.spec.name + "'s spin angle is a coordinate with no stiffness";
+    if (p.sub && p.parent >= 0 && !carriedRigidly(k))
+      return p.spec.name + " is grounded (its stiffness resists its rigid motion): the truth's stiffness couples it "
+             "to its parent";
+  }
+  return "";
 }
 
 std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) const {
@@ -1046,10 +1241,19 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
       // Its own problem with the attachment held, as its Ritz estimates
       // (frequencyEstimates) are computed: K_a - w^2 M_a, the held rows
       // contributing one positive eigenvalue each (K's diagonal, M's zero).
-      const auto Ka = holdDofsScaled(*p.sub->K(), p.held);
-      const auto Ma = holdDofs(*p.sub->M(), p.held, 0.0);
-      const auto A = Tpetra::MatrixMatrix::add(1.0, false, *Ka, -omega * omega, false, *Ma);
-      const auto count = inertia(*A);
+      // Held once per substructure; a count once per cut-off (an inertia is
+      // the shift's own: each cut-off needs its own LDL^T).
+      auto& f = *factorisations_;
+      if (f.heldK[k].is_null()) {
+        f.heldK[k] = holdDofsScaled(*p.sub->K(), p.held);
+        f.heldM[k] = holdDofs(*p.sub->M(), p.held, 0.0);
+      }
+      auto known = f.counts.find({k, omega});
+      if (known == f.counts.end()) {
+        const auto A = Tpetra::MatrixMatrix::add(1.0, false, *f.heldK[k], -omega * omega, false, *f.heldM[k]);
+        known = f.counts.emplace(std::make_pair(k, omega), inertia(*A)).first;
+      }
+      const auto& count = known->second;
       for (double w : rep.frequencyEstimates) c.represented += w < omega;
       if (!count.reliable()) {
         c.verdict = "not counted (" + (count.failure.empty() ? std::string("a pivot zero to rounding: the cut-off is "

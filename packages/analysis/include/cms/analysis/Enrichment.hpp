@@ -7,6 +7,7 @@
 // estimated mode.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct Enrichment {
   bool reached = false;
   double worstEstimate = 0.0;
   std::vector<std::string> notes;  ///< one line per step and the outcome
+  /// When reached: the synthesis with the enriched bases (pass it as
+  /// synthesize's `previous` to reuse its bases and factorisations).
+  std::shared_ptr<const synthesis::SynthesizedStructure> synthesis;
 };
 
 /// `reductions` (one "Reduction" list per substructure, tree order) is

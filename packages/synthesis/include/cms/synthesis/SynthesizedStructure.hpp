@@ -32,6 +32,7 @@
 #include "cms/synthesis/Structure.hpp"
 
 namespace Teuchos { template <class T> class Comm; }
+namespace cms::reduction { class StaticCorrection; }
 
 namespace cms::synthesis {
 
@@ -120,6 +121,24 @@ struct SubstructureCoverage {
   std::string verdict;        ///< "complete", "can miss N modes below X Hz", "Full", "rigid", or why not counted
 };
 
+/// What a reduced mode's accuracy is known to be without the truth
+/// (doc/theory.md §11.8): an estimate always, a rigorous bound where the
+/// structure is symmetric positive definite (SynthesizedStructure::boundsUnavailable).
+struct ModeAccuracy {
+  /// Estimated relative frequency error |omega - omega_truth| / omega; -1 for a
+  /// zero frequency (rigid or critical): no estimate.
+  double estimate = -1.0;
+  /// Rigorous: a truth frequency lies within bound * omega of omega (Kato-Temple:
+  /// the truth frequency just below omega; Krylov-Bogoliubov: some truth
+  /// frequency). -1: no bound (not SPD, or a zero frequency).
+  double bound = -1.0;
+  std::string boundKind;   ///< "Kato-Temple", "Krylov-Bogoliubov", or empty
+  double gapFactor = 0.0;  ///< b / (b - theta) of the Kato-Temple bound (0: not used)
+  /// eps^2 = sum_s f_s^H K_a,s^-1 f_s for q^H M q = 1: the residual's squared
+  /// K^-1 norm (the truth's exactly when bounds apply), rad^2/s^2.
+  double residualSquared = 0.0;
+};
+
 /// The modes of the synthesised structure at one set of speeds.
 struct StructureModes {
   eigen::GyroscopicResult result;
@@ -168,9 +187,14 @@ public:
   /// (`truth`: every basis Full). Collective.
   static SynthesizedStructure synthesize(const AssembledStructure& structure, bool truth = false);
   /// One "Reduction" list per substructure (tree order, as parts()).
+  /// With `previous` (a synthesis of the same assembled structure), the
+  /// substructures whose "Reduction" list is unchanged keep its bases, and
+  /// every substructure keeps its held-stiffness factorisations (error
+  /// estimates, coverage counts): enrichment rebuilds only what it changed.
   static SynthesizedStructure synthesize(const AssembledStructure& structure,
                                          const std::vector<Teuchos::ParameterList>& reductions,
-                                         ReductionSchedule schedule = ReductionSchedule::Concurrent);
+                                         ReductionSchedule schedule = ReductionSchedule::Concurrent,
+                                         const SynthesizedStructure* previous = nullptr);
 
   long long size() const;  ///< n, the number of coordinates q
   const std::vector<SubstructureReduction>& reductions() const { return reports_; }
@@ -209,13 +233,45 @@ public:
   /// frequency (rigid or critical). One factorisation per reduced
   /// substructure. Collective.
   std::vector<double> errorEstimates(const StructureModes& modes) const;
+  /// The same estimates with, where boundsUnavailable(modes.speeds) is empty,
+  /// a rigorous bound per mode: Kato-Temple in the K^-1 norm with the gap
+  /// to the next distinct Ritz value's Krylov-Bogoliubov interval, else
+  /// Krylov-Bogoliubov (doc/theory.md §11.8). Collective.
+  std::vector<ModeAccuracy> accuracy(const StructureModes& modes) const;
+  /// Empty when the truth at these speeds is symmetric positive definite
+  /// with a block-diagonal stiffness in the floating-frame coordinates (at
+  /// rest, clamped, point attachments, no grounded child, no free spin
+  /// angle), so that the estimates' eps^2 is the truth's K^-1 norm of the
+  /// residual and the bounds hold; else the reason they do not. Collective.
+  std::string boundsUnavailable(const std::vector<double>& speeds) const;
   /// Per substructure, at cut-off `omega` (rad/s): its modes below it with
   /// its attachment held (one sparse LDL^T inertia, never of the assembled
   /// structure) against those its basis represents. Collective.
   std::vector<SubstructureCoverage> coverage(double omega) const;
 
 private:
+  using SparseRow = std::vector<std::pair<GlobalOrdinal, double>>;
+  struct Sums;            ///< the projected matrices as they accumulate (synthesize, step 4)
+  struct Factorisations;  ///< per substructure, built once and shared by copies and later syntheses
+  // synthesize, in the order it runs:
+  void buildBases(const std::vector<Teuchos::ParameterList>& reductions, ReductionSchedule schedule,
+                  const SynthesizedStructure* previous);
+  std::vector<GlobalOrdinal> layoutCoordinates();
+  std::vector<SparseRow> attachmentMotion(std::size_t k, bool& moves) const;
+  void projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset, Sums& sums);
+  void projectSubstructure(std::size_t k, const std::vector<SparseRow>& A, bool moves, GlobalOrdinal offset,
+                           Sums& sums);
+  void finishMatrices(Sums& sums);
+  // The residual of every mode in each substructure's full equations
+  // (errorEstimates, accuracy): per mode sum_s f_s^H K_a,s^-1 f_s.
+  std::vector<double> residualFlexibilityNorms(const StructureModes& modes) const;
+  const reduction::StaticCorrection& flexibility(std::size_t k) const;
+  bool carriedRigidly(std::size_t k) const;
+
   std::shared_ptr<const AssembledStructure> structure_;
+  std::vector<reduction::RitzBasis> bases_;  ///< per part (empty for a rigid rotor)
+  std::vector<Teuchos::ParameterList> reductionLists_;
+  std::shared_ptr<Factorisations> factorisations_;
   Teuchos::RCP<const Map> map_;
   std::vector<Teuchos::RCP<const CrsMatrix>> T_;  ///< per part: u_s = T_s q
   Teuchos::RCP<const CrsMatrix> M_, K0_;
