@@ -72,6 +72,17 @@ std::string estimateText(double e) {
   return os.str();
 }
 
+/// The rigorous bound where the structure is SPD (theory §11.8): "KT" for
+/// Kato-Temple, "KB" for Krylov-Bogoliubov; "-" when there is none.
+std::string boundText(const synthesis::ModeAccuracy& a) {
+  std::ostringstream os;
+  os << std::setprecision(2);
+  if (a.bound < 0.0) os << "-";
+  else if (a.bound >= 0.1) os << ">0.1";
+  else os << a.bound << (a.boundKind == "Kato-Temple" ? " KT" : " KB");
+  return os.str();
+}
+
 void printSubstructures(const analysis::ModalResult& r) {
   const auto& structure = *r.structure;
   const auto& reps = r.reduced->reductions();
@@ -109,7 +120,8 @@ void printModes(const analysis::ModalResult& r) {
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < r.speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << r.speeds[i];
   std::cout << "\nsolver: " << result.solver << (result.reason.empty() ? "" : " (" + condense(result.reason) + ")")
-            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual  est.error  largest share, whirl (FW/BW)\n";
+            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual  est.error       bound  "
+               "largest share, whirl (FW/BW)\n";
   for (std::size_t m = 0; m < result.modes.size(); ++m) {
     const auto& md = result.modes[m];
     const auto& share = r.character[m].kineticShare;
@@ -117,7 +129,7 @@ void printModes(const analysis::ModalResult& r) {
     std::cout << std::setw(5) << m + 1 << std::setw(12) << std::setprecision(6) << md.hz << std::setw(12) << md.omega
               << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
               << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual
-              << std::setw(11) << estimateText(r.estimates[m]);
+              << std::setw(11) << estimateText(r.estimates[m]) << std::setw(12) << boundText(r.accuracy[m]);
     if (m < r.trueErrors.size()) std::cout << " (true " << std::setprecision(2) << r.trueErrors[m] << ")";
     std::cout << "  " << reps[top].name << " " << std::setprecision(3) << share[top]
               << (r.character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");

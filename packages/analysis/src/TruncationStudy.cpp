@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <string>
 
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
@@ -82,10 +84,16 @@ TruncationResult TruncationStudy::run(
     double trueError = std::numeric_limits<double>::quiet_NaN();
     long long dofs = 0;
     synthesis::StructureModes modes;
+    int worst = -1;  ///< the wanted mode with the largest estimate
+    /// Kept so that a trial reuses the other substructures' bases and every
+    /// factorisation (synthesize's `previous`), and for the energy shares.
+    std::shared_ptr<const synthesis::SynthesizedStructure> synthesis;
   };
-  auto evaluate = [&](const std::vector<Teuchos::ParameterList>& r) {
+  auto evaluate = [&](const std::vector<Teuchos::ParameterList>& r, const Model* from) {
     Model model;
-    const auto s = synthesis::SynthesizedStructure::synthesize(structure, r);
+    model.synthesis = std::make_shared<const synthesis::SynthesizedStructure>(synthesis::SynthesizedStructure::synthesize(
+        structure, r, synthesis::ReductionSchedule::Concurrent, from ? from->synthesis.get() : nullptr));
+    const auto& s = *model.synthesis;
     model.dofs = s.size();
     if (model.dofs < nModes) return model;
     model.modes = s.solve(speeds, solve_);
@@ -93,7 +101,8 @@ TruncationResult TruncationStudy::run(
     if (truth) model.trueError = compareWithTruth(s, model.modes, *truth, truthModes, nModes).maxRelativeError;
     const auto e = s.errorEstimates(model.modes);
     model.estimate = 0.0;
-    for (int j = 0; j < nModes; ++j) model.estimate = std::max(model.estimate, e[j]);  // -1 (zero frequency): none
+    for (int j = 0; j < nModes; ++j)  // -1 (zero frequency): none
+      if (e[j] > model.estimate || model.worst < 0) model.estimate = std::max(model.estimate, e[j]), model.worst = j;
     result.definite = model.modes.result.solver.find("Meirovitch") != std::string::npos;
     return model;
   };
@@ -102,29 +111,47 @@ TruncationResult TruncationStudy::run(
                             std::move(findings), count});
     if (onStep) onStep(result.steps.back(), result);
   };
-  Model current = evaluate(red);
+  Model current = evaluate(red, nullptr);
   record("(start)", current, {});
 
   // 4. Greedy: the addition that lowers the estimate most per added coordinate.
   for (int k = 1; current.estimate > accuracy && k <= options_.get<int>("Max Steps"); ++k) {
     int best = -1;
     double bestGain = -1;
-    Model bestModel;
+    std::vector<std::optional<Model>> trials(ns);
     for (std::size_t q = 0; q < ns; ++q) {
       if (!result.reducible[q] || count[q] + step > limit[q]) continue;
       auto trial = red;
       trial[q].set("Vectors", count[q] + step);
       Model m;
       try {
-        m = evaluate(trial);
+        m = evaluate(trial, &current);
       } catch (const InputError&) {
         continue;  // e.g. more Craig-Bampton modes than the substructure has
       }
       if (m.dofs <= current.dofs) continue;  // no new coordinate (the substructure is complete)
       const double gain = (std::min(current.estimate, 1e300) - m.estimate) / std::max<long long>(1, m.dofs - current.dofs);
-      if (best < 0 || gain > bestGain) best = static_cast<int>(q), bestGain = gain, bestModel = std::move(m);
+      if (best < 0 || gain > bestGain) best = static_cast<int>(q), bestGain = gain;
+      trials[q] = std::move(m);
     }
     if (best < 0) break;
+    // A stall: no single addition lowers the estimate (a bending pair
+    // needs two vectors, a mode two substructures' vectors together), and
+    // the largest "gain" is then any substructure's, often one the worst
+    // mode does not move. Grow instead the one carrying most of the worst
+    // mode's kinetic energy, as enrichToAccuracy does (theory §11.10).
+    std::string changed = structure.substructure(best).name;
+    if (!(trials[best]->estimate < current.estimate) && current.worst >= 0 && current.synthesis) {
+      const auto share = current.synthesis->characterise(current.modes)[current.worst].kineticShare;
+      int energetic = -1;
+      for (std::size_t q = 0; q < ns; ++q)
+        if (trials[q] && (energetic < 0 || share[q] > share[energetic])) energetic = static_cast<int>(q);
+      if (energetic >= 0) {
+        best = energetic;
+        changed = structure.substructure(best).name + " (stall)";
+      }
+    }
+    Model bestModel = std::move(*trials[best]);
     // 5. Inclusion principle between the nested models (K > 0 only), above
     // the round-off of the two solves.
     std::vector<InclusionViolation> findings;
@@ -133,7 +160,7 @@ TruncationResult TruncationStudy::run(
     count[best] += step;
     red[best].set("Vectors", count[best]);
     current = std::move(bestModel);
-    record(structure.substructure(best).name, current, std::move(findings));
+    record(changed, current, std::move(findings));
   }
   result.reached = current.estimate <= accuracy;
   return result;

@@ -28,7 +28,8 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
   o["ranks"] = run.ranks;
   o["timings_s"] = {{"assembly", r.assemblySeconds},
                     {"reduction_and_synthesis", r.reductionSeconds},
-                    {"solve", r.modes.seconds}};
+                    {"solve", r.modes.seconds},
+                    {"error_estimates_and_coverage", r.accuracySeconds}};
   o["peak_memory_mib"] = run.peakMemoryMiB;
   o["speeds"] = json::array();
   for (std::size_t i = 0; i < r.speeds.size(); ++i)
@@ -74,6 +75,11 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
               {"stability", toString(md.stability)},
               {"residual", md.residual},
               {"error_estimate", r.estimates[m] >= 0.0 ? json(r.estimates[m]) : json(nullptr)}};
+    // The rigorous bound (theory §11.8), only where the structure is SPD.
+    if (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0) {
+      j["error_bound"] = r.accuracy[m].bound;
+      j["error_bound_kind"] = r.accuracy[m].boundKind;
+    }
     if (m < r.trueErrors.size()) j["true_error"] = numberOrNull(r.trueErrors[m]);
     j["frame_artefact"] = r.character[m].frameArtefact;
     j["whirl"] = r.whirls[m];
@@ -88,7 +94,7 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
 void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResult& r) {
   AtomicFile f(file);
   auto& out = f.stream();
-  out << "mode,hz,rad_per_s,growth_rate,stability,residual,error_estimate,frame_artefact";
+  out << "mode,hz,rad_per_s,growth_rate,stability,residual,error_estimate,error_bound,frame_artefact";
   for (const auto& s : r.reduced->reductions()) out << ",share_" << csvField(s.name);
   out << '\n';
   const auto& modes = r.modes.result.modes;
@@ -96,6 +102,7 @@ void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResul
     const auto& md = modes[m];
     out << m + 1 << ',' << md.hz << ',' << md.omega << ',' << md.growthRate << ',' << toString(md.stability) << ','
         << md.residual << ',' << (r.estimates[m] >= 0.0 ? r.estimates[m] : std::nan("")) << ','
+        << (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0 ? r.accuracy[m].bound : std::nan("")) << ','
         << r.character[m].frameArtefact;
     for (double v : r.character[m].kineticShare) out << ',' << v;
     out << '\n';

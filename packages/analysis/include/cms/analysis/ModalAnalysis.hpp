@@ -40,6 +40,9 @@ struct ModalResult {
   synthesis::StructureModes modes;
   std::vector<synthesis::ModeCharacter> character;
   std::vector<double> estimates;   ///< relative frequency error per mode (theory §11.8); < 0: none
+  /// Per mode the estimate with, where the structure is SPD (at rest,
+  /// clamped), its rigorous bound (synthesis::ModeAccuracy, theory §11.8).
+  std::vector<synthesis::ModeAccuracy> accuracy;
   std::vector<double> trueErrors;  ///< |relative error| against the truth ("Truth" only)
   std::vector<synthesis::SubstructureCoverage> coverage;  ///< at `cutoff` (theory §11.9)
   double cutoff = 0.0;             ///< rad/s: the highest frequency found
@@ -49,6 +52,7 @@ struct ModalResult {
   std::vector<std::vector<std::string>> whirls;  ///< per mode: "<substructure> FW|BW|-"
   Enrichment enrichment;           ///< "Target Accuracy": the steps and whether it was reached
   double assemblySeconds = 0.0, reductionSeconds = 0.0;
+  double accuracySeconds = 0.0;    ///< error estimates, bounds and coverage (step 5, without the truth)
 };
 
 class ModalAnalysis {

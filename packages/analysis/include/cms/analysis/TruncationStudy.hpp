@@ -24,7 +24,8 @@ namespace cms::analysis {
 
 struct TruncationStep {
   int step = 0;
-  std::string changed;             ///< the substructure that got the vectors ("(start)" first)
+  std::string changed;             ///< the substructure that got the vectors ("(start)" first; "name (stall)":
+                                   ///< chosen by the worst mode's energy, no single addition lowered the estimate)
   long long dofs = 0;              ///< reduced coordinates
   double estimate = 0.0;           ///< largest estimated relative error of the wanted modes
   double trueError = 0.0;          ///< largest true relative error ("Truth"), else NaN
