@@ -7,7 +7,7 @@
 #      the source tree: the default scene must come from <prefix>/share/cms;
 #   5. no path of the source tree in the installed cms (file(STRINGS), as
 #      `strings` would show it), except the build tree's .geo mesher
-#      fallback (packages/fem: Mesh.cpp's last resort after $CMS_GEO_MESHER
+#      fallback (packages/mesh: Mesh.cpp's last resort after $CMS_GEO_MESHER
 #      and the executable's own directory, which holds it once installed).
 # Arguments: -DBUILD_DIR -DSOURCE_DIR -DWORK_DIR -DCXX [-DLAUNCHER] [-DBUILD_TYPE]
 foreach(v BUILD_DIR SOURCE_DIR WORK_DIR CXX)
