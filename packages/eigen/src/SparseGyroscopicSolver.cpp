@@ -227,7 +227,7 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   }
 
   // 4. The iteration the parameters name (SparseIterations.hpp).
-  const detail::IterationSettings settings{c.eigensolver, c.blockSize, c.numBlocks, c.maxRestarts, c.verbosity, c.tol};
+  const detail::IterationSettings settings{c.eigensolver, c.blockSize, c.maxRestarts, c.verbosity, c.tol};
   const detail::IterationOutcome it = c.eigensolver == "ARPACK"
                                           ? detail::iterateArpack(problem, settings, nev)
                                           : detail::iterateAnasazi(problem, settings, nev, numBlocks);

@@ -17,7 +17,7 @@ namespace cms::eigen::detail {
 /// ... parameters, validated by SparseGyroscopicSolver).
 struct IterationSettings {
   std::string eigensolver;  ///< "Block Krylov-Schur", "Block Davidson", "LOBPCG" or "ARPACK"
-  int blockSize = 2, numBlocks = 10, maxRestarts = 300, verbosity = 0;
+  int blockSize = 2, maxRestarts = 300, verbosity = 0;
   double tol = 1e-10;
 };
 
