@@ -107,6 +107,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 4. error estimates, bounds and coverage"));
     r.accuracy = s.accuracy(r.modes);
     for (const auto& a : r.accuracy) r.estimates.push_back(a.estimate);
+    r.estimateSeconds = since(t5);
     for (const auto& md : r.modes.result.modes) r.cutoff = std::max(r.cutoff, md.omega);
     r.coverage = s.coverage(r.cutoff);
   }

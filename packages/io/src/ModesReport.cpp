@@ -29,7 +29,8 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
   o["timings_s"] = {{"assembly", r.assemblySeconds},
                     {"reduction_and_synthesis", r.reductionSeconds},
                     {"solve", r.modes.seconds},
-                    {"error_estimates_and_coverage", r.accuracySeconds}};
+                    {"error_estimates_and_coverage", r.accuracySeconds},
+                    {"error_estimates", r.estimateSeconds}};
   o["peak_memory_mib"] = run.peakMemoryMiB;
   o["speeds"] = json::array();
   for (std::size_t i = 0; i < r.speeds.size(); ++i)

@@ -53,6 +53,7 @@ struct ModalResult {
   Enrichment enrichment;           ///< "Target Accuracy": the steps and whether it was reached
   double assemblySeconds = 0.0, reductionSeconds = 0.0;
   double accuracySeconds = 0.0;    ///< error estimates, bounds and coverage (step 5, without the truth)
+  double estimateSeconds = 0.0;    ///< of which the estimates and bounds
 };
 
 class ModalAnalysis {
