@@ -1,44 +1,63 @@
-// campbell: Campbell diagram of a spinning shaft, the project's default job.
+// campbell: Campbell diagram of a spinning shaft, checked against its closed form.
 //
 // Computes the whirl frequencies of a simply supported, spinning Rayleigh
 // shaft over a speed sweep, with the dense gyroscopic eigensolver on a
 // Rayleigh-Ritz model built from admissible functions (not eigenfunctions),
-// and prints:
-//   1. the Campbell table: speed, frequency and whirl sense (FW/BW) of the
-//      lowest modes, the largest residual of the solve, stability;
-//   2. the synchronous (1X) critical speeds, each beside its closed form;
+// through the library's Campbell study (analysis::CampbellStudy: modes
+// tracked by MAC, crossings bisected, whirl by the one rule), and prints:
+//   1. the Campbell table: speed, each tracked mode's frequency and whirl
+//      sense (FW/BW; `unresolved` at rest, where each frequency is double);
+//   2. the engine-order critical speeds (--orders), forward and backward
+//      told apart, each beside its closed form;
 //   3. the accuracy of every frequency at the top speed against the closed form.
-// Exit code 0 when every solve converged and every check was run, 4 when a
-// solve did not converge, 2 on bad options.
+// With --csv=FILE it also writes the table (and FILE's -crossings.csv) in
+// the format of `cms campbell`, which drivers/plot_results.py draws.
+// Exit code 0 when every solve converged, 4 when one did not, 2 on bad options.
 //
 // Sample runs:
 //   campbell
-//   campbell --functions=4 --max-rpm=80000 --steps=17
-//   campbell --radius=0.08 --length=0.6 --modes=4
-//
-// (The full substructure-synthesis scene replaces this default in a later
-// release; see doc/user-guide.md.)
+//   campbell --functions=4 --max-rpm=80000 --steps=17 --orders=1,2
+//   campbell --radius=0.08 --length=0.6 --modes=4 --axis=hz --csv=/tmp/shaft-campbell.csv
 
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <vector>
 
+#include <Teuchos_Array.hpp>
 #include <Teuchos_CommandLineProcessor.hpp>
 
-#include "cms/analysis/Campbell.hpp"
-#include "cms/core/Error.hpp"
+#include "DriverBoundary.hpp"
+#include "cms/analysis/CampbellStudy.hpp"
 #include "cms/fem/SpinningRayleighShaft.hpp"
+
+namespace {
+
+/// Closed form (doc/theory.md §7): the speed at which bending order k of the
+/// shaft whirls (forward or backward) at `order` times the spin,
+/// (rhoA + rhoI kk^2) w^2 -/+ rhoIp Omega kk^2 w = EI kk^4 with w = order Omega;
+/// NaN when there is none.
+double exactCrossing(const cms::fem::ShaftProperties& p, int k, double order, bool forward) {
+  const double A = M_PI * p.radius * p.radius, I = M_PI * std::pow(p.radius, 4) / 4;
+  const double kk = k * M_PI / p.length, rhoI = p.density * I;
+  const double denom = order * order * (p.density * A + rhoI * kk * kk) + (forward ? -1 : 1) * order * 2 * rhoI * kk * kk;
+  return denom > 0 ? std::sqrt(p.youngsModulus * I * std::pow(kk, 4) / denom) : std::nan("");
+}
+
+}  // namespace
 
 int main(int argc, char* argv[]) {
   using namespace cms;
-  try {
+  return drivers::reportErrors("campbell", true, [&]() -> int {
     // 1. Options, printed back so every output records how it was produced.
     fem::ShaftProperties shaft;
     shaft.length = 0.5;
     shaft.radius = 0.05;
     int functions = 8, modes = 3, steps = 13;
     double maxRpm = 60000.0;
+    std::string ordersText = "1", axisText = "rpm", csv;
     Teuchos::CommandLineProcessor clp(false, true);
     clp.setDocString("Campbell diagram of a spinning simply supported Rayleigh shaft.");
     clp.setOption("length", &shaft.length, "shaft length (m)");
@@ -46,78 +65,93 @@ int main(int argc, char* argv[]) {
     clp.setOption("E", &shaft.youngsModulus, "Young's modulus (Pa)");
     clp.setOption("rho", &shaft.density, "density (kg/m^3)");
     clp.setOption("functions", &functions, "admissible functions per bending plane");
-    clp.setOption("modes", &modes, "number of modes in the table");
+    clp.setOption("modes", &modes, "number of modes tracked");
     clp.setOption("max-rpm", &maxRpm, "top speed of the sweep (rev/min)");
     clp.setOption("steps", &steps, "number of speeds in the sweep (>= 2)");
-    if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL)
-      return ExitInputError;
+    clp.setOption("orders", &ordersText, "engine orders, comma-separated (e.g. 0.5,1,2)");
+    clp.setOption("axis", &axisText, "units of the table: hz (rev/s, Hz), rpm (rpm, Hz) or per-rev (rpm, /rev)");
+    clp.setOption("csv", &csv, "also write the table to this CSV file (and its -crossings.csv)");
+    if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
     CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
     CMS_INPUT_CHECK(!(maxRpm > 0.0), "--max-rpm = " << maxRpm << " must be positive");
     CMS_INPUT_CHECK(modes < 1 || modes > 2 * functions,
                     "--modes = " << modes << " must be in [1, 2*functions = " << 2 * functions << "]");
+    const analysis::SpeedAxis axis = analysis::speedAxis(axisText);
+    Teuchos::Array<double> orders;
+    {
+      std::istringstream is(ordersText);
+      std::string item;
+      while (std::getline(is, item, ',')) {
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        CMS_INPUT_CHECK(item.empty() || *end != '\0' || !(v > 0) || !std::isfinite(v),
+                        "--orders: \"" << item << "\" is not a positive number");
+        orders.push_back(v);
+      }
+    }
     std::cout << "campbell: shaft L = " << shaft.length << " m, r = " << shaft.radius
-              << " m, E = " << shaft.youngsModulus << " Pa, rho = " << shaft.density
-              << " kg/m^3; " << functions << " admissible functions per plane; " << steps
-              << " speeds to " << maxRpm << " rpm\n\n";
+              << " m, E = " << shaft.youngsModulus << " Pa, rho = " << shaft.density << " kg/m^3; " << functions
+              << " admissible functions per plane; " << steps << " speeds to " << maxRpm << " rpm; orders "
+              << ordersText << "\n\n";
 
     // 2. The Ritz model, stored per unit speed (M, G1, K) so the sweep never reassembles.
     fem::SpinningRayleighShaft model(shaft, functions);
-    analysis::SpeedDependentSystem sys{model.massMatrix(), model.gyroscopicPerUnitSpeed(),
-                                       model.stiffnessMatrix(), DenseMatrix(),
-                                       model.whirlPairs()};
-
-    // 3. Sweep.
-    std::vector<double> speeds;
-    const double maxOmega = maxRpm * 2.0 * M_PI / 60.0;
-    for (int s = 0; s < steps; ++s) speeds.push_back(maxOmega * s / (steps - 1));
+    analysis::SpeedDependentSystem sys{model.massMatrix(), model.gyroscopicPerUnitSpeed(), model.stiffnessMatrix(),
+                                       DenseMatrix(), model.whirlPairs()};
     Teuchos::ParameterList solverParams;
     solverParams.set("Number of Modes", modes);
-    const analysis::CampbellDiagram diagram = analysis::campbell(sys, speeds, solverParams);
-    std::cout << "Campbell table (solver: " << diagram.points.front().solver << ")\n";
-    diagram.print(std::cout, modes);
+    const double maxOmega = maxRpm * 2.0 * M_PI / 60.0;
+    const analysis::DenseSweepProblem problem(sys, "shaft", maxOmega, solverParams);
 
-    // 4. Synchronous critical speeds against the closed form (doc/theory.md).
-    std::cout << "\n1X critical speeds (rpm), computed vs closed form:\n";
-    const double A = M_PI * shaft.radius * shaft.radius, I = M_PI * std::pow(shaft.radius, 4) / 4;
-    const double rhoA = shaft.density * A, rhoI = shaft.density * I, EI = shaft.youngsModulus * I;
-    for (const auto& c : diagram.criticalSpeeds(1.0)) {
-      const int k = c.modeIndex / 2 + 1;  // modes come in BW/FW pairs per bending order
-      const double kk = k * M_PI / shaft.length;
-      const double denom = c.whirl == analysis::Whirl::Forward ? rhoA - rhoI * kk * kk
-                                                               : rhoA + 3.0 * rhoI * kk * kk;
-      const double exact = std::sqrt(EI * std::pow(kk, 4) / denom);
-      std::cout << "  mode " << c.modeIndex + 1 << " (" << analysis::toString(c.whirl)
-                << ", bending order " << k << "): " << std::fixed << std::setprecision(0)
-                << c.speed * 30.0 / M_PI << "  vs  " << exact * 30.0 / M_PI << std::scientific
-                << std::setprecision(2) << "   (rel. diff " << std::abs(c.speed - exact) / exact
-                << ", includes the sweep's linear interpolation)\n";
+    // 3. The sweep from rest to --max-rpm, modes tracked by MAC, crossings bisected.
+    Teuchos::ParameterList study;
+    study.set("Steps", steps);
+    study.set("Max Factor", 1.0);
+    study.set("Engine Orders", orders);
+    const analysis::CampbellResult r = analysis::CampbellStudy(study).run(problem);
+    std::cout << "Campbell table (solver: " << r.solver << ", largest residual " << r.maxResidual << ")\n";
+    r.printTable(std::cout, axis);
+    std::cout << '\n';
+    r.printCrossings(std::cout);
+
+    // 4. Critical speeds against the closed form. The tracks start at rest in
+    //    frequency order, two per bending order (the planes), and keep their
+    //    identity through crossings: track t is bending order t/2 + 1.
+    std::cout << "\ncritical speeds against the closed form (rpm):\n";
+    for (const auto& c : r.crossings) {
+      const int k = c.tracks.front() / 2 + 1;
+      const bool fw = c.whirl == analysis::Whirl::Forward;
+      const double exact = fw || c.whirl == analysis::Whirl::Backward ? exactCrossing(shaft, k, c.order, fw) : std::nan("");
+      std::cout << "  " << c.order << "X " << analysis::toString(c.whirl) << " bending order " << k << ": "
+                << std::fixed << std::setprecision(2) << c.speed * 30.0 / M_PI << "  vs  " << exact * 30.0 / M_PI
+                << std::scientific << std::setprecision(2) << "   (rel. diff " << std::abs(c.speed - exact) / exact
+                << ")\n"
+                << std::defaultfloat;
     }
 
     // 5. Accuracy at the top speed: every Ritz frequency bounds its exact value from above.
-    const auto& top = diagram.points.back();
-    std::cout << "\nAt " << std::fixed << std::setprecision(0) << maxRpm
-              << " rpm, Ritz vs closed form:\n";
-    bool allConverged = true;
-    for (int m = 0; m < static_cast<int>(top.modes.size()); ++m) {
-      const int k = m / 2 + 1;
-      const auto [fw, bw] = fem::SpinningRayleighShaft::exactWhirl(shaft, k, top.speed);
-      const double exact = top.whirl[m] == analysis::Whirl::Forward ? fw : bw;
-      std::cout << "  mode " << m + 1 << " " << analysis::toString(top.whirl[m]) << std::fixed
-                << std::setprecision(4) << "  " << top.modes[m].hz << " Hz  exact "
-                << exact / (2 * M_PI) << " Hz  rel. error " << std::scientific
-                << std::setprecision(2) << (top.modes[m].omega - exact) / exact << "  residual "
-                << top.modes[m].residual << "\n";
-      allConverged &= top.modes[m].residual < 1e-8;
+    const std::size_t top = r.factors.size() - 1;
+    std::cout << "\nAt " << std::fixed << std::setprecision(0) << maxRpm << " rpm, Ritz vs closed form:\n";
+    for (std::size_t t = 0; t < r.tracks.size(); ++t) {
+      const auto& tr = r.tracks[t];
+      const auto [fw, bw] = fem::SpinningRayleighShaft::exactWhirl(shaft, static_cast<int>(t) / 2 + 1, maxOmega);
+      const double exact = tr.whirl[top] == analysis::Whirl::Forward ? fw : bw;
+      std::cout << "  track " << t + 1 << " " << analysis::toString(tr.whirl[top]) << std::fixed << std::setprecision(4)
+                << "  " << tr.omega[top] / (2 * M_PI) << " Hz  exact " << exact / (2 * M_PI) << " Hz  rel. error "
+                << std::scientific << std::setprecision(2) << (tr.omega[top] - exact) / exact << "\n";
     }
-    return allConverged ? ExitSuccess : ExitNotConverged;
-  } catch (const cms::InputError& e) {
-    std::cerr << "campbell: input error: " << e.what() << "\n";
-    return ExitInputError;
-  } catch (const cms::NumericalError& e) {
-    std::cerr << "campbell: numerical failure: " << e.what() << "\n";
-    return ExitNumericalError;
-  } catch (const std::exception& e) {
-    std::cerr << "campbell: internal error: " << e.what() << "\n";
-    return ExitInternalError;
-  }
+
+    // 6. The tables for plot_results.py, when asked.
+    if (!csv.empty() && r.status == eigen::SolveStatus::Converged) {
+      std::ofstream f(csv), g(csv.substr(0, csv.size() - (csv.size() > 4 && csv.substr(csv.size() - 4) == ".csv" ? 4 : 0)) +
+                                   "-crossings.csv");
+      CMS_INPUT_CHECK(!f || !g, "--csv = " << csv << ": cannot write");
+      r.writeCsv(f);
+      r.writeCrossingsCsv(g);
+      std::cout << "\nwrote " << csv << '\n';
+    }
+    const auto o = drivers::outcome(r.status);
+    if (o.code != ExitSuccess) std::cerr << "campbell: " << o.message << ": " << drivers::condense(r.reason) << '\n';
+    return o.code;
+  });
 }

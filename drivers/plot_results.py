@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Plots of the cms driver's CSV tables (doc/user-guide.md, "Plots").
 
-    python3 plot_results.py campbell  <name>-campbell.csv  out.png
+    python3 plot_results.py campbell  <name>-campbell.csv  out.png  [--orders=1,2] [--axis=hz|rpm|per-rev]
+                                        (crossings from <name>-campbell-crossings.csv when present;
+                                         orders default to those crossed, else 1X)
     python3 plot_results.py compare   <name>-compare.csv   out.png   (error vs DOFs and the Pareto plot)
     python3 plot_results.py truncate  <name>-truncate.csv  out.png
     python3 plot_results.py rotor     bench_rotor.csv      out.png   (bench_rotor: error vs time per size)
@@ -12,6 +14,7 @@ malformed table.
 """
 import csv
 import math
+import os
 import sys
 
 import matplotlib
@@ -35,36 +38,111 @@ def num(text):
         return math.nan
 
 
-def campbell(rows, out):
-    speed_key = [k for k in rows[0] if k.endswith("_rad_per_s")][0]
-    speeds = [num(r[speed_key]) for r in rows]
+def campbell(rows, out, orders=None, axis="rpm", crossings=None):
+    """The Campbell diagram an engineer reads: the reference speed (the
+    first *_rad_per_s column; the x-axis also names every other rate scaled
+    with it and those held) in rev/s (axis hz), rpm (rpm) or rpm with
+    frequencies per revolution (per-rev: engine orders are horizontal);
+    forward-whirl tracks solid, backward dash-dot, neither dotted, each in
+    its own colour; engine-order lines dashed grey; frame-rate tracks (rigid
+    motions seen at a spin rate) faint; crossings marked (filled: forward,
+    which unbalance excites at 1X; open: backward); a legend."""
+    from matplotlib.lines import Line2D
+
+    rate_keys = [k for k in rows[0] if k.endswith("_rad_per_s")]
+    ref_key = rate_keys[0]
+    ref = ref_key[: -len("_rad_per_s")]
+    omega = [num(r[ref_key]) for r in rows]
+    rpm = [w * 60 / (2 * math.pi) for w in omega]
+    xs = [w / (2 * math.pi) for w in omega] if axis == "hz" else rpm
+    xunit = "rev/s" if axis == "hz" else "rpm"
+    per_rev = axis == "per-rev"
+
+    def y_of(hz, w):
+        if not per_rev:
+            return hz
+        return hz * 2 * math.pi / abs(w) if w else math.nan
+
     tracks = sorted({k[: -len("_hz")] for k in rows[0] if k.endswith("_hz")}, key=lambda t: int(t[5:]))
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    for t in tracks:
+    fig, ax = plt.subplots(figsize=(9, 6))
+    # Track colours: the default cycle without its grey (grey is for engine orders).
+    colours = [c for c in plt.rcParams["axes.prop_cycle"].by_key()["color"] if c.lower() != "#7f7f7f"]
+    ymax = 0.0
+    for i, t in enumerate(tracks):
         hz = [num(r[t + "_hz"]) for r in rows]
+        ys = [y_of(h, w) for h, w in zip(hz, omega)]
+        ymax = max([ymax] + [y for y in ys if not math.isnan(y)])
         whirl = [r.get(t + "_whirl", "") for r in rows]
-        backward = sum(w == "BW" for w in whirl) > sum(w == "FW" for w in whirl)
-        ax.plot(speeds, hz, "--" if backward else "-", lw=1.2)
-        bad = [(s, h) for s, h, r in zip(speeds, hz, rows) if r[t + "_stability"] not in ("stable", "rigid", "neutral")]
+        fw, bw = sum(w == "FW" for w in whirl), sum(w == "BW" for w in whirl)
+        if rows[0].get(t + "_frame_rate") == "yes":
+            ax.plot(xs, ys, ":", color="0.75", lw=1.0)
+            continue
+        style = "-" if fw > bw else "-." if bw > fw else ":"
+        ax.plot(xs, ys, style, color=colours[i % len(colours)], lw=1.4)
+        bad = [(x, y) for x, y, r in zip(xs, ys, rows) if r[t + "_stability"] not in ("stable", "rigid", "neutral")]
         if bad:
             ax.plot([b[0] for b in bad], [b[1] for b in bad], "rx", ms=6)
     # Shade the speed ranges where any track is unstable.
     unstable = [any(r[t + "_stability"] not in ("stable", "rigid", "neutral", "lost") for t in tracks) for r in rows]
     for i, u in enumerate(unstable):
         if u:
-            lo = speeds[i - 1] if i > 0 and not unstable[i - 1] else speeds[i]
-            hi = speeds[i + 1] if i + 1 < len(speeds) else speeds[i]
+            lo = xs[i - 1] if i > 0 and not unstable[i - 1] else xs[i]
+            hi = xs[i + 1] if i + 1 < len(xs) else xs[i]
             ax.axvspan(lo, hi, color="red", alpha=0.12, lw=0)
-    top = max(speeds)
-    for order in (1, 2):
-        ax.plot([0, top], [0, order * top / (2 * math.pi)], "k--", lw=0.8)
-        ax.annotate(f"{order}X", (top, order * top / (2 * math.pi)), fontsize=8)
-    ymax = max(num(r[t + "_hz"]) for r in rows for t in tracks if not math.isnan(num(r[t + "_hz"])))
-    ax.set_ylim(0, 1.05 * ymax)
-    ax.set_xlabel(f"{speed_key[:-len('_rad_per_s')]} speed (rad/s)")
-    ax.set_ylabel("frequency (Hz)")
-    ax.set_title("Campbell diagram (tracked by MAC; solid: forward or no whirl, dashed: backward; shaded/x: unstable)",
-                 fontsize=9)
+    top = max(xs)
+    if not orders:
+        orders = sorted({num(c["order"]) for c in crossings or []}) or [1.0]
+    ylim = 1.1 * max([ymax] + ([max(orders)] if per_rev else []))
+    for order in orders:
+        label = f"{order:g}X"
+        if per_rev:
+            ax.axhline(order, color="0.5", ls="--", lw=0.9)
+            ax.annotate(label, (top, order), fontsize=8, color="0.35", ha="right", va="bottom")
+        else:
+            # omega = order * Omega: in Hz, order * (rev/s); against rpm, order * rpm / 60.
+            slope = order if axis == "hz" else order / 60.0
+            ax.plot([0, top], [0, slope * top], "--", color="0.5", lw=0.9)
+            xe = min(top, ylim / slope) if slope > 0 else top
+            ax.annotate(label, (xe, slope * xe), fontsize=8, color="0.35", ha="right", va="bottom")
+    for c in crossings or []:
+        w = num(c["speed_rad_per_s"])
+        x = w / (2 * math.pi) if axis == "hz" else w * 60 / (2 * math.pi)
+        y = num(c["order"]) if per_rev else num(c["frequency_hz"])
+        forward = c["whirl"] == "FW"
+        ax.plot([x], [y], "o", ms=7, mfc="k" if forward else "none", mec="k")
+    ax.set_xlim(0, top)
+    ax.set_ylim(0, ylim)
+    # The x-axis names every rate: the reference, those scaled with it (as
+    # multiples of it) and those held.
+    scaled, held = [], []
+    last = rows[-1]
+    for k in rate_keys[1:]:
+        name = k[: -len("_rad_per_s")]
+        values = [num(r[k]) for r in rows]
+        if max(values) != min(values):
+            ratio = num(last[k]) / num(last[ref_key]) if num(last[ref_key]) else math.nan
+            scaled.append(f"{name} = {ratio:.4g} x {ref}")
+        else:
+            held.append(f"{name} = {values[0]:.4g} rad/s")
+    xlabel = f"{ref} speed ({xunit})"
+    if scaled:
+        xlabel += "; scaled with it: " + ", ".join(scaled)
+    if held:
+        xlabel += "; held: " + ", ".join(held)
+    ax.set_xlabel(xlabel, fontsize=9)
+    ax.set_ylabel(f"frequency / {ref} speed (per rev)" if per_rev else "frequency (Hz)")
+    ax.set_title("Campbell diagram (modes tracked by MAC)", fontsize=10)
+    handles = [
+        Line2D([], [], color="k", ls="-", label="forward whirl (a colour per track)"),
+        Line2D([], [], color="k", ls="-.", label="backward whirl"),
+        Line2D([], [], color="k", ls=":", label="no whirl / unresolved"),
+        Line2D([], [], color="0.5", ls="--", label="engine orders (" + ", ".join(f"{o:g}X" for o in orders) + ")"),
+        Line2D([], [], color="0.75", ls=":", label="frame-rate rigid motion (not a vibration)"),
+        Line2D([], [], ls="", marker="o", mfc="k", mec="k", label="critical speed, forward (unbalance excites 1X)"),
+        Line2D([], [], ls="", marker="o", mfc="none", mec="k", label="critical speed, backward"),
+        Line2D([], [], ls="", marker="x", color="r", label="unstable"),
+    ]
+    ax.legend(handles=handles, fontsize=7, loc="best", framealpha=0.9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
@@ -140,14 +218,26 @@ def rotor(rows, out):
 
 
 def main(argv):
-    if len(argv) != 4 or argv[1] not in ("campbell", "compare", "truncate", "rotor"):
+    options = {a.split("=", 1)[0]: a.split("=", 1)[1] for a in argv[1:] if a.startswith("--") and "=" in a}
+    args = [a for a in argv if not a.startswith("--")]
+    if len(args) != 4 or args[1] not in ("campbell", "compare", "truncate", "rotor") or \
+            set(options) - {"--orders", "--axis"} or options.get("--axis", "rpm") not in ("hz", "rpm", "per-rev"):
         print(__doc__, file=sys.stderr)
         return 2
     try:
-        rows = read(argv[2])
-        {"campbell": campbell, "compare": compare, "truncate": truncate, "rotor": rotor}[argv[1]](rows, argv[3])
+        rows = read(args[2])
+        if args[1] == "campbell":
+            orders = [float(o) for o in options["--orders"].split(",")] if "--orders" in options else None
+            side = args[2][: -len(".csv")] + "-crossings.csv" if args[2].endswith(".csv") else None
+            crossings = None
+            if side and os.path.exists(side):
+                with open(side, newline="") as f:
+                    crossings = list(csv.DictReader(f))
+            campbell(rows, args[3], orders, options.get("--axis", "rpm"), crossings)
+        else:
+            {"compare": compare, "truncate": truncate, "rotor": rotor}[args[1]](rows, args[3])
     except (OSError, KeyError, ValueError, IndexError) as e:
-        print(f"plot_results: {argv[2]}: {e}", file=sys.stderr)
+        print(f"plot_results: {args[2]}: {e}", file=sys.stderr)
         return 2
     return 0
 

@@ -9,9 +9,11 @@ motions seen at the frame rate) splits by sqrt(eta) s, which at these sizes
 is 1e-5 of the cluster's frequency (measured 6e-5 at worst): a track within
 1e-3 of another track, or neutral, is compared to 3e-4 of its value;
 a rigid track's frequency is rounding and only its verdict is compared.
-Whirl labels are printed where they differ, not failed on: the whirl of a
-mode in a degenerate cluster, or of a mode that barely moves the spinning
-part, is not defined (the whirl rule belongs to issue #11).
+Whirl labels must agree too: the whirl rule classifies a degenerate cluster
+as a whole and calls a mode in which the spinning part barely moves neutral
+(analysis::WhirlClassification, theory §12.2), so no label depends on the
+basis or the rounding a rank count gives. Where the stability verdicts
+already differ (reported above) a whirl difference is only printed.
 
 usage: check_same_verdicts.py reference.csv other.csv [other.csv ...]
 """
@@ -40,8 +42,12 @@ def main():
                     if a[key] != b[key]:
                         bad.append(f"{path}: speed {i} {key}: {b[key]!r}, 1 rank {a[key]!r}")
                 elif key.endswith("_whirl"):
+                    stability = key[: -len("_whirl")] + "_stability"
                     if a[key] != b[key]:
-                        print(f"note: {path}: speed {i} {key}: {b[key]!r}, 1 rank {a[key]!r}")
+                        if a[stability] == b[stability]:
+                            bad.append(f"{path}: speed {i} {key}: {b[key]!r}, 1 rank {a[key]!r}")
+                        else:
+                            print(f"note: {path}: speed {i} {key}: {b[key]!r}, 1 rank {a[key]!r}")
                 elif key.endswith("_hz") and a[key] not in ("", "nan"):
                     f = float(a[key])
                     track = key[: -len("_hz")]

@@ -164,7 +164,8 @@ std::vector<int> positiveIntegers(const std::string& text, const char* option) {
 // executable (DataDirectory.hpp), never a source path compiled in.
 std::string defaultScene() { return drivers::dataFile("scenes/spacecraft.yaml").string(); }
 
-void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv) {
+void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv,
+          const std::string& extra) {
   if (!options.plot()) return;
   const auto png = std::filesystem::path(csv).replace_extension(".png");
   std::string script;
@@ -175,7 +176,7 @@ void plot(const Options& options, const std::string& kind, const std::filesystem
     return;
   }
   const std::string cmd = std::string(CMS_PYTHON) + " '" + script + "' " + kind + " '" +
-                          csv.string() + "' '" + png.string() + "'";
+                          csv.string() + "' '" + png.string() + "'" + (extra.empty() ? "" : " " + extra);
   if (std::system(cmd.c_str()) == 0)
     std::cout << "plotted " << png.string() << '\n';
   else

@@ -75,8 +75,10 @@ std::vector<int> positiveIntegers(const std::string& text, const char* option);
 /// The built-in default scene (the spacecraft).
 std::string defaultScene();
 
-/// --plot: drivers/plot_results.py `kind` on `csv`, writing a PNG beside it.
-void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv);
+/// --plot: drivers/plot_results.py `kind` on `csv`, writing a PNG beside it
+/// (`extra`: the script's own options, e.g. "--orders=1,2 --axis=hz").
+void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv,
+          const std::string& extra = "");
 
 /// "[t s] " for progress lines.
 std::string stamp(double seconds);

@@ -13,7 +13,7 @@
 #include <complex>
 #include <limits>
 
-#include "cms/analysis/Campbell.hpp"
+#include "cms/analysis/CampbellStudy.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
 using namespace cms;
@@ -100,18 +100,21 @@ TEST(RotatingPointMass, StabilityRegimesAreClassified) {
 }
 
 TEST(RotatingPointMass, CampbellFindsTheDivergenceRange) {
-  std::vector<double> speeds;
-  for (int i = 0; i <= 300; ++i) speeds.push_back(0.1 * i);
-  const analysis::CampbellDiagram d = analysis::campbell(pointMass(), speeds, {});
-  const auto ranges = d.instabilityRanges();
+  // Frame rate 0 to 30 rad/s in 300 steps of 0.1 rad/s.
+  Teuchos::ParameterList study;
+  study.set("Steps", 301);
+  study.set("Max Factor", 1.0);
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
+  const auto& ranges = d.unstableRanges;
   ASSERT_EQ(ranges.size(), 1u);
   // Sweep step 0.1: the first/last unstable sample lies within one step inside
   // (20, 25); exactly at 20 and 25 the zero root is neutral. The ends are
   // samples of the sweep, compared exactly with the samples that bracket them.
-  EXPECT_GE(ranges[0].first, speeds[200]);   // 20
-  EXPECT_LE(ranges[0].first, speeds[201]);   // 20.1
-  EXPECT_GE(ranges[0].second, speeds[249]);  // 24.9
-  EXPECT_LE(ranges[0].second, speeds[250]);  // 25
+  const auto speed = [&](int k) { return d.speeds[k][0]; };
+  EXPECT_GE(ranges[0].first, speed(200));   // 20
+  EXPECT_LE(ranges[0].first, speed(201));   // 20.1
+  EXPECT_GE(ranges[0].second, speed(249));  // 24.9
+  EXPECT_LE(ranges[0].second, speed(250));  // 25
 }
 
 // Isotropic springs: in the rotating frame omega = |sqrt(k/m) -/+ Omega|.

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "cms/analysis/Campbell.hpp"
+#include "cms/analysis/CampbellStudy.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/fem/SpinningRayleighShaft.hpp"
 
@@ -26,6 +26,14 @@ analysis::SpeedDependentSystem model(const fem::ShaftProperties& p, int n) {
           s.whirlPairs()};
 }
 
+/// Whirl of each mode by the project's rule (analysis::WhirlClassification).
+std::vector<analysis::Whirl> whirlOf(const eigen::GyroscopicResult& r, const analysis::SpeedDependentSystem& sys,
+                                     double Omega) {
+  std::vector<analysis::Orbit> orbits;
+  for (const auto& m : r.modes) orbits.push_back(analysis::orbitOfPairs(m, sys.whirlPairs));
+  return analysis::WhirlClassification().classify(r.modes, orbits, Omega > 0 ? 1.0 : 0.0);
+}
+
 /// Relative errors of the lowest 4 modes (2 bending orders x FW/BW) at Omega.
 std::vector<double> errors(const fem::ShaftProperties& p, int n, double Omega,
                            std::vector<analysis::Whirl>* whirl = nullptr) {
@@ -34,8 +42,9 @@ std::vector<double> errors(const fem::ShaftProperties& p, int n, double Omega,
   params.set("Number of Modes", 4);
   const auto r = eigen::DenseGyroscopicSolver(params).solve(sys.at(Omega));
   std::vector<double> e;
+  const auto whirls = whirlOf(r, sys, Omega);
   for (int m = 0; m < 4; ++m) {
-    const auto w = analysis::whirlOf(r.modes[m], sys.whirlPairs);
+    const auto w = whirls[m];
     if (whirl) whirl->push_back(w);
     const auto [fw, bw] = fem::SpinningRayleighShaft::exactWhirl(p, m / 2 + 1, Omega);
     const double exact = w == analysis::Whirl::Forward ? fw : bw;
@@ -74,8 +83,9 @@ TEST(SpinningShaft, BackwardBelowForwardAndSplitGrowsWithSpeed) {
   double lastSplit = -1.0;
   for (double Omega : {500.0, 2000.0, 6000.0}) {
     const auto r = solver.solve(sys.at(Omega));
-    EXPECT_EQ(analysis::whirlOf(r.modes[0], sys.whirlPairs), analysis::Whirl::Backward);
-    EXPECT_EQ(analysis::whirlOf(r.modes[1], sys.whirlPairs), analysis::Whirl::Forward);
+    const auto w = whirlOf(r, sys, Omega);
+    EXPECT_EQ(w[0], analysis::Whirl::Backward);
+    EXPECT_EQ(w[1], analysis::Whirl::Forward);
     const double split = r.modes[1].omega - r.modes[0].omega;
     EXPECT_GT(split, lastSplit);
     lastSplit = split;
@@ -83,25 +93,32 @@ TEST(SpinningShaft, BackwardBelowForwardAndSplitGrowsWithSpeed) {
   // At rest the two planes are identical: a double frequency, no whirl sense.
   const auto r0 = solver.solve(sys.at(0.0));
   EXPECT_NEAR(r0.modes[0].omega, r0.modes[1].omega, 1e-12 * r0.modes[0].omega);
+  EXPECT_EQ(whirlOf(r0, sys, 0.0)[0], analysis::Whirl::Unresolved);
 }
 
 TEST(SpinningShaft, CriticalSpeedsMatchClosedForm) {
   const auto p = stubbyShaft();
-  std::vector<double> speeds;
-  for (int i = 0; i <= 400; ++i) speeds.push_back(25.0 * i);  // to 10000 rad/s
-  const auto d = analysis::campbell(model(p, 8), speeds, {});
+  Teuchos::ParameterList study;  // 0 to 10000 rad/s in 250 rad/s steps, crossings bisected
+  study.set("Steps", 41);
+  study.set("Max Factor", 1.0);
+  const double tol = 1e-6;
+  study.set("Crossing Tolerance", tol);
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(model(p, 8), "shaft", 10000.0));
   const double A = M_PI * p.radius * p.radius, I = M_PI * std::pow(p.radius, 4) / 4;
   const double kk = M_PI / p.length;
   const double bw = std::sqrt(p.youngsModulus * I * std::pow(kk, 4) /
                               (p.density * A + 3 * p.density * I * kk * kk));
   const double fw = std::sqrt(p.youngsModulus * I * std::pow(kk, 4) /
                               (p.density * A - p.density * I * kk * kk));
-  const auto crit = d.criticalSpeeds(1.0);
+  const auto& crit = d.crossings;
   ASSERT_GE(crit.size(), 2u);
-  // Linear interpolation over a 25 rad/s step of curves with curvature
-  // ~1e-5 / (rad/s) gives errors below 1e-4 relative.
-  EXPECT_NEAR(crit[0].speed, bw, 1e-4 * bw);
+  // Bisection ends with a bracket narrower than tol times the speed; the
+  // Ritz frequencies are exact to 1e-8 (RitzConvergesToClosedFormFromAbove)
+  // and the curves cross the 1X line at a slope of order 1, so the speed is
+  // within tol plus 1e-8 of the closed form.
+  EXPECT_TRUE(crit[0].refined && crit[1].refined);
+  EXPECT_NEAR(crit[0].speed, bw, (tol + 1e-8) * bw);
   EXPECT_EQ(crit[0].whirl, analysis::Whirl::Backward);
-  EXPECT_NEAR(crit[1].speed, fw, 1e-4 * fw);
+  EXPECT_NEAR(crit[1].speed, fw, (tol + 1e-8) * fw);
   EXPECT_EQ(crit[1].whirl, analysis::Whirl::Forward);
 }

@@ -12,6 +12,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/analysis/TruthComparison.hpp"
+#include "cms/analysis/WhirlClassification.hpp"
 #include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
@@ -127,14 +128,15 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     for (const auto& md : r.modes.result.modes) r.reducedCount += md.omega < r.countAt;
   }
 
-  // 6. Whirl of each spinning substructure in each mode.
+  // 6. Whirl of each spinning substructure in each mode, degenerate
+  //    clusters classified whole (analysis::WhirlClassification, theory §12.2).
   r.whirls.resize(r.modes.result.modes.size());
-  for (std::size_t m = 0; m < r.modes.result.modes.size(); ++m) {
-    const auto u = s.expand(r.modes, static_cast<int>(m));
-    for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
-      if (structure.substructure(k).kind != synthesis::SubstructureKind::Central && structure.substructure(k).spin)
-        r.whirls[m].push_back(structure.substructure(k).name + " " +
-                              substructureWhirl(structure, u, k, r.modes.result.modes[m]));
+  const WhirlClassification whirlRule;
+  for (std::size_t k = 0; k < structure.numSubstructures(); ++k) {
+    const auto& spec = structure.substructure(k);
+    if (spec.kind == synthesis::SubstructureKind::Central || !spec.spin) continue;
+    const auto w = whirlRule.classify(structure, s, r.modes, k, spec.spin->rate * options_.get<double>("Speed Factor"));
+    for (std::size_t m = 0; m < w.size(); ++m) r.whirls[m].push_back(spec.name + " " + toString(w[m]));
   }
   return r;
 }
@@ -143,52 +145,8 @@ std::string substructureWhirl(const synthesis::AssembledStructure& a, const std:
                               std::size_t k, const eigen::GyroscopicMode& mode) {
   const auto& spec = a.substructure(k);
   if (!spec.spin) return "";
-  fem::Vec3 n = spec.spin->axis;
-  const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  for (double& v : n) v /= nn;
-  // e1, e2 transverse with e1 x e2 = n.
-  fem::Vec3 e1 = std::abs(n[0]) < 0.9 ? fem::Vec3{1, 0, 0} : fem::Vec3{0, 1, 0};
-  const double d = e1[0] * n[0] + e1[1] * n[1] + e1[2] * n[2];
-  for (int i = 0; i < 3; ++i) e1[i] -= d * n[i];
-  const double n1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-  for (double& v : e1) v /= n1;
-  const fem::Vec3 e2{n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
-  const auto map = u[k]->getMap();
-  const auto* sub = a.assembled(k);
-  const auto nodeOf = sub ? sub->dofs().rowNodes() : std::vector<std::int64_t>();
-  // Per node (or the rigid rotor's centre): the complex 3-vector of the
-  // translations (elastic rotor) or tilts (rigid rotor).
-  std::map<long long, std::array<std::complex<double>, 3>> v;
-  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
-    const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
-    int c = static_cast<int>(g);
-    long long node = 0;
-    if (sub) {
-      c = static_cast<int>(sub->dofs().components[g]);
-      if (c > 2) continue;
-      node = nodeOf[g];
-    } else {
-      if (c < 3) continue;
-      c -= 3;
-    }
-    v[node][c] = {u[k]->getData(0)[l], u[k]->getData(1)[l]};
-  }
-  double local[3] = {0, 0, 0}, global[3] = {0, 0, 0};
-  for (const auto& [node, x] : v) {
-    local[2] += std::norm(x[0]) + std::norm(x[1]) + std::norm(x[2]);
-    const std::complex<double> a1 = x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2];
-    const std::complex<double> a2 = x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2];
-    // x(t) = Re(a e^{lambda t}), lambda = i w: the orbit in (e1, e2) turns
-    // positively (about n) when Im(a1 conj(a2)) > 0 (whirlOf's rule, Campbell.hpp).
-    local[0] += std::imag(a1 * std::conj(a2)) * (mode.lambda.imag() >= 0 ? 1.0 : -1.0);
-    local[1] += std::norm(a1) + std::norm(a2);
-  }
-  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, 3, local, global);
-  // No whirl: a mode moving mostly along the axis or twisting about it
-  // (transverse share < 10%), or a flat orbit (circularity < 1%).
-  if (!(global[1] > 0.1 * global[2]) || std::abs(2 * global[0]) < 1e-2 * global[1]) return "-";
-  const bool withSpin = (global[0] > 0) == (spec.spin->rate >= 0);
-  return withSpin ? "FW" : "BW";
+  const double sign = spec.spin->rate > 0 ? 1.0 : spec.spin->rate < 0 ? -1.0 : 0.0;
+  return toString(WhirlClassification().classify({mode}, {orbitOfSubstructure(a, u, k, mode)}, sign, a.comm().get())[0]);
 }
 
 }  // namespace cms::analysis

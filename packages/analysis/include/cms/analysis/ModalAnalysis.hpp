@@ -87,11 +87,14 @@ private:
   std::function<void(const std::string&)> progress_;
 };
 
-/// Whirl of spinning substructure k in mode `mode`, from its expanded shape
-/// u (synthesis::SynthesizedStructure::expand): "FW" when the orbit of its
-/// transverse motion turns with the spin, "BW" against it, "-" when the
-/// orbit is flat or the motion mostly axial or torsional, "" when k does
-/// not spin. Collective.
+/// Whirl of spinning substructure k in mode `mode` alone, from its expanded
+/// shape u (synthesis::SynthesizedStructure::expand), by the one rule
+/// (analysis::WhirlClassification, theory §12.2) applied to this mode as a
+/// cluster of one: "FW" when the orbit of its transverse motion turns with
+/// the spin, "BW" against it, "-" when the orbit is flat or the motion
+/// mostly axial or torsional, "" when k does not spin. For the modes of a
+/// solve use WhirlClassification::classify, which classifies a degenerate
+/// cluster whole (the same at every rank count). Collective.
 std::string substructureWhirl(const synthesis::AssembledStructure& structure,
                               const std::vector<Teuchos::RCP<MultiVector>>& u, std::size_t k,
                               const eigen::GyroscopicMode& mode);

@@ -1,0 +1,210 @@
+// The Campbell study: a speed sweep of a spinning structure with its modes
+// tracked across speeds, in the Anasazi style (doc/theory.md §12):
+//
+//   SpeedSweepProblem   what is swept (the data): the speed parameters and, at
+//                       given speeds, the modes, their M-weighted MAC with
+//                       another speed's modes and their whirl. Two kinds:
+//                       DenseSweepProblem (M, G1, K0, K2 of one speed, e.g. a
+//                       Rayleigh shaft) and SynthesizedSweepProblem (a
+//                       synthesised structure, every spin rate a parameter,
+//                       no re-projection).
+//   CampbellStudy       the solver, configured by a ParameterList validated
+//                       against getValidParameters() (Title Case keys with
+//                       defaults): sweep, tracking, crossings, stability.
+//   CampbellResult      what it found: tracks, engine-order crossings
+//                       (critical speeds), frame-rate tracks set aside,
+//                       unstable ranges, the worst solve status.
+//
+// Tracking: the modes at each speed are matched to the tracks by decreasing
+// M-weighted MAC |a^H M b|^2 / (a^H M a b^H M b) with the track's mode at
+// the previous speed, so a crossing keeps its identities (the curves cross)
+// and a veering too (the curves turn away; the eigenvectors rotate over the
+// veering, which the sweep must resolve).
+#pragma once
+
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "cms/analysis/WhirlClassification.hpp"
+#include "cms/core/DenseMatrix.hpp"
+#include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/GyroscopicSystem.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+namespace cms::analysis {
+
+/// A system of one speed Omega stored per unit speed (theory §8):
+///   M q'' + Omega G1 q' + (K0 + Omega^2 K2) q = 0,
+/// K2 = K_sigma1 - K_T1 in a rotating frame, empty (0 x 0) for none.
+struct SpeedDependentSystem {
+  DenseMatrix M, G1, K0, K2;
+  /// (v, w) coordinate pairs of two transverse directions (e1 x e2 = the spin
+  /// axis) whose orbit tells forward from backward whirl.
+  std::vector<std::pair<int, int>> whirlPairs;
+
+  eigen::GyroscopicSystem at(double Omega) const;
+};
+
+/// What a Campbell study needs of a model. Every method is collective.
+class SpeedSweepProblem {
+public:
+  virtual ~SpeedSweepProblem() = default;
+  /// The spin rates that can be swept (name, nominal rad/s).
+  virtual std::vector<synthesis::SpeedParameter> parameters() const = 0;
+  /// The modes at one set of speeds (rad/s, one per parameter).
+  virtual synthesis::StructureModes solve(const std::vector<double>& speeds) const = 0;
+  /// M-weighted MAC of every pair (a[t], b[j]), rows t.
+  virtual std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
+                                               const std::vector<eigen::GyroscopicMode>& b) const = 0;
+  /// Whirl of every mode of `modes` (solved at modes.speeds).
+  virtual std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const = 0;
+  /// The part whose orbit defines whirl ("" when none).
+  virtual std::string whirlOf() const = 0;
+};
+
+/// One speed, dense: eigen::DenseGyroscopicSolver with `solverParams`.
+class DenseSweepProblem : public SpeedSweepProblem {
+public:
+  DenseSweepProblem(SpeedDependentSystem system, std::string name, double nominal,
+                    const Teuchos::ParameterList& solverParams = Teuchos::ParameterList());
+  std::vector<synthesis::SpeedParameter> parameters() const override { return {{name_, nominal_}}; }
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override;
+  std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
+                                       const std::vector<eigen::GyroscopicMode>& b) const override;
+  std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
+  std::string whirlOf() const override { return system_.whirlPairs.empty() ? "" : name_; }
+
+private:
+  SpeedDependentSystem system_;
+  std::string name_;
+  double nominal_;
+  Teuchos::ParameterList solverParams_;
+};
+
+/// A synthesised structure: every speed parameter of the assembly, solved by
+/// SynthesizedStructure::solve with `solveParams` (its valid parameters).
+/// Whirl of substructure `whirlOf` (a spinning A or R; "" the first one).
+class SynthesizedSweepProblem : public SpeedSweepProblem {
+public:
+  SynthesizedSweepProblem(const synthesis::AssembledStructure& structure, const synthesis::SynthesizedStructure& reduced,
+                          const Teuchos::ParameterList& solveParams, const std::string& whirlOf = "");
+  std::vector<synthesis::SpeedParameter> parameters() const override { return reduced_.speeds(); }
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override;
+  std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
+                                       const std::vector<eigen::GyroscopicMode>& b) const override;
+  std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
+  std::string whirlOf() const override;
+
+private:
+  const synthesis::AssembledStructure& structure_;
+  const synthesis::SynthesizedStructure& reduced_;
+  Teuchos::ParameterList solveParams_;
+  Teuchos::RCP<const CrsMatrix> M_;
+  int whirlPart_ = -1;  ///< substructure index, -1 none
+  int whirlSpeed_ = -1; ///< index of the speed parameter its spin rate scales with, -1 none
+};
+
+/// M-weighted MAC of every pair (a[t], b[j]) of modes of the same
+/// coordinates, each mode's q replicated (n entries) or this rank's rows of
+/// M's row map. Collective.
+std::vector<std::vector<double>> macMatrix(const CrsMatrix& M, long long n, const std::vector<eigen::GyroscopicMode>& a,
+                                           const std::vector<eigen::GyroscopicMode>& b);
+
+/// One mode followed across the sweep.
+struct CampbellTrack {
+  std::vector<double> omega;                  ///< rad/s per step; NaN where lost
+  std::vector<eigen::Stability> stability;    ///< per step
+  std::vector<Whirl> whirl;                   ///< per step
+  std::vector<bool> lost;                     ///< no mode matched at this step
+  double minMac = 1.0;                        ///< worst MAC of a step-to-step match
+  /// Its frequency equals a spin rate (of parameter frameRateOf) at every
+  /// step: a rigid motion seen from a frame spinning at that rate, not a
+  /// vibration; its engine-order crossings are no critical speeds.
+  bool frameRate = false;
+  int frameRateOf = -1;
+};
+
+/// Where a track meets an engine-order line omega = order * Omega_ref.
+struct EngineOrderCrossing {
+  double order = 1.0;
+  double speed = 0.0;      ///< Omega_ref (rad/s)
+  double factor = 0.0;     ///< on the sweep's factor axis
+  double omega = 0.0;      ///< = order * speed (rad/s)
+  Whirl whirl = Whirl::Neutral;
+  std::vector<int> tracks; ///< several: identical parts (or a repeated mode), listed once
+  bool refined = false;    ///< by bisection (else linear between sweep speeds)
+};
+
+/// The units an engineer reads a Campbell diagram in: the reference speed
+/// in rev/s and frequencies in Hz (Hz), the speed in rpm and frequencies in
+/// Hz (Rpm), or frequencies as multiples of the reference speed (PerRev:
+/// engine orders are horizontal lines).
+enum class SpeedAxis { Hz, Rpm, PerRev };
+/// "hz", "rpm", "per-rev"; cms::InputError naming `option` otherwise.
+SpeedAxis speedAxis(const std::string& text, const std::string& option = "--axis");
+const char* toString(SpeedAxis a);
+
+struct CampbellResult {
+  std::vector<synthesis::SpeedParameter> parameters;
+  int reference = 0;                 ///< the parameter whose rate the factors and engine orders refer to
+  std::vector<bool> scaled;          ///< per parameter: swept (true) or held at its nominal value
+  std::vector<double> factors;       ///< per step: the multiple of the nominal rates
+  std::vector<std::vector<double>> speeds;  ///< [step][parameter] rad/s
+  std::vector<CampbellTrack> tracks;
+  std::vector<double> orders;        ///< the engine orders asked
+  std::vector<EngineOrderCrossing> crossings;  ///< by order, then speed; frame-rate tracks left out
+  int frameRateCrossings = 0;        ///< crossings of frame-rate tracks, left out
+  std::vector<std::pair<double, double>> unstableRanges;  ///< Omega_ref (rad/s) where some mode is unstable
+  std::string whirlOf;               ///< the part whose orbit defines whirl
+  std::string solver;                ///< the solver at the last speed
+  double maxResidual = 0.0;
+  eigen::SolveStatus status = eigen::SolveStatus::Converged;  ///< the worst (NumericalIssue before NotConverged)
+  std::string reason;                ///< of the worst status
+
+  /// The table: one row per step (factor, the reference speed in `axis`'s
+  /// unit, every rate in rad/s, each track's frequency (Hz, or per rev) and
+  /// whirl; `*` an unstable or lost point). Rank 0 prints.
+  void printTable(std::ostream& os, SpeedAxis axis = SpeedAxis::Rpm) const;
+  /// Engine-order crossings (critical speeds) in rad/s and rpm, forward and
+  /// backward told apart (unbalance excites forward whirl), identical parts
+  /// once, and the frame-rate tracks and unstable ranges.
+  void printCrossings(std::ostream& os) const;
+  /// CSV: factor, <parameter>_rad_per_s (the reference first), and per track
+  /// track<i>_hz, track<i>_stability, track<i>_whirl, track<i>_frame_rate.
+  void writeCsv(std::ostream& os) const;
+  /// CSV of the crossings: order, speed_rad_per_s, speed_rpm, frequency_hz,
+  /// whirl, unbalance (yes: forward whirl at order 1), tracks (a;b).
+  void writeCrossingsCsv(std::ostream& os) const;
+};
+
+class CampbellStudy {
+public:
+  /// "Steps" (int, 21, >= 2): speeds in the sweep, factor 0 to "Max Factor";
+  /// "Max Factor" (double, 2): top speed as a multiple of the nominal rates;
+  /// "Speed Factor" (double, 1): the nominal rates times this first (a scene's);
+  /// "Speed Parameter" (string, ""): the one parameter swept, the others held
+  ///   at nominal; "" sweeps all together (the first is the reference);
+  /// "Engine Orders" (Array(double), {1}): lines omega = order * Omega_ref;
+  /// "Refine Crossings" (bool, true): bisect each crossing (one solve per step);
+  /// "Crossing Tolerance" (double, 1e-6): relative bracket width that ends a bisection;
+  /// "Frame Rate Tolerance" (double, 1e-3): relative difference within
+  ///   which a track's frequency equals a spin rate;
+  /// "Whirl" (sublist): WhirlClassification's parameters.
+  static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+  explicit CampbellStudy(const Teuchos::ParameterList& params = Teuchos::ParameterList());
+
+  /// Collective. Throws cms::InputError for an unknown "Speed Parameter".
+  /// A solve that does not converge or breaks down is a status of the
+  /// result, not an exception.
+  CampbellResult run(const SpeedSweepProblem& problem) const;
+
+private:
+  Teuchos::ParameterList params_;
+};
+
+}  // namespace cms::analysis

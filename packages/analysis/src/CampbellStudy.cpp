@@ -1,0 +1,541 @@
+#include "cms/analysis/CampbellStudy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <sstream>
+#include <tuple>
+
+#include <Teuchos_Array.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/Error.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+namespace cms::analysis {
+
+// ---------------------------------------------------------------- problems
+
+eigen::GyroscopicSystem SpeedDependentSystem::at(double Omega) const {
+  eigen::GyroscopicSystem s;
+  s.M = M;
+  s.G = G1;
+  s.G.scale(Omega);
+  s.K = K0;
+  if (K2.numRows() > 0) {
+    CMS_INPUT_CHECK(K2.numRows() != K0.numRows() || K2.numCols() != K0.numCols(),
+                    "SpeedDependentSystem: K2 is " << K2.numRows() << "x" << K2.numCols() << " but K0 is "
+                                                   << K0.numRows() << "x" << K0.numCols());
+    for (int j = 0; j < K0.numCols(); ++j)
+      for (int i = 0; i < K0.numRows(); ++i) s.K(i, j) += Omega * Omega * K2(i, j);
+  }
+  return s;
+}
+
+DenseSweepProblem::DenseSweepProblem(SpeedDependentSystem system, std::string name, double nominal,
+                                     const Teuchos::ParameterList& solverParams)
+    : system_(std::move(system)), name_(std::move(name)), nominal_(nominal), solverParams_(solverParams) {
+  eigen::DenseGyroscopicSolver check(solverParams_);  // InputError now for bad parameters
+  (void)check;
+}
+
+synthesis::StructureModes DenseSweepProblem::solve(const std::vector<double>& speeds) const {
+  CMS_INPUT_CHECK(speeds.size() != 1 || !std::isfinite(speeds[0]),
+                  "DenseSweepProblem: one finite speed expected, got " << speeds.size());
+  synthesis::StructureModes m;
+  m.result = eigen::DenseGyroscopicSolver(solverParams_).solve(system_.at(speeds[0]));
+  m.path = "dense";
+  m.speeds = speeds;
+  return m;
+}
+
+std::vector<std::vector<double>> DenseSweepProblem::mac(const std::vector<eigen::GyroscopicMode>& a,
+                                                        const std::vector<eigen::GyroscopicMode>& b) const {
+  const int n = system_.M.numRows();
+  auto Mx = [&](const std::vector<std::complex<double>>& x) {
+    std::vector<std::complex<double>> y(n, 0.0);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) y[i] += system_.M(i, j) * x[j];
+    return y;
+  };
+  auto dot = [&](const std::vector<std::complex<double>>& x, const std::vector<std::complex<double>>& y) {
+    std::complex<double> s = 0.0;
+    for (int i = 0; i < n; ++i) s += std::conj(x[i]) * y[i];
+    return s;
+  };
+  std::vector<std::vector<std::complex<double>>> Mb;
+  std::vector<double> bb;
+  for (const auto& m : b) Mb.push_back(Mx(m.q)), bb.push_back(dot(m.q, Mb.back()).real());
+  std::vector<std::vector<double>> out(a.size(), std::vector<double>(b.size(), 0.0));
+  for (std::size_t t = 0; t < a.size(); ++t) {
+    const double aa = dot(a[t].q, Mx(a[t].q)).real();
+    for (std::size_t j = 0; j < b.size(); ++j)
+      out[t][j] = aa > 0 && bb[j] > 0 ? std::norm(dot(a[t].q, Mb[j])) / (aa * bb[j]) : 0.0;
+  }
+  return out;
+}
+
+std::vector<Whirl> DenseSweepProblem::whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const {
+  std::vector<Orbit> orbits;
+  for (const auto& m : modes.result.modes) orbits.push_back(orbitOfPairs(m, system_.whirlPairs));
+  if (system_.whirlPairs.empty()) return std::vector<Whirl>(orbits.size(), Whirl::Neutral);
+  const double s = modes.speeds.empty() ? 0.0 : modes.speeds[0];
+  return rule.classify(modes.result.modes, orbits, s > 0 ? 1.0 : s < 0 ? -1.0 : 0.0);
+}
+
+SynthesizedSweepProblem::SynthesizedSweepProblem(const synthesis::AssembledStructure& structure,
+                                                 const synthesis::SynthesizedStructure& reduced,
+                                                 const Teuchos::ParameterList& solveParams, const std::string& whirlOf)
+    : structure_(structure), reduced_(reduced), solveParams_(solveParams) {
+  M_ = reduced_.system(std::vector<double>(reduced_.speeds().size(), 0.0)).M;  // the same at every speed
+  // `whirlOf` when it is a spinning A or R, else the first spinning A or R.
+  for (const bool named : {true, false})
+    for (std::size_t k = 0; k < structure_.numSubstructures() && whirlPart_ < 0; ++k) {
+      const auto& s = structure_.substructure(k);
+      if (s.kind != synthesis::SubstructureKind::Central && s.spin && (!named || s.name == whirlOf))
+        whirlPart_ = static_cast<int>(k);
+    }
+  // Its spin rate is the speed parameter it declares, or its parent's.
+  for (int k = whirlPart_; k >= 0 && whirlSpeed_ < 0;) {
+    const auto& name = structure_.substructure(static_cast<std::size_t>(k)).name;
+    for (std::size_t p = 0; p < reduced_.speeds().size(); ++p)
+      if (reduced_.speeds()[p].name == name) whirlSpeed_ = static_cast<int>(p);
+    int parent = -1;
+    for (std::size_t q = 0; q < structure_.numSubstructures(); ++q)
+      if (structure_.substructure(q).name == structure_.substructure(static_cast<std::size_t>(k)).parent)
+        parent = static_cast<int>(q);
+    k = parent;
+  }
+}
+
+std::string SynthesizedSweepProblem::whirlOf() const {
+  return whirlPart_ < 0 ? "" : structure_.substructure(static_cast<std::size_t>(whirlPart_)).name;
+}
+
+synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<double>& speeds) const {
+  return reduced_.solve(speeds, solveParams_);
+}
+
+std::vector<std::vector<double>> SynthesizedSweepProblem::mac(const std::vector<eigen::GyroscopicMode>& a,
+                                                              const std::vector<eigen::GyroscopicMode>& b) const {
+  return macMatrix(*M_, reduced_.size(), a, b);
+}
+
+std::vector<Whirl> SynthesizedSweepProblem::whirl(const synthesis::StructureModes& modes,
+                                                  const WhirlClassification& rule) const {
+  if (whirlPart_ < 0) return std::vector<Whirl>(modes.result.modes.size(), Whirl::Neutral);
+  const double rate = whirlSpeed_ >= 0 && whirlSpeed_ < static_cast<int>(modes.speeds.size())
+                          ? modes.speeds[static_cast<std::size_t>(whirlSpeed_)]
+                          : structure_.substructure(static_cast<std::size_t>(whirlPart_)).spin->rate;
+  return rule.classify(structure_, reduced_, modes, static_cast<std::size_t>(whirlPart_), rate);
+}
+
+std::vector<std::vector<double>> macMatrix(const CrsMatrix& M, long long n, const std::vector<eigen::GyroscopicMode>& a,
+                                           const std::vector<eigen::GyroscopicMode>& b) {
+  const auto map = M.getRowMap();
+  const std::size_t nloc = map->getNodeNumElements(), P = a.size(), C = b.size();
+  auto pack = [&](const std::vector<eigen::GyroscopicMode>& modes) {
+    MultiVector X(map, std::max<std::size_t>(2 * modes.size(), 1));
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+      const bool replicated = static_cast<long long>(modes[j].q.size()) == n;
+      auto re = X.getDataNonConst(2 * j), im = X.getDataNonConst(2 * j + 1);
+      for (std::size_t l = 0; l < nloc; ++l) {
+        const std::size_t i =
+            replicated ? static_cast<std::size_t>(map->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+        re[l] = modes[j].q[i].real(), im[l] = modes[j].q[i].imag();
+      }
+    }
+    return X;
+  };
+  const MultiVector Xa = pack(a), Xb = pack(b);
+  MultiVector MXa(map, Xa.getNumVectors()), MXb(map, Xb.getNumVectors());
+  M.apply(Xa, MXa);
+  M.apply(Xb, MXb);
+  // Local sums: per pair (re, im) of a^H M b, then a^H M a, then b^H M b; one reduction.
+  std::vector<double> local(2 * P * C + P + C, 0.0), global(local.size(), 0.0);
+  for (std::size_t t = 0; t < P; ++t) {
+    const auto ar = Xa.getData(2 * t), ai = Xa.getData(2 * t + 1);
+    const auto Mar = MXa.getData(2 * t), Mai = MXa.getData(2 * t + 1);
+    for (std::size_t l = 0; l < nloc; ++l) local[2 * P * C + t] += ar[l] * Mar[l] + ai[l] * Mai[l];
+    for (std::size_t j = 0; j < C; ++j) {
+      const auto Mbr = MXb.getData(2 * j), Mbi = MXb.getData(2 * j + 1);
+      double re = 0, im = 0;
+      // a^H M b = (ar.M br + ai.M bi) + i (ar.M bi - ai.M br)
+      for (std::size_t l = 0; l < nloc; ++l) re += ar[l] * Mbr[l] + ai[l] * Mbi[l], im += ar[l] * Mbi[l] - ai[l] * Mbr[l];
+      local[2 * (t * C + j)] = re, local[2 * (t * C + j) + 1] = im;
+    }
+  }
+  for (std::size_t j = 0; j < C; ++j) {
+    const auto br = Xb.getData(2 * j), bi = Xb.getData(2 * j + 1);
+    const auto Mbr = MXb.getData(2 * j), Mbi = MXb.getData(2 * j + 1);
+    for (std::size_t l = 0; l < nloc; ++l) local[2 * P * C + P + j] += br[l] * Mbr[l] + bi[l] * Mbi[l];
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
+  std::vector<std::vector<double>> mac(P, std::vector<double>(C, 0.0));
+  for (std::size_t t = 0; t < P; ++t)
+    for (std::size_t j = 0; j < C; ++j) {
+      const double aa = global[2 * P * C + t], bb = global[2 * P * C + P + j];
+      const double re = global[2 * (t * C + j)], im = global[2 * (t * C + j) + 1];
+      mac[t][j] = aa > 0 && bb > 0 ? (re * re + im * im) / (aa * bb) : 0.0;
+    }
+  return mac;
+}
+
+// ---------------------------------------------------------------- the study
+
+Teuchos::RCP<const Teuchos::ParameterList> CampbellStudy::getValidParameters() {
+  static Teuchos::RCP<Teuchos::ParameterList> p;
+  if (p.is_null()) {
+    using Teuchos::rcp;
+    p = rcp(new Teuchos::ParameterList("Campbell"));
+    p->set("Steps", 21, "speeds in the sweep, from factor 0 to Max Factor (>= 2)",
+           rcp(new Teuchos::EnhancedNumberValidator<int>(2, 100000)));
+    p->set("Max Factor", 2.0, "top speed as a multiple of the nominal rates (> 0)",
+           rcp(new Teuchos::EnhancedNumberValidator<double>(1e-300, 1e300)));
+    p->set("Speed Factor", 1.0, "the nominal rates are multiplied by this first (a scene's Speed Factor)");
+    p->set("Speed Parameter", std::string(),
+           "the one speed parameter swept (others held at nominal); empty: all swept together, the first the reference");
+    p->set("Engine Orders", Teuchos::Array<double>(1, 1.0), "engine orders: lines omega = order * reference rate");
+    p->set("Refine Crossings", true, "bisect each engine-order crossing (one solve per halving)");
+    p->set("Crossing Tolerance", 1e-6, "relative width of the speed bracket that ends a bisection",
+           rcp(new Teuchos::EnhancedNumberValidator<double>(1e-14, 1.0)));
+    p->set("Frame Rate Tolerance", 1e-3,
+           "relative difference within which a track's frequency equals a spin rate (frame-rate rigid motion)",
+           rcp(new Teuchos::EnhancedNumberValidator<double>(0.0, 1.0)));
+    p->set("Whirl", *WhirlClassification::getValidParameters(), "the whirl rule's parameters");
+  }
+  return p;
+}
+
+CampbellStudy::CampbellStudy(const Teuchos::ParameterList& params) : params_(params) {
+  try {
+    params_.validateParametersAndSetDefaults(*getValidParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("CampbellStudy: ") + e.what());
+  }
+  for (double o : params_.get<Teuchos::Array<double>>("Engine Orders"))
+    CMS_INPUT_CHECK(!(o > 0.0) || !std::isfinite(o), "CampbellStudy: \"Engine Orders\": " << o << " is not positive");
+  CMS_INPUT_CHECK(!std::isfinite(params_.get<double>("Speed Factor")),
+                  "CampbellStudy: \"Speed Factor\" = " << params_.get<double>("Speed Factor") << " is not finite");
+}
+
+namespace {
+
+bool unstable(eigen::Stability s) { return s == eigen::Stability::Divergence || s == eigen::Stability::Flutter; }
+bool zeroFrequency(eigen::Stability s) { return s == eigen::Stability::RigidBody || s == eigen::Stability::Critical; }
+
+/// The worse of two statuses: a breakdown before a non-convergence.
+void worsen(CampbellResult& r, const eigen::GyroscopicResult& g) {
+  if (g.status == eigen::SolveStatus::Converged) return;
+  if (r.status == eigen::SolveStatus::Converged || g.status == eigen::SolveStatus::NumericalIssue)
+    r.status = g.status, r.reason = g.reason;
+}
+
+}  // namespace
+
+CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
+  const int steps = params_.get<int>("Steps");
+  const double maxFactor = params_.get<double>("Max Factor"), speedFactor = params_.get<double>("Speed Factor");
+  const std::string swept = params_.get<std::string>("Speed Parameter");
+  const auto orders = params_.get<Teuchos::Array<double>>("Engine Orders");
+  const bool refine = params_.get<bool>("Refine Crossings");
+  const double crossingTol = params_.get<double>("Crossing Tolerance"), frameTol = params_.get<double>("Frame Rate Tolerance");
+  const WhirlClassification rule(params_.sublist("Whirl"));
+  const double clusterTol = params_.sublist("Whirl").get<double>("Cluster Tolerance");
+
+  CampbellResult r;
+  r.parameters = problem.parameters();
+  r.whirlOf = problem.whirlOf();
+  r.orders.assign(orders.begin(), orders.end());
+  CMS_INPUT_CHECK(r.parameters.empty(), "CampbellStudy: nothing spins: no speed parameter to sweep");
+  r.scaled.assign(r.parameters.size(), swept.empty());
+  if (!swept.empty()) {
+    std::string names;
+    for (std::size_t p = 0; p < r.parameters.size(); ++p) {
+      names += (p ? ", " : "") + r.parameters[p].name;
+      if (r.parameters[p].name == swept) r.reference = static_cast<int>(p), r.scaled[p] = true;
+    }
+    CMS_INPUT_CHECK(!r.scaled[r.reference], "CampbellStudy: \"Speed Parameter\" = \"" << swept
+                                                << "\" is not a speed parameter (those of this structure: " << names << ")");
+  }
+  const double refNominal = r.parameters[r.reference].nominal * speedFactor;
+  CMS_INPUT_CHECK(refNominal == 0.0, "CampbellStudy: the nominal rate of \"" << r.parameters[r.reference].name
+                                                                          << "\" is 0: nothing to sweep");
+  auto speedsAt = [&](double f) {
+    std::vector<double> s;
+    for (std::size_t p = 0; p < r.parameters.size(); ++p)
+      s.push_back(r.parameters[p].nominal * speedFactor * (r.scaled[p] ? f : 1.0));
+    return s;
+  };
+  auto refAt = [&](double f) { return refNominal * f; };
+
+  // Crossings found on the way (merged and filtered at the end).
+  std::vector<EngineOrderCrossing> found;
+  std::vector<eigen::GyroscopicMode> last;  // each track's mode at the previous speed
+  auto rateLike = [&](const CampbellTrack& tr) {  // equals a spin rate at every step so far
+    for (std::size_t p = 0; p < r.parameters.size(); ++p) {
+      double top = 0.0;
+      for (const auto& s : r.speeds) top = std::max(top, std::abs(s[p]));
+      if (top == 0.0) continue;
+      bool all = true;
+      for (std::size_t k = 0; k < tr.omega.size() && all; ++k) {
+        const double rate = std::abs(r.speeds[k][p]);
+        all = !tr.lost[k] && (rate > 0.0 ? std::abs(tr.omega[k] - rate) <= frameTol * rate
+                                         : zeroFrequency(tr.stability[k]) || tr.omega[k] <= frameTol * top);
+      }
+      if (all) return static_cast<int>(p);
+    }
+    return -1;
+  };
+
+  for (int k = 0; k < steps; ++k) {
+    const double f = maxFactor * k / (steps - 1);
+    r.factors.push_back(f);
+    r.speeds.push_back(speedsAt(f));
+    const auto sol = problem.solve(r.speeds.back());
+    worsen(r, sol.result);
+    r.solver = sol.result.solver;
+    r.maxResidual = std::max(r.maxResidual, sol.result.maxResidual());
+    const auto& modes = sol.result.modes;
+    const auto whirl = problem.whirl(sol, rule);
+    bool anyUnstable = false;
+    for (const auto& m : modes) anyUnstable = anyUnstable || unstable(m.stability);
+    if (anyUnstable) {
+      if (k > 0 && !r.unstableRanges.empty() && r.unstableRanges.back().second == refAt(r.factors[k - 1]))
+        r.unstableRanges.back().second = refAt(f);
+      else
+        r.unstableRanges.push_back({refAt(f), refAt(f)});
+    }
+    if (k == 0) {
+      for (std::size_t j = 0; j < modes.size(); ++j) {
+        r.tracks.push_back({{modes[j].omega}, {modes[j].stability}, {whirl[j]}, {false}});
+        last.push_back(modes[j]);
+      }
+      continue;
+    }
+    // Match by decreasing MAC with each track's previous mode.
+    const auto mac = problem.mac(last, modes);
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (std::size_t t = 0; t < last.size(); ++t)
+      for (std::size_t j = 0; j < modes.size(); ++j) pairs.push_back({mac[t][j], static_cast<int>(t), static_cast<int>(j)});
+    std::stable_sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
+    std::vector<int> match(last.size(), -1);
+    std::vector<bool> used(modes.size(), false);
+    for (const auto& [v, t, j] : pairs)
+      if (match[t] < 0 && !used[j]) match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v);
+    for (std::size_t t = 0; t < r.tracks.size(); ++t) {
+      auto& tr = r.tracks[t];
+      const int j = match[t];
+      const double w0 = tr.omega.back();
+      const bool ok0 = !tr.lost.back() && !zeroFrequency(tr.stability.back());
+      tr.omega.push_back(j < 0 ? std::nan("") : modes[j].omega);
+      tr.stability.push_back(j < 0 ? eigen::Stability::Stable : modes[j].stability);
+      tr.whirl.push_back(j < 0 ? Whirl::Neutral : whirl[j]);
+      tr.lost.push_back(j < 0);
+      if (j < 0) continue;
+      // Engine-order crossings in (f_{k-1}, f_k]: a sign change of omega - order * Omega_ref.
+      const bool frameLike = rateLike(tr) >= 0;
+      for (double order : orders) {
+        const double f0 = r.factors[k - 1];
+        double lo = f0, hi = f, gLo = w0 - order * refAt(lo), gHi = modes[j].omega - order * refAt(hi);
+        if (!ok0 || zeroFrequency(modes[j].stability) || gLo == 0.0 || (gLo > 0) == (gHi > 0)) continue;
+        EngineOrderCrossing c;
+        c.order = order;
+        c.tracks = {static_cast<int>(t)};
+        c.whirl = std::abs(gLo) < std::abs(gHi) ? tr.whirl[k - 1] : tr.whirl[k];
+        if (refine && !frameLike) {
+          // Bisection, following the track by MAC into each half.
+          eigen::GyroscopicMode modeLo = last[t];
+          synthesis::StructureModes at;
+          int atIndex = -1;
+          for (int it = 0; it < 200 && hi - lo > crossingTol * hi; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            auto m = problem.solve(speedsAt(mid));
+            if (m.result.status != eigen::SolveStatus::Converged || m.result.modes.empty()) break;
+            const auto row = problem.mac({modeLo}, m.result.modes).front();
+            const int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
+            const double g = m.result.modes[best].omega - order * refAt(mid);
+            if ((g > 0) == (gLo > 0)) lo = mid, gLo = g, modeLo = m.result.modes[best];
+            else hi = mid, gHi = g;
+            at = std::move(m), atIndex = best;
+          }
+          if (atIndex >= 0) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
+        }
+        c.factor = lo + gLo / (gLo - gHi) * (hi - lo);
+        c.speed = refAt(c.factor);
+        c.omega = order * c.speed;
+        found.push_back(c);
+      }
+      last[t] = modes[j];
+    }
+  }
+
+  // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
+  for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
+  std::vector<EngineOrderCrossing> kept;
+  for (const auto& c : found) {
+    if (r.tracks[c.tracks.front()].frameRate) ++r.frameRateCrossings;
+    else kept.push_back(c);
+  }
+  // Identical parts (or a repeated mode): the same order, whirl and speed to
+  // the cluster tolerance: one entry naming every track.
+  std::stable_sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) {
+    return a.order != b.order ? a.order < b.order : a.speed < b.speed;
+  });
+  for (const auto& c : kept) {
+    if (!r.crossings.empty()) {
+      auto& p = r.crossings.back();
+      if (p.order == c.order && p.whirl == c.whirl && std::abs(p.speed - c.speed) <= clusterTol * std::abs(c.speed)) {
+        p.tracks.push_back(c.tracks.front());
+        continue;
+      }
+    }
+    r.crossings.push_back(c);
+  }
+  return r;
+}
+
+// ---------------------------------------------------------------- output
+
+namespace {
+const char* stabilityText(const CampbellTrack& tr, std::size_t k) {
+  return tr.lost[k] ? "lost" : eigen::toString(tr.stability[k]);
+}
+bool flagged(const CampbellTrack& tr, std::size_t k) {
+  return tr.lost[k] || unstable(tr.stability[k]);
+}
+std::string orderText(double o) {
+  std::ostringstream os;
+  os << o << "X";
+  return os.str();
+}
+std::string unbalanceNote(const EngineOrderCrossing& c) {
+  if (c.whirl == Whirl::Forward)
+    return c.order == 1.0 ? "forward: unbalance excites it" : "forward";
+  if (c.whirl == Whirl::Backward)
+    return c.order == 1.0 ? "backward: unbalance does not excite it (it would need anisotropy or a backward force)"
+                          : "backward";
+  return c.whirl == Whirl::Neutral ? "no whirl" : "whirl unresolved";
+}
+}  // namespace
+
+SpeedAxis speedAxis(const std::string& text, const std::string& option) {
+  if (text == "hz") return SpeedAxis::Hz;
+  if (text == "rpm") return SpeedAxis::Rpm;
+  if (text == "per-rev") return SpeedAxis::PerRev;
+  throw InputError(option + " = \"" + text + "\": expected hz, rpm or per-rev");
+}
+
+const char* toString(SpeedAxis a) {
+  switch (a) {
+    case SpeedAxis::Hz: return "hz";
+    case SpeedAxis::Rpm: return "rpm";
+    case SpeedAxis::PerRev: return "per-rev";
+  }
+  return "?";
+}
+
+void CampbellResult::printTable(std::ostream& os, SpeedAxis axis) const {
+  const auto flags = os.flags();
+  const auto prec = os.precision();
+  const auto& ref = parameters[reference].name;
+  const bool hz = axis == SpeedAxis::Hz;
+  os << std::setw(8) << "factor" << std::setw(16) << (ref + (hz ? "(rev/s)" : "(rpm)"));
+  for (const auto& p : parameters) os << std::setw(16) << (p.name + "(rad/s)");
+  for (std::size_t t = 0; t < tracks.size(); ++t)
+    os << std::setw(14) << ("track" + std::to_string(t + 1) + (axis == SpeedAxis::PerRev ? "(/rev)" : "(Hz)"))
+       << std::setw(11) << "whirl";
+  os << '\n';
+  for (std::size_t k = 0; k < factors.size(); ++k) {
+    const double Omega = speeds[k][reference];
+    os << std::defaultfloat << std::setw(8) << std::setprecision(4) << factors[k] << std::setw(16)
+       << std::setprecision(6) << Omega / (2 * M_PI) * (hz ? 1.0 : 60.0);
+    for (double v : speeds[k]) os << std::setw(16) << std::setprecision(6) << v;
+    for (const auto& tr : tracks) {
+      const double y = axis == SpeedAxis::PerRev ? tr.omega[k] / std::abs(Omega) : tr.omega[k] / (2 * M_PI);
+      os << std::setw(13) << std::setprecision(6) << y << (flagged(tr, k) ? '*' : ' ') << std::setw(11)
+         << toString(tr.whirl[k]);
+    }
+    os << '\n';
+  }
+  os << "(* unstable or lost; whirl of " << (whirlOf.empty() ? "nothing (no spinning A or R)" : whirlOf)
+     << ": FW with its spin, BW against, - none, unresolved: a cluster holding both senses, or no spin)\n";
+  os.flags(flags);
+  os.precision(prec);
+}
+
+void CampbellResult::printCrossings(std::ostream& os) const {
+  const auto flags = os.flags();
+  const auto prec = os.precision();
+  const auto& ref = parameters[reference].name;
+  os << "engine-order crossings (critical speeds) of '" << ref << "' (";
+  for (std::size_t i = 0; i < orders.size(); ++i) os << (i ? ", " : "") << orderText(orders[i]);
+  os << "; whirl of " << (whirlOf.empty() ? "-" : whirlOf) << "):\n";
+  if (crossings.empty()) os << "  none in the sweep\n";
+  for (const auto& c : crossings) {
+    os << "  " << std::setw(5) << orderText(c.order) << std::setw(11) << toString(c.whirl) << std::fixed
+       << std::setprecision(4) << std::setw(14) << c.speed << " rad/s" << std::setw(14) << c.speed * 30.0 / M_PI
+       << " rpm" << std::setw(12) << c.omega / (2 * M_PI) << " Hz   " << unbalanceNote(c) << "   track";
+    if (c.tracks.size() > 1) os << "s";
+    for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? "," : " ") << c.tracks[i] + 1;
+    if (c.tracks.size() > 1) os << " (identical parts or a repeated mode: listed once)";
+    if (!c.refined) os << " (linear between sweep speeds)";
+    os << '\n';
+    os.flags(flags);
+  }
+  std::vector<int> frame;
+  for (std::size_t t = 0; t < tracks.size(); ++t)
+    if (tracks[t].frameRate) frame.push_back(static_cast<int>(t));
+  if (!frame.empty()) {
+    os << "frame-rate tracks (a rigid motion seen at a spin rate, no vibration; their " << frameRateCrossings
+       << " crossing(s) are not critical speeds):";
+    for (int t : frame) os << " track" << t + 1 << " (" << parameters[tracks[t].frameRateOf].name << ")";
+    os << '\n';
+  }
+  for (const auto& [a, b] : unstableRanges)
+    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'\n";
+  os.flags(flags);
+  os.precision(prec);
+}
+
+void CampbellResult::writeCsv(std::ostream& os) const {
+  const auto prec = os.precision();
+  os << std::setprecision(12) << "factor";
+  std::vector<std::size_t> order{static_cast<std::size_t>(reference)};
+  for (std::size_t p = 0; p < parameters.size(); ++p)
+    if (static_cast<int>(p) != reference) order.push_back(p);
+  for (auto p : order) os << ',' << parameters[p].name << "_rad_per_s";
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const auto n = "track" + std::to_string(t + 1);
+    os << ',' << n << "_hz," << n << "_stability," << n << "_whirl," << n << "_frame_rate";
+  }
+  os << '\n';
+  for (std::size_t k = 0; k < factors.size(); ++k) {
+    os << factors[k];
+    for (auto p : order) os << ',' << speeds[k][p];
+    for (const auto& tr : tracks)
+      os << ',' << tr.omega[k] / (2 * M_PI) << ',' << stabilityText(tr, k) << ',' << toString(tr.whirl[k]) << ','
+         << (tr.frameRate ? "yes" : "no");
+    os << '\n';
+  }
+  os.precision(prec);
+}
+
+void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
+  const auto prec = os.precision();
+  os << std::setprecision(12) << "order,speed_rad_per_s,speed_rpm,frequency_hz,whirl,unbalance,tracks,refined\n";
+  for (const auto& c : crossings) {
+    os << c.order << ',' << c.speed << ',' << c.speed * 30.0 / M_PI << ',' << c.omega / (2 * M_PI) << ','
+       << toString(c.whirl) << ',' << (c.order == 1.0 && c.whirl == Whirl::Forward ? "yes" : "no") << ',';
+    for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? ";" : "") << "track" << c.tracks[i] + 1;
+    os << ',' << (c.refined ? "yes" : "no") << '\n';
+  }
+  os.precision(prec);
+}
+
+}  // namespace cms::analysis

@@ -1,0 +1,190 @@
+// analysis::CampbellStudy on small systems whose frequencies are closed
+// form: tracking keeps a mode's identity through a crossing and follows the
+// branch through a veering; engine-order crossings (critical speeds) are
+// where the closed form puts them, bisected or interpolated to a bound that
+// the sweep resolution justifies; tracks at a spin rate (rigid motions seen
+// from a spinning frame) give no critical speeds.
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cmath>
+
+#include <Teuchos_Array.hpp>
+
+#include "ExpectError.hpp"
+#include "cms/analysis/CampbellStudy.hpp"
+
+using namespace cms;
+
+namespace {
+
+/// M = I, G = 0, K(Omega) = [[k1, e], [e, k2 + c Omega^2]]: omega_1 = sqrt(k1)
+/// stays, omega_2 = sqrt(k2 + c Omega^2) rises through it at
+/// Omega = sqrt((k1 - k2) / c) (e = 0: a crossing), or veers away (e != 0).
+analysis::SpeedDependentSystem twoDof(double k1, double k2, double c, double e) {
+  analysis::SpeedDependentSystem s;
+  s.M.shape(2, 2), s.G1.shape(2, 2), s.K0.shape(2, 2), s.K2.shape(2, 2);
+  s.M(0, 0) = s.M(1, 1) = 1.0;
+  s.K0(0, 0) = k1, s.K0(1, 1) = k2, s.K0(0, 1) = s.K0(1, 0) = e;
+  s.K2(1, 1) = c;
+  return s;
+}
+
+/// Closed-form eigenvalues of the symmetric 2 x 2 K at Omega: (lower, upper) omega.
+std::pair<double, double> exact(double k1, double k2, double c, double e, double Omega) {
+  const double a = k1, b = k2 + c * Omega * Omega;
+  const double mid = 0.5 * (a + b), rad = std::sqrt(0.25 * (a - b) * (a - b) + e * e);
+  return {std::sqrt(mid - rad), std::sqrt(mid + rad)};
+}
+
+Teuchos::ParameterList sweep(int steps, double maxFactor, std::vector<double> orders = {1.0}, bool refine = true) {
+  Teuchos::ParameterList p;
+  p.set("Steps", steps);
+  p.set("Max Factor", maxFactor);
+  p.set("Engine Orders", Teuchos::Array<double>(orders));
+  p.set("Refine Crossings", refine);
+  return p;
+}
+
+// The frequencies are eigenvalues of symmetric 2 x 2 problems: computed to
+// a few eps times the largest (Weyl), 100 eps of margin for the gyroscopic
+// formulation the solver uses.
+const double kRound = 100 * DBL_EPSILON;
+
+}  // namespace
+
+TEST(CampbellStudy, TrackKeepsItsIdentityThroughACrossing) {
+  const double k1 = 4.0, k2 = 1.0, c = 1.0;  // cross at Omega = sqrt(3)
+  const auto r = analysis::CampbellStudy(sweep(31, 1.0)).run(
+      analysis::DenseSweepProblem(twoDof(k1, k2, c, 0.0), "spin", 3.0));
+  ASSERT_EQ(r.tracks.size(), 2u);
+  // Track 1 starts lowest (omega_2(0) = 1) and keeps rising past track 2
+  // (omega_1 = 2): sorting by frequency would swap them at the crossing.
+  for (std::size_t k = 0; k < r.factors.size(); ++k) {
+    const double W = r.speeds[k][0], rising = std::sqrt(k2 + c * W * W);
+    EXPECT_NEAR(r.tracks[0].omega[k], rising, kRound * 4.0) << "Omega " << W;
+    EXPECT_NEAR(r.tracks[1].omega[k], std::sqrt(k1), kRound * 4.0) << "Omega " << W;
+  }
+  // Where the tracks cross, by linear interpolation of their difference
+  // g = omega_2 - omega_1 between sweep speeds: the error is at most
+  // h^2 max|g''| / (8 min|g'|) with h = 0.1, |g''| <= 1, |g'| >= 0.8 on the
+  // bracket (1.7, 1.8).
+  double crossing = std::nan("");
+  for (std::size_t k = 1; k < r.factors.size(); ++k) {
+    const double g0 = r.tracks[0].omega[k - 1] - r.tracks[1].omega[k - 1];
+    const double g1 = r.tracks[0].omega[k] - r.tracks[1].omega[k];
+    if (g0 < 0 && g1 >= 0) crossing = r.speeds[k - 1][0] + g0 / (g0 - g1) * (r.speeds[k][0] - r.speeds[k - 1][0]);
+  }
+  EXPECT_NEAR(crossing, std::sqrt((k1 - k2) / c), 0.1 * 0.1 / (8 * 0.8));
+  EXPECT_GT(r.tracks[0].minMac, 1.0 - 1e-12);  // uncoupled: each mode is a unit vector throughout
+}
+
+TEST(CampbellStudy, TrackFollowsItsBranchThroughAVeering) {
+  // Coupled (e = 0.05): the branches come within 2e of each other in omega^2
+  // near Omega = sqrt(3) and turn away; the eigenvectors rotate by 90
+  // degrees over |a - b| ~ e, at most 1 / (4 e) * d(a - b)/dOmega = 17 rad
+  // per rad/s. Steps of 0.005 rad/s turn them at most 5 degrees per step, so
+  // the MAC with the same branch stays above cos^2(5 deg) and the track does
+  // not jump to the other branch.
+  const double k1 = 4.0, k2 = 1.0, c = 1.0, e = 0.05;
+  const auto r = analysis::CampbellStudy(sweep(601, 1.0)).run(
+      analysis::DenseSweepProblem(twoDof(k1, k2, c, e), "spin", 3.0));
+  ASSERT_EQ(r.tracks.size(), 2u);
+  for (std::size_t k = 0; k < r.factors.size(); ++k) {
+    const auto [lo, hi] = exact(k1, k2, c, e, r.speeds[k][0]);
+    EXPECT_NEAR(r.tracks[0].omega[k], lo, kRound * 4.0) << "Omega " << r.speeds[k][0];
+    EXPECT_NEAR(r.tracks[1].omega[k], hi, kRound * 4.0) << "Omega " << r.speeds[k][0];
+  }
+  const double c5 = std::cos(5.0 * M_PI / 180.0);
+  EXPECT_GT(r.tracks[0].minMac, c5 * c5 - 0.01);
+  EXPECT_GT(r.tracks[1].minMac, c5 * c5 - 0.01);
+}
+
+TEST(CampbellStudy, EngineOrderCriticalSpeedsMatchTheClosedForm) {
+  // Track 1: omega = sqrt(1 + Omega^2) meets 2 Omega at 1/sqrt(3), never 1X;
+  // track 2: omega = 2 meets 1X at 2 and 2X at 1.
+  const double tol = 1e-9;
+  auto params = sweep(31, 1.0, {1.0, 2.0});
+  params.set("Crossing Tolerance", tol);
+  const analysis::DenseSweepProblem problem(twoDof(4.0, 1.0, 1.0, 0.0), "spin", 3.0);
+  const auto r = analysis::CampbellStudy(params).run(problem);
+  ASSERT_EQ(r.crossings.size(), 3u);
+  struct Expected { double order, speed; int track; };
+  const Expected want[] = {{1.0, 2.0, 1}, {2.0, 1.0 / std::sqrt(3.0), 0}, {2.0, 1.0, 1}};
+  for (int i = 0; i < 3; ++i) {
+    const auto& c = r.crossings[i];
+    EXPECT_EQ(c.order, want[i].order);
+    ASSERT_EQ(c.tracks.size(), 1u);
+    EXPECT_EQ(c.tracks[0], want[i].track);
+    EXPECT_TRUE(c.refined);
+    // Bisection stops with a bracket narrower than tol times its top; the
+    // crossing is interpolated inside it.
+    EXPECT_NEAR(c.speed, want[i].speed, tol * 3.0 + kRound * 4.0) << "crossing " << i;
+    EXPECT_NEAR(c.omega, c.order * c.speed, kRound * 8.0);
+  }
+  // Without bisection: linear interpolation of g = omega - n Omega between
+  // sweep speeds, h = 0.1. Track 2's g is linear (exact to rounding); track
+  // 1's has |g''| <= 1 and |g'| >= 1.29, so the error is below h^2 / (8 * 1.29).
+  const auto coarse = analysis::CampbellStudy(sweep(31, 1.0, {1.0, 2.0}, false)).run(problem);
+  ASSERT_EQ(coarse.crossings.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_FALSE(coarse.crossings[i].refined);
+    EXPECT_NEAR(coarse.crossings[i].speed, want[i].speed, want[i].track == 0 ? 0.01 / (8 * 1.29) : kRound * 40.0);
+  }
+}
+
+TEST(CampbellStudy, FrameRateTracksGiveNoCriticalSpeeds) {
+  // Two point masses in a frame spinning at Omega about z (theory §7): one
+  // free (k = 0: its translations, fixed in inertial space, are seen at
+  // exactly Omega, a defective double root that rounding splits by
+  // sqrt(eps)), one on isotropic springs (omega = w0 -/+ Omega). The 1X line
+  // lies on the free mass's tracks at every speed (rounding puts them on
+  // either side of it); the elastic slow track crosses 1X where w0 - Omega =
+  // Omega and 2X where w0 - Omega = 2 Omega.
+  const double m = 2.0, k = 800.0, w0 = std::sqrt(k / m);  // 20 rad/s
+  analysis::SpeedDependentSystem s;
+  s.M.shape(4, 4), s.G1.shape(4, 4), s.K0.shape(4, 4), s.K2.shape(4, 4);
+  for (int b = 0; b < 2; ++b) {
+    s.M(2 * b, 2 * b) = s.M(2 * b + 1, 2 * b + 1) = m;
+    s.G1(2 * b, 2 * b + 1) = -2.0 * m, s.G1(2 * b + 1, 2 * b) = 2.0 * m;
+    s.K2(2 * b, 2 * b) = s.K2(2 * b + 1, 2 * b + 1) = -m;
+    s.whirlPairs.push_back({2 * b, 2 * b + 1});
+  }
+  s.K0(2, 2) = s.K0(3, 3) = k;
+  const double tol = 1e-6;  // "Crossing Tolerance", the default
+  const auto r = analysis::CampbellStudy(sweep(31, 1.0, {1.0, 2.0})).run(analysis::DenseSweepProblem(s, "frame", 15.0));
+  int frame = 0;
+  for (const auto& tr : r.tracks) {
+    if (!tr.frameRate) continue;
+    ++frame;
+    EXPECT_EQ(tr.frameRateOf, 0);
+    EXPECT_LT(std::abs(tr.omega.back() - 15.0), 1e-3 * 15.0);
+  }
+  EXPECT_EQ(frame, 2);  // the free mass's two translations, nothing elastic
+  ASSERT_EQ(r.crossings.size(), 2u) << "a frame-rate track was listed as a critical speed";
+  EXPECT_EQ(r.crossings[0].order, 1.0);
+  EXPECT_NEAR(r.crossings[0].speed, w0 / 2, tol * w0 + kRound * 40.0);
+  EXPECT_EQ(r.crossings[1].order, 2.0);
+  EXPECT_NEAR(r.crossings[1].speed, w0 / 3, tol * w0 + kRound * 40.0);
+  // In the frame the slow mode's orbit turns with the spin (at 1X it
+  // coincides with the free mass's backward-turning translations: that
+  // cluster is unresolved, so only the 2X whirl is asserted).
+  EXPECT_EQ(r.crossings[1].whirl, analysis::Whirl::Forward);
+}
+
+TEST(CampbellStudy, RefusesBadParameters) {
+  const analysis::DenseSweepProblem problem(twoDof(4.0, 1.0, 1.0, 0.0), "spin", 3.0);
+  Teuchos::ParameterList p;
+  p.set("Speed Parameter", std::string("wheel"));
+  fixtures::expectInputError([&] { analysis::CampbellStudy(p).run(problem); }, "spin");
+  Teuchos::ParameterList q;
+  q.set("Steps", 1);
+  fixtures::expectInputError([&] { analysis::CampbellStudy{q}; }, "Steps");
+  Teuchos::ParameterList u;
+  u.set("Stepz", 3);
+  fixtures::expectInputError([&] { analysis::CampbellStudy{u}; }, "Stepz");
+  Teuchos::ParameterList o;
+  o.set("Engine Orders", Teuchos::Array<double>(1, -1.0));
+  fixtures::expectInputError([&] { analysis::CampbellStudy{o}; }, "Engine Orders");
+  fixtures::expectInputError([&] { analysis::speedAxis("rad"); }, "hz, rpm or per-rev");
+}
