@@ -53,6 +53,8 @@ const char* cellTypeName(CellType type) {
     case CellType::Tet4: return "Tet4";
     case CellType::Tet10: return "Tet10";
     case CellType::Hex8: return "Hex8";
+    case CellType::Hex20: return "Hex20";
+    case CellType::Wedge15: return "Wedge15";
     case CellType::Other: return "Other";
   }
   return "Other";
@@ -69,6 +71,8 @@ int cellNodeCount(CellType type) {
     case CellType::Tet4: return 4;
     case CellType::Tet10: return 10;
     case CellType::Hex8: return 8;
+    case CellType::Hex20: return 20;
+    case CellType::Wedge15: return 15;
     case CellType::Other: return 0;
   }
   return 0;
@@ -141,6 +145,8 @@ CellType cellType(int gmshType) {
     case 4: return CellType::Tet4;
     case 11: return CellType::Tet10;
     case 5: return CellType::Hex8;
+    case 17: return CellType::Hex20;
+    case 18: return CellType::Wedge15;
     default: return CellType::Other;
   }
 }

@@ -16,7 +16,21 @@ namespace cms::mesh {
 
 /// Cell shapes the element library knows, plus Other for anything else (kept
 /// so that an element set using it can be reported by name and type).
-enum class CellType { Point1, Line2, Line3, Tri3, Tri6, Quad4, Tet4, Tet10, Hex8, Other };
+/// Every reader stores a cell's nodes in Gmsh's order (gmsh.info, "Node
+/// ordering"), whatever its file's order; for the quadratic solids:
+///   Hex20 (Gmsh 17): corners 0-7 as Hex8 (bottom 0-3 counter-clockwise seen
+///     from the top, top 4-7 above them), then mid-edge nodes on the corner
+///     pairs (0,1) (0,3) (0,4) (1,2) (1,5) (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7).
+///     Abaqus/CalculiX C3D20(R) numbers its mid-edge nodes 9-20 on (1,2) (2,3)
+///     (3,4) (4,1) (5,6) (6,7) (7,8) (8,5) (1,5) (2,6) (3,7) (4,8) (1-based),
+///     so Gmsh node 8+k is deck node 9 + {0,3,8,1,9,2,10,11,4,7,5,6}[k].
+///   Wedge15 (Gmsh 18, "prism"): corners 0-2 (bottom triangle), 3-5 above
+///     them, then mid-edge nodes on (0,1) (0,2) (0,3) (1,2) (1,4) (2,5) (3,4)
+///     (3,5) (4,5). C3D15 numbers them 7-15 on (1,2) (2,3) (3,1) (4,5) (5,6)
+///     (6,4) (1,4) (2,5) (3,6), so Gmsh node 6+k is deck node
+///     7 + {0,2,6,1,7,8,3,5,4}[k].
+/// Corners of Tet4/Tet10/Hex8/Hex20/Wedge15 are in the same order in both.
+enum class CellType { Point1, Line2, Line3, Tri3, Tri6, Quad4, Tet4, Tet10, Hex8, Hex20, Wedge15, Other };
 
 const char* cellTypeName(CellType type);
 /// Nodes per cell; 0 for Other.
@@ -29,6 +43,10 @@ struct CellBlock {
   int nodesPerCell = 0;
   std::vector<std::int64_t> nodes;      ///< nodesPerCell per cell: indices into Mesh::nodeTags
   std::vector<std::size_t> cellTags;    ///< Gmsh element tags, for messages
+  /// The element name of the file when it says more than the shape (an
+  /// Abaqus/CalculiX deck's "C3D20R", "C3D8I"); empty for Gmsh. The model
+  /// (fem) may take an element set's default formulation from it.
+  std::string elementName;
 
   std::size_t size() const { return cellTags.size(); }
 };
