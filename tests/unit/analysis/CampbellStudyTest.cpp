@@ -133,6 +133,30 @@ TEST(CampbellStudy, EngineOrderCriticalSpeedsMatchTheClosedForm) {
   }
 }
 
+TEST(CampbellStudy, CrossingsOfIdenticalPartsAreListedOnce) {
+  // Two identical, uncoupled copies of the 2-DOF system: every frequency is
+  // double, and each engine-order crossing is met by two tracks at the same
+  // speed: one entry naming both, at the closed-form speed.
+  const auto one = twoDof(4.0, 1.0, 1.0, 0.0);
+  analysis::SpeedDependentSystem two;
+  two.M.shape(4, 4), two.G1.shape(4, 4), two.K0.shape(4, 4), two.K2.shape(4, 4);
+  for (int b = 0; b < 2; ++b)
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) {
+        two.M(2 * b + i, 2 * b + j) = one.M(i, j);
+        two.K0(2 * b + i, 2 * b + j) = one.K0(i, j);
+        two.K2(2 * b + i, 2 * b + j) = one.K2(i, j);
+      }
+  const auto r = analysis::CampbellStudy(sweep(31, 1.0, {1.0, 2.0})).run(analysis::DenseSweepProblem(two, "spin", 3.0));
+  ASSERT_EQ(r.tracks.size(), 4u);
+  const double want[] = {2.0, 1.0 / std::sqrt(3.0), 1.0};
+  ASSERT_EQ(r.crossings.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(r.crossings[i].tracks.size(), 2u) << "crossing " << i;
+    EXPECT_NEAR(r.crossings[i].speed, want[i], 1e-6 * 3.0 + kRound * 4.0) << "crossing " << i;
+  }
+}
+
 TEST(CampbellStudy, FrameRateTracksGiveNoCriticalSpeeds) {
   // Two point masses in a frame spinning at Omega about z (theory §7): one
   // free (k = 0: its translations, fixed in inertial space, are seen at
