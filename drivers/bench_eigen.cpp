@@ -2,7 +2,7 @@
 // systems of growing size, in one run (ratios, not absolute timings, are what
 // this noisy 2-core machine can compare), with each path's accuracy.
 //
-// The structure is fem::RotatingChain held at its ends (masses on springs in a
+// The structure is models::RotatingChain held at its ends (masses on springs in a
 // frame spinning at half its first critical speed, so K > 0 and every path
 // applies; its low modes are string-like and well separated): for each
 // size it runs the dense Meirovitch path (up to --max-dense DOFs), Anasazi
@@ -31,7 +31,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
-#include "cms/fem/RotatingChain.hpp"
+#include "cms/models/RotatingChain.hpp"
 
 namespace {
 
@@ -74,9 +74,9 @@ int main(int argc, char* argv[]) {
     std::vector<Row> rows;
     for (long long dofs : {1000LL, 2000LL, 10000LL, 100000LL, 1000000LL}) {
       if (dofs > maxDofs) break;
-      fem::RotatingChain chain;
+      models::RotatingChain chain;
       chain.nodes = dofs / 2;
-      chain.support = fem::RotatingChain::Support::Ends;
+      chain.support = models::RotatingChain::Support::Ends;
       chain.spin = chain.subcriticalSpin(0.5);
       const auto d = chain.distributed(comm);
       eigen::SparseGyroscopicSystem sys{d.M, d.G, d.K};

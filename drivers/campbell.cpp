@@ -31,7 +31,7 @@
 
 #include "DriverBoundary.hpp"
 #include "cms/analysis/CampbellStudy.hpp"
-#include "cms/fem/SpinningRayleighShaft.hpp"
+#include "cms/models/SpinningRayleighShaft.hpp"
 
 namespace {
 
@@ -39,7 +39,7 @@ namespace {
 /// shaft whirls (forward or backward) at `order` times the spin,
 /// (rhoA + rhoI kk^2) w^2 -/+ rhoIp Omega kk^2 w = EI kk^4 with w = order Omega;
 /// NaN when there is none.
-double exactCrossing(const cms::fem::ShaftProperties& p, int k, double order, bool forward) {
+double exactCrossing(const cms::models::ShaftProperties& p, int k, double order, bool forward) {
   const double A = M_PI * p.radius * p.radius, I = M_PI * std::pow(p.radius, 4) / 4;
   const double kk = k * M_PI / p.length, rhoI = p.density * I;
   const double denom = order * order * (p.density * A + rhoI * kk * kk) + (forward ? -1 : 1) * order * 2 * rhoI * kk * kk;
@@ -52,7 +52,7 @@ int main(int argc, char* argv[]) {
   using namespace cms;
   return drivers::reportErrors("campbell", true, [&]() -> int {
     // 1. Options, printed back so every output records how it was produced.
-    fem::ShaftProperties shaft;
+    models::ShaftProperties shaft;
     shaft.length = 0.5;
     shaft.radius = 0.05;
     int functions = 8, modes = 3, steps = 13;
@@ -95,7 +95,7 @@ int main(int argc, char* argv[]) {
               << ordersText << "\n\n";
 
     // 2. The Ritz model, stored per unit speed (M, G1, K) so the sweep never reassembles.
-    fem::SpinningRayleighShaft model(shaft, functions);
+    models::SpinningRayleighShaft model(shaft, functions);
     analysis::SpeedDependentSystem sys{model.massMatrix(), model.gyroscopicPerUnitSpeed(), model.stiffnessMatrix(),
                                        DenseMatrix(), model.whirlPairs()};
     Teuchos::ParameterList solverParams;
@@ -134,7 +134,7 @@ int main(int argc, char* argv[]) {
     std::cout << "\nAt " << std::fixed << std::setprecision(0) << maxRpm << " rpm, Ritz vs closed form:\n";
     for (std::size_t t = 0; t < r.tracks.size(); ++t) {
       const auto& tr = r.tracks[t];
-      const auto [fw, bw] = fem::SpinningRayleighShaft::exactWhirl(shaft, static_cast<int>(t) / 2 + 1, maxOmega);
+      const auto [fw, bw] = models::SpinningRayleighShaft::exactWhirl(shaft, static_cast<int>(t) / 2 + 1, maxOmega);
       const double exact = tr.whirl[top] == analysis::Whirl::Forward ? fw : bw;
       std::cout << "  track " << t + 1 << " " << analysis::toString(tr.whirl[top]) << std::fixed << std::setprecision(4)
                 << "  " << tr.omega[top] / (2 * M_PI) << " Hz  exact " << exact / (2 * M_PI) << " Hz  rel. error "

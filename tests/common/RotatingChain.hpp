@@ -1,13 +1,13 @@
-// Test adapters from fem::RotatingChain to the eigen layer's systems.
+// Test adapters from models::RotatingChain to the eigen layer's systems.
 #pragma once
 
 #include "cms/eigen/GyroscopicSystem.hpp"
 #include "cms/eigen/SparseGyroscopicSystem.hpp"
-#include "cms/fem/RotatingChain.hpp"
+#include "cms/models/RotatingChain.hpp"
 
 namespace cms::fixtures {
 
-using ChainSpec = fem::RotatingChain;
+using ChainSpec = models::RotatingChain;
 
 inline eigen::GyroscopicSystem denseChain(const ChainSpec& s) {
   auto d = s.dense();

@@ -19,7 +19,7 @@ Teuchos::RCP<const CrsMatrix> chainK(double spin, bool grounded = true) {
   fixtures::ChainSpec s;
   s.nodes = 150;
   s.spin = spin;
-  s.support = grounded ? fem::RotatingChain::Support::EveryNode : fem::RotatingChain::Support::None;
+  s.support = grounded ? models::RotatingChain::Support::EveryNode : models::RotatingChain::Support::None;
   return fixtures::sparseChain(s, Teuchos::DefaultComm<int>::getComm()).K;
 }
 

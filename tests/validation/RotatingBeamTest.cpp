@@ -20,7 +20,7 @@
 
 #include "BeamModels.hpp"
 #include "SubstructureModes.hpp"
-#include "cms/fem/SpinningRayleighShaft.hpp"
+#include "cms/models/SpinningRayleighShaft.hpp"
 
 using namespace cms;
 using fem::Component;
@@ -412,7 +412,7 @@ TEST(RotatingCantilever, ChordwiseWithCoriolisConvergesAtTheElementsOrder) {
 namespace {
 /// The simply supported steel Rayleigh shaft of the closed form, along x,
 /// spinning about its own axis in the given frame.
-substructure::Substructure rayleighShaft(const fem::ShaftProperties& props, fem::SpinDefinition::Frame frame) {
+substructure::Substructure rayleighShaft(const models::ShaftProperties& props, fem::SpinDefinition::Frame frame) {
   const double r = props.radius, pi = std::acos(-1.0);
   fem::IsotropicMaterial steel{props.youngsModulus, 0.3, props.density};
   fem::BeamSection sec;
@@ -440,14 +440,14 @@ substructure::Substructure rayleighShaft(const fem::ShaftProperties& props, fem:
 // Omega = 2 omega_1 spin softening makes K indefinite, so the general
 // (non-symmetric) solver path is exercised too. Same 1e-6 as above.
 TEST(SpinningShaft, RotatingFrameWhirlIsTheStationaryOneShiftedBySpin) {
-  fem::ShaftProperties props;
+  models::ShaftProperties props;
   const auto shaft = rayleighShaft(props, fem::SpinDefinition::Frame::Rotating);
-  const double w1 = fem::SpinningRayleighShaft::exactWhirl(props, 1, 0.0).first;
+  const double w1 = models::SpinningRayleighShaft::exactWhirl(props, 1, 0.0).first;
   for (double fraction : {0.5, 2.0}) {
     const double Omega = fraction * w1;
     std::vector<double> expected;
     for (int k = 1; k <= 3; ++k) {
-      const auto [forward, backward] = fem::SpinningRayleighShaft::exactWhirl(props, k, Omega);
+      const auto [forward, backward] = models::SpinningRayleighShaft::exactWhirl(props, k, Omega);
       expected.push_back(std::abs(forward - Omega));
       expected.push_back(backward + Omega);
     }
@@ -466,16 +466,16 @@ TEST(SpinningShaft, RotatingFrameWhirlIsTheStationaryOneShiftedBySpin) {
 // (SpinningRayleighShaft::exactWhirl). 40 elements: discretisation error of
 // the second mode ~ (h k)^4 / 720 < 1e-7; asserted 1e-6 relative.
 TEST(SpinningShaft, StationaryFrameWhirlMatchesRayleighBeamClosedForm) {
-  fem::ShaftProperties props;  // L = 1, r = 0.02, steel
+  models::ShaftProperties props;  // L = 1, r = 0.02, steel
   const auto shaft = rayleighShaft(props, fem::SpinDefinition::Frame::Stationary);
-  const double w1 = fem::SpinningRayleighShaft::exactWhirl(props, 1, 0.0).first;
+  const double w1 = models::SpinningRayleighShaft::exactWhirl(props, 1, 0.0).first;
   for (double fraction : {0.0, 0.5, 2.0}) {
     const double Omega = fraction * w1;
     const auto res = fixtures::solveAtSpeed(shaft, Omega, 4);
     ASSERT_EQ(res.status, eigen::SolveStatus::Converged) << res.reason;
     ASSERT_EQ(res.modes.size(), 4u);
     for (int k = 1; k <= 2; ++k) {
-      const auto [forward, backward] = fem::SpinningRayleighShaft::exactWhirl(props, k, Omega);
+      const auto [forward, backward] = models::SpinningRayleighShaft::exactWhirl(props, k, Omega);
       const double bw = res.modes[2 * (k - 1)].omega, fw = res.modes[2 * (k - 1) + 1].omega;
       EXPECT_NEAR(bw, backward, 1e-6 * backward) << "Omega = " << Omega << ", mode " << k;
       EXPECT_NEAR(fw, forward, 1e-6 * forward) << "Omega = " << Omega << ", mode " << k;

@@ -8,20 +8,20 @@
 
 #include "cms/analysis/CampbellStudy.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
-#include "cms/fem/SpinningRayleighShaft.hpp"
+#include "cms/models/SpinningRayleighShaft.hpp"
 
 using namespace cms;
 
 namespace {
-fem::ShaftProperties stubbyShaft() {
-  fem::ShaftProperties p;
+models::ShaftProperties stubbyShaft() {
+  models::ShaftProperties p;
   p.length = 0.5;
   p.radius = 0.05;  // slender ratio 5: rotary inertia and gyroscopic effects matter
   return p;
 }
 
-analysis::SpeedDependentSystem model(const fem::ShaftProperties& p, int n) {
-  fem::SpinningRayleighShaft s(p, n);
+analysis::SpeedDependentSystem model(const models::ShaftProperties& p, int n) {
+  models::SpinningRayleighShaft s(p, n);
   return {s.massMatrix(), s.gyroscopicPerUnitSpeed(), s.stiffnessMatrix(), DenseMatrix(),
           s.whirlPairs()};
 }
@@ -35,7 +35,7 @@ std::vector<analysis::Whirl> whirlOf(const eigen::GyroscopicResult& r, const ana
 }
 
 /// Relative errors of the lowest 4 modes (2 bending orders x FW/BW) at Omega.
-std::vector<double> errors(const fem::ShaftProperties& p, int n, double Omega,
+std::vector<double> errors(const models::ShaftProperties& p, int n, double Omega,
                            std::vector<analysis::Whirl>* whirl = nullptr) {
   const auto sys = model(p, n);
   Teuchos::ParameterList params;
@@ -46,7 +46,7 @@ std::vector<double> errors(const fem::ShaftProperties& p, int n, double Omega,
   for (int m = 0; m < 4; ++m) {
     const auto w = whirls[m];
     if (whirl) whirl->push_back(w);
-    const auto [fw, bw] = fem::SpinningRayleighShaft::exactWhirl(p, m / 2 + 1, Omega);
+    const auto [fw, bw] = models::SpinningRayleighShaft::exactWhirl(p, m / 2 + 1, Omega);
     const double exact = w == analysis::Whirl::Forward ? fw : bw;
     e.push_back((r.modes[m].omega - exact) / exact);
   }

@@ -1,4 +1,4 @@
-#include "cms/fem/RotatingChain.hpp"
+#include "cms/models/RotatingChain.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "cms/core/HashRandom.hpp"
 
-namespace cms::fem {
+namespace cms::models {
 
 namespace {
 double nodeRandom(unsigned seed, long long node, int which) {
@@ -97,4 +97,4 @@ RotatingChain::Distributed RotatingChain::distributed(
   return {M, G, K};
 }
 
-}  // namespace cms::fem
+}  // namespace cms::models

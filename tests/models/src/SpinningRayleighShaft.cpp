@@ -1,10 +1,10 @@
-#include "cms/fem/SpinningRayleighShaft.hpp"
+#include "cms/models/SpinningRayleighShaft.hpp"
 
 #include <cmath>
 
 #include "cms/core/Error.hpp"
 
-namespace cms::fem {
+namespace cms::models {
 
 namespace {
 
@@ -123,4 +123,4 @@ std::pair<double, double> SpinningRayleighShaft::exactWhirl(const ShaftPropertie
   return {(gp + root) / (2.0 * m), (-gp + root) / (2.0 * m)};  // forward, backward
 }
 
-}  // namespace cms::fem
+}  // namespace cms::models

@@ -13,7 +13,7 @@
 
 namespace Teuchos { template <class T> class Comm; }
 
-namespace cms::fem {
+namespace cms::models {
 
 struct RotatingChain {
   /// Where the chain is grounded by springs: at every node (a low spectrum
@@ -41,4 +41,4 @@ struct RotatingChain {
   Distributed distributed(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) const;
 };
 
-}  // namespace cms::fem
+}  // namespace cms::models

@@ -16,7 +16,7 @@
 
 #include "cms/core/DenseMatrix.hpp"
 
-namespace cms::fem {
+namespace cms::models {
 
 struct ShaftProperties {
   double length = 1.0;         ///< L (m)
@@ -52,4 +52,4 @@ private:
   DenseMatrix M_, G1_, K_;
 };
 
-}  // namespace cms::fem
+}  // namespace cms::models
