@@ -272,10 +272,13 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
 }
 
 /// The 2n first-order pencil A x = lambda B x with x = [q; q'],
-/// A = [[0, I], [-K, -G]], B = [[I, 0], [0, M]], solved by LAPACK dggev after
-/// scaling time so that M, G, K have comparable norms (doc/theory.md, "General").
+/// A = [[0, I], [-(K + N), -(G + D)]], B = [[I, 0], [0, M]], solved by LAPACK
+/// dggev after scaling time so that M, G, K have comparable norms
+/// (doc/theory.md, "General"; the damped pencil, §13).
 std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale) {
   const int n = sys.size(), N = 2 * n;
+  const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
+  const bool damped = sys.damped();
   const double mu = std::max(sys.M.normFrobenius(), std::numeric_limits<double>::min());
   DenseMatrix A(N, N), B(N, N);
   for (int i = 0; i < n; ++i) {
@@ -284,8 +287,8 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   }
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      A(n + i, j) = -sys.K(i, j) / (mu * scale * scale);
-      A(n + i, n + j) = -sys.G(i, j) / (mu * scale);
+      A(n + i, j) = -(sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0)) / (mu * scale * scale);
+      A(n + i, n + j) = -(sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0)) / (mu * scale);
       B(n + i, n + j) = sys.M(i, j) / mu;
     }
   std::vector<double> ar(N), ai(N), be(N);
@@ -304,7 +307,10 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
 
   // One eigenvalue of each conjugate pair is kept (the modes of lambda and
   // conj(lambda) are conjugate): those with Im > 0, and of the (near-)real
-  // ones, which pair as +/- sigma, the upper half by Re.
+  // ones, which pair as +/- sigma, the upper half by Re. A damped system's
+  // spectrum has no +/- symmetry: every real eigenvalue is a mode of its
+  // own (an overdamped DOF gives two, both decaying), and of a complex pair
+  // only the member with Im > 0 is kept even when Im is within rounding of 0.
   struct Cand { cplx lambda; std::vector<cplx> q; };
   std::vector<Cand> upper, real;
   const double imagTol = 1e-9;  // relative to the scaled frequency 1
@@ -319,6 +325,7 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
       std::vector<cplx> q2(n);
       for (int i = 0; i < n; ++i) q2[i] = std::conj(q[i]);
       for (auto& [l, v] : {std::make_pair(lam, q), std::make_pair(lam2, q2)}) {
+        if (damped && l.imag() < 0) continue;
         if (std::abs(l.imag()) <= imagTol * std::max(1.0, std::abs(l))) real.push_back({l, v});
         else if (l.imag() > 0) upper.push_back({l, v});
       }
@@ -330,7 +337,7 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   }
   std::sort(real.begin(), real.end(),
             [](const Cand& a, const Cand& b) { return a.lambda.real() > b.lambda.real(); });
-  const std::size_t keepReal = (real.size() + 1) / 2;
+  const std::size_t keepReal = damped ? real.size() : (real.size() + 1) / 2;
   for (std::size_t k = 0; k < keepReal; ++k) {
     real[k].lambda = cplx(real[k].lambda.real(), 0.0);
     upper.push_back(real[k]);
@@ -364,8 +371,26 @@ Stability classify(cplx lambda, double scale, double rigidBodyTol, double instab
   return Stability::Stable;
 }
 
+void setDamping(GyroscopicMode& m) {
+  const double a = std::abs(m.lambda), re = m.lambda.real(), im = std::abs(m.lambda.imag());
+  m.dampingRatio = a > 0.0 ? -re / a : 0.0;
+  if (re == 0.0) m.logDecrement = 0.0;
+  else if (im > 0.0) m.logDecrement = -2.0 * M_PI * re / im;
+  else m.logDecrement = re < 0.0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
+}
+
 void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
-                   double instabilityTol) {
+                   double instabilityTol, bool conservative) {
+  if (!conservative) {
+    // A damped (or circulatory) system: no Hamiltonian mirrors, so no
+    // rounding argument keeps an eigenvalue on the axis. The verdict is the
+    // sign of the growth rate beyond the instability tolerance (theory §13.3).
+    for (auto& m : modes) {
+      const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
+      m.stability = classify(m.lambda, s, rigidBodyTol, instabilityTol);
+    }
+    return;
+  }
   const double eps = std::numeric_limits<double>::epsilon();
   // The spectrum of a conservative gyroscopic system is Hamiltonian: with
   // lambda, also -lambda, conj(lambda), -conj(lambda) (theory §4).
@@ -445,8 +470,17 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
                         double rigidBodyTol, double instabilityTol, bool ownScales) {
   const int n = sys.size(), k = static_cast<int>(modes.size());
   if (k == 0) return;
-  const double nM = sys.M.normFrobenius(), nG = sys.G.normFrobenius(),
-               nK = sys.K.normFrobenius();
+  // A damped system's residual is that of lambda^2 M + lambda (G + D) + K + N:
+  // G and K below stand for G + D and K + N, their norms for the sums of
+  // the parts' norms.
+  const bool damped = sys.damped();
+  const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
+  DenseMatrix Ge(sys.G), Ke(sys.K);
+  if (hasD) Ge += sys.D;
+  if (hasN) Ke += sys.N;
+  const double nM = sys.M.normFrobenius(),
+               nG = sys.G.normFrobenius() + (hasD ? sys.D.normFrobenius() : 0.0),
+               nK = sys.K.normFrobenius() + (hasN ? sys.N.normFrobenius() : 0.0);
   const double scale = frequencyScale(nM, nG, nK);
   // Products with the real and imaginary parts of all modes at once (BLAS-3).
   DenseMatrix Qr(n, k), Qi(n, k);
@@ -458,14 +492,14 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
   DenseMatrix MQr, MQi, GQr, GQi, KQr, KQi;
   gemm(false, false, 1.0, sys.M, Qr, 0.0, MQr);
   gemm(false, false, 1.0, sys.M, Qi, 0.0, MQi);
-  gemm(false, false, 1.0, sys.G, Qr, 0.0, GQr);
-  gemm(false, false, 1.0, sys.G, Qi, 0.0, GQi);
-  gemm(false, false, 1.0, sys.K, Qr, 0.0, KQr);
-  gemm(false, false, 1.0, sys.K, Qi, 0.0, KQi);
+  gemm(false, false, 1.0, Ge, Qr, 0.0, GQr);
+  gemm(false, false, 1.0, Ge, Qi, 0.0, GQi);
+  gemm(false, false, 1.0, Ke, Qr, 0.0, KQr);
+  gemm(false, false, 1.0, Ke, Qi, 0.0, KQi);
   // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
   DenseMatrix absK(n, n), absG(n, n), Qa(n, k), KQa, GQa;
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) absK(i, j) = std::abs(sys.K(i, j)), absG(i, j) = std::abs(sys.G(i, j));
+    for (int i = 0; i < n; ++i) absK(i, j) = std::abs(Ke(i, j)), absG(i, j) = std::abs(Ge(i, j));
   for (int j = 0; j < k; ++j)
     for (int i = 0; i < n; ++i) Qa(i, j) = std::abs(modes[j].q[i]);
   gemm(false, false, 1.0, absK, Qa, 0.0, KQa);
@@ -479,7 +513,7 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
       const cplx q = m.q[i];
       const cplx Mq(MQr(i, j), MQi(i, j)), Gq(GQr(i, j), GQi(i, j)), Kq(KQr(i, j), KQi(i, j));
       qMq += std::real(std::conj(q) * Mq);
-      qKq += std::real(std::conj(q) * Kq);
+      qKq += std::real(std::conj(q) * Kq);  // with N: its Hermitian part only (N skew adds i Im)
       qq += std::norm(q);
       rr += std::norm(l2 * Mq + l * Gq + Kq);
       if (std::abs(q) > std::abs(m.q[imax])) imax = i;
@@ -495,11 +529,12 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
     m.growthRate = l.real();
     m.omega = std::abs(l.imag());
     m.hz = m.omega / kTwoPi;
+    setDamping(m);
     double aKa = 0.0, aGa = 0.0;
     for (int i = 0; i < n; ++i) aKa += Qa(i, j) * KQa(i, j), aGa += Qa(i, j) * GQa(i, j);
     m.scale = ownScales && qMq > 0.0 ? std::sqrt(aKa / qMq) + aGa / qMq : 0.0;
   }
-  classifyModes(modes, scale, rigidBodyTol, instabilityTol);
+  classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped);
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParameters() {
@@ -556,12 +591,21 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
 
   GyroscopicResult result;
   result.numRequested = nModes;
-  const double scale =
-      frequencyScale(sys.M.normFrobenius(), sys.G.normFrobenius(), sys.K.normFrobenius());
+  const double scale = frequencyScale(
+      sys.M.normFrobenius(), sys.G.normFrobenius() + (sys.D.numRows() > 0 ? sys.D.normFrobenius() : 0.0),
+      sys.K.normFrobenius() + (sys.N.numRows() > 0 ? sys.N.normFrobenius() : 0.0));
 
   std::string whyNotSymmetric;
   DenseMatrix Lk(sys.K);
-  if (method != "General") {
+  if (sys.damped()) {
+    // Damping (D) or circulatory (N) terms: the spectrum is no longer
+    // Hamiltonian and Meirovitch's real symmetric form does not exist.
+    whyNotSymmetric = std::string("damped: ") + (sys.D.numRows() > 0 && sys.D.normFrobenius() > 0.0 ? "D != 0" : "N != 0") +
+                      " makes the system non-conservative, Meirovitch's symmetric form (seed eq. (24)) "
+                      "needs D = N = 0: general first-order pencil";
+    CMS_INPUT_CHECK(method == "Meirovitch", "DenseGyroscopicSolver: Method \"Meirovitch\" needs an undamped "
+                                            "system, but " << whyNotSymmetric << "; use \"Auto\" or \"General\"");
+  } else if (method != "General") {
     const int infoK = choleskyLower(Lk, params_.get<double>("Definiteness Tolerance"));
     if (infoK == n + 1)
       whyNotSymmetric = "K is positive definite only to rounding (smallest Cholesky pivot^2 / "
@@ -583,9 +627,13 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     result.reason = "K and M positive definite: real symmetric form, seed eq. (24); " + note;
     if (!complete) result.status = SolveStatus::NumericalIssue;
   } else {
-    result.modes = generalModes(sys, nModes, scale);
+    // "Number of Modes" = -1 asks for every mode; a damped system can have
+    // more than n (each overdamped DOF gives two real eigenvalues).
+    const bool every = params_.get<int>("Number of Modes") == -1 && sys.damped();
+    result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
+    if (every) result.numRequested = static_cast<int>(result.modes.size());
     result.solver = "dense general (LAPACK dggev, 2n first-order pencil)";
-    result.reason = method == "General" ? "requested" : whyNotSymmetric;
+    result.reason = method == "General" && !sys.damped() ? "requested" : whyNotSymmetric;
   }
   // Residuals of the user's matrices. The Meirovitch path resolves each
   // eigenvalue to its own componentwise scale (a Cholesky factor of K and
@@ -593,7 +641,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // accuracy is normwise, so its modes are judged on the system's scale
   // (theory §4.3).
   completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0);
-  if (static_cast<int>(result.modes.size()) != nModes) result.status = SolveStatus::NumericalIssue;
+  if (static_cast<int>(result.modes.size()) != result.numRequested) result.status = SolveStatus::NumericalIssue;
   return result;
 }
 

@@ -37,4 +37,15 @@ bool GyroscopicResult::isStable() const {
   });
 }
 
+double GyroscopicResult::leastDampingRatio() const {
+  double z = 0.0;
+  bool any = false;
+  for (const auto& m : modes) {
+    if (m.stability == Stability::RigidBody || m.stability == Stability::Critical) continue;
+    z = any ? std::min(z, m.dampingRatio) : m.dampingRatio;
+    any = true;
+  }
+  return z;
+}
+
 }  // namespace cms::eigen

@@ -5,6 +5,10 @@
 
 namespace cms::eigen {
 
+bool GyroscopicSystem::damped() const {
+  return (D.numRows() > 0 && D.normFrobenius() > 0.0) || (N.numRows() > 0 && N.normFrobenius() > 0.0);
+}
+
 void GyroscopicSystem::validate(double relTol) const {
   const int n = M.numRows();
   CMS_INPUT_CHECK(n == 0, "GyroscopicSystem: M is empty (0 DOFs)");
@@ -16,6 +20,16 @@ void GyroscopicSystem::validate(double relTol) const {
     CMS_INPUT_CHECK(A->numRows() != n, "GyroscopicSystem: " << name << " is " << A->numRows()
                                            << "x" << A->numCols() << " but M is " << n << "x"
                                            << n);
+    requireFinite(*A, std::string("GyroscopicSystem: ") + name);
+  }
+  // The optional damping (D) and circulatory (N) matrices: empty, or n x n.
+  const std::pair<const DenseMatrix*, const char*> optional[] = {{&D, "D"}, {&N, "N"}};
+  for (const auto& [A, name] : optional) {
+    if (A->numRows() == 0 && A->numCols() == 0) continue;
+    CMS_INPUT_CHECK(A->numRows() != n || A->numCols() != n,
+                    "GyroscopicSystem: " << name << " is " << A->numRows() << "x" << A->numCols()
+                                         << " but M is " << n << "x" << n
+                                         << " (leave it 0x0 for none)");
     requireFinite(*A, std::string("GyroscopicSystem: ") + name);
   }
   // Defects are measured against the size of each term of the quadratic at the
@@ -38,19 +52,44 @@ void GyroscopicSystem::validate(double relTol) const {
   CMS_INPUT_CHECK(dK > relTol, "GyroscopicSystem: K is not symmetric: max|K - K^T| / "
                                "(s^2||M|| + s||G|| + ||K||) = "
                                    << dK << " > " << relTol);
+  if (D.numRows() > 0) {
+    const double nD = D.normFrobenius();
+    const double dD = symmetryDefect(D) * nD * s / (sys + s * nD);
+    CMS_INPUT_CHECK(dD > relTol, "GyroscopicSystem: the damping matrix D is not symmetric: "
+                                 "max|D - D^T| s / (s^2||M|| + s||G|| + s||D|| + ||K||) = "
+                                     << dD << " > " << relTol
+                                     << " (a skew part is gyroscopic: it belongs in G)");
+  }
+  if (N.numRows() > 0) {
+    const double nN = N.normFrobenius();
+    const double dN = skewDefect(N) * nN / (sys + nN);
+    CMS_INPUT_CHECK(dN > relTol, "GyroscopicSystem: the circulatory matrix N is not skew-symmetric: "
+                                 "max|N + N^T| / (s^2||M|| + s||G|| + ||K|| + ||N||) = "
+                                     << dN << " > " << relTol
+                                     << " (a symmetric part is stiffness: it belongs in K)");
+  }
 }
 
 GyroscopicSystem GyroscopicSystem::symmetrised() const {
-  GyroscopicSystem s{M, G, K};
+  GyroscopicSystem s{M, G, K, D, N};
   const int n = size();
+  const bool hasD = D.numRows() == n && n > 0, hasN = N.numRows() == n && n > 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < j; ++i) {
       s.M(i, j) = s.M(j, i) = 0.5 * (M(i, j) + M(j, i));
       s.K(i, j) = s.K(j, i) = 0.5 * (K(i, j) + K(j, i));
       s.G(i, j) = 0.5 * (G(i, j) - G(j, i));
       s.G(j, i) = -s.G(i, j);
+      if (hasD) s.D(i, j) = s.D(j, i) = 0.5 * (D(i, j) + D(j, i));
+      if (hasN) {
+        s.N(i, j) = 0.5 * (N(i, j) - N(j, i));
+        s.N(j, i) = -s.N(i, j);
+      }
     }
-  for (int i = 0; i < n; ++i) s.G(i, i) = 0.0;
+  for (int i = 0; i < n; ++i) {
+    s.G(i, i) = 0.0;
+    if (hasN) s.N(i, i) = 0.0;
+  }
   return s;
 }
 

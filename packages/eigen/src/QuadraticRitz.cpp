@@ -117,6 +117,10 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
       KQi(rowMap, kk);
   sys.M->apply(Qr, MQr), sys.M->apply(Qi, MQi);
   sys.G->apply(Qr, GQr), sys.G->apply(Qi, GQi);
+  if (!sys.D.is_null()) {  // G q stands for (G + D) q in the residual below
+    sys.D->apply(Qr, GQr, Teuchos::NO_TRANS, 1.0, 1.0);
+    sys.D->apply(Qi, GQi, Teuchos::NO_TRANS, 1.0, 1.0);
+  }
   sys.K->apply(Qr, KQr), sys.K->apply(Qi, KQi);
   // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
   MultiVector Qa(rowMap, kk), KQa(rowMap, kk), GQa(rowMap, kk);
@@ -128,7 +132,9 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
   }
   absoluteValues(*sys.K)->apply(Qa, KQa);
   absoluteValues(*sys.G)->apply(Qa, GQa);
-  const double nM = sys.M->getFrobeniusNorm(), nG = sys.G->getFrobeniusNorm(), nK = sys.K->getFrobeniusNorm();
+  if (!sys.D.is_null()) absoluteValues(*sys.D)->apply(Qa, GQa, Teuchos::NO_TRANS, 1.0, 1.0);
+  const double nM = sys.M->getFrobeniusNorm(), nK = sys.K->getFrobeniusNorm(),
+               nG = sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm());
   const size_t nloc = rowMap->getNodeNumElements();
   auto qr = Qr.getLocalViewHost(Tpetra::Access::ReadOnly), qi = Qi.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto mr = MQr.getLocalViewHost(Tpetra::Access::ReadOnly), mi = MQi.getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -171,6 +177,7 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
     m.growthRate = l.real();
     m.omega = std::abs(l.imag());
     m.hz = m.omega / kTwoPi;
+    setDamping(m);
     m.scale = global[0] > 0 ? std::sqrt(global[4] / global[0]) + global[5] / global[0] : 0.0;
   }
 }
@@ -181,6 +188,7 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
                                                double shift, double rigidTol, double instabTol) {
   const auto Q = ritzSubspace(vectors, sys.M->getRowMap());
   GyroscopicSystem reduced{projectOnto(*sys.M, *Q), projectOnto(*sys.G, *Q), projectOnto(*sys.K, *Q)};
+  if (!sys.D.is_null()) reduced.D = projectOnto(*sys.D, *Q);
   Teuchos::ParameterList dense;
   dense.set("Rigid Body Tolerance", rigidTol);
   dense.set("Instability Tolerance", instabTol);
@@ -198,8 +206,11 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // produce spurious Ritz values (large residual) near the target, and those
   // must lose to genuine modes, not be selected for being close.
   expandModes(sys, *Q, rm);
-  const double scale = frequencyScale(sys.M->getFrobeniusNorm(), sys.G->getFrobeniusNorm(), sys.K->getFrobeniusNorm());
-  classifyModes(rm, scale, rigidTol, instabTol);
+  const bool damped = !sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0;
+  const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
+                                      sys.G->getFrobeniusNorm() + (damped ? sys.D->getFrobeniusNorm() : 0.0),
+                                      sys.K->getFrobeniusNorm());
+  classifyModes(rm, scale, rigidTol, instabTol, !damped);
   return std::move(rm);
 }
 

@@ -10,6 +10,7 @@
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
 
 #include "QuadraticRitz.hpp"
 #include "SparseEigenproblem.hpp"
@@ -111,9 +112,17 @@ Config configOf(const Teuchos::ParameterList& params, int nModes) {
 // 1. Which form: Meirovitch's needs K > 0, which CHOLMOD tells (and its
 // factor is the K-solve of the unshifted transform). The reason says why;
 // the iterations that need the symmetric form are refused without it.
-void chooseForm(const Config& c, detail::SparseEigenproblem& p, GyroscopicResult& result) {
+void chooseForm(const Config& c, detail::SparseEigenproblem& p, GyroscopicResult& result, bool damped) {
   p.symmetric = c.method == "Symmetric";
-  if (c.method != "General") {
+  if (damped) {
+    // Damping makes the spectrum non-Hamiltonian: no I*-self-adjoint form.
+    CMS_INPUT_CHECK(c.method == "Symmetric",
+                    "SparseGyroscopicSolver: Method \"Symmetric\" needs an undamped system (D = 0), "
+                    "but D is given; use \"Auto\" or \"General\"");
+    p.symmetric = false;
+    result.reason = "damped: D != 0 makes the system non-conservative, Meirovitch's symmetric form does not "
+                    "apply: general non-Hermitian iteration on Q(mu) = mu^2 M + mu (G + D) + K";
+  } else if (c.method != "General") {
     p.kFactor = std::make_shared<SparseDirectSolver>(p.system->K, "CHOLMOD");
     const auto out = p.kFactor->factor();
     const bool posdef = out == SparseDirectSolver::Outcome::Factored;
@@ -201,11 +210,20 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
                                     << c.nModes << " but the system has only " << N
                                     << " DOFs, hence " << N << " modes");
   result.numRequested = c.nModes;
+  // The transform sees the damping only through Q(mu) = mu^2 M + mu (G + D)
+  // + K, so it iterates on the system with G + D in G's place; the modes
+  // are extracted from the system as given (D kept apart).
+  const bool damped = !sys.D.is_null();
+  SparseGyroscopicSystem effective = sys;
+  if (damped) {
+    effective.G = Tpetra::MatrixMatrix::add(1.0, false, *sys.G, 1.0, false, *sys.D);
+    effective.D = Teuchos::null;
+  }
   detail::SparseEigenproblem problem;
-  problem.system = &sys;
+  problem.system = &effective;
   problem.shift = c.shift;
   problem.nModes = c.nModes;
-  chooseForm(c, problem, result);                      // 1.
+  chooseForm(c, problem, result, damped);              // 1.
   if (!factorTransform(c, problem, result)) return attempt;  // 2.
 
   // 3. The subspace. Each mode is a double eigenvalue of R: ask for 2 per

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
@@ -28,8 +29,9 @@ MultiVector probe(const Teuchos::RCP<const Map>& map, unsigned seed) {
 }  // namespace
 
 void SparseGyroscopicSystem::validate(double relTol) const {
-  const std::pair<const Teuchos::RCP<const CrsMatrix>*, const char*> mats[] = {
+  std::vector<std::pair<const Teuchos::RCP<const CrsMatrix>*, const char*>> mats = {
       {&M, "M"}, {&G, "G"}, {&K, "K"}};
+  if (!D.is_null()) mats.push_back({&D, "D"});
   for (const auto& [A, name] : mats) {
     CMS_INPUT_CHECK(A->is_null(), "SparseGyroscopicSystem: " << name << " is missing");
     CMS_INPUT_CHECK(!(*A)->isFillComplete(),
@@ -48,7 +50,7 @@ void SparseGyroscopicSystem::validate(double relTol) const {
                         << rowMap->getGlobalNumElements() << " rows)");
   }
   // NaN/Inf and the diagonal of M, reduced so every rank throws together.
-  long long badRow[3] = {-1, -1, -1}, badDiag = -1;
+  long long badRow[4] = {-1, -1, -1, -1}, badDiag = -1;
   int m = 0;
   for (const auto& [A, name] : mats) {
     const auto& a = **A;
@@ -69,20 +71,20 @@ void SparseGyroscopicSystem::validate(double relTol) const {
       if (!(dv(i, 0) > 0.0)) badDiag = rowMap->getGlobalElement(i);
   }
   const auto comm = rowMap->getComm();
-  long long worst[4], local[4] = {badRow[0], badRow[1], badRow[2], badDiag};
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 4, local, worst);
-  const char* names[3] = {"M", "G", "K"};
-  for (int k = 0; k < 3; ++k)
+  long long worst[5], local[5] = {badRow[0], badRow[1], badRow[2], badRow[3], badDiag};
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 5, local, worst);
+  const char* names[4] = {"M", "G", "K", "D"};
+  for (int k = 0; k < 4; ++k)
     CMS_INPUT_CHECK(worst[k] >= 0, "SparseGyroscopicSystem: " << names[k] << " has a NaN or Inf in row "
                                                              << worst[k]);
-  CMS_INPUT_CHECK(worst[3] >= 0, "SparseGyroscopicSystem: M is not positive definite: diagonal entry "
-                                     "of row " << worst[3] << " is not positive");
+  CMS_INPUT_CHECK(worst[4] >= 0, "SparseGyroscopicSystem: M is not positive definite: diagonal entry "
+                                     "of row " << worst[4] << " is not positive");
 
   // Structure by random probes.
   const MultiVector x = probe(rowMap, 1u), y = probe(rowMap, 2u);
   const double nx = x.getVector(0)->norm2(), ny = y.getVector(0)->norm2();
-  const std::pair<double, const char*> kinds[3] = {{+1.0, "symmetric"}, {-1.0, "skew-symmetric"},
-                                                   {+1.0, "symmetric"}};
+  const std::pair<double, const char*> kinds[4] = {{+1.0, "symmetric"}, {-1.0, "skew-symmetric"},
+                                                   {+1.0, "symmetric"}, {+1.0, "symmetric"}};
   m = 0;
   for (const auto& [A, name] : mats) {
     MultiVector Ay(rowMap, 1), Ax(rowMap, 1);

@@ -12,7 +12,8 @@
 // rigid, divergent or fluttering.
 //
 // Method "Auto" (default): Meirovitch when the Cholesky factorisation of K
-// succeeds with healthy pivots, otherwise General, saying why in the result.
+// succeeds with healthy pivots and the system is undamped (no D, N),
+// otherwise General, saying why in the result.
 #pragma once
 
 #include <Teuchos_ParameterList.hpp>
@@ -63,7 +64,13 @@ Stability classify(std::complex<double> lambda, double scale, double rigidBodyTo
 /// mode's backward error and s the frequency scale. Within that radius of
 /// zero a mode is RigidBody; a positive growth rate within it is Neutral, not
 /// Flutter or Divergence; beyond it (and beyond instabilityTol s) unstable.
+/// `conservative` = false (a damped system, D or N present): the spectrum is
+/// not Hamiltonian, there is no mirror to pair with, and each mode is
+/// classified by `classify` alone (Re lambda above instabilityTol s is unstable).
 void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
-                   double instabilityTol);
+                   double instabilityTol, bool conservative = true);
+
+/// dampingRatio and logDecrement of a mode from its lambda.
+void setDamping(GyroscopicMode& mode);
 
 }  // namespace cms::eigen

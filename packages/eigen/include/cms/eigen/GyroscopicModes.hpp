@@ -1,5 +1,5 @@
 // What every gyroscopic eigensolver returns: eigenvalues of
-//   (lambda^2 M + lambda G + K) q = 0      (seed eq. (19) with Q = 0)
+//   (lambda^2 M + lambda (G + D) + K + N) q = 0   (seed eq. (19) with Q = 0; D, N: theory §13)
 // with their modes, a residual per mode, a stability class per mode, and the
 // name of the solver that ran and why (doc/theory.md, "Results").
 #pragma once
@@ -39,6 +39,13 @@ struct GyroscopicMode {
   double omega = 0.0;           ///< |Im lambda| (rad/s): the damped natural frequency
   double hz = 0.0;              ///< omega / (2 pi)
   double growthRate = 0.0;      ///< Re lambda (1/s): > 0 is unstable
+  /// zeta = -Re(lambda) / |lambda| (0 for lambda = 0): the fraction of
+  /// critical damping; < 0 is unstable. 0 to rounding for an undamped system.
+  double dampingRatio = 0.0;
+  /// delta = -2 pi Re(lambda) / |Im(lambda)| = 2 pi zeta / sqrt(1 - zeta^2):
+  /// the log of the ratio of successive amplitude peaks. Infinite for a
+  /// real (overdamped or divergent) lambda != 0, 0 for lambda = 0.
+  double logDecrement = 0.0;
   Stability stability = Stability::Stable;
   /// Complex mode shape, normalised q^H M q = 1, phase such that its largest
   /// entry is real and positive. For the distributed solvers this holds only
@@ -46,7 +53,7 @@ struct GyroscopicMode {
   std::vector<std::complex<double>> q;
   double kineticEnergy = 0.0;  ///< |lambda|^2 q^H M q / 2, amplitude of the mass-normalised mode
   double strainEnergy = 0.0;   ///< q^H K q / 2 (K = K_V - K_T: negative parts mean softening)
-  /// ||(lambda^2 M + lambda G + K) q|| / ((||K|| + |lambda| ||G|| + |lambda|^2 ||M||) ||q||),
+  /// ||(lambda^2 M + lambda (G + D) + K + N) q|| / ((||K|| + ||N|| + |lambda| (||G|| + ||D||) + |lambda|^2 ||M||) ||q||),
   /// a normwise backward error: ~1e-16 for a mode exact to rounding.
   double residual = 0.0;
   /// The mode's own frequency scale, componentwise: sqrt(|q|^T |K| |q| /
@@ -69,6 +76,10 @@ struct GyroscopicResult {
   int numOperatorApplies = 0;
   double maxResidual() const;
   bool isStable() const;  ///< no Divergence or Flutter mode among those returned
+  /// The least damping ratio over the modes that are not RigidBody or
+  /// Critical (zero frequency): the stability margin of a damped structure
+  /// (< 0: unstable); 0 when there is no such mode.
+  double leastDampingRatio() const;
 };
 
 }  // namespace cms::eigen

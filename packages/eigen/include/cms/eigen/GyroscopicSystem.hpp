@@ -1,6 +1,10 @@
-// A dense gyroscopic system M q'' + G q' + K q = 0 (seed eq. (19)):
-// M symmetric positive definite, G skew-symmetric (G = F^T - F),
-// K symmetric (K = K_V - K_T, possibly indefinite or singular).
+// A dense gyroscopic system M q'' + (G + D) q' + (K + N) q = 0 (seed eq. (19)
+// with damping, theory §13): M symmetric positive definite, G skew-symmetric
+// (G = F^T - F), K symmetric (K = K_V - K_T, possibly indefinite or
+// singular); optionally a viscous damping matrix D (symmetric, >= 0 for a
+// passive structure) and a circulatory matrix N (skew: rotating internal
+// damping seen from a stationary frame). Either makes the system
+// non-conservative: only the general first-order path applies.
 #pragma once
 
 #include "cms/core/DenseMatrix.hpp"
@@ -9,17 +13,24 @@ namespace cms::eigen {
 
 struct GyroscopicSystem {
   DenseMatrix M, G, K;
+  /// Viscous damping (symmetric); 0 x 0 (the default) for none.
+  DenseMatrix D;
+  /// Circulatory stiffness (skew-symmetric), e.g. Omega c_i J of a rotor's
+  /// internal damping in stationary coordinates; 0 x 0 for none.
+  DenseMatrix N;
 
   int size() const { return M.numRows(); }
+  /// D or N present and not all zero: the spectrum is no longer Hamiltonian.
+  bool damped() const;
 
   /// Throws cms::InputError naming the matrix and the defect when the sizes
   /// disagree, a matrix is not square or empty, an entry is NaN/Inf, or M, K
-  /// are not symmetric / G not skew-symmetric to `relTol` (relative to the
+  /// (and D when present) are not symmetric / G (and N) not skew-symmetric to `relTol` (relative to the
   /// size s^2||M|| + s||G|| + ||K|| of the quadratic at the frequency scale s). Positive definiteness of M is checked by the
   /// solver, which needs its Cholesky factor anyway.
   void validate(double relTol = 1e-10) const;
 
-  /// The exactly symmetric (M, K) and skew (G) parts: solvers work on these,
+  /// The exactly symmetric (M, K, D) and skew (G, N) parts: solvers work on these,
   /// so rounding asymmetry in the input cannot leak into the results.
   GyroscopicSystem symmetrised() const;
 };

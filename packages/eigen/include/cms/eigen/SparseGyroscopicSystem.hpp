@@ -1,5 +1,6 @@
 // A distributed gyroscopic system M q'' + G q' + K q = 0 (seed eq. (19)) of a
-// full ("truth") model: three fill-complete Tpetra::CrsMatrix on one row map.
+// full ("truth") model: three fill-complete Tpetra::CrsMatrix on one row map,
+// and optionally a viscous damping matrix D: M q'' + (G + D) q' + K q = 0.
 #pragma once
 
 #include "cms/core/TpetraTypes.hpp"
@@ -8,11 +9,14 @@ namespace cms::eigen {
 
 struct SparseGyroscopicSystem {
   Teuchos::RCP<const CrsMatrix> M, G, K;
+  /// Viscous damping (symmetric, on M's maps); null for none. With D the
+  /// solver takes the general (non-Hermitian) path.
+  Teuchos::RCP<const CrsMatrix> D;
 
   /// Throws cms::InputError (on every rank) naming the matrix and the defect
   /// when a matrix is missing or not fill-complete, the row/domain/range maps
   /// differ, an entry is NaN/Inf, diag(M) has a non-positive entry, or M, K
-  /// are not symmetric / G not skew: tested with random probe vectors x, y as
+  /// (and D) are not symmetric / G not skew: tested with random probe vectors x, y as
   /// |x^T A y -/+ y^T A x| <= relTol ||A||_F ||x|| ||y||, which catches any
   /// structural defect with probability one at O(nnz) cost.
   void validate(double relTol = 1e-10) const;

@@ -1,0 +1,221 @@
+// The damped problem (lambda^2 M + lambda (G + D) + K + N) q = 0 (theory §13)
+// against closed forms: a single DOF (under- and overdamped), two DOFs with
+// proportional damping, a gyroscopic rotor on damped isotropic bearings
+// (forward and backward whirl), and the Jeffcott rotor with internal
+// (rotating) damping, unstable above Omega_th = w_n (1 + c_e / c_i).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <vector>
+
+#include "cms/core/Error.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+
+using namespace cms;
+using namespace cms::eigen;
+using cplx = std::complex<double>;
+
+namespace {
+
+const double eps = std::numeric_limits<double>::epsilon();
+
+DenseMatrix diag(std::vector<double> d) {
+  DenseMatrix A(static_cast<int>(d.size()), static_cast<int>(d.size()));
+  for (std::size_t i = 0; i < d.size(); ++i) A(i, i) = d[i];
+  return A;
+}
+
+/// [[0, a], [-a, 0]]: the skew coupling of two transverse DOFs.
+DenseMatrix skew2(double a) {
+  DenseMatrix A(2, 2);
+  A(0, 1) = a;
+  A(1, 0) = -a;
+  return A;
+}
+
+/// Roots of a lambda^2 + b lambda + c = 0 (complex coefficients).
+std::vector<cplx> quadraticRoots(cplx a, cplx b, cplx c) {
+  const cplx d = std::sqrt(b * b - 4.0 * a * c);
+  return {(-b + d) / (2.0 * a), (-b - d) / (2.0 * a)};
+}
+
+/// The underdamped pair of a mode of frequency w and damping ratio z.
+cplx dampedRoot(double w, double z) { return cplx(-z * w, w * std::sqrt(1.0 - z * z)); }
+
+/// A backward-stable solve of the 2n pencil (dggev) moves a simple,
+/// well-separated eigenvalue by about its condition times N eps times the
+/// pencil's scale (|lambda| after the time scaling); for these small systems
+/// the condition is O(1), and 10 N eps |lambda| is the bound asserted.
+double tolOf(cplx lambda, int n) { return 10.0 * 2 * n * eps * std::max(std::abs(lambda), 1.0); }
+
+/// Each expected root (Im >= 0) is found among the returned eigenvalues.
+void expectRoots(const GyroscopicResult& r, const std::vector<cplx>& expected, int n) {
+  ASSERT_EQ(r.modes.size(), expected.size());
+  for (cplx e : expected) {
+    double best = std::numeric_limits<double>::max();
+    for (const auto& m : r.modes) best = std::min(best, std::abs(m.lambda - e));
+    EXPECT_LE(best, tolOf(e, n)) << "expected " << e;
+  }
+}
+
+GyroscopicResult solveAll(const GyroscopicSystem& s) { return DenseGyroscopicSolver().solve(s); }
+
+}  // namespace
+
+TEST(DampedEigen, SingleDofMatchesClosedForm) {
+  const double m = 2.0, k = 50.0, w = std::sqrt(k / m), zeta = 0.05;
+  GyroscopicSystem s{diag({m}), diag({0.0}), diag({k}), diag({2.0 * zeta * std::sqrt(k * m)})};
+  const auto r = solveAll(s);
+  EXPECT_NE(r.solver.find("dggev"), std::string::npos) << r.solver;
+  EXPECT_NE(r.reason.find("damped"), std::string::npos) << r.reason;
+  expectRoots(r, {dampedRoot(w, zeta)}, 1);
+  const auto& mode = r.modes.at(0);
+  // zeta and delta are derived from lambda: their error is lambda's relative one.
+  EXPECT_NEAR(mode.dampingRatio, zeta, tolOf(w, 1) / w);
+  EXPECT_NEAR(mode.logDecrement, 2.0 * M_PI * zeta / std::sqrt(1.0 - zeta * zeta), 2.0 * M_PI * tolOf(w, 1) / w);
+  EXPECT_EQ(mode.stability, Stability::Stable);
+  EXPECT_NEAR(r.leastDampingRatio(), zeta, tolOf(w, 1) / w);
+  EXPECT_LE(mode.residual, 10.0 * eps);
+}
+
+TEST(DampedEigen, OverdampedDofGivesTwoDecayingRealModes) {
+  const double m = 1.0, k = 4.0, w = 2.0, zeta = 2.0;
+  GyroscopicSystem s{diag({m}), diag({0.0}), diag({k}), diag({2.0 * zeta * w * m})};
+  const auto r = solveAll(s);
+  const double root = std::sqrt(zeta * zeta - 1.0);
+  expectRoots(r, {cplx(-w * (zeta - root), 0.0), cplx(-w * (zeta + root), 0.0)}, 1);
+  for (const auto& mode : r.modes) {
+    EXPECT_EQ(mode.lambda.imag(), 0.0);
+    EXPECT_NEAR(mode.dampingRatio, 1.0, 10 * eps);
+    EXPECT_TRUE(std::isinf(mode.logDecrement));
+    EXPECT_EQ(mode.stability, Stability::Stable);
+  }
+}
+
+TEST(DampedEigen, TwoDofProportionalDampingMatchesModalClosedForm) {
+  // M = diag(m1, m2), K a grounded two-spring chain, D = alpha M + beta K:
+  // the undamped modes diagonalise D, so each mode is a damped single DOF
+  // with zeta_j = alpha / (2 w_j) + beta w_j / 2.
+  const double m1 = 1.0, m2 = 2.0, k1 = 300.0, k2 = 100.0, alpha = 0.4, beta = 2e-3;
+  DenseMatrix M = diag({m1, m2}), K(2, 2);
+  K(0, 0) = k1 + k2, K(0, 1) = K(1, 0) = -k2, K(1, 1) = k2;
+  DenseMatrix D(2, 2);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) D(i, j) = alpha * M(i, j) + beta * K(i, j);
+  // det(K - w^2 M) = m1 m2 w^4 - (m1 k2 + m2 (k1 + k2)) w^2 + k1 k2 = 0.
+  const double a = m1 * m2, b = m1 * k2 + m2 * (k1 + k2), c = k1 * k2;
+  const double disc = std::sqrt(b * b - 4 * a * c);
+  const double w1 = std::sqrt((b - disc) / (2 * a)), w2 = std::sqrt((b + disc) / (2 * a));
+  const double z1 = alpha / (2 * w1) + beta * w1 / 2, z2 = alpha / (2 * w2) + beta * w2 / 2;
+  const auto r = solveAll({M, DenseMatrix(2, 2), K, D});
+  expectRoots(r, {dampedRoot(w1, z1), dampedRoot(w2, z2)}, 2);
+  EXPECT_NEAR(r.modes.at(0).dampingRatio, z1, tolOf(w2, 2) / w1);
+  EXPECT_NEAR(r.modes.at(1).dampingRatio, z2, tolOf(w2, 2) / w2);
+  EXPECT_NEAR(r.leastDampingRatio(), std::min(z1, z2), tolOf(w2, 2) / w1);
+}
+
+TEST(DampedEigen, GyroscopicRotorOnDampedIsotropicBearings) {
+  // Tilt of a rigid disc (transverse inertia Jt, polar Jp, spin Omega) on
+  // isotropic bearings (stiffness k, damping c): in the complex tilt
+  // theta = a + i b, Jt lambda^2 -/+ i Omega Jp lambda + c lambda + k = 0,
+  // forward and backward whirl with their own decay rates.
+  const double Jt = 0.5, Jp = 0.8, k = 2.0e3, c = 3.0, Omega = 40.0;
+  GyroscopicSystem s{diag({Jt, Jt}), skew2(Omega * Jp), diag({k, k}), diag({c, c})};
+  const auto r = solveAll(s);
+  std::vector<cplx> expected;
+  for (double sign : {1.0, -1.0})
+    for (cplx root : quadraticRoots(Jt, cplx(c, sign * Omega * Jp), k))
+      if (root.imag() > 0) expected.push_back(root);
+  ASSERT_EQ(expected.size(), 2u);
+  expectRoots(r, expected, 2);
+  // The whirls decay at different rates (Re lambda), but with the same
+  // damping ratio: the roots lambda_f and conj(lambda_b) of one quadratic
+  // have the real product k / Jt, so their arguments are opposite and
+  // zeta = -cos(arg lambda) is shared.
+  const double w = std::abs(r.modes[1].lambda);
+  EXPECT_GT(std::abs(r.modes[0].lambda.real() - r.modes[1].lambda.real()), 1e-3 * c / Jt);
+  EXPECT_NEAR(r.modes[0].dampingRatio, r.modes[1].dampingRatio, 2 * tolOf(w, 2) / std::abs(r.modes[0].lambda));
+  EXPECT_GT(r.leastDampingRatio(), 0.0);
+}
+
+TEST(DampedEigen, ExternalDampingOfALavalRotorGivesEqualWhirlDecay) {
+  // Stationary (external) damping only: m z'' + c_e z' + k z = 0 in both
+  // whirl directions, lambda = -zeta w +/- i w sqrt(1 - zeta^2), double.
+  const double m = 3.0, k = 1.2e4, ce = 12.0, w = std::sqrt(k / m), zeta = ce / (2 * std::sqrt(k * m));
+  const auto r = solveAll({diag({m, m}), DenseMatrix(2, 2), diag({k, k}), diag({ce, ce})});
+  expectRoots(r, {dampedRoot(w, zeta), dampedRoot(w, zeta)}, 2);
+  for (const auto& mode : r.modes) EXPECT_NEAR(mode.dampingRatio, zeta, tolOf(w, 2) / w);
+}
+
+namespace {
+/// The Jeffcott (Laval) rotor with external damping c_e and internal
+/// (rotating) damping c_i, in stationary coordinates: the internal damping
+/// acts on the velocity relative to the spinning shaft, which adds the
+/// circulatory force Omega c_i J q (N = Omega c_i [[0, 1], [-1, 0]]);
+/// in z = x + i y: m z'' + (c_e + c_i) z' + k z - i Omega c_i z = 0.
+GyroscopicSystem jeffcott(double m, double k, double ce, double ci, double Omega) {
+  GyroscopicSystem s{diag({m, m}), DenseMatrix(2, 2), diag({k, k}), diag({ce + ci, ce + ci})};
+  s.N = skew2(Omega * ci);
+  return s;
+}
+}  // namespace
+
+TEST(DampedEigen, JeffcottRotorWithInternalDampingWhirlsAsClosedForm) {
+  const double m = 2.0, k = 8.0e3, ce = 4.0, ci = 6.0, Omega = 90.0;
+  const auto r = solveAll(jeffcott(m, k, ce, ci, Omega));
+  std::vector<cplx> expected;
+  for (double sign : {1.0, -1.0})
+    for (cplx root : quadraticRoots(m, ce + ci, cplx(k, -sign * Omega * ci)))
+      if (root.imag() > 0) expected.push_back(root);
+  expectRoots(r, expected, 2);
+}
+
+TEST(DampedEigen, JeffcottRotorLosesStabilityAtTheInternalDampingThreshold) {
+  // At lambda = i w: w = w_n and (c_e + c_i) w_n = Omega c_i, hence
+  // Omega_th = w_n (1 + c_e / c_i) (theory §13.4).
+  const double m = 2.0, k = 8.0e3, ce = 4.0, ci = 6.0, wn = std::sqrt(k / m);
+  const double threshold = wn * (1.0 + ce / ci);
+  const auto below = solveAll(jeffcott(m, k, ce, ci, 0.98 * threshold));
+  const auto at = solveAll(jeffcott(m, k, ce, ci, threshold));
+  const auto above = solveAll(jeffcott(m, k, ce, ci, 1.02 * threshold));
+  EXPECT_TRUE(below.isStable());
+  EXPECT_GT(below.leastDampingRatio(), 0.0);
+  EXPECT_FALSE(above.isStable());
+  EXPECT_LT(above.leastDampingRatio(), 0.0);
+  const auto unstable = std::find_if(above.modes.begin(), above.modes.end(),
+                                     [](const GyroscopicMode& mo) { return mo.stability == Stability::Flutter; });
+  ASSERT_NE(unstable, above.modes.end());
+  // At the threshold the forward whirl sits on the axis at w_n.
+  double onAxis = std::numeric_limits<double>::max();
+  for (const auto& mo : at.modes) onAxis = std::min(onAxis, std::abs(mo.lambda - cplx(0.0, wn)));
+  EXPECT_LE(onAxis, tolOf(wn, 2));
+  EXPECT_NEAR(at.leastDampingRatio(), 0.0, tolOf(wn, 2) / wn);
+}
+
+TEST(DampedEigen, ZeroDampingKeepsTheSymmetricPath) {
+  // A D that is present but zero changes nothing: Meirovitch, zeta = 0.
+  GyroscopicSystem s{diag({1.0, 2.0}), skew2(3.0), diag({10.0, 20.0}), DenseMatrix(2, 2)};
+  const auto r = solveAll(s);
+  EXPECT_NE(r.solver.find("Meirovitch"), std::string::npos) << r.solver;
+  for (const auto& mode : r.modes) {
+    EXPECT_EQ(mode.dampingRatio, 0.0);
+    EXPECT_EQ(mode.logDecrement, 0.0);
+  }
+}
+
+TEST(DampedEigen, RefusesMeirovitchWithDampingAndAnUnsymmetricD) {
+  GyroscopicSystem s{diag({1.0, 2.0}), DenseMatrix(2, 2), diag({10.0, 20.0}), diag({0.1, 0.1})};
+  Teuchos::ParameterList p;
+  p.set("Method", "Meirovitch");
+  EXPECT_THROW(DenseGyroscopicSolver(p).solve(s), InputError);
+  s.D(0, 1) = 0.05;  // D - D^T != 0
+  try {
+    DenseGyroscopicSolver().solve(s);
+    FAIL() << "an unsymmetric D was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("D is not symmetric"), std::string::npos) << e.what();
+  }
+}
