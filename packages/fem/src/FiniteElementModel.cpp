@@ -109,7 +109,7 @@ void forEachEntry(const ParameterList& p, const std::string& key, const std::str
 Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
   auto p = Teuchos::rcp(new ParameterList("Finite Element Model"));
   p->set("Name", "substructure", "used in messages and output");
-  p->set("Mesh", "", "Gmsh .msh (2.2 or 4.1, ASCII or binary) or .geo; relative to the scene");
+  p->set("Mesh", "", "Gmsh .msh (2.2 or 4.1, ASCII or binary), .geo, or Abaqus/CalculiX .inp; relative to the scene");
   p->sublist("Mesh Parameters", false, "name -> number: ONELAB parameters \"Parameters/<name>\" of a .geo script (DefineConstant)");
   p->sublist("Materials", false, "name -> material").sublist("<name>") = materialParameters();
   p->sublist("Element Sets", false, "physical group -> element set").sublist("<group>") = elementSetParameters();
@@ -251,7 +251,7 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     CMS_INPUT_CHECK(!meshParameters.empty() && mesh.extension() != ".geo",
                     path << "/Mesh Parameters: apply to a .geo script only, not " << mesh.filename().string());
   }
-  m.mesh = std::make_shared<mesh::Mesh>(mesh::readGmsh(mesh.string(), meshParameters));
+  m.mesh = std::make_shared<mesh::Mesh>(mesh::readMesh(mesh.string(), meshParameters));
   m.validate();
   return m;
 }

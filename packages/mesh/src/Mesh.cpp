@@ -35,6 +35,7 @@
 #include <gmsh.h>
 
 #include "cms/core/Error.hpp"
+#include "cms/mesh/InpReader.hpp"
 #include "GmshSession.hpp"
 #include "MshStructureCheck.hpp"
 
@@ -93,7 +94,10 @@ bool Mesh::hasGroup(const std::string& name) const {
 }
 
 std::vector<std::int64_t> Mesh::nodeSet(const std::string& name) const {
-  const PhysicalGroup& g = group(name);
+  const PhysicalGroup* nodeGroup = nullptr;
+  for (const PhysicalGroup& g : groups)
+    if (g.name == name && g.dim == 0 && !nodeGroup) nodeGroup = &g;
+  const PhysicalGroup& g = nodeGroup ? *nodeGroup : group(name);
   std::vector<std::int64_t> nodes;
   for (const CellBlock& b : g.blocks) nodes.insert(nodes.end(), b.nodes.begin(), b.nodes.end());
   std::sort(nodes.begin(), nodes.end());
@@ -652,6 +656,12 @@ Mesh readGmsh(const std::string& path, const std::map<std::string, double>& para
     }
   }
   return script ? meshScriptInChild(path, parameters) : readMshInProcess(path, path);
+}
+
+Mesh readMesh(const std::string& path, const std::map<std::string, double>& parameters) {
+  if (!endsWith(path, ".inp")) return readGmsh(path, parameters);
+  CMS_INPUT_CHECK(!parameters.empty(), path << ": mesh parameters apply to a .geo script only, not to an .inp deck");
+  return readInp(path);
 }
 
 }  // namespace cms::mesh

@@ -63,6 +63,11 @@ struct Mesh {
   std::vector<std::size_t> nodeTags;      ///< Gmsh node tag of node index i
   std::vector<double> coordinates;        ///< x, y, z of node index i at 3i..3i+2
   std::vector<PhysicalGroup> groups;
+  /// What the reader skipped or assumed, one line each ("deck.inp:12:
+  /// ..."), for a driver to print: an .inp deck's keywords that are not
+  /// mesh, parameters ignored, ids a GENERATE range named but the deck does
+  /// not define. Empty for Gmsh meshes.
+  std::vector<std::string> notes;
 
   std::size_t nodeCount() const { return nodeTags.size(); }
   const double* x(std::int64_t node) const { return &coordinates[3 * node]; }
@@ -72,6 +77,8 @@ struct Mesh {
   const PhysicalGroup& group(const std::string& name) const;
   bool hasGroup(const std::string& name) const;
   /// Sorted, unique node indices of every cell of the group (a node set).
+  /// Where two groups share the name (an .inp deck's *NSET and *ELSET of one
+  /// name, which Abaqus keeps apart), the one of dimension 0 is the node set.
   std::vector<std::int64_t> nodeSet(const std::string& name) const;
 };
 
@@ -89,5 +96,10 @@ struct Mesh {
 /// `DefineConstant[h = {0.02, Name "Parameters/h"}]` takes the given value
 /// (a mesh-size study without copies of the script); ignored for .msh files.
 Mesh readGmsh(const std::string& path, const std::map<std::string, double>& parameters = {});
+
+/// A mesh file by its extension: .inp (any case) through readInp
+/// (InpReader.hpp; `parameters` must then be empty), anything else through
+/// readGmsh. Where a scene or a driver takes a mesh file, it takes it here.
+Mesh readMesh(const std::string& path, const std::map<std::string, double>& parameters = {});
 
 }  // namespace cms::mesh
