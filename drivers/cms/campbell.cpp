@@ -65,7 +65,7 @@ int campbell(int argc, char* argv[]) {
   options.add("steps", &steps, "number of speeds (>= 2)");
   options.add("max-factor", &maxFactor, "top speed as a multiple of the nominal rates");
   options.add("orders", &ordersText, "engine orders of the swept rate, comma-separated (e.g. 1,2 or 0.5,1)");
-  options.add("speed", &speed, "sweep only this substructure's spin rate, the others held (default: all together)");
+  options.add("speed", &speed, "sweep only this substructure's spin rate, the others held (empty: all rates together)");
   options.add("axis", &axisText, "units: hz (rev/s, Hz), rpm (rpm, Hz) or per-rev (rpm, frequency per rev)");
   options.flag("refine", &refine, "bisect each crossing to 1e-6 of its speed (else linear between speeds)");
   options.plotOption();
