@@ -1,9 +1,10 @@
-// Randomised corruption of valid Gmsh meshes and sidecars: the readers must
+// Randomised corruption of valid Gmsh meshes, Abaqus/CalculiX decks and
+// sidecars: the readers must
 // either succeed or throw cms::InputError. Any other exception, a crash, a
 // hang, a leaked file descriptor or an allocation past a 4 GB address-space
 // limit fails the test.
 //
-// Seeds are the files in tests/data/fuzz/gmsh/ and tests/data/fuzz/sidecar/;
+// Seeds are the files in tests/data/fuzz/gmsh/, inp/ and sidecar/;
 // each gets CMS_FUZZ_ITERATIONS mutated copies (default below: the whole test
 // in a few seconds). A case is reproducible from its seed file and number
 // alone. Files in the regressions/ folders are inputs that once broke a
@@ -99,10 +100,30 @@ std::size_t openDescriptors() {
   return n;
 }
 
-/// One to three random corruptions of a text or binary file.
+/// The words of the Gmsh and sidecar formats that a mutation may insert.
+const std::vector<std::string>& gmshWords() {
+  static const std::vector<std::string> words = {
+      "$Nodes", "$EndNodes", "$Elements", "$EndElements", "$Entities", "$PhysicalNames", "$Periodic",
+      "$NodeData", "$MeshFormat", "node", "set", "matrix", "units", "spin-axis", "cms-substructure", "K",
+      "M", "G1", "ux", "rz", "#", "\"", "SI", "\r", "\t", std::string(1, '\0')};
+  return words;
+}
+
+/// The same for Abaqus/CalculiX decks: keywords, parameters, separators.
+const std::vector<std::string>& inpWords() {
+  static const std::vector<std::string> words = {
+      "*NODE", "*ELEMENT, TYPE=C3D20", "*ELEMENT, TYPE=C3D8R", "*NSET, NSET=", "*ELSET, ELSET=", "GENERATE",
+      "*INCLUDE, INPUT=", "*INCLUDE, INPUT=input.inp", "*INCLUDE, INPUT=part.inp", "**", "*", ",", ",\n", "=",
+      "\n", "ELSET=", "NSET=", "C3D15", "B31", "S4R", "*STEP", "*NGEN", "\"", "\r", "\t", std::string(1, '\0')};
+  return words;
+}
+
+/// One to three random corruptions of a text or binary file; `words` are
+/// the format's own tokens, inserted in place of a few bytes.
 class Mutator {
 public:
-  explicit Mutator(std::uint32_t seed) : rng_(seed) {}
+  explicit Mutator(std::uint32_t seed, const std::vector<std::string>& words = gmshWords())
+      : rng_(seed), words_(words) {}
 
   std::string operator()(std::string s) {
     const int rounds = 1 + static_cast<int>(below(3));
@@ -174,10 +195,6 @@ private:
         "1e308", "-1", "nan", "inf", "-inf", "99999999999", "0", "-0", "2147483648", "-2147483649",
         "4294967297", "18446744073709551615", "9223372036854775808", "1e-320", "0x10", "1.5", "", "1e",
         "00000000000000000000000000000000001", "3", "16", "2"};
-    static const std::vector<std::string> words = {
-        "$Nodes", "$EndNodes", "$Elements", "$EndElements", "$Entities", "$PhysicalNames", "$Periodic",
-        "$NodeData", "$MeshFormat", "node", "set", "matrix", "units", "spin-axis", "cms-substructure", "K",
-        "M", "G1", "ux", "rz", "#", "\"", "SI", "\r", "\t", std::string(1, '\0')};
     const std::vector<Span> ls = lines(s);
     switch (below(11)) {
       case 0:  // truncate
@@ -241,7 +258,7 @@ private:
         // One draw per statement: argument evaluation order is unspecified.
         const std::size_t at = below(s.size());
         const std::size_t len = std::min(below(8), s.size() - at);
-        s.replace(at, len, pick(words));
+        s.replace(at, len, pick(words_));
         break;
       }
       default: {  // insert random bytes
@@ -255,6 +272,7 @@ private:
   }
 
   std::mt19937 rng_;
+  const std::vector<std::string>& words_;
 };
 
 /// Memory-backed when possible: rewriting a file on a disk mounted with
@@ -285,7 +303,7 @@ struct Broken : std::logic_error {
 };
 
 void readMesh(const std::string& path) {
-  const cms::mesh::Mesh m = cms::mesh::readGmsh(path);
+  const cms::mesh::Mesh m = cms::mesh::readMesh(path);  // by extension: Gmsh or .inp
   auto check = [](bool ok, const char* what) {
     if (!ok) throw Broken(what);
   };
@@ -422,7 +440,7 @@ Outcome inChild(const std::function<void(Outcome&)>& job, const fs::path& progre
   return out;
 }
 
-void fuzzFolder(const fs::path& dir, const Reader& read) {
+void fuzzFolder(const fs::path& dir, const Reader& read, const std::vector<std::string>& words = gmshWords()) {
   const std::vector<fs::path> seeds = filesIn(dir);
   ASSERT_FALSE(seeds.empty()) << "no seed files in " << dir;
   const int n = iterations();
@@ -445,7 +463,7 @@ void fuzzFolder(const fs::path& dir, const Reader& read) {
           if (out.rejected > 0) out.failures.push_back("seed " + name + " itself is rejected");
           for (int i = 0; i < n; ++i) {
             const std::string label = name + " case " + std::to_string(i);
-            Mutator mutate(nameHash(name) * 1000003u + static_cast<std::uint32_t>(i));
+            Mutator mutate(nameHash(name) * 1000003u + static_cast<std::uint32_t>(i), words);
             spit(file, mutate(original));
             readOne(read, file, label, progress, out);
           }
@@ -469,6 +487,17 @@ void fuzzFolder(const fs::path& dir, const Reader& read) {
 }
 
 TEST(MeshReaderFuzz, GmshFiles) { fuzzFolder(kFuzz / "gmsh", readMesh); }
+
+// Decks may include "part.inp" (tests/data/fuzz/inp/include/part.inp, written
+// beside each input, not mutated): includes are fuzzed by the names and
+// keywords the mutations make, cycles among them.
+void readDeck(const std::string& path) {
+  const fs::path part = fs::path(path).parent_path() / "part.inp";
+  if (!fs::exists(part)) spit(part, slurp(kFuzz / "inp" / "include" / "part.inp"));
+  readMesh(path);
+}
+
+TEST(MeshReaderFuzz, InpDecks) { fuzzFolder(kFuzz / "inp", readDeck, inpWords()); }
 
 TEST(MeshReaderFuzz, Sidecars) { fuzzFolder(kFuzz / "sidecar", readSidecar); }
 
