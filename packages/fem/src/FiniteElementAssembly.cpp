@@ -55,14 +55,6 @@ struct Item {
   std::int64_t other;      ///< Spring: second node
 };
 
-SolidType solidTypeOf(mesh::CellType t) {
-  switch (t) {
-    case mesh::CellType::Tet4: return SolidType::Tet4;
-    case mesh::CellType::Tet10: return SolidType::Tet10;
-    default: return SolidType::Hex8;
-  }
-}
-
 std::string nodeName(const mesh::Mesh& mesh, std::int64_t node) {
   return "node " + std::to_string(mesh.nodeTags[node]);
 }
@@ -525,7 +517,7 @@ class Assembler {
     const auto& set = model_.elementSets[it.set];
     const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
     for (int a = 0; a < it.block->nodesPerCell; ++a) std::copy_n(mesh_.x(cn[a]), 3, &xyz_[3 * a]);
-    return SolidElement{solidTypeOf(it.block->type), xyz_.data(), model_.materials.at(set.material)};
+    return SolidElement{solidTypeOf(set, *it.block), xyz_.data(), model_.materials.at(set.material)};
   }
   PointMass pointMassOf(const Item& it) const {
     PointMass p;

@@ -6,6 +6,7 @@
 #include "cms/fem/FiniteElementModel.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -42,8 +43,12 @@ ParameterList materialParameters() {
 
 ParameterList elementSetParameters() {
   ParameterList p("Element Set");
-  p.set("Type", "Solid", "Solid (Tet4, Tet10, Hex8 cells) or Frame (2-node line cells)");
+  p.set("Type", "Solid", "Solid (Tet4, Tet10, Hex8, Hex20, Wedge15 cells) or Frame (2-node line cells)");
   p.set("Material", "", "a name under Materials");
+  p.set("Hex8", "Full", "Solid: Full (2x2x2 Gauss, locks in bending) or Incompatible (Wilson-Taylor modes, "
+                        "condensed); default Full, or Incompatible for an .inp deck's C3D8I/C3D8R");
+  p.set("Hex20", "Full", "Solid: Full (3x3x3 Gauss, C3D20) or Reduced (2x2x2, C3D20R); default Full, "
+                         "or Reduced for an .inp deck's C3D20R");
   p.set("Theory", "Euler-Bernoulli", "Frame: Euler-Bernoulli or Timoshenko");
   p.set("Area", 0.0, "Frame: cross-section area A (m^2)");
   p.set("Iy", 0.0, "Frame: second moment about local y, int z^2 dA (m^4)");
@@ -163,10 +168,24 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
       s.section.orientation = toVec3(getNumbers(p, "Orientation", sub, 3, std::vector<double>{0, 0, 1}));
       s.section.rotaryInertia = getBool(p, "Rotary Inertia", sub, true);
       s.section.validate(sub.c_str());
+      for (const char* k : {"Hex8", "Hex20"})
+        CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Solid element sets only");
     } else {
       for (const char* k : {"Theory", "Area", "Iy", "Iz", "Torsion Constant", "Shear Factor Y", "Shear Factor Z",
                             "Orientation", "Rotary Inertia"})
         CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Frame element sets only");
+      if (p.isParameter("Hex8")) {
+        const std::string f = getString(p, "Hex8", sub);
+        CMS_INPUT_CHECK(f != "Full" && f != "Incompatible",
+                        sub << "/Hex8 = \"" << f << "\" must be \"Full\" or \"Incompatible\"");
+        s.hex8 = f == "Full" ? SolidType::Hex8 : SolidType::Hex8Incompatible;
+      }
+      if (p.isParameter("Hex20")) {
+        const std::string f = getString(p, "Hex20", sub);
+        CMS_INPUT_CHECK(f != "Full" && f != "Reduced",
+                        sub << "/Hex20 = \"" << f << "\" must be \"Full\" or \"Reduced\"");
+        s.hex20 = f == "Full" ? SolidType::Hex20 : SolidType::Hex20Reduced;
+      }
     }
     m.elementSets.push_back(s);
   });
@@ -256,6 +275,28 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
   return m;
 }
 
+SolidType solidTypeOf(const ElementSet& set, const mesh::CellBlock& b) {
+  std::string deck = b.elementName;
+  for (char& c : deck) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  switch (b.type) {
+    case mesh::CellType::Tet4: return SolidType::Tet4;
+    case mesh::CellType::Tet10: return SolidType::Tet10;
+    case mesh::CellType::Wedge15: return SolidType::Wedge15;
+    case mesh::CellType::Hex8:
+      if (set.hex8) return *set.hex8;
+      // C3D8R has no one-point brick here; the incompatible-mode brick is the
+      // non-locking element closest to what its user meant.
+      return deck == "C3D8I" || deck == "C3D8R" ? SolidType::Hex8Incompatible : SolidType::Hex8;
+    case mesh::CellType::Hex20:
+      if (set.hex20) return *set.hex20;
+      return deck == "C3D20R" ? SolidType::Hex20Reduced : SolidType::Hex20;
+    default: break;
+  }
+  CMS_INPUT_CHECK(true, "element set '" << set.group << "': cells of type " << mesh::cellTypeName(b.type)
+                                        << " (Gmsh type " << b.gmshType << ") are not solid elements");
+  throw std::logic_error("unreachable");
+}
+
 void FiniteElementModel::validate() const {
   CMS_INPUT_CHECK(!mesh, name << ": no mesh");
   // A lumped model (point masses on springs) needs no elements.
@@ -274,13 +315,15 @@ void FiniteElementModel::validate() const {
     for (const mesh::CellBlock& b : g.blocks) {
       const bool ok = s.kind == ElementSet::Kind::Frame
                           ? b.type == mesh::CellType::Line2
-                          : (b.type == mesh::CellType::Tet4 || b.type == mesh::CellType::Tet10 || b.type == mesh::CellType::Hex8);
+                          : (b.type == mesh::CellType::Tet4 || b.type == mesh::CellType::Tet10 ||
+                             b.type == mesh::CellType::Hex8 || b.type == mesh::CellType::Hex20 ||
+                             b.type == mesh::CellType::Wedge15);
       CMS_INPUT_CHECK(!ok, what << " (" << mesh->source << ", physical group of dimension " << g.dim
                                 << "): cells of type " << mesh::cellTypeName(b.type) << " (Gmsh type " << b.gmshType
                                 << ", e.g. element " << (b.cellTags.empty() ? 0 : b.cellTags[0])
                                 << ") are not supported by "
                                 << (s.kind == ElementSet::Kind::Frame ? "Frame sets (2-node lines only)"
-                                                                      : "Solid sets (Tet4, Tet10, Hex8)"));
+                                                                      : "Solid sets (Tet4, Tet10, Hex8, Hex20, Wedge15)"));
     }
   }
   for (const PointMassSet& p : pointMasses) mesh->group(p.nodeSet);

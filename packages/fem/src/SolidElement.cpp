@@ -10,7 +10,7 @@ namespace cms::fem {
 
 namespace {
 
-constexpr int kMaxNodes = 10;
+constexpr int kMaxNodes = 20;
 constexpr int kMaxPoints = 27;
 constexpr int kMaxGauss = 3;  // points per direction of the largest rule below
 
@@ -55,12 +55,39 @@ void gaussJacobi01(int n, int alpha, double* u, double* w) {
   }
 }
 
+/// The reference cell of each element: a formulation shares its shape's
+/// nodes and shape functions.
+enum class Shape { Tet4, Tet10, Hex8, Hex20, Wedge15 };
+Shape shapeOf(SolidType type) {
+  switch (type) {
+    case SolidType::Tet4: return Shape::Tet4;
+    case SolidType::Tet10: return Shape::Tet10;
+    case SolidType::Hex8:
+    case SolidType::Hex8Incompatible: return Shape::Hex8;
+    case SolidType::Hex20:
+    case SolidType::Hex20Reduced: return Shape::Hex20;
+    case SolidType::Wedge15: return Shape::Wedge15;
+  }
+  throw std::logic_error("solid element: unknown SolidType");
+}
+int shapeNodeCount(Shape s) {
+  switch (s) {
+    case Shape::Tet4: return 4;
+    case Shape::Tet10: return 10;
+    case Shape::Hex8: return 8;
+    case Shape::Hex20: return 20;
+    case Shape::Wedge15: return 15;
+  }
+  throw std::logic_error("solid element: unknown Shape");
+}
+
 /// Reference-element shape functions and their derivatives in (xi, eta, zeta),
 /// precomputed at the points of one quadrature rule.
 struct Rule {
   int nn = 0, nq = 0;
   double refVolume = 0.0;
   double w[kMaxPoints] = {};
+  double p[kMaxPoints][3] = {};  ///< reference coordinates of each point
   double N[kMaxPoints][kMaxNodes] = {};
   double dN[kMaxPoints][kMaxNodes][3] = {};
 };
@@ -73,9 +100,17 @@ constexpr int kTet10Edge[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}
 /// Hex: [-1, 1]³, bottom face zeta = -1 counter-clockwise seen from above, top face over it.
 constexpr int kHexCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                   {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+/// Hex20 mid-edge nodes 8..19 on these corner pairs (Gmsh's order, Mesh.hpp).
+constexpr int kHex20Edge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
+                                   {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
+/// Wedge: triangle (xi, eta) with L = (1 - xi - eta, xi, eta) times zeta in
+/// [-1, 1]; corners 0-2 at zeta = -1, 3-5 above them. Mid-edge nodes 6..14
+/// on these corner pairs (Gmsh's order).
+constexpr int kWedge15Edge[9][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 4},
+                                    {2, 5}, {3, 4}, {3, 5}, {4, 5}};
 
-void shape(SolidType type, const double* p, double* N, double (*dN)[3]) {
-  if (type == SolidType::Hex8) {
+void shape(Shape type, const double* p, double* N, double (*dN)[3]) {
+  if (type == Shape::Hex8) {
     for (int a = 0; a < 8; ++a) {
       const int* s = kHexCorner[a];
       const double f0 = 1.0 + s[0] * p[0], f1 = 1.0 + s[1] * p[1], f2 = 1.0 + s[2] * p[2];
@@ -86,9 +121,71 @@ void shape(SolidType type, const double* p, double* N, double (*dN)[3]) {
     }
     return;
   }
+  if (type == Shape::Hex20) {
+    // Serendipity (Zienkiewicz & Taylor, vol. 1, §8.7): corners
+    // N = (1/8) f0 f1 f2 (s.p - 2) with f_i = 1 + s_i p_i; a mid-edge node
+    // with s_d = 0: N = (1/4) (1 - p_d²) f_j f_k.
+    for (int a = 0; a < 8; ++a) {
+      const int* s = kHexCorner[a];
+      const double f[3] = {1.0 + s[0] * p[0], 1.0 + s[1] * p[1], 1.0 + s[2] * p[2]};
+      const double S = s[0] * p[0] + s[1] * p[1] + s[2] * p[2] - 2.0;
+      N[a] = 0.125 * f[0] * f[1] * f[2] * S;
+      for (int i = 0; i < 3; ++i) {
+        const double others = f[(i + 1) % 3] * f[(i + 2) % 3];
+        dN[a][i] = 0.125 * s[i] * others * (S + f[i]);
+      }
+    }
+    for (int e = 0; e < 12; ++e) {
+      const int* s0 = kHexCorner[kHex20Edge[e][0]];
+      const int* s1 = kHexCorner[kHex20Edge[e][1]];
+      int d = 0;
+      while (s0[d] == s1[d]) ++d;  // the edge runs along coordinate d
+      const int j = (d + 1) % 3, k = (d + 2) % 3;
+      const double g = 1.0 - p[d] * p[d], fj = 1.0 + s0[j] * p[j], fk = 1.0 + s0[k] * p[k];
+      N[8 + e] = 0.25 * g * fj * fk;
+      dN[8 + e][d] = -0.5 * p[d] * fj * fk;
+      dN[8 + e][j] = 0.25 * g * s0[j] * fk;
+      dN[8 + e][k] = 0.25 * g * fj * s0[k];
+    }
+    return;
+  }
+  if (type == Shape::Wedge15) {
+    // Corners: N = (1/2) L (1 + z_a zeta)(2 L + z_a zeta - 2); triangle edges
+    // at level z: 2 L_i L_j (1 + z zeta); vertical edges: L_i (1 - zeta²).
+    const double L[3] = {1.0 - p[0] - p[1], p[0], p[1]};
+    const double dL[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
+    const double zeta = p[2];
+    for (int a = 0; a < 6; ++a) {
+      const int i = a % 3;
+      const double z = a < 3 ? -1.0 : 1.0;
+      const double f = 1.0 + z * zeta, S = 2.0 * L[i] + z * zeta - 2.0;
+      N[a] = 0.5 * L[i] * f * S;
+      const double dNdL = 0.5 * f * (S + 2.0 * L[i]);
+      dN[a][0] = dNdL * dL[i][0];
+      dN[a][1] = dNdL * dL[i][1];
+      dN[a][2] = 0.5 * L[i] * z * (S + f);
+    }
+    for (int e = 0; e < 9; ++e) {
+      const int a = kWedge15Edge[e][0], b = kWedge15Edge[e][1];
+      const int i = a % 3, j = b % 3;
+      if ((a < 3) == (b < 3)) {  // in a triangle face
+        const double z = a < 3 ? -1.0 : 1.0, f = 1.0 + z * zeta;
+        N[6 + e] = 2.0 * L[i] * L[j] * f;
+        for (int m = 0; m < 2; ++m) dN[6 + e][m] = 2.0 * f * (L[j] * dL[i][m] + L[i] * dL[j][m]);
+        dN[6 + e][2] = 2.0 * L[i] * L[j] * z;
+      } else {  // vertical, i == j
+        const double g = 1.0 - zeta * zeta;
+        N[6 + e] = L[i] * g;
+        dN[6 + e][0] = dL[i][0] * g;
+        dN[6 + e][1] = dL[i][1] * g;
+        dN[6 + e][2] = -2.0 * zeta * L[i];
+      }
+    }
+    return;
+  }
   const double L[4] = {1.0 - p[0] - p[1] - p[2], p[0], p[1], p[2]};
   const double dL[4][3] = {{-1, -1, -1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  if (type == SolidType::Tet4) {
+  if (type == Shape::Tet4) {
     for (int a = 0; a < 4; ++a) {
       N[a] = L[a];
       std::copy(dL[a], dL[a] + 3, dN[a]);
@@ -113,22 +210,32 @@ void shape(SolidType type, const double* p, double* N, double (*dN)[3]) {
 /// zeta = u1, eta = u2 (1 - u1), xi = u3 (1 - u1)(1 - u2), whose Jacobian
 /// (1 - u1)² (1 - u2) is absorbed by Gauss-Jacobi weights: a monomial of total
 /// degree p becomes degree <= p in each u, so the rule is exact to total
-/// degree 2n-1.
-Rule makeRule(SolidType type, int n) {
+/// degree 2n-1. Wedge: the same collapse on the triangle (eta = u1,
+/// xi = u2 (1 - u1), Jacobian 1 - u1) times Gauss-Legendre in zeta: exact to
+/// total degree 2n-1 in (xi, eta) and degree 2n-1 in zeta.
+Rule makeRule(Shape type, int n) {
   Rule r;
-  r.nn = solidNodeCount(type);
+  r.nn = shapeNodeCount(type);
   r.nq = n * n * n;
+  const bool hex = type == Shape::Hex8 || type == Shape::Hex20;
+  const bool wedge = type == Shape::Wedge15;
   double u[3][kMaxGauss], w[3][kMaxGauss];
-  for (int d = 0; d < 3; ++d) gaussJacobi01(n, type == SolidType::Hex8 ? 0 : 2 - d, u[d], w[d]);
-  r.refVolume = type == SolidType::Hex8 ? 8.0 : 1.0 / 6.0;
+  for (int d = 0; d < 3; ++d)
+    gaussJacobi01(n, hex ? 0 : wedge ? (d == 0 ? 1 : 0) : 2 - d, u[d], w[d]);
+  r.refVolume = hex ? 8.0 : wedge ? 1.0 : 1.0 / 6.0;
   int q = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k, ++q) {
-        double p[3];
-        if (type == SolidType::Hex8) {
+        double* p = r.p[q];
+        if (hex) {
           p[0] = 2.0 * u[0][i] - 1.0, p[1] = 2.0 * u[1][j] - 1.0, p[2] = 2.0 * u[2][k] - 1.0;
           r.w[q] = 8.0 * w[0][i] * w[1][j] * w[2][k];
+        } else if (wedge) {
+          p[1] = u[0][i];
+          p[0] = u[1][j] * (1.0 - u[0][i]);
+          p[2] = 2.0 * u[2][k] - 1.0;
+          r.w[q] = 2.0 * w[0][i] * w[1][j] * w[2][k];
         } else {
           p[2] = u[0][i];
           p[1] = u[1][j] * (1.0 - u[0][i]);
@@ -141,27 +248,35 @@ Rule makeRule(SolidType type, int n) {
 }
 
 /// Stiffness rules integrate B^T D B exactly on straight-sided tetrahedra
-/// (degree 0 for Tet4, 2 for Tet10) and parallelepipeds; they also integrate
-/// det J exactly on any element (constant, cubic for curved Tet10, at most
-/// quadratic per coordinate for a trilinear hex), hence the volume, and
-/// (adj J) grad_ref N, so constant-stress patch tests pass on curved and
-/// distorted elements. Mass rules integrate N_a N_b det J exactly on
-/// straight-sided tetrahedra (degree 2, 4) and on any trilinear hex (quartic
-/// per coordinate), and with it the centrifugal load N_a x det J.
+/// and wedges (degree 0 for Tet4, 2 for Tet10, 4 for Wedge15) and
+/// parallelepipeds (Hex8: degree 2 per coordinate, Hex20: 4, with 3x3x3);
+/// they also integrate det J exactly on any Tet10 and trilinear hex, hence the
+/// volume, and (adj J) grad_ref N, so constant-stress patch tests pass on
+/// curved and distorted elements. Hex20Reduced (2x2x2) under-integrates on
+/// purpose: that is C3D20R. Mass rules integrate N_a N_b det J exactly on
+/// straight-sided tetrahedra and wedges (degree 2, 4, 4) and on any trilinear
+/// hex (quartic per coordinate), and on a parallelepiped Hex20 (quartic), and
+/// with it the centrifugal load N_a x det J.
 enum class Use { Stiffness, Mass };
 
 const Rule& ruleFor(SolidType type, Use use) {
   struct Rules {
-    Rule tet4K = makeRule(SolidType::Tet4, 1), tet4M = makeRule(SolidType::Tet4, 2);
-    Rule tet10K = makeRule(SolidType::Tet10, 2), tet10M = makeRule(SolidType::Tet10, 3);
-    Rule hexK = makeRule(SolidType::Hex8, 2), hexM = makeRule(SolidType::Hex8, 3);
+    Rule tet4K = makeRule(Shape::Tet4, 1), tet4M = makeRule(Shape::Tet4, 2);
+    Rule tet10K = makeRule(Shape::Tet10, 2), tet10M = makeRule(Shape::Tet10, 3);
+    Rule hex2 = makeRule(Shape::Hex8, 2), hex3 = makeRule(Shape::Hex8, 3);
+    Rule hex20x2 = makeRule(Shape::Hex20, 2), hex20x3 = makeRule(Shape::Hex20, 3);
+    Rule wedge3 = makeRule(Shape::Wedge15, 3);
   };
   static const Rules rules;
   const bool k = use == Use::Stiffness;
   switch (type) {
     case SolidType::Tet4: return k ? rules.tet4K : rules.tet4M;
     case SolidType::Tet10: return k ? rules.tet10K : rules.tet10M;
-    case SolidType::Hex8: return k ? rules.hexK : rules.hexM;
+    case SolidType::Hex8:
+    case SolidType::Hex8Incompatible: return k ? rules.hex2 : rules.hex3;
+    case SolidType::Hex20: return rules.hex20x3;
+    case SolidType::Hex20Reduced: return k ? rules.hex20x2 : rules.hex20x3;
+    case SolidType::Wedge15: return rules.wedge3;
   }
   throw std::logic_error("solid element: unknown SolidType");
 }
@@ -186,8 +301,10 @@ public:
 
   const Rule& rule() const { return r_; }
 
-  /// Weight * det J at point q; fills g[a] = grad N_a when g is not null.
-  double point(int q, double (*g)[3]) const {
+  /// Weight * det J at point q; fills g[a] = grad N_a when g is not null,
+  /// and the cofactor matrix C = det J * J^-T (C[i][j]) and det J when C is
+  /// not null.
+  double point(int q, double (*g)[3], double (*Cout)[3] = nullptr, double* detOut = nullptr) const {
     // Columns c_j = dx/dxi_j. The cofactor matrix C = det J * J^{-T} has
     // columns c1 x c2, c2 x c0, c0 x c1, and grad N = C grad_ref N / det J.
     double c[3][3] = {};
@@ -211,6 +328,10 @@ public:
       throw NumericalError(
           "solid element: Jacobian determinant <= 0 at an integration point (inverted or "
           "degenerate element)");
+    if (Cout) {
+      for (int i = 0; i < 3; ++i) std::copy(C[i], C[i] + 3, Cout[i]);
+      *detOut = det;
+    }
     if (g) {
       const double inv = 1.0 / det;
       for (int a = 0; a < r_.nn; ++a) {
@@ -235,6 +356,57 @@ private:
   double minDet_ = 0.0;
 };
 
+/// Gradients at the stiffness rule's points of an element's "gradient
+/// nodes": its nodes, then for Hex8Incompatible three internal modes
+/// P_k = 1 - xi_k², k = 0..2, whose coefficients (one per displacement
+/// component, like a node's) are condensed out. Their gradients follow
+/// Taylor, Beresford & Wilson (IJNME 10, 1976): grad P_k = J0^-T grad_ref P_k
+/// det J0 / det J with J0 the Jacobian at the centre, so that ∫ grad P_k dV
+/// = 0 on any element and constant strain stays exact (the patch test).
+/// In cofactor form, grad P_k = -2 xi_k C0[:, k] / det J.
+class Gradients {
+public:
+  explicit Gradients(const SolidElement& e)
+      : in_(e, Use::Stiffness), incompatible_(e.type == SolidType::Hex8Incompatible) {
+    if (!incompatible_) return;
+    // The centre Jacobian's cofactors, from the Hex8 derivatives at 0.
+    double c[3][3] = {};
+    for (int a = 0; a < 8; ++a)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) c[j][i] += 0.125 * kHexCorner[a][j] * e.xyz[3 * a + i];
+    for (int j = 0; j < 3; ++j) {
+      const double* u = c[(j + 1) % 3];
+      const double* v = c[(j + 2) % 3];
+      C0_[0][j] = u[1] * v[2] - u[2] * v[1];
+      C0_[1][j] = u[2] * v[0] - u[0] * v[2];
+      C0_[2][j] = u[0] * v[1] - u[1] * v[0];
+    }
+  }
+  const Rule& rule() const { return in_.rule(); }
+  int nodes() const { return in_.rule().nn; }
+  /// Gradient nodes: nodes() plus the internal modes.
+  int total() const { return nodes() + (incompatible_ ? 3 : 0); }
+  bool incompatible() const { return incompatible_; }
+
+  /// Weight * det J at point q, and g[a] for a < total().
+  double point(int q, double (*g)[3]) const {
+    if (!incompatible_) return in_.point(q, g);
+    double C[3][3], det = 0.0;
+    const double s = in_.point(q, g, C, &det);
+    const double* p = in_.rule().p[q];
+    for (int k = 0; k < 3; ++k) {
+      const double f = -2.0 * p[k] / det;
+      for (int i = 0; i < 3; ++i) g[8 + k][i] = f * C0_[i][k];
+    }
+    return s;
+  }
+
+private:
+  Integrator in_;
+  bool incompatible_;
+  double C0_[3][3] = {};
+};
+
 struct Lame {
   double lambda, mu;
 };
@@ -242,8 +414,8 @@ Lame lame(const IsotropicMaterial& m) {
   return {m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu)), m.shearModulus()};
 }
 
-/// Stress tensor of ue at a point with physical gradients g:
-/// sigma = lambda tr(eps) I + 2 mu eps, eps = sym(grad u).
+/// Stress tensor of ue at a point with physical gradients g of nn gradient
+/// nodes: sigma = lambda tr(eps) I + 2 mu eps, eps = sym(grad u).
 void stressAt(const Lame& L, int nn, const double (*g)[3], const double* ue, double S[3][3]) {
   double H[3][3] = {};
   for (int a = 0; a < nn; ++a)
@@ -253,6 +425,120 @@ void stressAt(const Lame& L, int nn, const double (*g)[3], const double* ue, dou
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       S[i][j] = L.mu * (H[i][j] + H[j][i]) + (i == j ? L.lambda * tr : 0.0);
+}
+
+/// Stiffness of all gradient nodes (3 * total() rows).
+ElementMatrix gradientStiffness(const Gradients& in, const Lame& L) {
+  const Rule& r = in.rule();
+  const int nn = in.total(), n = 3 * nn;
+  ElementMatrix K(n);
+  double* P = K.a.data();
+  double g[kMaxNodes][3];
+  // For isotropic D, B_a^T D B_b = lambda g_a g_b^T + mu (g_b g_a^T + (g_a . g_b) I)
+  // only recombines the 3x3 blocks of P = ∫ g g^T dV (g the n-vector of all
+  // gradient components). So accumulate P, a contiguous rank-1 update per
+  // point on the upper block triangle, and recombine once at the end.
+  for (int q = 0; q < r.nq; ++q) {
+    const double s = in.point(q, g);
+    const double* gf = &g[0][0];
+    for (int i = 0; i < n; ++i) {
+      const double v = s * gf[i];
+      double* row = P + static_cast<std::size_t>(i) * n;
+      for (int j = i - i % 3; j < n; ++j) row[j] += v * gf[j];
+    }
+  }
+  for (int a = 0; a < nn; ++a)
+    for (int b = a; b < nn; ++b) {
+      double B[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) B[i][j] = K(3 * a + i, 3 * b + j);
+      const double trace = B[0][0] + B[1][1] + B[2][2];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const double v = L.lambda * B[i][j] + L.mu * (B[j][i] + (i == j ? trace : 0.0));
+          K(3 * a + i, 3 * b + j) = v;
+          K(3 * b + j, 3 * a + i) = v;
+        }
+    }
+  return K;
+}
+
+/// Static condensation of the last na rows of a symmetric A (nu + na rows):
+/// X = -A_aa^-1 A_au (na x nu, row-major) by Cholesky, so that the condensed
+/// matrix is T^T A T with T = [I; X]. Throws cms::NumericalError when A_aa
+/// is not positive definite (a degenerate element).
+std::vector<double> condensation(const ElementMatrix& A, int nu) {
+  const int na = A.n - nu;
+  std::vector<double> Lf(static_cast<std::size_t>(na) * na, 0.0), X(static_cast<std::size_t>(na) * nu);
+  for (int j = 0; j < na; ++j) {
+    double d = A(nu + j, nu + j);
+    for (int k = 0; k < j; ++k) d -= Lf[j * na + k] * Lf[j * na + k];
+    if (!(d > 1e-12 * A(nu + j, nu + j)))
+      throw NumericalError("solid element: the incompatible modes' stiffness is not positive definite "
+                           "(degenerate element)");
+    Lf[j * na + j] = std::sqrt(d);
+    for (int i = j + 1; i < na; ++i) {
+      double v = A(nu + i, nu + j);
+      for (int k = 0; k < j; ++k) v -= Lf[i * na + k] * Lf[j * na + k];
+      Lf[i * na + j] = v / Lf[j * na + j];
+    }
+  }
+  for (int c = 0; c < nu; ++c) {  // solve L L^T x = -A_a,c
+    double y[kMaxNodes];
+    for (int i = 0; i < na; ++i) {
+      double v = -A(nu + i, c);
+      for (int k = 0; k < i; ++k) v -= Lf[i * na + k] * y[k];
+      y[i] = v / Lf[i * na + i];
+    }
+    for (int i = na - 1; i >= 0; --i) {
+      double v = y[i];
+      for (int k = i + 1; k < na; ++k) v -= Lf[k * na + i] * y[k];
+      y[i] = v / Lf[i * na + i];
+    }
+    for (int i = 0; i < na; ++i) X[static_cast<std::size_t>(i) * nu + c] = y[i];
+  }
+  return X;
+}
+
+/// T^T A T with T = [I; X] (A symmetric, nu + na rows): A_uu + A_ua X +
+/// X^T A_au + X^T A_aa X, symmetrised against rounding.
+ElementMatrix condensed(const ElementMatrix& A, int nu, const std::vector<double>& X) {
+  const int na = A.n - nu;
+  std::vector<double> AX(static_cast<std::size_t>(A.n) * nu, 0.0);  // A [I; X], A.n x nu
+  for (int i = 0; i < A.n; ++i)
+    for (int c = 0; c < nu; ++c) {
+      double v = A(i, c);
+      for (int k = 0; k < na; ++k) v += A(i, nu + k) * X[static_cast<std::size_t>(k) * nu + c];
+      AX[static_cast<std::size_t>(i) * nu + c] = v;
+    }
+  ElementMatrix K(nu);
+  for (int r = 0; r < nu; ++r)
+    for (int c = r; c < nu; ++c) {
+      double v = AX[static_cast<std::size_t>(r) * nu + c];
+      for (int k = 0; k < na; ++k) v += X[static_cast<std::size_t>(k) * nu + r] * AX[static_cast<std::size_t>(nu + k) * nu + c];
+      K(r, c) = v;
+    }
+  for (int r = 0; r < nu; ++r)
+    for (int c = 0; c < r; ++c) K(r, c) = K(c, r);
+  return K;
+}
+
+/// The displacement of every gradient node: ue, then for Hex8Incompatible
+/// the condensed internal modes X ue.
+std::vector<double> gradientNodeValues(const Gradients& in, const Lame& L, const double* ue,
+                                       std::vector<double>* X = nullptr) {
+  const int nu = 3 * in.nodes();
+  std::vector<double> v(ue, ue + nu);
+  if (!in.incompatible()) return v;
+  std::vector<double> x = condensation(gradientStiffness(in, L), nu);
+  const int na = 3 * (in.total() - in.nodes());
+  for (int i = 0; i < na; ++i) {
+    double s = 0.0;
+    for (int c = 0; c < nu; ++c) s += x[static_cast<std::size_t>(i) * nu + c] * ue[c];
+    v.push_back(s);
+  }
+  if (X) *X = std::move(x);
+  return v;
 }
 
 /// Scalar consistent-mass kernel m_ab = ∫ rho N_a N_b dV (upper triangle
@@ -299,50 +585,27 @@ ElementMatrix expand(int nn, double k[kMaxNodes][kMaxNodes], const double B[3][3
 
 }  // namespace
 
-int solidNodeCount(SolidType type) {
+const char* solidTypeName(SolidType type) {
   switch (type) {
-    case SolidType::Tet4: return 4;
-    case SolidType::Tet10: return 10;
-    case SolidType::Hex8: return 8;
+    case SolidType::Tet4: return "Tet4";
+    case SolidType::Tet10: return "Tet10";
+    case SolidType::Hex8: return "Hex8";
+    case SolidType::Hex20: return "Hex20";
+    case SolidType::Wedge15: return "Wedge15";
+    case SolidType::Hex8Incompatible: return "Hex8Incompatible";
+    case SolidType::Hex20Reduced: return "Hex20Reduced";
   }
   throw std::logic_error("solid element: unknown SolidType");
 }
 
+int solidNodeCount(SolidType type) { return shapeNodeCount(shapeOf(type)); }
+
 ElementMatrix solidStiffness(const SolidElement& e) {
-  const Integrator in(e, Use::Stiffness);
-  const Rule& r = in.rule();
-  const int nn = r.nn, n = 3 * nn;
-  const Lame L = lame(e.material);
-  ElementMatrix K(n);
-  double* P = K.a.data();
-  double g[kMaxNodes][3];
-  // For isotropic D, B_a^T D B_b = lambda g_a g_b^T + mu (g_b g_a^T + (g_a . g_b) I)
-  // only recombines the 3x3 blocks of P = ∫ g g^T dV (g the n-vector of all
-  // gradient components). So accumulate P, a contiguous rank-1 update per
-  // point on the upper block triangle, and recombine once at the end.
-  for (int q = 0; q < r.nq; ++q) {
-    const double s = in.point(q, g);
-    const double* gf = &g[0][0];
-    for (int i = 0; i < n; ++i) {
-      const double v = s * gf[i];
-      double* row = P + static_cast<std::size_t>(i) * n;
-      for (int j = i - i % 3; j < n; ++j) row[j] += v * gf[j];
-    }
-  }
-  for (int a = 0; a < nn; ++a)
-    for (int b = a; b < nn; ++b) {
-      double B[3][3];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) B[i][j] = K(3 * a + i, 3 * b + j);
-      const double trace = B[0][0] + B[1][1] + B[2][2];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const double v = L.lambda * B[i][j] + L.mu * (B[j][i] + (i == j ? trace : 0.0));
-          K(3 * a + i, 3 * b + j) = v;
-          K(3 * b + j, 3 * a + i) = v;
-        }
-    }
-  return K;
+  const Gradients in(e);
+  const ElementMatrix K = gradientStiffness(in, lame(e.material));
+  if (!in.incompatible()) return K;
+  const int nu = 3 * in.nodes();
+  return condensed(K, nu, condensation(K, nu));
 }
 
 ElementMatrix solidMass(const SolidElement& e) {
@@ -353,7 +616,7 @@ ElementMatrix solidMass(const SolidElement& e) {
 }
 
 double solidVolume(const SolidElement& e) {
-  const Integrator in(e, Use::Stiffness);
+  const Integrator in(e, Use::Mass);  // the mass's volume: M's total mass is rho times it
   double v = 0.0;
   for (int q = 0; q < in.rule().nq; ++q) v += in.point(q, nullptr);
   return v;
@@ -381,36 +644,43 @@ SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin) {
 ElementMatrix solidGeometricStiffness(const SolidElement& e, const double* ue) {
   CMS_INPUT_CHECK(ue == nullptr,
                   "solid element: geometric stiffness needs a displacement (ue is null)");
-  const Integrator in(e, Use::Stiffness);
+  const Gradients in(e);
   const Rule& r = in.rule();
-  const int nn = r.nn;
+  const int nt = in.total();
   const Lame L = lame(e.material);
+  std::vector<double> X;
+  const std::vector<double> u = gradientNodeValues(in, L, ue, &X);
   double k[kMaxNodes][kMaxNodes] = {};
   double g[kMaxNodes][3], S[3][3], Sg[kMaxNodes][3];
   for (int q = 0; q < r.nq; ++q) {
     const double s = in.point(q, g);
-    stressAt(L, nn, g, ue, S);
-    for (int b = 0; b < nn; ++b)
+    stressAt(L, nt, g, u.data(), S);
+    for (int b = 0; b < nt; ++b)
       for (int i = 0; i < 3; ++i)
         Sg[b][i] = s * (S[i][0] * g[b][0] + S[i][1] * g[b][1] + S[i][2] * g[b][2]);
-    for (int a = 0; a < nn; ++a)
-      for (int b = a; b < nn; ++b)
+    for (int a = 0; a < nt; ++a)
+      for (int b = a; b < nt; ++b)
         k[a][b] += g[a][0] * Sg[b][0] + g[a][1] * Sg[b][1] + g[a][2] * Sg[b][2];
   }
   const double I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  return expand(nn, k, I);
+  const ElementMatrix Kg = expand(nt, k, I);
+  if (!in.incompatible()) return Kg;
+  // The internal modes follow ue (X ue), so the quadratic form is taken on
+  // the condensed element's displacement gradient: T^T Kg T.
+  return condensed(Kg, 3 * in.nodes(), X);
 }
 
 std::array<double, 6> solidMeanStress(const SolidElement& e, const double* ue) {
   CMS_INPUT_CHECK(ue == nullptr, "solid element: mean stress needs a displacement (ue is null)");
-  const Integrator in(e, Use::Stiffness);
+  const Gradients in(e);
   const Rule& r = in.rule();
   const Lame L = lame(e.material);
+  const std::vector<double> u = gradientNodeValues(in, L, ue);
   double g[kMaxNodes][3], S[3][3], volume = 0.0;
   std::array<double, 6> mean{};
   for (int q = 0; q < r.nq; ++q) {
     const double s = in.point(q, g);
-    stressAt(L, r.nn, g, ue, S);
+    stressAt(L, in.total(), g, u.data(), S);
     volume += s;
     const double voigt[6] = {S[0][0], S[1][1], S[2][2], S[1][2], S[0][2], S[0][1]};
     for (int i = 0; i < 6; ++i) mean[i] += s * voigt[i];

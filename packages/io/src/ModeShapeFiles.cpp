@@ -23,13 +23,22 @@ int vtkType(fem::CellType t) {
     case fem::CellType::Tet4: return 10;
     case fem::CellType::Tet10: return 24;
     case fem::CellType::Hex8: return 12;
+    case fem::CellType::Hex20: return 25;    // VTK_QUADRATIC_HEXAHEDRON
+    case fem::CellType::Wedge15: return 26;  // VTK_QUADRATIC_WEDGE
     default: return 0;
   }
 }
 
-/// Gmsh's Tet10 numbers the last two edge nodes (2,3), (1,3); VTK (1,3), (2,3).
+/// The VTK position of Gmsh's node i. Gmsh's Tet10 numbers the last two edge
+/// nodes (2,3), (1,3); VTK (1,3), (2,3). VTK numbers the edge nodes of
+/// quadratic hexahedra and wedges as Abaqus does (cms/mesh/Mesh.hpp gives
+/// that permutation).
 int vtkNode(fem::CellType t, int i) {
+  static const int hex20[12] = {0, 3, 8, 1, 9, 2, 10, 11, 4, 7, 5, 6};
+  static const int wedge15[9] = {0, 2, 6, 1, 7, 8, 3, 5, 4};
   if (t == fem::CellType::Tet10 && (i == 8 || i == 9)) return i == 8 ? 9 : 8;
+  if (t == fem::CellType::Hex20 && i >= 8) return 8 + hex20[i - 8];
+  if (t == fem::CellType::Wedge15 && i >= 6) return 6 + wedge15[i - 6];
   return i;
 }
 

@@ -16,6 +16,7 @@
 
 #include "cms/fem/ElementMatrix.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
+#include "cms/fem/SolidElement.hpp"
 #include "cms/mesh/Mesh.hpp"
 
 namespace cms::fem {
@@ -33,7 +34,17 @@ struct ElementSet {
   std::string material;  ///< key into FiniteElementModel::materials
   BeamSection section;   ///< Frame only
   BeamTheory theory = BeamTheory::EulerBernoulli;
+  /// Solid only: the element of the cell shapes that have a choice ("Hex8":
+  /// Full or Incompatible, "Hex20": Full or Reduced). Unset: the mesh block's
+  /// element name decides (an .inp deck's C3D8I or C3D8R: Incompatible,
+  /// C3D20R: Reduced), else Full.
+  std::optional<SolidType> hex8, hex20;
 };
+
+/// The element that an element set's cells of block b get (Solid sets):
+/// Tet4, Tet10, Wedge15 as they are, Hex8 and Hex20 by the set's choice
+/// (ElementSet::hex8, hex20). Throws cms::InputError for any other cell type.
+SolidType solidTypeOf(const ElementSet& set, const mesh::CellBlock& b);
 
 struct PointMassSet {
   std::string name, nodeSet;  ///< one point mass at every node of the set
@@ -86,7 +97,7 @@ struct FiniteElementModel {
   static FiniteElementModel fromParameters(const Teuchos::ParameterList& params,
                                            const std::string& baseDir = ".");
   /// Checks the model against its mesh: element sets name existing groups of
-  /// supported cell types (Solid: Tet4, Tet10, Hex8; Frame: Line2), materials
+  /// supported cell types (Solid: Tet4, Tet10, Hex8, Hex20, Wedge15; Frame: Line2), materials
   /// exist and are valid, node sets exist. Throws cms::InputError.
   void validate() const;
 };

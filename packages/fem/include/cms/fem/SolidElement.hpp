@@ -1,17 +1,24 @@
-// Isoparametric 3D solid elements with three translational DOFs per node:
-// 4- and 10-node tetrahedra and 8-node hexahedra, in Gmsh's node order.
-// Stiffness, consistent mass, rotating-frame terms per unit speed and the
-// geometric stiffness of the stress caused by a displacement (doc/theory.md
-// §9, §10). Integration is exact for the polynomial degree of each integrand
-// on straight-sided elements (tetrahedra: collapsed Gauss products).
+// Isoparametric 3D solid elements with three translational DOFs per node, in
+// Gmsh's node order (cms/mesh/Mesh.hpp): 4- and 10-node tetrahedra, 8-node
+// hexahedra (full 2x2x2 integration, or with Wilson-Taylor incompatible modes
+// condensed per element), 20-node serendipity hexahedra (3x3x3, or reduced
+// 2x2x2 as CalculiX's C3D20R) and 15-node wedges. Stiffness, consistent mass,
+// rotating-frame terms per unit speed and the geometric stiffness of the
+// stress caused by a displacement (doc/theory.md §9, §10, §14). Mass rules
+// are exact on straight-sided elements; stiffness rules are exact there
+// except where reduced integration is the point (Hex20Reduced).
 #pragma once
 
 #include "cms/fem/ElementMatrix.hpp"
 
 namespace cms::fem {
 
-enum class SolidType { Tet4, Tet10, Hex8 };
+/// An element: a cell shape and its formulation. Hex8Incompatible and
+/// Hex20Reduced share the nodes of Hex8 and Hex20.
+enum class SolidType { Tet4, Tet10, Hex8, Hex20, Wedge15, Hex8Incompatible, Hex20Reduced };
 
+/// "Tet4", ..., "Hex8Incompatible", "Hex20Reduced".
+const char* solidTypeName(SolidType type);
 int solidNodeCount(SolidType type);
 
 struct SolidElement {
@@ -27,16 +34,24 @@ ElementMatrix solidStiffness(const SolidElement& e);
 ElementMatrix solidMass(const SolidElement& e);
 double solidVolume(const SolidElement& e);
 
+/// Hex8Incompatible: the stiffness after static condensation of its nine
+/// internal modes, K = Kuu - Kua Kaa^-1 Kau; the internal modes carry no
+/// mass, so M, G1, KT1 and f1 are those of Hex8 (theory §14.3).
+
 /// Rotating-frame terms per unit speed: G1 = 2 ∫ rho N^T [n]x N dV,
 /// KT1 = ∫ rho N^T [n]x^T [n]x N dV, f1 = ∫ rho N^T r_perp dV with
 /// r_perp = (I - n n^T)(x - origin).
 SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin);
 
 /// Geometric stiffness of the linear-elastic stress sigma = D B ue at each
-/// integration point: K_ab = ∫ (grad N_a^T sigma grad N_b) dV * I_3.
+/// integration point of the stiffness rule: K_ab = ∫ (grad N_a^T sigma
+/// grad N_b) dV * I_3. Hex8Incompatible: with the displacement gradient of
+/// the condensed element (its internal modes follow ue), both in sigma and in
+/// the quadratic form (theory §14.3).
 ElementMatrix solidGeometricStiffness(const SolidElement& e, const double* ue);
 
-/// Volume-averaged stress of ue, Voigt order xx yy zz yz xz xy.
+/// Volume-averaged stress of ue, Voigt order xx yy zz yz xz xy (over the
+/// stiffness rule's points).
 std::array<double, 6> solidMeanStress(const SolidElement& e, const double* ue);
 
 }  // namespace cms::fem
