@@ -46,7 +46,10 @@ def campbell(rows, out, orders=None, axis="rpm", crossings=None):
     forward-whirl tracks solid, backward dash-dot, neither dotted, each in
     its own colour; engine-order lines dashed grey; frame-rate tracks (rigid
     motions seen at a spin rate) faint; crossings marked (filled: forward,
-    which unbalance excites at 1X; open: backward); a legend."""
+    which unbalance excites at 1X; open: backward); a legend. Beside it,
+    when the table has track<i>_damping_ratio columns (doc/theory.md §13),
+    the damping ratio of each track against the same speed axis, in the
+    same style; below zero (shaded) a mode grows."""
     from matplotlib.lines import Line2D
 
     rate_keys = [k for k in rows[0] if k.endswith("_rad_per_s")]
@@ -64,7 +67,12 @@ def campbell(rows, out, orders=None, axis="rpm", crossings=None):
         return hz * 2 * math.pi / abs(w) if w else math.nan
 
     tracks = sorted({k[: -len("_hz")] for k in rows[0] if k.endswith("_hz")}, key=lambda t: int(t[5:]))
-    fig, ax = plt.subplots(figsize=(9, 6))
+    damped = any(k.endswith("_damping_ratio") for k in rows[0])
+    if damped:
+        fig, (ax, axz) = plt.subplots(1, 2, figsize=(15, 6), gridspec_kw={"width_ratios": [3, 2]})
+    else:
+        fig, ax = plt.subplots(figsize=(9, 6))
+        axz = None
     # Track colours: the default cycle without its grey (grey is for engine orders).
     colours = [c for c in plt.rcParams["axes.prop_cycle"].by_key()["color"] if c.lower() != "#7f7f7f"]
     ymax = 0.0
@@ -79,6 +87,9 @@ def campbell(rows, out, orders=None, axis="rpm", crossings=None):
             continue
         style = "-" if fw > bw else "-." if bw > fw else ":"
         ax.plot(xs, ys, style, color=colours[i % len(colours)], lw=1.4)
+        if axz is not None:
+            zeta = [num(r.get(t + "_damping_ratio")) for r in rows]
+            axz.plot(xs, zeta, style, color=colours[i % len(colours)], lw=1.4, label=t)
         bad = [(x, y) for x, y, r in zip(xs, ys, rows) if r[t + "_stability"] not in ("stable", "rigid", "neutral")]
         if bad:
             ax.plot([b[0] for b in bad], [b[1] for b in bad], "rx", ms=6)
@@ -144,6 +155,17 @@ def campbell(rows, out, orders=None, axis="rpm", crossings=None):
     ]
     ax.legend(handles=handles, fontsize=7, loc="best", framealpha=0.9)
     ax.grid(alpha=0.3)
+    if axz is not None:
+        axz.axhline(0.0, color="r", lw=0.9)
+        lo, hi = axz.get_ylim()
+        if lo < 0:
+            axz.axhspan(lo, 0.0, color="red", alpha=0.08, lw=0)
+        axz.set_xlim(0, top)
+        axz.set_xlabel(f"{ref} speed ({xunit})", fontsize=9)
+        axz.set_ylabel("damping ratio zeta = -Re(lambda) / |lambda|")
+        axz.set_title("damping ratio (below 0: unstable)", fontsize=10)
+        axz.grid(alpha=0.3)
+        axz.legend(fontsize=7, loc="best", framealpha=0.9)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
 

@@ -8,7 +8,8 @@
 - the first columns are factor, then <reference>_rad_per_s, then the other
   rates; a rate named in --held is constant over the sweep, every other one
   is scaled (varies, in proportion to the reference);
-- every track has _hz, _stability, _whirl (FW, BW, -, unresolved) and
+- every track has _hz, _stability, _damping_ratio (in [-1, 1] or nan),
+  _whirl (FW, BW, -, unresolved) and
   _frame_rate (yes, no) columns;
 - <name>-campbell-crossings.csv has the header below, only --orders appear,
   each frequency is order times the speed, rpm is rad/s * 30 / pi, and
@@ -50,12 +51,16 @@ def main(argv):
     if not tracks:
         bad.append("no track columns")
     for t in tracks:
-        for suffix in ("_stability", "_whirl", "_frame_rate"):
+        for suffix in ("_stability", "_damping_ratio", "_whirl", "_frame_rate"):
             if t + suffix not in header:
                 bad.append(f"{t}{suffix} missing")
         for r in rows:
             if r.get(t + "_whirl") not in ("FW", "BW", "-", "unresolved"):
                 bad.append(f"{t}_whirl = {r.get(t + '_whirl')!r}")
+                break
+            zeta = r.get(t + "_damping_ratio", "")
+            if zeta.lower().lstrip("-") != "nan" and not (-1.0 <= float(zeta or "nan") <= 1.0):
+                bad.append(f"{t}_damping_ratio = {zeta!r} not in [-1, 1]")
                 break
             if r.get(t + "_frame_rate") not in ("yes", "no"):
                 bad.append(f"{t}_frame_rate = {r.get(t + '_frame_rate')!r}")

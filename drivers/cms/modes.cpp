@@ -1,7 +1,7 @@
 // cms modes: the structure's lowest modes at the scene's speeds, each with
 // its accuracy (doc/user-guide.md, "cms modes").
 //
-// For every mode: frequency (Hz, rad/s), growth rate and stability, the
+// For every mode: frequency (Hz, rad/s), growth rate, stability and damping ratio (§13), the
 // residual of the reduced equations, the estimated relative error against
 // the truth model without solving it (doc/theory.md §11.8), the
 // substructure carrying most of its kinetic energy and the whirl of each
@@ -120,7 +120,7 @@ void printModes(const analysis::ModalResult& r) {
   std::cout << "\nspeeds (rad/s):";
   for (std::size_t i = 0; i < r.speeds.size(); ++i) std::cout << ' ' << structure.speeds()[i].name << " = " << r.speeds[i];
   std::cout << "\nsolver: " << result.solver << (result.reason.empty() ? "" : " (" + condense(result.reason) + ")")
-            << "\n\n mode      Hz          rad/s       growth (1/s)  stability   residual  est.error       bound  "
+            << "\n\n mode      Hz          rad/s       growth (1/s)  stability       zeta  residual  est.error       bound  "
                "largest share, whirl (FW/BW)\n";
   for (std::size_t m = 0; m < result.modes.size(); ++m) {
     const auto& md = result.modes[m];
@@ -128,7 +128,8 @@ void printModes(const analysis::ModalResult& r) {
     const std::size_t top = std::max_element(share.begin(), share.end()) - share.begin();
     std::cout << std::setw(5) << m + 1 << std::setw(12) << std::setprecision(6) << md.hz << std::setw(12) << md.omega
               << std::setw(14) << std::setprecision(3) << md.growthRate << "  " << std::left << std::setw(11)
-              << toString(md.stability) << std::right << std::setw(9) << std::setprecision(2) << md.residual
+              << toString(md.stability) << std::right << std::setw(11) << std::setprecision(3) << md.dampingRatio
+              << std::setw(10) << std::setprecision(2) << md.residual
               << std::setw(11) << estimateText(r.estimates[m]) << std::setw(12) << boundText(r.accuracy[m]);
     if (m < r.trueErrors.size()) std::cout << " (true " << std::setprecision(2) << r.trueErrors[m] << ")";
     std::cout << "  " << reps[top].name << " " << std::setprecision(3) << share[top]
@@ -136,6 +137,10 @@ void printModes(const analysis::ModalResult& r) {
     for (const auto& w : r.whirls[m]) std::cout << "  " << w;
     std::cout << '\n';
   }
+  // The stability margin of a damped structure (theory §13.3).
+  if (!r.reduced->damping().is_null())
+    std::cout << "least damping ratio: " << std::setprecision(4) << result.leastDampingRatio()
+              << (result.leastDampingRatio() < 0.0 ? " (UNSTABLE: a mode grows)" : "") << '\n';
 }
 
 }  // namespace

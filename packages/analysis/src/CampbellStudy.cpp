@@ -27,6 +27,7 @@ eigen::GyroscopicSystem SpeedDependentSystem::at(double Omega) const {
   s.G = G1;
   s.G.scale(Omega);
   s.K = K0;
+  s.D = D;
   if (K2.numRows() > 0) {
     CMS_INPUT_CHECK(K2.numRows() != K0.numRows() || K2.numCols() != K0.numCols(),
                     "SpeedDependentSystem: K2 is " << K2.numRows() << "x" << K2.numCols() << " but K0 is "
@@ -313,7 +314,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     }
     if (k == 0) {
       for (std::size_t j = 0; j < modes.size(); ++j) {
-        r.tracks.push_back({{modes[j].omega}, {modes[j].stability}, {whirl[j]}, {false}});
+        r.tracks.push_back({{modes[j].omega}, {modes[j].stability}, {whirl[j]}, {false}, {modes[j].dampingRatio}});
         last.push_back(modes[j]);
       }
       continue;
@@ -337,6 +338,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       tr.stability.push_back(j < 0 ? eigen::Stability::Stable : modes[j].stability);
       tr.whirl.push_back(j < 0 ? Whirl::Neutral : whirl[j]);
       tr.lost.push_back(j < 0);
+      tr.dampingRatio.push_back(j < 0 ? std::nan("") : modes[j].dampingRatio);
       if (j < 0) continue;
       // Engine-order crossings in (f_{k-1}, f_k]: a sign change of omega - order * Omega_ref.
       const bool frameLike = rateLike(tr) >= 0;
@@ -512,14 +514,15 @@ void CampbellResult::writeCsv(std::ostream& os) const {
   for (auto p : order) os << ',' << parameters[p].name << "_rad_per_s";
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     const auto n = "track" + std::to_string(t + 1);
-    os << ',' << n << "_hz," << n << "_stability," << n << "_whirl," << n << "_frame_rate";
+    os << ',' << n << "_hz," << n << "_stability," << n << "_damping_ratio," << n << "_whirl," << n << "_frame_rate";
   }
   os << '\n';
   for (std::size_t k = 0; k < factors.size(); ++k) {
     os << factors[k];
     for (auto p : order) os << ',' << speeds[k][p];
     for (const auto& tr : tracks)
-      os << ',' << tr.omega[k] / (2 * M_PI) << ',' << stabilityText(tr, k) << ',' << toString(tr.whirl[k]) << ','
+      os << ',' << tr.omega[k] / (2 * M_PI) << ',' << stabilityText(tr, k) << ',' << tr.dampingRatio[k] << ','
+         << toString(tr.whirl[k]) << ','
          << (tr.frameRate ? "yes" : "no");
     os << '\n';
   }

@@ -379,8 +379,54 @@ void setDamping(GyroscopicMode& m) {
   else m.logDecrement = re < 0.0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
 }
 
+namespace {
+/// Another returned mode within r of m (or of a mirror of m) whose shape is
+/// nearly parallel to m's (|q_m^H q_o|^2 >= 0.9 |q_m|^2 |q_o|^2): the two
+/// are values of one split defective eigenvalue (their eigenvectors both
+/// approximate its single eigenvector).
+bool splitPartner(const std::vector<GyroscopicMode>& modes, const GyroscopicMode& m, double r) {
+  for (const auto& o : modes) {
+    if (&o == &m || o.q.size() != m.q.size()) continue;
+    const double d = std::min({std::abs(o.lambda - m.lambda), std::abs(o.lambda + std::conj(m.lambda)),
+                               std::abs(o.lambda - std::conj(m.lambda)), std::abs(o.lambda + m.lambda)});
+    if (d > r) continue;
+    std::complex<double> dot = 0.0;
+    double mm = 0.0, oo = 0.0;
+    for (std::size_t i = 0; i < m.q.size(); ++i)
+      dot += std::conj(m.q[i]) * o.q[i], mm += std::norm(m.q[i]), oo += std::norm(o.q[i]);
+    if (std::norm(dot) >= 0.9 * mm * oo) return true;
+  }
+  return false;
+}
+/// The values of m's split cluster (m and the modes within r of it, or of a
+/// mirror, with nearly parallel shapes), each taken with Im >= 0: is their
+/// centre within twice their spread of zero?
+bool centredAtZero(const std::vector<GyroscopicMode>& modes, const GyroscopicMode& m, double r) {
+  auto upper = [](std::complex<double> l) { return l.imag() < 0.0 ? std::conj(l) : l; };
+  std::vector<std::complex<double>> members{upper(m.lambda)};
+  for (const auto& o : modes) {
+    if (&o == &m || o.q.size() != m.q.size()) continue;
+    const double d = std::min({std::abs(o.lambda - m.lambda), std::abs(o.lambda + std::conj(m.lambda)),
+                               std::abs(o.lambda - std::conj(m.lambda)), std::abs(o.lambda + m.lambda)});
+    if (d > r) continue;
+    std::complex<double> dot = 0.0;
+    double mm = 0.0, oo = 0.0;
+    for (std::size_t i = 0; i < m.q.size(); ++i)
+      dot += std::conj(m.q[i]) * o.q[i], mm += std::norm(m.q[i]), oo += std::norm(o.q[i]);
+    if (std::norm(dot) >= 0.9 * mm * oo) members.push_back(upper(o.lambda));
+  }
+  std::complex<double> centre = 0.0;
+  for (auto l : members) centre += l;
+  centre /= static_cast<double>(members.size());
+  double spread = 0.0;
+  for (auto a : members)
+    for (auto b : members) spread = std::max(spread, std::abs(a - b));
+  return std::abs(centre) <= 2.0 * spread;
+}
+}  // namespace
+
 void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
-                   double instabilityTol, bool conservative) {
+                   double instabilityTol, bool conservative, bool completeShapes) {
   if (!conservative) {
     // A damped (or circulatory) system: no Hamiltonian mirrors, so no
     // rounding argument keeps an eigenvalue on the axis. The verdict is the
@@ -412,6 +458,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     const double scale = m.scale > 0.0 ? std::min(m.scale, systemScale) : systemScale;
     const double eta = std::max(m.residual, eps);
     double radius = 0.0;  // the splitting rounding can cause around this eigenvalue
+    int radiusOrder = 1;  // the multiplicity k that radius assumes
     // A defective eigenvalue of multiplicity k splits into k computed values,
     // up to 2k with their mirrors; more within r_k means r_k reaches other
     // eigenvalues, not a cluster of one.
@@ -419,8 +466,23 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       const double r = 10.0 * std::pow(eta, 1.0 / k) * scale;
       int near = 0;
       for (cplx l : spectrum) near += std::abs(l - m.lambda) <= r;
-      if (near >= k && near <= 2 * k) radius = r;
+      // The k >= 3 values of a split defective eigenvalue approximate one
+      // eigenvector: their computed shapes are nearly parallel. Distinct
+      // modes that merely fall within r_k of each other (a free body's
+      // frame-rate triple at Omega and a stable mode at 1.5 Omega, with a
+      // wheel's gyroscopic scale making r_4 ~ 1 rad/s) have independent
+      // shapes and are not one split cluster: without this, which of them
+      // were taken for a split zero (and called rigid) depended on how
+      // rounding placed the mirrors, i.e. on the rank count (issue #11).
+      if (near >= k && near <= 2 * k && (k <= 2 || !completeShapes || splitPartner(modes, m, r)))
+        radius = r, radiusOrder = k;
     }
+    // Rigid through the radius only for a cluster that can be centred at
+    // zero: a split defective eigenvalue of order k >= 3 spreads its values
+    // around its centre, so a cluster whose centre lies further from zero
+    // than its spread (a free body's frame-rate triple at i Omega, split by
+    // 1e-4 Omega) is a cluster at that centre, not a split zero.
+    const bool zeroCentred = radiusOrder <= 2 || !completeShapes || centredAtZero(modes, m, radius);
     // A growing mode of a conservative system has a partner -conj(lambda)
     // (a real one, +/- sigma, is kept as +sigma alone). An eigenvalue near
     // the imaginary axis without one is simple and isolated, and Hamiltonian
@@ -448,7 +510,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     }
     const bool split = near2 >= 1 || near3 >= 2;
     Stability s = classify(m.lambda, scale, rigidBodyTol, instabilityTol);
-    if (std::abs(m.lambda) <= radius) s = Stability::RigidBody;
+    if (std::abs(m.lambda) <= radius && zeroCentred) s = Stability::RigidBody;
     else if (!partner && (s == Stability::Divergence || s == Stability::Flutter || m.lambda.real() > 0.0))
       s = Stability::Stable;
     else if ((s == Stability::Divergence || s == Stability::Flutter) && m.lambda.real() <= radius)
@@ -534,7 +596,7 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
     for (int i = 0; i < n; ++i) aKa += Qa(i, j) * KQa(i, j), aGa += Qa(i, j) * GQa(i, j);
     m.scale = ownScales && qMq > 0.0 ? std::sqrt(aKa / qMq) + aGa / qMq : 0.0;
   }
-  classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped);
+  classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true);
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParameters() {

@@ -103,13 +103,17 @@ int itemNodeDofs(const Item& it, const FiniteElementModel& model) {
       const auto& p = model.pointMasses[it.set];
       return std::any_of(p.inertia.begin(), p.inertia.end(), [](double v) { return v != 0.0; }) ? 6 : 3;
     }
-    default: return hasRotationalStiffness(model.springs[it.set].stiffness) ? 6 : 3;
+    default: {  // springs and dampers (theory §13.1)
+      const auto& s = model.springs[it.set];
+      return hasRotationalStiffness(s.stiffness) || hasRotationalStiffness(s.damping) ? 6 : 3;
+    }
   }
 }
 
 /// The item's element matrices (only those the model needs) in a fixed order.
 struct ItemMatrices {
   ElementMatrix M, K;
+  ElementMatrix D;    ///< viscous damping of a damper (empty otherwise)
   SpinMatrices spin;  ///< G1, KT1, f1 (empty when no spin)
 };
 
@@ -561,10 +565,13 @@ class Assembler {
         break;
       }
       case Item::Kind::GroundSpring:
+        // A viscous damper's matrix has the spring's form with c for k.
         m.K = groundedSpringMatrix(model_.springs[it.set].stiffness, nd);
+        if (damped_) m.D = groundedSpringMatrix(model_.springs[it.set].damping, nd);
         break;
       case Item::Kind::Spring:
         m.K = twoNodeSpringMatrix(model_.springs[it.set].stiffness, nd);
+        if (damped_) m.D = twoNodeSpringMatrix(model_.springs[it.set].damping, nd);
         break;
     }
     return m;
@@ -576,6 +583,10 @@ class Assembler {
   void assembleElements() {
     spinning_ = model_.spin.has_value();
     rotatingFrame_ = spinning_ && model_.spin->frame == SpinDefinition::Frame::Rotating;
+    damped_ = std::any_of(model_.springs.begin(), model_.springs.end(), [](const SpringSet& s) {
+      return std::any_of(s.damping.begin(), s.damping.end(), [](double c) { return c != 0.0; });
+    });
+    if (damped_) vD_ = target("D");
     tilt_ = spinning_ && !rotatingFrame_ && model_.spin->frameAxis.has_value();
     vM_ = target("M");
     vK_ = target("K");
@@ -590,6 +601,7 @@ class Assembler {
         locate(local);
         scatter(m.K, vK_);
         if (m.M.n) scatter(m.M, vM_);
+        if (m.D.n) scatter(m.D, vD_);
         if (m.spin.G1.n) scatter(m.spin.G1, vG_);
         if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatter(m.spin.KT1, vKT_);
         if (rotatingFrame_ && !m.spin.f1.empty()) scatterVector(local, m.spin.f1, vf_);
@@ -643,6 +655,7 @@ class Assembler {
     out_.map = ownedMap_;
     out_.M = finish(vM_);
     out_.K = finish(vK_);
+    if (damped_) out_.D = finish(vD_);
     if (spinning_) out_.G1 = finish(vG_);
     if (tilt_) out_.KX1 = finish(vKT_);
     if (rotatingFrame_) {
@@ -817,9 +830,10 @@ class Assembler {
   decltype(std::declval<const Graph&>().getLocalGraphHost()) ownedLocal_;  ///< ownedGraph_'s CSR arrays
   // assembleElements
   bool spinning_ = false, rotatingFrame_ = false, tilt_ = false;
+  bool damped_ = false;  ///< some spring item has damping: D is assembled
   std::vector<std::int64_t> positions_;
   std::vector<double> xyz_ = std::vector<double>(3 * 27);
-  Target vM_, vK_, vG_, vKT_;
+  Target vM_, vK_, vG_, vKT_, vD_;
   std::vector<double> vf_;
   std::string failure_;
   bool failureIsInput_ = false;  ///< an element's data is bad, not the numerics

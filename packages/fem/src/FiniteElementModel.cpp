@@ -74,6 +74,24 @@ ParameterList springParameters() {
   p.set("Node Set", "", "physical group: one spring at each node");
   p.set("To Node Set", "", "empty: grounded; else the other ends (coincident nodes)");
   p.set("Stiffness", Teuchos::Array<double>(6, 0.0), "kx ky kz krx kry krz (N/m, N m/rad)");
+  p.set("Damping", Teuchos::Array<double>(6, 0.0), "cx cy cz crx cry crz (N s/m, N m s/rad): a viscous damper beside the spring");
+  return p;
+}
+
+ParameterList damperParameters() {
+  ParameterList p("Damper");
+  p.set("Node Set", "", "physical group: one damper at each node");
+  p.set("To Node Set", "", "empty: grounded; else the other ends (coincident nodes)");
+  p.set("Damping", Teuchos::Array<double>(6, 0.0), "cx cy cz crx cry crz (N s/m, N m s/rad)");
+  return p;
+}
+
+ParameterList structuralDampingParameters() {
+  ParameterList p("Structural Damping");
+  p.set("Rayleigh Alpha", 0.0, "D += alpha M (1/s): zeta = alpha / (2 w) per mode");
+  p.set("Rayleigh Beta", 0.0, "D += beta K, K at rest (s): zeta = beta w / 2 per mode");
+  p.set("Modal Damping Ratio", 0.0, "zeta of every mode of the reduced substructure (2 zeta w_j in its own "
+                                    "coordinates; an approximation, refused for a Full basis)");
   return p;
 }
 
@@ -120,6 +138,9 @@ Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
   p->sublist("Element Sets", false, "physical group -> element set").sublist("<group>") = elementSetParameters();
   p->sublist("Point Masses", false, "name -> point mass").sublist("<name>") = pointMassParameters();
   p->sublist("Springs", false, "name -> spring").sublist("<name>") = springParameters();
+  p->sublist("Dampers", false, "name -> viscous damper").sublist("<name>") = damperParameters();
+  p->sublist("Structural Damping", false, "Rayleigh and modal damping of the whole substructure") =
+      structuralDampingParameters();
   p->sublist("Boundary Conditions", false, "name -> fixed node set").sublist("<name>") = fixedParameters();
   p->sublist("Spin", false, "the frame's steady spin (omit for none)") = spinParameters();
   return p;
@@ -211,12 +232,43 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     s.nodeSet = getString(p, "Node Set", sub);
     s.toNodeSet = getString(p, "To Node Set", sub, std::string());
     const auto k = getNumbers(p, "Stiffness", sub, 6, std::nullopt);
+    const auto c = getNumbers(p, "Damping", sub, 6, std::vector<double>(6, 0.0));
     for (std::size_t i = 0; i < 6; ++i) {
       CMS_INPUT_CHECK(k[i] < 0.0, sub << "/Stiffness: entry " << i + 1 << " = " << k[i] << " must be >= 0");
+      CMS_INPUT_CHECK(!(c[i] >= 0.0), sub << "/Damping: entry " << i + 1 << " = " << c[i] << " must be >= 0");
       s.stiffness[i] = k[i];
+      s.damping[i] = c[i];
     }
     m.springs.push_back(s);
   });
+  forEachEntry(params, "Dampers", path, damperParameters(), [&](const std::string& name, const ParameterList& p,
+                                                                const std::string& sub) {
+    SpringSet s;  // a damper is a spring item with no stiffness
+    s.name = name;
+    s.nodeSet = getString(p, "Node Set", sub);
+    s.toNodeSet = getString(p, "To Node Set", sub, std::string());
+    const auto c = getNumbers(p, "Damping", sub, 6, std::nullopt);
+    for (std::size_t i = 0; i < 6; ++i) {
+      CMS_INPUT_CHECK(!(c[i] >= 0.0), sub << "/Damping: entry " << i + 1 << " = " << c[i] << " must be >= 0");
+      s.damping[i] = c[i];
+    }
+    m.springs.push_back(s);
+  });
+  if (params.isSublist("Structural Damping")) {
+    const std::string sub = path + "/Structural Damping";
+    const ParameterList& p = params.sublist("Structural Damping");
+    checkKeys(p, structuralDampingParameters(), sub);
+    const std::pair<double*, const char*> keys[] = {{&m.damping.alpha, "Rayleigh Alpha"},
+                                                   {&m.damping.beta, "Rayleigh Beta"},
+                                                   {&m.damping.modalRatio, "Modal Damping Ratio"}};
+    for (const auto& [value, key] : keys) {
+      *value = getNumber(p, key, sub, 0.0);
+      CMS_INPUT_CHECK(!(*value >= 0.0) || !std::isfinite(*value),
+                      sub << "/" << key << " = " << *value << " must be finite and >= 0");
+    }
+    CMS_INPUT_CHECK(m.damping.modalRatio >= 1.0, sub << "/Modal Damping Ratio = " << m.damping.modalRatio
+                                                     << " must be below 1 (critical damping)");
+  }
   forEachEntry(params, "Boundary Conditions", path, fixedParameters(), [&](const std::string& name,
                                                                            const ParameterList& p,
                                                                            const std::string& sub) {

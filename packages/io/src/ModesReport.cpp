@@ -67,12 +67,18 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
   o["path"] = r.modes.path;
   o["status"] = toString(r.modes.result.status);
   o["reason"] = r.modes.result.reason;
+  // Damping (theory §13): whether the structure has any, and its least
+  // damping ratio over the vibration modes (< 0: unstable).
+  o["damped"] = !r.reduced->damping().is_null();
+  o["least_damping_ratio"] = r.modes.result.leastDampingRatio();
   o["modes"] = json::array();
   for (std::size_t m = 0; m < modes.size(); ++m) {
     const auto& md = modes[m];
     json j = {{"hz", md.hz},
               {"rad_per_s", md.omega},
               {"growth_rate", md.growthRate},
+              {"damping_ratio", md.dampingRatio},
+              {"log_decrement", numberOrNull(md.logDecrement)},  // null: a real (overdamped) lambda
               {"stability", toString(md.stability)},
               {"residual", md.residual},
               {"error_estimate", r.estimates[m] >= 0.0 ? json(r.estimates[m]) : json(nullptr)}};
@@ -95,13 +101,15 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
 void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResult& r) {
   AtomicFile f(file);
   auto& out = f.stream();
-  out << "mode,hz,rad_per_s,growth_rate,stability,residual,error_estimate,error_bound,frame_artefact";
+  out << "mode,hz,rad_per_s,growth_rate,damping_ratio,log_decrement,stability,residual,error_estimate,error_bound,"
+         "frame_artefact";
   for (const auto& s : r.reduced->reductions()) out << ",share_" << csvField(s.name);
   out << '\n';
   const auto& modes = r.modes.result.modes;
   for (std::size_t m = 0; m < modes.size(); ++m) {
     const auto& md = modes[m];
-    out << m + 1 << ',' << md.hz << ',' << md.omega << ',' << md.growthRate << ',' << toString(md.stability) << ','
+    out << m + 1 << ',' << md.hz << ',' << md.omega << ',' << md.growthRate << ',' << md.dampingRatio << ','
+        << md.logDecrement << ',' << toString(md.stability) << ','
         << md.residual << ',' << (r.estimates[m] >= 0.0 ? r.estimates[m] : std::nan("")) << ','
         << (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0 ? r.accuracy[m].bound : std::nan("")) << ','
         << r.character[m].frameArtefact;

@@ -127,6 +127,7 @@ Substructure Substructure::gatheredTo(int owner, const Teuchos::RCP<const Teucho
   s.spin_ = spin_;
   s.mass_ = mass_;
   s.reactions1_ = reactions1_;
+  s.modalDampingRatio_ = modalDampingRatio_;
   s.M_ = gatherToRank(*M_, owner, self);
   s.K_ = gatherToRank(*K_, owner, self);
   if (!KT1_.is_null()) s.KT1_ = gatherToRank(*KT1_, owner, self);
@@ -179,6 +180,15 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   s.reactions1_ = a.reactions1;
   s.f1_ = a.f1;
   s.KX1_ = a.KX1;
+  // Damping (theory §13.1): the dampers' D, plus Rayleigh alpha M + beta K
+  // with the stiffness at rest; the modal ratio is the synthesis's to apply.
+  s.D_ = a.D;
+  if (model.damping.alpha != 0.0 || model.damping.beta != 0.0) {
+    auto R = Tpetra::MatrixMatrix::add(model.damping.alpha, false, *a.M, model.damping.beta, false, *a.K);
+    s.D_ = s.D_.is_null() ? Teuchos::RCP<const CrsMatrix>(R)
+                          : Teuchos::RCP<const CrsMatrix>(Tpetra::MatrixMatrix::add(1.0, false, *s.D_, 1.0, false, *R));
+  }
+  s.modalDampingRatio_ = model.damping.modalRatio;
   const mesh::Mesh& mesh = *model.mesh;
   DofTable& t = s.dofs_;
   t.nodeIds.assign(mesh.nodeTags.begin(), mesh.nodeTags.end());

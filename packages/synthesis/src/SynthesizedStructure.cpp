@@ -16,6 +16,7 @@
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_LAPACK.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 #include <Tpetra_CrsMatrix.hpp>
@@ -356,9 +357,59 @@ reduction::SubstructureBoundary substructureBoundary(const std::vector<std::shar
 }
 }  // namespace
 
+namespace {
+/// Modal damping of a reduced substructure (theory §13.1): with its basis V
+/// M-orthonormal, the Caughey damping 2 zeta (V^T K V)^(1/2) of its own
+/// coordinates eta (rows offset .. offset + k of q), which is diag(2 zeta
+/// w_j) when V holds the fixed-interface modes (w_j their frequencies) and
+/// gives every mode of the substructure's reduced model, at rest and held
+/// at its attachment, the ratio zeta. K is the stiffness at rest; the
+/// coupling with the attachment coordinates gets no damping (an
+/// approximation, like modal damping itself). Collective.
+Teuchos::RCP<const CrsMatrix> modalDamping(const substructure::Substructure& sub, const reduction::RitzBasis& basis,
+                                           GlobalOrdinal offset, double zeta, const Teuchos::RCP<const Map>& qMap) {
+  const int k = basis.size();
+  DenseMatrix Kr(k, k);
+  if (k > 0) {
+    MultiVector KV(sub.map(), static_cast<std::size_t>(k));
+    sub.K()->apply(*basis.vectors, KV);
+    std::vector<double> local(static_cast<std::size_t>(k) * k, 0.0), global(local.size(), 0.0);
+    const auto V = basis.vectors->getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto W = KV.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i)
+        for (std::size_t l = 0; l < V.extent(0); ++l) local[static_cast<std::size_t>(j) * k + i] += V(l, i) * W(l, j);
+    Teuchos::reduceAll(*sub.map()->getComm(), Teuchos::REDUCE_SUM, k * k, local.data(), global.data());
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) Kr(i, j) = 0.5 * (global[static_cast<std::size_t>(j) * k + i] + global[static_cast<std::size_t>(i) * k + j]);
+  }
+  // (V^T K V)^(1/2) by its eigen-decomposition (symmetric, >= 0 to rounding).
+  std::vector<double> w(std::max(k, 1)), work(std::max(1, 4 * k));
+  int info = 0;
+  if (k > 0)
+    Teuchos::LAPACK<int, double>().SYEV('V', 'U', k, Kr.values(), Kr.stride(), w.data(), work.data(),
+                                        static_cast<int>(work.size()), &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                             "synthesis: modal damping of '" << sub.name() << "': LAPACK dsyev info " << info);
+  std::vector<Row> rows(qMap->getNodeNumElements());
+  for (std::size_t l = 0; l < rows.size(); ++l) {
+    const GlobalOrdinal g = qMap->getGlobalElement(static_cast<LocalOrdinal>(l));
+    if (g < offset || g >= offset + k) continue;
+    const int i = static_cast<int>(g - offset);
+    for (int j = 0; j < k; ++j) {
+      double d = 0.0;
+      for (int e = 0; e < k; ++e) d += Kr(i, e) * std::sqrt(std::max(w[e], 0.0)) * Kr(j, e);
+      if (d != 0.0) rows[l].push_back({offset + j, 2.0 * zeta * d});
+    }
+  }
+  return fromRows(qMap, rows, qMap, qMap);
+}
+}  // namespace
+
 /// The projected matrices of synthesize as they accumulate, part by part.
 struct SynthesizedStructure::Sums {
   Teuchos::RCP<const CrsMatrix> M, K0;
+  Teuchos::RCP<const CrsMatrix> D;  ///< damping (null until a damped part is met)
   std::vector<Teuchos::RCP<const CrsMatrix>> G;  ///< per speed parameter
   std::map<std::pair<int, int>, Teuchos::RCP<const CrsMatrix>> K2;
 };
@@ -719,6 +770,15 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   const Projection project = B.is_null() ? Projection(*T_[k]) : Projection(*T_[k], B, C);
   sums.M = addScaled(sums.M, 1.0, project(*sub.M()));
   sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
+  // Damping (theory §13.1): the dampers' and Rayleigh D_s projected like
+  // M; a modal ratio in the substructure's own coordinates.
+  if (!sub.D().is_null()) sums.D = addScaled(sums.D, 1.0, project(*sub.D()));
+  if (sub.modalDampingRatio() > 0.0) {
+    CMS_INPUT_CHECK(basis.full, "synthesis: substructure '"
+                                    << sub.name() << "': a Modal Damping Ratio needs a reduced basis (its modes' "
+                                    << "coordinates); a Full substructure has none: give it Rayleigh Alpha / Beta");
+    sums.D = addScaled(sums.D, 1.0, modalDamping(sub, basis, offset, sub.modalDampingRatio(), map_));
+  }
   if (p.compound) {
     // Its own spin inside the spinning parent frame (theory §11.5).
     const auto& st = *p.stationary;
@@ -772,6 +832,7 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
     K0_ = holdDofs(*K0_, {0, 1, 2, 3, 4, 5}, 0.0);
   }
   G_ = sums.G;
+  D_ = symmetric(sums.D, 1.0);
   for (auto& [ij, Kij] : sums.K2) K2_.push_back({ij.first, ij.second, Kij});
 }
 
@@ -789,6 +850,7 @@ eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<dou
   }
   sys.G = G.is_null() ? zeroMatrix(map_) : G;
   sys.K = K;
+  sys.D = D_;
   return sys;
 }
 
@@ -798,6 +860,7 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
   d.M = toDense(*sys.M);
   d.G = toDense(*sys.G);
   d.K = toDense(*sys.K);
+  if (!sys.D.is_null()) d.D = toDense(*sys.D);
   return d;
 }
 

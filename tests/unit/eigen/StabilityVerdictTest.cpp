@@ -70,3 +70,54 @@ TEST(StabilityVerdict, RealDivergenceStaysFlagged) {
     EXPECT_FALSE(r.isStable());
   }
 }
+
+namespace {
+/// A returned mode with eigenvalue l and a unit shape along coordinate
+/// `axis` of 6, tilted by `tilt` towards the next one.
+GyroscopicMode syntheticMode(std::complex<double> l, int axis, double tilt) {
+  GyroscopicMode m;
+  m.lambda = l, m.omega = std::abs(l.imag()), m.growthRate = l.real(), m.residual = 2e-16;
+  m.q.assign(6, 0.0);
+  m.q[axis] = 1.0, m.q[(axis + 1) % 6] = tilt;
+  return m;
+}
+}  // namespace
+
+// Issue #11 (campbell_same_verdict_at_every_rank_count): distinct modes that
+// fall within the k = 4 splitting radius r_4 = 10 eta^(1/4) s of each other
+// are not one split defective zero. The scale s = 990 puts r_4 = 1.18 above
+// a stable mode at 0.907 rad/s and a frame-rate triple at 0.6 rad/s (the
+// spacecraft at speed factor 0.6, whose wheel makes s large), and below the
+// 1.2 rad/s to the triple's mirrors. Counting alone called the 0.907 mode
+// and the triple rigid (the count fell within [4, 8]); with the shapes
+// (dense path) the 0.907 mode, whose shape is independent, is stable, and
+// the triple, a cluster centred at 0.6 rad/s (spread 2e-5), is not rigid.
+// A genuine split zero of order 3 (values on a circle of radius delta about
+// zero, above the plain rigid tolerance 1e-6 s, with parallel shapes) stays
+// rigid.
+TEST(StabilityVerdict, DistinctModesWithinASplittingRadiusAreNotASplitZero) {
+  const double s = 990.0, eta = 2e-16;
+  ASSERT_GT(10.0 * std::pow(eta, 0.25) * s, 0.907 + 1e-3);  // the radius reaches the stable mode
+  ASSERT_LT(10.0 * std::pow(eta, 0.25) * s, 1.19);           // but not the triple's mirrors
+  std::vector<GyroscopicMode> modes{syntheticMode({1e-8, 0.0}, 0, 0.0),
+                                    syntheticMode({7e-7, 0.0}, 0, 1e-3),
+                                    syntheticMode({0.0, 0.59999}, 2, 0.0),
+                                    syntheticMode({0.0, 0.6}, 2, 1e-3),
+                                    syntheticMode({0.0, 0.60001}, 2, 2e-3),
+                                    syntheticMode({0.0, 0.907}, 4, 0.0)};
+  auto byCount = modes;
+  classifyModes(byCount, s, 1e-6, 1e-6, true, /*completeShapes=*/false);
+  EXPECT_EQ(byCount[5].stability, Stability::RigidBody) << "the count-only rule this test guards against";
+  classifyModes(modes, s, 1e-6, 1e-6, true, /*completeShapes=*/true);
+  EXPECT_EQ(modes[0].stability, Stability::RigidBody);
+  EXPECT_EQ(modes[1].stability, Stability::RigidBody);
+  for (int j : {2, 3, 4}) EXPECT_NE(modes[j].stability, Stability::RigidBody) << "frame-rate mode " << j;
+  EXPECT_EQ(modes[5].stability, Stability::Stable);
+
+  const double delta = 3e-3;  // above 1e-6 s: not rigid by the plain tolerance
+  const double c = std::cos(2.0 * M_PI / 3.0), sn = std::sin(2.0 * M_PI / 3.0);
+  std::vector<GyroscopicMode> split{syntheticMode({delta, 0.0}, 1, 0.0),
+                                    syntheticMode({delta * c, delta * sn}, 1, 1e-3)};
+  classifyModes(split, s, 1e-6, 1e-6, true, /*completeShapes=*/true);
+  for (const auto& m : split) EXPECT_EQ(m.stability, Stability::RigidBody) << m.lambda;
+}

@@ -46,6 +46,8 @@ struct SpeedDependentSystem {
   /// (v, w) coordinate pairs of two transverse directions (e1 x e2 = the spin
   /// axis) whose orbit tells forward from backward whirl.
   std::vector<std::pair<int, int>> whirlPairs;
+  /// Viscous damping, independent of speed (theory §13); 0 x 0 for none.
+  DenseMatrix D;
 
   eigen::GyroscopicSystem at(double Omega) const;
 };
@@ -121,6 +123,7 @@ struct CampbellTrack {
   std::vector<eigen::Stability> stability;    ///< per step
   std::vector<Whirl> whirl;                   ///< per step
   std::vector<bool> lost;                     ///< no mode matched at this step
+  std::vector<double> dampingRatio;           ///< per step, zeta = -Re lambda / |lambda| (NaN where lost)
   double minMac = 1.0;                        ///< worst MAC of a step-to-step match
   /// Its frequency equals a spin rate (of parameter frameRateOf) at every
   /// step: a rigid motion seen from a frame spinning at that rate, not a
@@ -175,7 +178,8 @@ struct CampbellResult {
   /// once, and the frame-rate tracks and unstable ranges.
   void printCrossings(std::ostream& os) const;
   /// CSV: factor, <parameter>_rad_per_s (the reference first), and per track
-  /// track<i>_hz, track<i>_stability, track<i>_whirl, track<i>_frame_rate.
+  /// track<i>_hz, track<i>_stability, track<i>_damping_ratio, track<i>_whirl,
+  /// track<i>_frame_rate.
   void writeCsv(std::ostream& os) const;
   /// CSV of the crossings: order, speed_rad_per_s, speed_rpm, frequency_hz,
   /// whirl, unbalance (yes: forward whirl at order 1), tracks (a;b).

@@ -67,8 +67,13 @@ Stability classify(std::complex<double> lambda, double scale, double rigidBodyTo
 /// `conservative` = false (a damped system, D or N present): the spectrum is
 /// not Hamiltonian, there is no mirror to pair with, and each mode is
 /// classified by `classify` alone (Re lambda above instabilityTol s is unstable).
+/// `completeShapes`: every mode's q holds all its rows (the dense path), so
+/// a cluster of k >= 3 values counts as a split defective eigenvalue only
+/// when two of them have nearly parallel shapes (theory §4); false for
+/// distributed shapes (the sparse path), which cannot be compared alike on
+/// every rank.
 void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
-                   double instabilityTol, bool conservative = true);
+                   double instabilityTol, bool conservative = true, bool completeShapes = false);
 
 /// dampingRatio and logDecrement of a mode from its lambda.
 void setDamping(GyroscopicMode& mode);

@@ -58,6 +58,9 @@ struct AssembledMatrices {
   DofLayout layout;
   Teuchos::RCP<const Map> map;
   Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1;
+  /// Viscous damping of the model's dampers (SpringSet::damping); null
+  /// when none has any. Rayleigh damping is added by the substructure.
+  Teuchos::RCP<const CrsMatrix> D;
   /// Stationary frame with SpinDefinition::frameAxis: the tilt stiffness per
   /// unit Omega_frame * omega (null otherwise).
   Teuchos::RCP<const CrsMatrix> KX1;

@@ -52,10 +52,26 @@ struct PointMassSet {
   std::array<double, 6> inertia{};  ///< Jxx Jyy Jzz Jxy Jyz Jxz about the node
 };
 
+/// Springs and viscous dampers (a scene's "Springs" and "Dampers"): one item
+/// at each node of the set, grounded or to the coincident node of another
+/// set, with a stiffness, a damping coefficient, or both (a bearing).
 struct SpringSet {
   std::string name, nodeSet;
   std::string toNodeSet;  ///< empty: grounded; else nodes paired by coincident coordinates
   std::array<double, 6> stiffness{};
+  /// Viscous damping cx cy cz crx cry crz (N s/m, N m s/rad), into D (theory §13.1).
+  std::array<double, 6> damping{};
+};
+
+/// Damping of the whole substructure (a scene's "Structural Damping"):
+/// Rayleigh D = alpha M + beta K (K at rest), and a modal damping ratio that
+/// the synthesis applies in a reduced substructure's own coordinates
+/// (theory §13.1; refused for a Full basis).
+struct StructuralDamping {
+  double alpha = 0.0;       ///< mass-proportional (1/s)
+  double beta = 0.0;        ///< stiffness-proportional (s)
+  double modalRatio = 0.0;  ///< zeta of every mode of the substructure's reduced model
+  bool any() const { return alpha != 0.0 || beta != 0.0 || modalRatio != 0.0; }
 };
 
 struct FixedSet {
@@ -85,8 +101,9 @@ struct FiniteElementModel {
   std::map<std::string, IsotropicMaterial> materials;
   std::vector<ElementSet> elementSets;
   std::vector<PointMassSet> pointMasses;
-  std::vector<SpringSet> springs;
+  std::vector<SpringSet> springs;  ///< springs, and the dampers (stiffness 0)
   std::vector<FixedSet> fixed;
+  StructuralDamping damping;
   std::optional<SpinDefinition> spin;  ///< none: a non-rotating substructure
 
   /// Every key with its type, default and a one-line description.

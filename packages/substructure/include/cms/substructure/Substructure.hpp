@@ -78,6 +78,13 @@ public:
   Teuchos::RCP<const MultiVector> f1() const { return f1_; }
   /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
   Teuchos::RCP<const CrsMatrix> K2() const { return K2_; }
+  /// Viscous damping, independent of speed: the model's dampers plus the
+  /// Rayleigh part alpha M + beta K (K at rest); null when there is none
+  /// (theory §13.1). Not read from or written to Matrix Market files.
+  Teuchos::RCP<const CrsMatrix> D() const { return D_; }
+  /// The model's modal damping ratio, applied by the synthesis in the
+  /// reduced substructure's coordinates (0: none).
+  double modalDampingRatio() const { return modalDampingRatio_; }
   /// The spin the per-unit-speed matrices refer to (none: not rotating).
   const std::optional<fem::SpinDefinition>& spin() const { return spin_; }
   /// The mass moving with a unit rigid translation along x of the rows,
@@ -92,7 +99,7 @@ public:
   /// ranks reduce other substructures (doc/architecture.md, "Parallelism").
   /// Collective over map()'s communicator; on the other ranks the result has
   /// no matrices. Carries the matrices a reduction reads (M, K, KT1) with
-  /// the DOF table, name, spin and mass; not G1, KS1, KX1, f1.
+  /// the DOF table, name, spin and mass; not G1, KS1, KX1, f1, D.
   Substructure gatheredTo(int owner, const Teuchos::RCP<const Teuchos::Comm<int>>& self) const;
   /// M, G(Omega), K(Omega) (theory §9); Omega = 0 gives G = 0 and K. New
   /// matrices are formed only when a speed-dependent term is present.
@@ -107,6 +114,8 @@ private:
   DofTable dofs_;
   Teuchos::RCP<const CrsMatrix> M_, K_, G1_, KT1_, KS1_;
   Teuchos::RCP<const CrsMatrix> K2_;  ///< KS1 - KT1 (null without either)
+  Teuchos::RCP<const CrsMatrix> D_;   ///< viscous damping (null: none)
+  double modalDampingRatio_ = 0.0;
   Teuchos::RCP<const MultiVector> f1_;
   Teuchos::RCP<const CrsMatrix> KX1_;
   std::optional<fem::SpinDefinition> spin_;

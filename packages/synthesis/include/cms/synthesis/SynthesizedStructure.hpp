@@ -203,8 +203,12 @@ public:
   /// Wall time of the bases alone (step 1 of synthesize; part of synthesisSeconds).
   double basesSeconds() const { return basesSeconds_; }
 
-  /// The distributed M, G(s), K(s) (row map: the coordinates' map).
+  /// The distributed M, G(s), K(s) (row map: the coordinates' map), and
+  /// the damping D (independent of speed; null when undamped).
   eigen::SparseGyroscopicSystem system(const std::vector<double>& speeds) const;
+  /// D = sum_s T_s^T D_s T_s plus the modal damping of reduced substructures
+  /// (theory §13.1); null when no substructure is damped.
+  Teuchos::RCP<const CrsMatrix> damping() const { return D_; }
   /// The same, gathered to every rank (n up to a few thousand).
   eigen::GyroscopicSystem denseSystem(const std::vector<double>& speeds) const;
 
@@ -275,6 +279,7 @@ private:
   Teuchos::RCP<const Map> map_;
   std::vector<Teuchos::RCP<const CrsMatrix>> T_;  ///< per part: u_s = T_s q
   Teuchos::RCP<const CrsMatrix> M_, K0_;
+  Teuchos::RCP<const CrsMatrix> D_;  ///< viscous damping (null: none)
   std::vector<Teuchos::RCP<const CrsMatrix>> G_;  ///< per speed parameter
   struct KTerm {
     int i, j;

@@ -1,0 +1,166 @@
+// Damping through the stack (theory §13.1): dampers and Rayleigh damping
+// assembled by fem, carried by the substructure, projected by the
+// synthesis (T_s^T D_s T_s) and solved on the general paths; modal damping
+// of a reduced substructure. At 1 and 2 ranks (the MPI main min-reduces).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <Teuchos_DefaultComm.hpp>
+
+#include "BeamModels.hpp"
+#include "DenseOf.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
+
+using namespace cms;
+using namespace cms::synthesis;
+
+namespace {
+auto world() { return Teuchos::DefaultComm<int>::getComm(); }
+const double eps = std::numeric_limits<double>::epsilon();
+
+/// A clamped aluminium cantilever (1 m, 20 frame elements) as the structure's C.
+StructureDescription cantilever(const fem::StructuralDamping& damping, const std::string& basis, int vectors) {
+  fem::BeamSection sec{0.01, 1e-5, 1e-5, 2e-5};
+  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 20), {7e10, 0.3, 2700.0}, sec);
+  fem::FixedSet clamp;
+  clamp.name = "clamp";
+  clamp.nodeSet = "root";
+  clamp.all = true;
+  model.fixed.push_back(clamp);
+  model.damping = damping;
+  SubstructureSpec C;
+  C.name = "beam";
+  C.kind = SubstructureKind::Central;
+  C.model = std::make_shared<fem::FiniteElementModel>(model);
+  C.reduction.set("Basis", basis);
+  if (vectors > 0) C.reduction.set("Vectors", vectors);
+  StructureDescription d;
+  d.substructures.push_back(C);
+  return d;
+}
+
+StructureModes solveWith(const SynthesizedStructure& s, const std::string& solver, int modes) {
+  Teuchos::ParameterList p;
+  p.set("Solver", solver);
+  p.set("Number of Modes", modes);
+  return s.solve({}, p);
+}
+
+/// The frequency scale the dense path's absolute accuracy is relative to:
+/// dggev is normwise backward stable on the time-scaled pencil, so a mode's
+/// eigenvalue is good to about 10 N eps s (N = 2n) in absolute terms.
+double denseScale(const SynthesizedStructure& s) {
+  const auto sys = s.system({});
+  return eigen::frequencyScale(sys.M->getFrobeniusNorm(), sys.D->getFrobeniusNorm(), sys.K->getFrobeniusNorm());
+}
+}  // namespace
+
+TEST(DampedStructure, RayleighDampedBeamHasAlphaOver2wPlusBetaWOver2) {
+  // D = alpha M + beta K is diagonal in the undamped modes: each mode is a
+  // damped single DOF of frequency w_j = |lambda_j| and ratio
+  // zeta_j = alpha / (2 w_j) + beta w_j / 2.
+  const double alpha = 20.0, beta = 2e-5;
+  const auto a = AssembledStructure::assemble(cantilever({alpha, beta, 0.0}, "Full", 0), world());
+  const auto s = SynthesizedStructure::synthesize(a);
+  ASSERT_FALSE(s.damping().is_null());
+  const auto dense = solveWith(s, "Dense", 6);
+  EXPECT_NE(dense.result.reason.find("damped"), std::string::npos) << dense.result.reason;
+  const double n = static_cast<double>(s.size()), scale = denseScale(s);
+  ASSERT_EQ(dense.result.modes.size(), 6u);
+  for (const auto& m : dense.result.modes) {
+    const double w = std::abs(m.lambda), zeta = alpha / (2 * w) + beta * w / 2;
+    // zeta = -Re/|lambda|: its error is the eigenvalue's, 10 N eps s, over |lambda|.
+    EXPECT_NEAR(m.dampingRatio, zeta, 10.0 * 2 * n * eps * scale / w) << "w = " << w;
+    EXPECT_EQ(m.stability, eigen::Stability::Stable);
+  }
+  // The sparse non-Hermitian path agrees to its Residual Tolerance (1e-8).
+  const auto sparse = solveWith(s, "Sparse", 6);
+  ASSERT_EQ(sparse.result.status, eigen::SolveStatus::Converged) << sparse.result.reason;
+  ASSERT_EQ(sparse.result.modes.size(), dense.result.modes.size());
+  for (std::size_t k = 0; k < dense.result.modes.size(); ++k)
+    EXPECT_LT(std::abs(sparse.result.modes[k].lambda - dense.result.modes[k].lambda),
+              1e-8 * std::abs(dense.result.modes[k].lambda)) << "mode " << k;
+}
+
+TEST(DampedStructure, ModalDampingGivesEveryReducedModeItsRatio) {
+  // A clamped C reduced to its own 8 lowest modes: the modal damping
+  // 2 zeta (V^T K V)^(1/2) = diag(2 zeta w_j) gives every mode exactly zeta.
+  const double zeta = 0.03;
+  const auto a = AssembledStructure::assemble(cantilever({0.0, 0.0, zeta}, "Modes", 8), world());
+  const auto s = SynthesizedStructure::synthesize(a);
+  const auto r = solveWith(s, "Dense", 8);
+  ASSERT_EQ(r.result.modes.size(), 8u);
+  const double n = static_cast<double>(s.size()), scale = denseScale(s);
+  for (const auto& m : r.result.modes)
+    EXPECT_NEAR(m.dampingRatio, zeta, 10.0 * 2 * n * eps * scale / std::abs(m.lambda)) << m.lambda;
+  // A Full substructure has no modal coordinates: refused, saying so.
+  const auto full = AssembledStructure::assemble(cantilever({0.0, 0.0, zeta}, "Full", 0), world());
+  try {
+    SynthesizedStructure::synthesize(full);
+    FAIL() << "modal damping of a Full substructure was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Rayleigh"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DampedStructure, GroundedAndTwoNodeDampersAssembleAsDerived) {
+  // Two point masses (3 translations each): a at the origin on a grounded
+  // spring k_g and damper c_g, b joined to a by a spring k and damper c.
+  // Per direction: M = diag(m_a, m_b), K = [[k_g + k, -k], [-k, k]],
+  // D = [[c_g + c, -c], [-c, c]]: the synthesised structure (Full) must be
+  // this system, and its modes the dense solution of it.
+  auto mesh = std::make_shared<mesh::Mesh>();
+  mesh->source = "two masses (in code)";
+  mesh->nodeTags = {1, 2};
+  mesh->coordinates = {0, 0, 0, 1, 0, 0};
+  fixtures::addPointGroup(*mesh, "a", {0});
+  fixtures::addPointGroup(*mesh, "b", {1});
+  const double ma = 2.0, mb = 1.0, kg[3] = {400, 900, 1600}, k = 100, cg = 3.0, c = 0.5;
+  fem::FiniteElementModel model;
+  model.name = "masses";
+  model.mesh = mesh;
+  model.pointMasses.push_back({"ma", "a", ma, {}});
+  model.pointMasses.push_back({"mb", "b", mb, {}});
+  fem::SpringSet ground{"ground", "a", "", {kg[0], kg[1], kg[2], 0, 0, 0}, {}};
+  fem::SpringSet joint{"joint", "a", "b", {k, k, k, 0, 0, 0}, {}};
+  fem::SpringSet groundDamper{"groundDamper", "a", "", {}, {cg, cg, cg, 0, 0, 0}};
+  fem::SpringSet jointDamper{"jointDamper", "a", "b", {}, {c, c, c, 0, 0, 0}};
+  model.springs = {ground, joint, groundDamper, jointDamper};
+  SubstructureSpec C;
+  C.name = "masses";
+  C.kind = SubstructureKind::Central;
+  C.model = std::make_shared<fem::FiniteElementModel>(model);
+  C.reduction.set("Basis", std::string("Full"));
+  StructureDescription d;
+  d.substructures.push_back(C);
+  const auto a = AssembledStructure::assemble(d, world());
+  const auto s = SynthesizedStructure::synthesize(a);
+  const auto sys = s.denseSystem({});
+  ASSERT_EQ(sys.size(), 6);
+  ASSERT_EQ(sys.D.numRows(), 6);
+  // Rows: node a (ux uy uz), then node b.
+  eigen::GyroscopicSystem ref{DenseMatrix(6, 6), DenseMatrix(6, 6), DenseMatrix(6, 6), DenseMatrix(6, 6)};
+  for (int i = 0; i < 3; ++i) {
+    ref.M(i, i) = ma, ref.M(3 + i, 3 + i) = mb;
+    ref.K(i, i) = kg[i] + k, ref.K(3 + i, 3 + i) = k, ref.K(i, 3 + i) = ref.K(3 + i, i) = -k;
+    ref.D(i, i) = cg + c, ref.D(3 + i, 3 + i) = c, ref.D(i, 3 + i) = ref.D(3 + i, i) = -c;
+  }
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      // Sums of a few exact element entries: equal to their rounding.
+      EXPECT_NEAR(sys.D(i, j), ref.D(i, j), 4 * eps * (cg + c)) << i << "," << j;
+      EXPECT_NEAR(sys.K(i, j), ref.K(i, j), 4 * eps * (kg[2] + k)) << i << "," << j;
+    }
+  const auto got = solveWith(s, "Dense", 6).result;
+  const auto want = eigen::DenseGyroscopicSolver().solve(ref);
+  ASSERT_EQ(got.modes.size(), 6u);
+  const double scale = eigen::frequencyScale(ref.M.normFrobenius(), ref.D.normFrobenius(), ref.K.normFrobenius());
+  for (std::size_t m = 0; m < 6; ++m) {
+    EXPECT_LE(std::abs(got.modes[m].lambda - want.modes[m].lambda), 10.0 * 12 * eps * scale) << m;
+    EXPECT_GT(got.modes[m].dampingRatio, 0.0);
+  }
+}
