@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <Teuchos_CommandLineProcessor.hpp>
@@ -128,6 +129,14 @@ std::optional<SceneRun> SceneRun::start(Options& options, int argc, char* argv[]
   if (std::filesystem::create_directories(run.outDir, ec) && run.root) createdOutput() = run.outDir;
   CMS_INPUT_CHECK(ec || !std::filesystem::is_directory(run.outDir),
                   run.outDir.string() << ": cannot create the output directory (" << ec.message() << ")");
+  // What a mesh reader skipped or assumed (an .inp deck's materials and
+  // steps, GENERATE ids it lacks), once per mesh file.
+  if (run.root) {
+    std::set<std::string> seen;
+    for (const auto& s : run.scene.structure.substructures)
+      if (s.model && s.model->mesh && seen.insert(s.model->mesh->source).second)
+        for (const std::string& note : s.model->mesh->notes) std::cout << "cms: note: " << note << "\n";
+  }
   if (run.root)
     std::cout << "cms " << options.command() << ": scene " << run.scene.path << " (\"" << run.scene.name << "\", units "
               << run.scene.units << ", " << run.scene.structure.substructures.size() << " substructures, "

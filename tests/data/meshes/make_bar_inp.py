@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # Usage (from the repository root): /usr/bin/python3 tests/data/meshes/make_bar_inp.py tests/data/meshes/bar_tet10.geo tests/data/meshes
-"""Writes bar_tet10_short.msh (Gmsh) and bar_tet10_short.inp + bar_tet10_short_nodes.inp
+"""Writes bar_tet10_short.msh (Gmsh; coordinates rounded to 14 digits) and bar_tet10_short.inp + bar_tet10_short_nodes.inp
 (the same mesh in Gmsh's own Abaqus export: C3D10 in Abaqus node order), for
 tests/unit/mesh/InpReaderTest.cpp and tests/mpi/InpSceneTest.cpp.
 Node ids renumbered id -> 3 * (1000 - id) + 7 (sparse, order reversed), the
@@ -11,6 +11,17 @@ geo, out = sys.argv[1], sys.argv[2]
 msh = os.path.join(out, "bar_tet10_short.msh")
 subprocess.run(["gmsh", "-3", "-setnumber", "L", "0.2", "-setnumber", "h", "0.02", "-format", "msh41", geo, "-o", msh],
                check=True, stdout=subprocess.DEVNULL)
+# Coordinates rounded to the 14 significant digits Gmsh's Abaqus export
+# writes, so that the .msh and the .inp hold the same numbers.
+lines, at = open(msh).read().split("\n"), None
+i = lines.index("$Nodes") + 1
+blocks = int(lines[i].split()[0]); i += 1
+for _ in range(blocks):
+    n = int(lines[i].split()[3]); i += 1 + n
+    for k in range(i, i + n):
+        lines[k] = " ".join("%.14g" % float(v) for v in lines[k].split())
+    i += n
+open(msh, "w").write("\n".join(lines))
 raw = os.path.join(out, "raw.inp")
 subprocess.run(["gmsh", msh, "-0", "-setnumber", "Mesh.SaveGroupsOfNodes", "1", "-format", "inp", "-o", raw],
                check=True, stdout=subprocess.DEVNULL)

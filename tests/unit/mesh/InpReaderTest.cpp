@@ -393,11 +393,27 @@ TEST(InpReader, GmshsOwnAbaqusExportIsTheGmshMesh) {
     std::sort(want.begin(), want.end());
     EXPECT_EQ(ids(inp, inp.nodeSet(set)), want) << set;
   }
-  // Same coordinates to the 14 significant digits Gmsh's Abaqus export
-  // writes: half a unit of the 14th digit of the extent 0.2, 1e-14.
+  // The same coordinates: the .msh's are rounded to the 14 digits Gmsh's
+  // Abaqus export writes (make_bar_inp.py), so both hold the same decimals.
   for (std::size_t i = 0; i < msh.nodeCount(); ++i)
     for (int d = 0; d < 3; ++d)
-      EXPECT_NEAR(inp.x(node(inp, renumbered(msh.nodeTags[i])))[d], msh.x(static_cast<std::int64_t>(i))[d], 0.5e-13 * 0.2);
+      EXPECT_EQ(inp.x(node(inp, renumbered(msh.nodeTags[i])))[d], msh.x(static_cast<std::int64_t>(i))[d]);
+}
+
+TEST(InpReader, GmshsOwnC3D20ExportIsTheGmshMesh) {
+  // The same for 20-node bricks (bar_hex20_small.inp: Gmsh's export of
+  // bar_hex20_small.msh, ids unchanged, elements over two lines each).
+  const Mesh inp = readInp(kMeshes + "bar_hex20_small.inp");
+  const Mesh msh = cms::mesh::readGmsh(kMeshes + "bar_hex20_small.msh");
+  ASSERT_EQ(inp.nodeTags, msh.nodeTags);
+  const auto& a = inp.group("blade").blocks.at(0);
+  const auto& b = msh.group("blade").blocks.at(0);
+  ASSERT_EQ(a.type, CellType::Hex20);
+  ASSERT_EQ(b.type, CellType::Hex20);
+  EXPECT_EQ(a.elementName, "C3D20");
+  EXPECT_EQ(a.cellTags, b.cellTags);
+  EXPECT_EQ(a.nodes, b.nodes);
+  EXPECT_EQ(inp.nodeSet("root"), msh.nodeSet("root"));
 }
 
 TEST(InpReader, BeamsAreLinesOfAFrameSet) {
