@@ -67,7 +67,10 @@ def campbell(rows, out, orders=None, axis="rpm", crossings=None):
         return hz * 2 * math.pi / abs(w) if w else math.nan
 
     tracks = sorted({k[: -len("_hz")] for k in rows[0] if k.endswith("_hz")}, key=lambda t: int(t[5:]))
-    damped = any(k.endswith("_damping_ratio") for k in rows[0])
+    # The damping panel only for a damped structure: an undamped one has
+    # zeta = 0 to rounding on every track.
+    damped = any(abs(num(r[k])) > 1e-9 for r in rows for k in rows[0]
+                 if k.endswith("_damping_ratio") and not math.isnan(num(r[k])))
     if damped:
         fig, (ax, axz) = plt.subplots(1, 2, figsize=(15, 6), gridspec_kw={"width_ratios": [3, 2]})
     else:
@@ -157,10 +160,11 @@ def campbell(rows, out, orders=None, axis="rpm", crossings=None):
     ax.grid(alpha=0.3)
     if axz is not None:
         axz.axhline(0.0, color="r", lw=0.9)
+        axz.set_xlim(0, top)
         lo, hi = axz.get_ylim()
         if lo < 0:
             axz.axhspan(lo, 0.0, color="red", alpha=0.08, lw=0)
-        axz.set_xlim(0, top)
+        axz.set_ylim(lo, hi)
         axz.set_xlabel(f"{ref} speed ({xunit})", fontsize=9)
         axz.set_ylabel("damping ratio zeta = -Re(lambda) / |lambda|")
         axz.set_title("damping ratio (below 0: unstable)", fontsize=10)

@@ -1274,6 +1274,8 @@ std::string SynthesizedStructure::boundsUnavailable(const std::vector<double>& s
       return "spinning (" + structure_->speeds()[i].name + "): G and the speed-dependent stiffness are not in the "
              "substructures' static flexibility, so its residual norm is an estimate, not the truth's";
   if (structure_->freeFloating()) return "free-floating: the truth's stiffness is singular (rigid-body modes)";
+  if (!D_.is_null())
+    return "damped (doc/theory.md section 13): the bounds hold for the undamped symmetric problem, and the estimates leave D out";
   const auto& parts = structure_->parts();
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const auto& p = *parts[k];
