@@ -110,16 +110,10 @@ Orbit orbitOfSubstructure(const synthesis::AssembledStructure& a, const std::vec
                           std::size_t k, const eigen::GyroscopicMode& mode) {
   const auto& spec = a.substructure(k);
   CMS_INPUT_CHECK(!spec.spin, "orbitOfSubstructure: " << spec.name << " does not spin");
-  fem::Vec3 n = spec.spin->axis;
-  const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  for (double& v : n) v /= nn;
-  // e1, e2 transverse with e1 x e2 = n.
-  fem::Vec3 e1 = std::abs(n[0]) < 0.9 ? fem::Vec3{1, 0, 0} : fem::Vec3{0, 1, 0};
-  const double d = e1[0] * n[0] + e1[1] * n[1] + e1[2] * n[2];
-  for (int i = 0; i < 3; ++i) e1[i] -= d * n[i];
-  const double n1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-  for (double& v : e1) v /= n1;
-  const fem::Vec3 e2{n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+  // e1, e2 transverse with e1 x e2 = n, the unit spin axis (the orbit's
+  // sense, Im(a1 conj(a2)), does not depend on which such pair).
+  const fem::Vec3 n = fem::unit(spec.spin->axis);
+  const auto [e1, e2] = fem::transverseBasis(n);
   const auto map = u[k]->getMap();
   const auto* sub = a.assembled(k);
   const auto nodeOf = sub ? sub->dofs().rowNodes() : std::vector<std::int64_t>();

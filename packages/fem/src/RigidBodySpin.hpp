@@ -14,15 +14,11 @@ namespace cms::fem::detail {
 /// Row-major 3x3: (i, j) = m[3 i + j].
 using Mat3 = std::array<double, 9>;
 
-inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-inline Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-inline Vec3 operator-(const Vec3& a, const Vec3& b) {
-  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-inline Vec3 operator*(double s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
+using fem::cross;  // the vector algebra: cms/fem/Vec3.hpp
+using fem::dot;
+using fem::norm;
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return sub(a, b); }
+inline Vec3 operator*(double s, const Vec3& a) { return axpy(s, a, {0.0, 0.0, 0.0}); }
 
 /// [a]x, the matrix of v -> a x v.
 inline Mat3 crossMatrix(const Vec3& a) {

@@ -57,15 +57,10 @@ std::vector<double> AssembledStructure::Part::attachmentRow(const fem::Vec3& x, 
 
 namespace {
 
-double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 unit(const Vec3& a) {
-  const double n = norm(a);
-  return {a[0] / n, a[1] / n, a[2] / n};
-}
+using fem::cross;  // the vector algebra: cms/fem/Vec3.hpp
+using fem::norm;
+using fem::sub;
+using fem::unit;
 
 Vec3 nodePosition(const mesh::Mesh& mesh, std::int64_t n) {
   return {mesh.coordinates[3 * n], mesh.coordinates[3 * n + 1], mesh.coordinates[3 * n + 2]};

@@ -34,17 +34,10 @@ namespace {
 
 using Vector = std::vector<double>;
 
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 unit(const Vec3& a) {
-  const double s = std::sqrt(dot(a, a));
-  return {a[0] / s, a[1] / s, a[2] / s};
-}
-Vec3 axpy(double s, const Vec3& a, const Vec3& b) {  // s a + b
-  return {s * a[0] + b[0], s * a[1] + b[1], s * a[2] + b[2]};
-}
+using cms::fem::cross;  // cms/fem/Vec3.hpp
+using cms::fem::dot;
+using cms::fem::unit;
+using cms::fem::axpy;
 
 /// Steel, and a 40 x 70 mm rectangle (y across 40 mm, z across 70 mm).
 IsotropicMaterial steel() { return {210e9, 0.3, 7850.0}; }

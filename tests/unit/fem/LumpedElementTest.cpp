@@ -21,10 +21,6 @@ const double eps = std::numeric_limits<double>::epsilon();
 
 using Mat3 = std::array<std::array<double, 3>, 3>;
 
-Vec3 unit(const Vec3& a) {
-  const double s = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  return {a[0] / s, a[1] / s, a[2] / s};
-}
 Mat3 crossMatrix(const Vec3& a) {
   return Mat3{{{0.0, -a[2], a[1]}, {a[2], 0.0, -a[0]}, {-a[1], a[0], 0.0}}};
 }

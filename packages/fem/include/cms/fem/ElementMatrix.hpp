@@ -8,9 +8,9 @@
 #include <array>
 #include <vector>
 
-namespace cms::fem {
+#include "cms/fem/Vec3.hpp"
 
-using Vec3 = std::array<double, 3>;
+namespace cms::fem {
 
 /// Isotropic linear elastic material. Checked by validate(): E > 0, rho > 0,
 /// -1 < nu < 0.5 (finite), with cms::InputError naming `what` (the material's
