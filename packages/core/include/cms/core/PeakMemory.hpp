@@ -6,6 +6,9 @@
 
 #include <sys/resource.h>
 
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_CommHelpers.hpp>
+
 namespace cms {
 
 /// Maximum resident set size of this process so far, in MiB (Linux reports KiB).
@@ -42,5 +45,35 @@ inline double residentMiB() {
     if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
   return 0.0;
 }
+
+/// Peak memory of a window of a run, over every rank (the benchmarks'
+/// memory columns): `open()` starts the window on this rank; `peak()`
+/// (collective) gives the largest rank's peak since, the sum of the ranks'
+/// peaks, and the largest resident memory when the window opened: the peak
+/// includes what the process already held, `base` says how much. Never
+/// opened, the window reaches back to the process start.
+class PeakMemoryWindow {
+public:
+  struct Peak {
+    double max = 0.0, sum = 0.0, base = 0.0;  ///< MiB
+  };
+  explicit PeakMemoryWindow(const Teuchos::Comm<int>& comm) : comm_(comm) {}
+  void open() {
+    resetPeakRss();
+    base_ = residentMiB();
+  }
+  Peak peak() const {
+    const double mine = windowPeakRssMiB();
+    Peak p;
+    Teuchos::reduceAll(comm_, Teuchos::REDUCE_MAX, 1, &mine, &p.max);
+    Teuchos::reduceAll(comm_, Teuchos::REDUCE_SUM, 1, &mine, &p.sum);
+    Teuchos::reduceAll(comm_, Teuchos::REDUCE_MAX, 1, &base_, &p.base);
+    return p;
+  }
+
+private:
+  const Teuchos::Comm<int>& comm_;
+  double base_ = 0.0;
+};
 
 }  // namespace cms

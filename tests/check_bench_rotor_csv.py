@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""bench_rotor's CSV as drivers/plot_results.py (rotor) and doc/benchmarks.md
+read it: exactly these columns, in this order; for each size an assembly,
+truth and floor row; every reduced row either measured (pipeline > 0, an
+error against the truth, bases + synthesis + solve = pipeline) or noted as
+skipped or failed; a sweep row when --steps > 0.
+
+    check_bench_rotor_csv.py CSV
+"""
+import csv
+import math
+import sys
+
+COLUMNS = ("h,physical_dofs,truth_dofs,ranks,what,strategy,vectors,reduced_dofs,assembly_s,reduce_s,synthesis_s,"
+           "solve_s,pipeline_s,truth_s,floor_s,pipeline_over_truth,pipeline_over_floor,peak_mib_max_rank,"
+           "peak_mib_sum,resident_at_start_mib,full_k_m_factor_mib,max_rel_error,mean_rel_error,worst_mac,note,"
+           "frequencies_hz").split(",")
+
+
+def main():
+    with open(sys.argv[1], newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        rows = [dict(zip(header, r)) for r in reader]
+    problems = []
+    if header != COLUMNS:
+        problems.append(f"columns {header} are not {COLUMNS}")
+    for h in dict.fromkeys(r["h"] for r in rows):
+        sel = [r for r in rows if r["h"] == h]
+        for what in ("assembly", "floor", "truth"):
+            if not any(r["what"] == what for r in sel):
+                problems.append(f"h = {h}: no {what} row")
+        reduced = [r for r in sel if r["what"] == "reduced"]
+        if not reduced:
+            problems.append(f"h = {h}: no reduced row")
+        for r in reduced:
+            tag = f"h = {h}, {r['strategy']} {r['vectors']}"
+            if r["note"].startswith(("skipped", "FAILED")):
+                continue
+            pipeline = float(r["pipeline_s"])
+            parts = float(r["reduce_s"]) + float(r["synthesis_s"]) + float(r["solve_s"])
+            # The parts are the pipeline's wall times, printed with 6 digits.
+            if not pipeline > 0 or abs(parts - pipeline) > 1e-5 * pipeline:
+                problems.append(f"{tag}: bases + synthesis + solve = {parts}, pipeline {pipeline}")
+            err = float(r["max_rel_error"])
+            if not (math.isfinite(err) and err >= 0):
+                problems.append(f"{tag}: max_rel_error {err} (no comparison with the truth)")
+            if len(r["frequencies_hz"].split(";")) < 1 or not r["frequencies_hz"]:
+                problems.append(f"{tag}: no frequencies")
+        if not any(r["what"] == "sweep" for r in sel):
+            problems.append(f"h = {h}: no sweep row")
+    for p in problems:
+        print("FAILED:", p)
+    print("PASSED" if not problems else f"FAILED: {len(problems)} problems")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
