@@ -1,32 +1,16 @@
-// The drivers' error boundary (DEVELOPERS.md: exceptions carry context and
-// are caught at the driver, turned into one message and a distinct exit
-// code): bad input 2, numerical breakdown 3, anything else 5 (a bug).
+// The drivers' error boundary: cms::reportErrors and the table of outcomes
+// (cms/core/ProgramBoundary.hpp, shared with the examples), and what a solve
+// status means for a driver's exit code.
 #pragma once
 
-#include <exception>
-#include <iostream>
-#include <regex>
-#include <sstream>
-#include <string>
-
-#include "cms/core/Error.hpp"
+#include "cms/core/ProgramBoundary.hpp"
 #include "cms/eigen/GyroscopicModes.hpp"
 
 namespace cms::drivers {
 
-/// The one table of outcomes (doc/user-guide.md, "Exit codes"): what a run
-/// ended with, its exit code and the message printed for it. Every driver
-/// maps a solve status or an exception through here; only ExitSuccess
-/// writes result files.
-struct Outcome {
-  int code;
-  const char* message;
-};
-inline constexpr Outcome kSuccess{ExitSuccess, "success"};
-inline constexpr Outcome kBadInput{ExitInputError, "bad input"};
-inline constexpr Outcome kBreakdown{ExitNumericalError, "numerical breakdown"};
-inline constexpr Outcome kNotConverged{ExitNotConverged, "not converged"};
-inline constexpr Outcome kInternal{ExitInternalError, "internal error (please report)"};
+using cms::condense;
+using cms::Outcome;
+using cms::reportErrors;
 
 /// eigen::SolveStatus -> outcome: Converged 0, NotConverged 4, NumericalIssue 3.
 inline Outcome outcome(eigen::SolveStatus s) {
@@ -36,40 +20,6 @@ inline Outcome outcome(eigen::SolveStatus s) {
     case eigen::SolveStatus::NumericalIssue: return kBreakdown;
   }
   return kInternal;
-}
-
-/// A solver's reason without the Teuchos throw trace (file:line, "Throw
-/// number", "Throw test ..." lines): one line for the console.
-inline std::string condense(const std::string& reason) {
-  std::istringstream in(reason);
-  std::string line, out;
-  static const std::regex where(R"(\s*\S+\.[ch]pp:\d+:\s*$)");
-  while (std::getline(in, line)) {
-    if (line.rfind("Throw number", 0) == 0 || line.rfind("Throw test", 0) == 0) continue;
-    line = std::regex_replace(line, where, "");
-    if (line.find_first_not_of(" \t") == std::string::npos) continue;
-    out += (out.empty() || out.back() == ' ' ? "" : " ") + line;
-  }
-  return out;
-}
-
-/// Runs `body` (which returns the exit code) and maps cms::InputError,
-/// cms::NumericalError and any other exception to their exit codes, with a
-/// message on `root` naming `program`.
-template <class Body>
-int reportErrors(const char* program, bool root, Body&& body) {
-  try {
-    return body();
-  } catch (const InputError& e) {
-    if (root) std::cerr << program << ": " << kBadInput.message << ": " << e.what() << '\n';
-    return kBadInput.code;
-  } catch (const NumericalError& e) {
-    if (root) std::cerr << program << ": " << kBreakdown.message << ": " << condense(e.what()) << '\n';
-    return kBreakdown.code;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << program << ": " << kInternal.message << ": " << condense(e.what()) << '\n';
-    return kInternal.code;
-  }
 }
 
 }  // namespace cms::drivers

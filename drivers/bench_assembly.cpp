@@ -29,18 +29,18 @@
 #include <Teuchos_Time.hpp>
 #include <Tpetra_Core.hpp>
 
-#include "DataDirectory.hpp"
-#include "cms/core/PeakMemory.hpp"
+#include "CommandLine.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/PeakMemory.hpp"
+#include "cms/core/ProgramBoundary.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
 
 int main(int argc, char* argv[]) {
   using namespace cms;
-  using cms::peakRssMiB;
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
-  try {
+  return reportErrors("bench_assembly", root, [&]() -> int {
     // 1. Options.
     std::string sizes = "30,300,1000,2800", csvPath = "bench_assembly.csv";
     int ns = 10;
@@ -53,18 +53,7 @@ int main(int argc, char* argv[]) {
     clp.setOption("csv", &csvPath, "output CSV file");
     if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
     CMS_INPUT_CHECK(ns < 1, "--ns = " << ns << " must be at least 1");
-    std::vector<int> nxs;
-    {
-      std::istringstream is(sizes);
-      std::string item;
-      while (std::getline(is, item, ',')) {
-        char* end = nullptr;
-        const long v = std::strtol(item.c_str(), &end, 10);
-        CMS_INPUT_CHECK(end == item.c_str() || *end != '\0' || v < 1 || v > 100000,
-                        "--nx: \"" << item << "\" must be an integer in 1..100000");
-        nxs.push_back(static_cast<int>(v));
-      }
-    }
+    const std::vector<int> nxs = drivers::positiveIntegers(sizes, "--nx");
 
     std::ofstream csv;
     if (root) {
@@ -114,28 +103,20 @@ int main(int argc, char* argv[]) {
       Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, a.localItems, Teuchos::outArg(itemsMax));
       Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, a.localItems, Teuchos::outArg(itemsMin));
       Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, a.ghostRows, Teuchos::outArg(ghostsMax));
-      double peak = peakRssMiB(), peakMax = 0.0, peakSum = 0.0;
-      Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, peak, Teuchos::outArg(peakMax));
-      Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, peak, Teuchos::outArg(peakSum));
+      const auto peak = PeakMemoryWindow(*comm).peak();  // never opened: since the process started
       if (root) {
         std::cout << std::setw(8) << a.layout.size << std::setw(10) << a.elementCount << std::setw(10)
                   << std::fixed << std::setprecision(2) << tRead.totalElapsedTime() << std::setw(12)
                   << a.assemblySeconds << std::setw(13)
                   << (spin.stressStiffening ? std::to_string(a.prestressSeconds) : std::string("skipped"))
-                  << std::setw(14) << std::setprecision(0) << peakMax << std::endl;
+                  << std::setw(14) << std::setprecision(0) << peak.max << std::endl;
         csv << comm->getSize() << ',' << nx << ',' << ns << ',' << a.layout.size << ',' << a.elementCount << ','
             << itemsMax << ',' << itemsMin << ',' << ghostsMax << ',' << tGen.totalElapsedTime() << ',' << tRead.totalElapsedTime() << ',' << a.assemblySeconds << ','
             << a.setupSeconds << ',' << a.elementSeconds << ',' << a.exportSeconds << ','
-            << (spin.stressStiffening ? a.prestressSeconds : -1.0) << ',' << peakMax << ',' << peakSum << '\n';
+            << (spin.stressStiffening ? a.prestressSeconds : -1.0) << ',' << peak.max << ',' << peak.sum << '\n';
         std::filesystem::remove(msh);
       }
     }
     return ExitSuccess;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "bench_assembly: " << e.what() << '\n';
-    return ExitInputError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "bench_assembly: " << e.what() << '\n';
-    return ExitNumericalError;
-  }
+  });
 }

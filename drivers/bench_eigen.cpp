@@ -27,8 +27,9 @@
 #include <Teuchos_Time.hpp>
 #include <Tpetra_Core.hpp>
 
-#include "cms/core/PeakMemory.hpp"
+#include "DriverBoundary.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/PeakMemory.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
 #include "cms/models/RotatingChain.hpp"
@@ -50,7 +51,7 @@ int main(int argc, char* argv[]) {
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
-  try {
+  return drivers::reportErrors("bench_eigen", root, [&]() -> int {
     // 1. Options.
     double maxDofs = 1e6;
     int maxDense = 2000, modes = 10;
@@ -130,11 +131,5 @@ int main(int argc, char* argv[]) {
       std::cout << "wrote " << csv << "\n";
     }
     return ExitSuccess;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "bench_eigen: input error: " << e.what() << "\n";
-    return ExitInputError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "bench_eigen: " << e.what() << "\n";
-    return ExitInternalError;
-  }
+  });
 }

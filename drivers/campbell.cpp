@@ -29,6 +29,7 @@
 #include <Teuchos_Array.hpp>
 #include <Teuchos_CommandLineProcessor.hpp>
 
+#include "CommandLine.hpp"
 #include "DriverBoundary.hpp"
 #include "cms/analysis/CampbellStudy.hpp"
 #include "cms/models/SpinningRayleighShaft.hpp"
@@ -77,18 +78,7 @@ int main(int argc, char* argv[]) {
     CMS_INPUT_CHECK(modes < 1 || modes > 2 * functions,
                     "--modes = " << modes << " must be in [1, 2*functions = " << 2 * functions << "]");
     const analysis::SpeedAxis axis = analysis::speedAxis(axisText);
-    Teuchos::Array<double> orders;
-    {
-      std::istringstream is(ordersText);
-      std::string item;
-      while (std::getline(is, item, ',')) {
-        char* end = nullptr;
-        const double v = std::strtod(item.c_str(), &end);
-        CMS_INPUT_CHECK(item.empty() || *end != '\0' || !(v > 0) || !std::isfinite(v),
-                        "--orders: \"" << item << "\" is not a positive number");
-        orders.push_back(v);
-      }
-    }
+    const Teuchos::Array<double> orders(drivers::positiveNumbers(ordersText, "--orders"));
     std::cout << "campbell: shaft L = " << shaft.length << " m, r = " << shaft.radius
               << " m, E = " << shaft.youngsModulus << " Pa, rho = " << shaft.density << " kg/m^3; " << functions
               << " admissible functions per plane; " << steps << " speeds to " << maxRpm << " rpm; orders "

@@ -37,6 +37,7 @@
 
 #include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/ProgramBoundary.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -134,7 +135,7 @@ int main(int argc, char* argv[]) {
   Tpetra::ScopeGuard mpi(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
-  try {
+  return reportErrors("ex1_spacecraft", root, [&]() -> int {
     // 1. Options, printed back so that the output records how it was made.
     int modes = 12, vectors = 8;
     double wheelSpeed = 600.0;
@@ -214,14 +215,5 @@ int main(int argc, char* argv[]) {
     // equations are solved to rounding; the error estimate, not the
     // residual, is what more vectors (--vectors) would improve.
     return result.status == eigen::SolveStatus::Converged ? ExitSuccess : ExitNotConverged;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "ex1_spacecraft: bad input: " << e.what() << '\n';
-    return ExitInputError;
-  } catch (const NumericalError& e) {
-    if (root) std::cerr << "ex1_spacecraft: numerical breakdown: " << e.what() << '\n';
-    return ExitNumericalError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "ex1_spacecraft: " << e.what() << '\n';
-    return ExitInternalError;
-  }
+  });
 }

@@ -11,8 +11,11 @@
 // error each strategy estimated without the truth. That is the trade the
 // framework exists to measure: coordinates and seconds against accuracy.
 //
-// The scene is written below as YAML text and read by scene::Scene::parse,
-// exactly as `cms` reads a file; --scene reads a file instead.
+// The scene is drivers/scenes/rotor-chain.yaml, installed with the library
+// in <prefix>/share/cms/scenes (find_package(cms) sets cms_DATA_DIR;
+// examples/CMakeLists.txt passes the folder as CMS_EXAMPLE_SCENES), read and
+// checked exactly as `cms` reads it; its "Reduction" lists are replaced in
+// step 5, one strategy at a time. --scene reads another file.
 //
 // Sample runs:
 //   ex2_rotor
@@ -20,7 +23,6 @@
 //   ex2_rotor --first=Modes --second=Guyan
 //   ex2_rotor --scene=<prefix>/share/cms/scenes/shaft-on-support.yaml
 //   mpiexec -n 2 ex2_rotor
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -33,72 +35,12 @@
 
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/ProgramBoundary.hpp"
+#include "cms/core/Stopwatch.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 namespace {
-
-// The rotor of drivers/scenes/rotor-chain.yaml (SI units), without its
-// "Reduction" lists: step 5 sets them, one strategy at a time.
-const char* const kRotorChain = R"(
-Scene:
-  Name: rotor-chain
-  Substructures:
-    hub:
-      Kind: C
-      Beam:
-        From: [-0.3, 0.0, 0.0]
-        To: [0.3, 0.0, 0.0]
-        Elements: 4
-        Young's Modulus: 2.0e11
-        Density: 7800.0
-        Area: 5.0e-3
-        Iy: 4.0e-6
-        Iz: 4.0e-6
-        Torsion Constant: 8.0e-6
-        Clamp: mid
-      Spin:
-        Axis: [0.0, 0.0, 1.0]
-        Rate: 20.0
-    blade:
-      Kind: E
-      Parent: hub
-      Attachment:
-        Parent Nodes: end
-        Nodes: start
-      Beam:
-        From: [0.3, 0.0, 0.0]
-        To: [2.3, 0.0, 0.0]
-        Elements: 16
-        Young's Modulus: 7.0e10
-        Density: 2700.0
-        Area: 1.0e-3
-        Iy: 2.0e-8
-        Iz: 2.0e-7
-        Torsion Constant: 5.0e-8
-        Orientation: [0.0, 1.0, 0.0]
-    tip:
-      Kind: E
-      Parent: blade
-      Attachment:
-        Parent Nodes: end
-        Nodes: start
-      Beam:
-        From: [2.3, 0.0, 0.0]
-        To: [2.5, 0.0, 0.0]
-        Elements: 2
-        Young's Modulus: 2.0e11
-        Density: 7800.0
-        Area: 1.0e-3
-        Iy: 1.0e-7
-        Iz: 1.0e-7
-        Torsion Constant: 2.0e-7
-        Tip Mass: 2.0
-)";
-
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// One strategy's reduced model, its modes and what they cost.
 struct Strategy {
@@ -116,7 +58,7 @@ int main(int argc, char* argv[]) {
   Tpetra::ScopeGuard mpi(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
-  try {
+  return reportErrors("ex2_rotor", root, [&]() -> int {
     // 1. Options.
     int vectors = 8, modes = 8;
     std::string first = "Admissible", second = "Craig-Bampton", scenePath;
@@ -126,7 +68,7 @@ int main(int argc, char* argv[]) {
     clp.setOption("modes", &modes, "lowest modes compared");
     clp.setOption("first", &first, "first basis: Admissible, Modes, Craig-Bampton, Guyan, Polynomial");
     clp.setOption("second", &second, "second basis, as --first");
-    clp.setOption("scene", &scenePath, "read this YAML scene instead of the built-in rotor");
+    clp.setOption("scene", &scenePath, "read this YAML scene instead of the rotor chain");
     if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
     CMS_INPUT_CHECK(vectors < 1, "--vectors = " << vectors << " must be at least 1");
     CMS_INPUT_CHECK(modes < 1, "--modes = " << modes << " must be at least 1");
@@ -135,8 +77,7 @@ int main(int argc, char* argv[]) {
                 << " --second=" << second << (scenePath.empty() ? "" : " --scene=" + scenePath) << '\n';
 
     // 2. The structure, read and checked as a scene (keys, kinds, tree).
-    scene::Scene sc = scenePath.empty() ? scene::Scene::parse(kRotorChain, "rotor-chain.yaml")
-                                        : scene::Scene::read(scenePath);
+    scene::Scene sc = scene::Scene::read(scenePath.empty() ? CMS_EXAMPLE_SCENES "/rotor-chain.yaml" : scenePath);
     sc.solve.set("Number of Modes", modes);
 
     // 3. One assembly (matrices per unit speed, centrifugal prestress leaves
@@ -147,22 +88,22 @@ int main(int argc, char* argv[]) {
 
     // 4. The truth: every basis Full, i.e. the monolithic model with each
     //    attachment slaved to its parent (§11.2), solved by the same path.
-    auto t0 = std::chrono::steady_clock::now();
+    Stopwatch timer;
     const auto truth = synthesis::SynthesizedStructure::synthesize(structure, /*truth=*/true);
     const auto truthModes = truth.solve(speeds, sc.solve);
-    const double truthSeconds = seconds(t0);
+    const double truthSeconds = timer.seconds();
 
     // 5. Each strategy: the same vector count on every substructure
     //    (synthesis::sameReduction), reduced, coupled, solved, and its own
     //    error estimates (§11.8), which need no truth.
     std::vector<Strategy> strategies;
     for (const auto& basis : {first, second}) {
-      t0 = std::chrono::steady_clock::now();
+      timer.restart();
       auto reduced = synthesis::SynthesizedStructure::synthesize(structure,
                                                                  synthesis::sameReduction(structure, basis, vectors));
       auto found = reduced.solve(speeds, sc.solve);
       auto estimates = reduced.errorEstimates(found);
-      strategies.push_back({basis, std::move(reduced), std::move(found), std::move(estimates), seconds(t0)});
+      strategies.push_back({basis, std::move(reduced), std::move(found), std::move(estimates), timer.seconds()});
     }
 
     // 6. Against the truth: pair modes in frequency order, relative error
@@ -205,14 +146,5 @@ int main(int argc, char* argv[]) {
     bool converged = truthModes.result.status == eigen::SolveStatus::Converged;
     for (const auto& s : strategies) converged = converged && s.modes.result.status == eigen::SolveStatus::Converged;
     return converged ? ExitSuccess : ExitNotConverged;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "ex2_rotor: bad input: " << e.what() << '\n';
-    return ExitInputError;
-  } catch (const NumericalError& e) {
-    if (root) std::cerr << "ex2_rotor: numerical breakdown: " << e.what() << '\n';
-    return ExitNumericalError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "ex2_rotor: " << e.what() << '\n';
-    return ExitInternalError;
-  }
+  });
 }

@@ -17,9 +17,10 @@
 //   - find where that frequency minus the speed changes sign, and refine the
 //     crossing by bisection, each probe one more solve.
 //
-// The structure is drivers/scenes/shaft-on-support.yaml: a steel shaft
-// with a disc (A, stationary-frame form, theory §9.4) cantilevered from a
-// flexible, non-spinning support beam (C).
+// The structure is drivers/scenes/shaft-on-support.yaml (installed in
+// <prefix>/share/cms/scenes, CMS_EXAMPLE_SCENES): a steel shaft with a disc
+// (A, stationary-frame form, theory §9.4) cantilevered from a flexible,
+// non-spinning support beam (C).
 //
 // Sample runs:
 //   ex3_custom_study
@@ -40,60 +41,11 @@
 
 #include "cms/analysis/ModalAnalysis.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/ProgramBoundary.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 namespace {
-
-// The structure of drivers/scenes/shaft-on-support.yaml (SI units).
-const char* const kShaftOnSupport = R"(
-Scene:
-  Name: shaft-on-support
-  Substructures:
-    support:
-      Kind: C
-      Beam:
-        From: [-1.0, 0.0, 0.0]
-        To: [0.0, 0.0, 0.0]
-        Elements: 6
-        Young's Modulus: 2.0e11
-        Density: 7800.0
-        Area: 2.0e-3
-        Iy: 8.0e-7
-        Iz: 5.0e-7
-        Torsion Constant: 1.0e-6
-        Clamp: start
-      Reduction:
-        Basis: Craig-Bampton
-        Vectors: 6
-    shaft:
-      Kind: A
-      Parent: support
-      Attachment:
-        Parent Nodes: end
-        Nodes: start
-      Beam:
-        From: [0.0, 0.0, 0.0]
-        To: [2.0, 0.0, 0.0]
-        Elements: 10
-        Young's Modulus: 2.0e11
-        Density: 7800.0
-        Area: 1.2566e-3
-        Iy: 1.2566e-7
-        Iz: 1.2566e-7
-        Torsion Constant: 2.5133e-7
-        Tip Mass: 10.0
-        Tip Inertia: [0.2, 0.1, 0.1]
-      Spin:
-        Axis: [1.0, 0.0, 0.0]
-        Rate: 300.0
-        Frame: Stationary
-      Reduction:
-        Basis: Admissible
-        Vectors: 10
-  Analysis:
-    Number of Modes: 8
-)";
 
 /// The lowest forward-whirl mode of substructure `k` at one speed.
 struct Probe {
@@ -110,7 +62,7 @@ int main(int argc, char* argv[]) {
   Tpetra::ScopeGuard mpi(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
-  try {
+  return reportErrors("ex3_custom_study", root, [&]() -> int {
     // 1. Options.
     int steps = 17, bisections = 30;
     double maxSpeed = 0.0;
@@ -121,14 +73,14 @@ int main(int argc, char* argv[]) {
     clp.setOption("max-speed", &maxSpeed, "top of the sweep, rad/s (default: twice the nominal rate)");
     clp.setOption("speed", &speedName, "the substructure whose spin is swept (default: the first that spins)");
     clp.setOption("bisections", &bisections, "bisection steps refining the crossing");
-    clp.setOption("scene", &scenePath, "read this YAML scene instead of the built-in shaft");
+    clp.setOption("scene", &scenePath, "read this YAML scene instead of the shaft on its support");
     if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
     CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
     CMS_INPUT_CHECK(bisections < 0, "--bisections = " << bisections << " must be >= 0");
 
     // 2. Read, assemble and reduce once (theory §11.1-§11.4).
-    const scene::Scene sc = scenePath.empty() ? scene::Scene::parse(kShaftOnSupport, "shaft-on-support.yaml")
-                                              : scene::Scene::read(scenePath);
+    const scene::Scene sc =
+        scene::Scene::read(scenePath.empty() ? CMS_EXAMPLE_SCENES "/shaft-on-support.yaml" : scenePath);
     const auto structure = synthesis::AssembledStructure::assemble(sc.structure, comm);
     const auto reduced = synthesis::SynthesizedStructure::synthesize(structure);
 
@@ -224,14 +176,5 @@ int main(int argc, char* argv[]) {
       std::printf("\n1X forward critical speed of %s: %.8g rad/s = %.6g rpm (bracket width %.2e rad/s)\n",
                   parameters[p].name.c_str(), critical, critical * 60.0 / (2.0 * M_PI), hi.speed - lo.speed);
     return ExitSuccess;
-  } catch (const InputError& e) {
-    if (root) std::cerr << "ex3_custom_study: bad input: " << e.what() << '\n';
-    return ExitInputError;
-  } catch (const NumericalError& e) {
-    if (root) std::cerr << "ex3_custom_study: numerical breakdown: " << e.what() << '\n';
-    return ExitNumericalError;
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "ex3_custom_study: " << e.what() << '\n';
-    return ExitInternalError;
-  }
+  });
 }

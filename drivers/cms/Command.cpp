@@ -155,42 +155,13 @@ void removeCreatedOutputIfEmpty() {
   if (!dir.empty() && std::filesystem::is_empty(dir, ec) && !ec) std::filesystem::remove(dir, ec);
 }
 
-std::vector<int> positiveIntegers(const std::string& text, const char* option) {
-  std::vector<int> out;
-  std::istringstream is(text);
-  std::string item;
-  while (std::getline(is, item, ',')) {
-    char* end = nullptr;
-    const long v = std::strtol(item.c_str(), &end, 10);
-    CMS_INPUT_CHECK(item.empty() || *end != '\0' || v < 1 || v > 100000,
-                    option << ": \"" << item << "\" is not a positive integer");
-    out.push_back(static_cast<int>(v));
-  }
-  return out;
-}
-
 // The built-in scene and the plot script: <prefix>/share/cms, found from the
 // executable (DataDirectory.hpp), never a source path compiled in.
 std::string defaultScene() { return drivers::dataFile("scenes/spacecraft.yaml").string(); }
 
 void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv,
           const std::string& extra) {
-  if (!options.plot()) return;
-  const auto png = std::filesystem::path(csv).replace_extension(".png");
-  std::string script;
-  try {
-    script = drivers::dataFile("plot_results.py").string();
-  } catch (const InputError& e) {
-    std::cout << "no plot: " << e.what() << '\n';
-    return;
-  }
-  const std::string cmd = std::string(CMS_PYTHON) + " '" + script + "' " + kind + " '" +
-                          csv.string() + "' '" + png.string() + "'" + (extra.empty() ? "" : " " + extra);
-  if (std::system(cmd.c_str()) == 0)
-    std::cout << "plotted " << png.string() << '\n';
-  else
-    std::cout << "no plot: " << cmd << " failed (plots need Debian's python3-matplotlib: "
-              << "apt-get install python3-matplotlib)\n";
+  if (options.plot()) plotCsv(kind, csv, extra);
 }
 
 std::string stamp(double seconds) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "../CommandLine.hpp"  // positiveIntegers, positiveNumbers, plotCsv
 #include "cms/scene/Scene.hpp"
 
 namespace Teuchos { class CommandLineProcessor; }
@@ -68,9 +69,6 @@ std::filesystem::path& createdOutput();
 /// A failed run leaves nothing behind: not even the directory it created
 /// for its files, when it stayed empty.
 void removeCreatedOutputIfEmpty();
-
-/// "1,2,4" -> {1, 2, 4}; cms::InputError naming `option` otherwise.
-std::vector<int> positiveIntegers(const std::string& text, const char* option);
 
 /// The built-in default scene (the spacecraft).
 std::string defaultScene();

@@ -34,24 +34,6 @@
 
 namespace cms::drivers {
 
-namespace {
-/// "0.5,1,2" -> {0.5, 1, 2}; cms::InputError naming --orders otherwise.
-Teuchos::Array<double> engineOrders(const std::string& text) {
-  Teuchos::Array<double> out;
-  std::istringstream is(text);
-  std::string item;
-  while (std::getline(is, item, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    CMS_INPUT_CHECK(item.empty() || *end != '\0' || !(v > 0.0) || !std::isfinite(v),
-                    "--orders: \"" << item << "\" is not a positive number");
-    out.push_back(v);
-  }
-  CMS_INPUT_CHECK(out.empty(), "--orders: no engine order given");
-  return out;
-}
-}  // namespace
-
 int campbell(int argc, char* argv[]) {
   // 1. Options and scene.
   Options options("campbell",
@@ -76,7 +58,7 @@ int campbell(int argc, char* argv[]) {
   const bool root = run->root;
   CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
   CMS_INPUT_CHECK(!(maxFactor > 0), "--max-factor = " << maxFactor << " must be positive");
-  const auto orders = engineOrders(ordersText);
+  const Teuchos::Array<double> orders(positiveNumbers(ordersText, "--orders"));
   const auto axis = analysis::speedAxis(axisText);
 
   // 2. Assemble and reduce once; every speed parameter is a polynomial variable.

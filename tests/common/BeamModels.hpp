@@ -68,22 +68,38 @@ inline std::shared_ptr<mesh::Mesh> lineMesh(double length, int elements) {
   return mesh;
 }
 
+/// A beam section: area, second moments about local y and z, torsion
+/// constant, and the direction of the local y axis.
+inline fem::BeamSection beamSection(double A, double Iy, double Iz, double J, const fem::Vec3& orientation) {
+  fem::BeamSection s;
+  s.A = A, s.Iy = Iy, s.Iz = Iz, s.J = J;
+  s.orientation = orientation;
+  return s;
+}
+
+/// A model named `name` of one element set (`set`, its material filled in)
+/// with one material.
+inline fem::FiniteElementModel oneSetModel(const std::string& name, std::shared_ptr<const mesh::Mesh> mesh,
+                                           const fem::IsotropicMaterial& mat, fem::ElementSet set) {
+  fem::FiniteElementModel m;
+  m.name = name;
+  m.mesh = std::move(mesh);
+  m.materials["material"] = mat;
+  set.material = "material";
+  m.elementSets.push_back(std::move(set));
+  return m;
+}
+
 /// A frame model of the line mesh: one material, one section.
 inline fem::FiniteElementModel frameModel(std::shared_ptr<const mesh::Mesh> mesh, const fem::IsotropicMaterial& mat,
                                           const fem::BeamSection& section,
                                           fem::BeamTheory theory = fem::BeamTheory::EulerBernoulli) {
-  fem::FiniteElementModel m;
-  m.name = "beam";
-  m.mesh = std::move(mesh);
-  m.materials["material"] = mat;
   fem::ElementSet set;
   set.group = "beam";
   set.kind = fem::ElementSet::Kind::Frame;
-  set.material = "material";
   set.section = section;
   set.theory = theory;
-  m.elementSets.push_back(set);
-  return m;
+  return oneSetModel("beam", std::move(mesh), mat, std::move(set));
 }
 
 }  // namespace cms::fixtures

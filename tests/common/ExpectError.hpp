@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <initializer_list>
 #include <string>
 
 #include "cms/core/Error.hpp"
@@ -17,6 +19,18 @@ void expectInputError(F f, const std::string& needle) {
     ADD_FAILURE() << "no cms::InputError (expected one mentioning \"" << needle << "\")";
   } catch (const cms::InputError& err) {
     EXPECT_NE(std::string(err.what()).find(needle), std::string::npos) << err.what();
+  }
+}
+
+/// fn throws cms::InputError whose message holds every one of `parts`.
+inline void expectInputErrorWith(const std::function<void()>& fn, std::initializer_list<std::string> parts) {
+  try {
+    fn();
+    ADD_FAILURE() << "no cms::InputError (expected one mentioning \"" << *parts.begin() << "\")";
+  } catch (const cms::InputError& e) {
+    const std::string what = e.what();
+    for (const std::string& p : parts)
+      EXPECT_NE(what.find(p), std::string::npos) << "message \"" << what << "\" lacks \"" << p << "\"";
   }
 }
 

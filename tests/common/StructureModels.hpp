@@ -66,16 +66,10 @@ inline std::shared_ptr<mesh::Mesh> boxMesh(double a, double b, double c, int n,
 }
 
 inline fem::FiniteElementModel solidModel(std::shared_ptr<const mesh::Mesh> mesh, const fem::IsotropicMaterial& mat) {
-  fem::FiniteElementModel m;
-  m.name = "solid";
-  m.mesh = std::move(mesh);
-  m.materials["material"] = mat;
   fem::ElementSet set;
   set.group = "solid";
   set.kind = fem::ElementSet::Kind::Solid;
-  set.material = "material";
-  m.elementSets.push_back(set);
-  return m;
+  return oneSetModel("solid", std::move(mesh), mat, std::move(set));
 }
 
 }  // namespace cms::fixtures

@@ -21,10 +21,6 @@
 #include "cms/core/HashRandom.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
 
-#ifndef CMS_TEST_DATA_DIR
-#define CMS_TEST_DATA_DIR "tests/data"
-#endif
-
 using namespace cms;
 using fem::Component;
 using substructure::Substructure;
@@ -59,12 +55,7 @@ fem::FiniteElementModel spinningSolidBlade() {
 /// A small spinning frame model with every matrix (M, K, G1, KT1, KS1) and a
 /// clamped root (a node without rows), for the Matrix Market tests.
 fem::FiniteElementModel spinningBeam() {
-  fem::BeamSection sec;
-  sec.A = 1e-3;
-  sec.Iy = 1e-7;
-  sec.Iz = 3e-7;
-  sec.J = 2e-7;
-  sec.orientation = {0, 1, 0};
+  auto sec = fixtures::beamSection(1e-3, 1e-7, 3e-7, 2e-7, {0, 1, 0});
   auto m = fixtures::frameModel(fixtures::lineMesh(2.0, 40), {7e10, 0.33, 2700.0}, sec,
                                 fem::BeamTheory::Timoshenko);
   m.name = "spinning beam";

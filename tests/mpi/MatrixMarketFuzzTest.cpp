@@ -71,12 +71,7 @@ std::string mutate(std::string s, std::mt19937& rng) {
 }  // namespace
 
 TEST(MatrixMarketFuzz, CorruptedFilesGiveInputErrorOrSucceedOnEveryRank) {
-  fem::BeamSection sec;
-  sec.A = 1e-3;
-  sec.Iy = 1e-7;
-  sec.Iz = 2e-7;
-  sec.J = 2e-7;
-  sec.orientation = {0, 1, 0};
+  auto sec = fixtures::beamSection(1e-3, 1e-7, 2e-7, 2e-7, {0, 1, 0});
   auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 3), {7e10, 0.33, 2700.0}, sec);
   model.name = "fuzz";
   model.fixed.push_back({"root", "root", {}, true});

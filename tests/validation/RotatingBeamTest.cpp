@@ -251,12 +251,7 @@ class RotatingBeamSeries {
 /// the chordwise model of RotatingBeamSeries with T = Omega.
 fem::FiniteElementModel chordwiseBlade(int elements, double a) {
   fem::IsotropicMaterial mat{1e6, 0.3, 1e6 / a};
-  fem::BeamSection sec;
-  sec.A = a / 1e6;
-  sec.Iy = 4e-6;
-  sec.Iz = 1e-6;
-  sec.J = 5e-6;
-  sec.orientation = {0.0, 1.0, 0.0};
+  auto sec = fixtures::beamSection(a / 1e6, 4e-6, 1e-6, 5e-6, {0.0, 1.0, 0.0});
   sec.rotaryInertia = false;
   return clampedBlade(elements, mat, sec, true);
 }

@@ -37,6 +37,18 @@ fem::FiniteElementModel frame(std::shared_ptr<const mesh::Mesh> mesh, const fem:
   return hb.frame(std::move(mesh), mat, sec, name);
 }
 
+/// A steel central (C) frame substructure clamped at its node set `clamped`.
+SubstructureSpec centralBeam(const std::string& name, std::shared_ptr<const mesh::Mesh> mesh,
+                             const fem::BeamSection& sec, const std::string& clamped) {
+  SubstructureSpec C;
+  C.name = name;
+  C.kind = SubstructureKind::Central;
+  auto beam = frame(std::move(mesh), {2e11, 0.3, 7800}, sec, name);
+  beam.fixed.push_back({"clamp", clamped, {}, true});
+  C.model = std::make_shared<fem::FiniteElementModel>(std::move(beam));
+  return C;
+}
+
 /// A non-rotating (E) frame child named after its model, its node set
 /// "start" tied to the parent's `parentNodes` (the attachment-error cases).
 SubstructureSpec frameChild(const std::string& parent, const std::string& parentNodes, fem::FiniteElementModel model) {
@@ -69,14 +81,8 @@ double zShare(const SynthesizedStructure& s, const StructureModes& m, int mode, 
 
 StructureDescription bladeOnClampedHub(const std::string& basis, int vectors) {
   StructureDescription d;
-  SubstructureSpec C;
-  C.name = "hub";
-  C.kind = SubstructureKind::Central;
-  fem::BeamSection hubSec{1e-2, 1e-5, 1e-5, 2e-5};
-  auto hub = frame(fixtures::segmentMesh({-0.2, 0, 0}, {0, 0, 0}, 2), {2e11, 0.3, 7800}, hubSec, "hub");
-  hub.fixed.push_back({"ends", "ends", {}, true});
-  C.model = std::make_shared<fem::FiniteElementModel>(hub);
-  d.substructures.push_back(C);
+  d.substructures.push_back(centralBeam("hub", fixtures::segmentMesh({-0.2, 0, 0}, {0, 0, 0}, 2),
+                                        {1e-2, 1e-5, 1e-5, 2e-5}, "ends"));
   // Wright's blade: rho A = 1, E Iy = 1, L = 1, flapwise along z.
   fem::BeamSection sec{1.0, 1e-6, 4e-6, 2e-6};
   sec.orientation = {0.0, 1.0, 0.0};
@@ -154,15 +160,9 @@ namespace {
 /// an axisymmetric shaft (A, stationary frame, to x = 2) or a wheel (R).
 StructureDescription supportWith(bool wheel, double rate) {
   StructureDescription d;
-  SubstructureSpec C;
-  C.name = "support";
-  C.kind = SubstructureKind::Central;
-  fem::BeamSection sup{2e-3, 8e-7, 5e-7, 1e-6};
-  auto support = frame(fixtures::segmentMesh({-1, 0, 0}, {0, 0, 0}, 6), {2e11, 0.3, 7800}, sup, "support");
-  support.fixed.push_back({"clamp", "start", {}, true});
-  C.model = std::make_shared<fem::FiniteElementModel>(support);
-  C.reduction.set("Basis", std::string("Full"));
-  d.substructures.push_back(C);
+  d.substructures.push_back(centralBeam("support", fixtures::segmentMesh({-1, 0, 0}, {0, 0, 0}, 6),
+                                        {2e-3, 8e-7, 5e-7, 1e-6}, "start"));
+  d.substructures.back().reduction.set("Basis", std::string("Full"));
   if (wheel) {
     SubstructureSpec R;
     R.name = "wheel";

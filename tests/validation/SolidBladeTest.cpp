@@ -12,10 +12,6 @@
 #include "BeamModels.hpp"
 #include "SubstructureModes.hpp"
 
-#ifndef CMS_TEST_DATA_DIR
-#define CMS_TEST_DATA_DIR "tests/data"
-#endif
-
 using namespace cms;
 using fem::Component;
 using substructure::Substructure;

@@ -1,7 +1,6 @@
 #include "cms/analysis/ModalAnalysis.hpp"
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <complex>
 #include <map>
@@ -16,13 +15,9 @@
 #include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
+#include "cms/core/Stopwatch.hpp"
 
 namespace cms::analysis {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-}  // namespace
 
 Teuchos::RCP<const Teuchos::ParameterList> ModalAnalysis::validParameters() {
   auto p = Teuchos::rcp(new Teuchos::ParameterList("Modal Analysis"));
@@ -38,12 +33,7 @@ Teuchos::RCP<const Teuchos::ParameterList> ModalAnalysis::validParameters() {
 ModalAnalysis::ModalAnalysis(synthesis::StructureDescription description, Teuchos::ParameterList solve,
                              const Teuchos::ParameterList& options)
     : description_(std::move(description)), solve_(std::move(solve)), options_(options) {
-  checkKeys(options_, *validParameters(), "Modal Analysis");
-  try {
-    options_.validateParametersAndSetDefaults(*validParameters());
-  } catch (const std::exception& e) {
-    throw InputError(std::string("Modal Analysis: ") + e.what());
-  }
+  validateOptions(options_, *validParameters(), "Modal Analysis");
   CMS_INPUT_CHECK(!(options_.get<double>("Speed Factor") >= 0.0),
                   "Modal Analysis: \"Speed Factor\" = " << options_.get<double>("Speed Factor") << " must be >= 0");
   CMS_INPUT_CHECK(!(options_.get<double>("Target Accuracy") >= 0.0),
@@ -57,13 +47,13 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
   };
   ModalResult r;
   // 1. Assembly of every substructure (with its prestress, leaves first).
-  const auto t0 = Clock::now();
+  const Stopwatch t0;
   r.structure = [&] {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 1. assembly of the substructures"));
     return synthesis::AssembledStructure::assemble(description_, comm);
   }();
   const auto& structure = *r.structure;
-  r.assemblySeconds = since(t0);
+  r.assemblySeconds = t0.seconds();
   r.speeds = structure.nominalSpeeds();
   for (double& v : r.speeds) v *= options_.get<double>("Speed Factor");
 
@@ -71,7 +61,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
   // 2. The bases: as given, or enriched to "Target Accuracy" (theory §11.10).
   say("reducing: factorising the stiffness and building the bases of " +
       std::to_string(structure.numSubstructures()) + " substructures");
-  const auto t1 = Clock::now();
+  const Stopwatch t1;
   std::vector<Teuchos::ParameterList> reductions;
   for (std::size_t k = 0; k < structure.numSubstructures(); ++k) reductions.push_back(structure.substructure(k).reduction);
   r.enrichment.reached = true;
@@ -88,7 +78,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
                                                        r.enrichment.synthesis.get());
   }();
   const auto& s = *r.reduced;
-  r.reductionSeconds = since(t1);
+  r.reductionSeconds = t1.seconds();
   checkMass(structure, s);
 
   // 4. The solve, then what each zero frequency means (theory §4.3): a
@@ -103,16 +93,16 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
 
   // 5. Accuracy, without the truth (theory §11.8, §11.9), and with it on request.
   r.character = s.characterise(r.modes);
-  const auto t5 = Clock::now();
+  const Stopwatch t5;
   {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 4. error estimates, bounds and coverage"));
     r.accuracy = s.accuracy(r.modes);
     for (const auto& a : r.accuracy) r.estimates.push_back(a.estimate);
-    r.estimateSeconds = since(t5);
+    r.estimateSeconds = t5.seconds();
     for (const auto& md : r.modes.result.modes) r.cutoff = std::max(r.cutoff, md.omega);
     r.coverage = s.coverage(r.cutoff);
   }
-  r.accuracySeconds = since(t5);
+  r.accuracySeconds = t5.seconds();
   if (options_.get<bool>("Truth")) {
     const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
     const auto truthModes = truth.solve(r.speeds, solve_);

@@ -25,12 +25,7 @@ Teuchos::RCP<const Teuchos::ParameterList> TruncationStudy::validParameters() {
 TruncationStudy::TruncationStudy(const synthesis::AssembledStructure& structure, Teuchos::ParameterList solve,
                                  const Teuchos::ParameterList& options)
     : structure_(structure), solve_(std::move(solve)), options_(options) {
-  checkKeys(options_, *validParameters(), "Truncation Study");
-  try {
-    options_.validateParametersAndSetDefaults(*validParameters());
-  } catch (const std::exception& e) {
-    throw InputError(std::string("Truncation Study: ") + e.what());
-  }
+  validateOptions(options_, *validParameters(), "Truncation Study");
   CMS_INPUT_CHECK(options_.get<int>("Start") < 0 || options_.get<int>("Step") < 1,
                   "Truncation Study: \"Start\" must be >= 0 and \"Step\" >= 1 (--start, --step)");
   CMS_INPUT_CHECK(!(options_.get<double>("Accuracy") > 0),

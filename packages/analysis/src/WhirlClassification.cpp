@@ -11,6 +11,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/ParameterReading.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 namespace cms::analysis {
@@ -165,11 +166,7 @@ Teuchos::RCP<const Teuchos::ParameterList> WhirlClassification::getValidParamete
 
 WhirlClassification::WhirlClassification(const Teuchos::ParameterList& params) {
   Teuchos::ParameterList p(params);
-  try {
-    p.validateParametersAndSetDefaults(*getValidParameters());
-  } catch (const std::exception& e) {
-    throw InputError(std::string("WhirlClassification: ") + e.what());
-  }
+  validateOptions(p, *getValidParameters(), "WhirlClassification");
   clusterTolerance_ = p.get<double>("Cluster Tolerance");
   transverseShare_ = p.get<double>("Transverse Share");
   circularity_ = p.get<double>("Circularity");

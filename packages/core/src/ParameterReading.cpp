@@ -33,6 +33,15 @@ void checkKeys(const ParameterList& p, const ParameterList& valid, const std::st
   }
 }
 
+void validateOptions(ParameterList& p, const ParameterList& valid, const std::string& owner) {
+  checkKeys(p, valid, owner);
+  try {
+    p.validateParametersAndSetDefaults(valid);
+  } catch (const std::exception& e) {
+    throw InputError(owner + ": " + e.what());
+  }
+}
+
 double getNumber(const ParameterList& p, const std::string& key, const std::string& path,
                  std::optional<double> fallback) {
   if (!p.isParameter(key)) {

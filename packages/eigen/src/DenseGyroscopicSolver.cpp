@@ -11,6 +11,7 @@
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/ParameterReading.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
@@ -628,11 +629,7 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
 
 DenseGyroscopicSolver::DenseGyroscopicSolver(const Teuchos::ParameterList& params)
     : params_(params) {
-  try {
-    params_.validateParametersAndSetDefaults(*getValidParameters());
-  } catch (const std::exception& e) {
-    throw InputError(std::string("DenseGyroscopicSolver: invalid parameter: ") + e.what());
-  }
+  validateOptions(params_, *getValidParameters(), "DenseGyroscopicSolver");
 }
 
 GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) const {

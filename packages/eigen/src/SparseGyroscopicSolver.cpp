@@ -17,6 +17,7 @@
 #include "SparseIterations.hpp"
 #include "SpectralTransform.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/ParameterReading.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
@@ -73,11 +74,7 @@ Teuchos::RCP<const Teuchos::ParameterList> SparseGyroscopicSolver::getValidParam
 
 SparseGyroscopicSolver::SparseGyroscopicSolver(const Teuchos::ParameterList& params)
     : params_(params) {
-  try {
-    params_.validateParametersAndSetDefaults(*getValidParameters());
-  } catch (const std::exception& e) {
-    throw InputError(std::string("SparseGyroscopicSolver: invalid parameter: ") + e.what());
-  }
+  validateOptions(params_, *getValidParameters(), "SparseGyroscopicSolver");
   const int k = params_.get<int>("Number of Modes"), bs = params_.get<int>("Block Size");
   CMS_INPUT_CHECK(k < 1, "SparseGyroscopicSolver: \"Number of Modes\" = " << k << " must be >= 1");
   CMS_INPUT_CHECK(bs < 2, "SparseGyroscopicSolver: \"Block Size\" = "

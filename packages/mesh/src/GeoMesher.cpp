@@ -52,6 +52,7 @@ namespace {
 
 using cms::mesh::detail::GmshSession;
 using cms::mesh::detail::loggedErrors;
+using cms::mesh::detail::sendAll;
 
 /// Does a Gmsh message say where ("line 12", "curve 4", "surface 1")?
 bool hasPlace(const std::string& message) {
@@ -152,16 +153,6 @@ std::string meshScript(const std::string& script, const std::string& out,
 }  // namespace
 
 namespace {
-
-bool sendAll(int fd, const std::string& s) {
-  for (std::size_t done = 0; done < s.size();) {
-    const ssize_t n = ::send(fd, s.data() + done, s.size() - done, MSG_NOSIGNAL);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    done += static_cast<std::size_t>(n);
-  }
-  return true;
-}
 
 /// One request's fields (empty when the cms process closed the socket).
 std::vector<std::string> readRequest(int fd, std::string& buffer) {

@@ -507,15 +507,7 @@ private:
     fd_ = -1;
     pid_ = -1;
   }
-  bool sendAll(const std::string& s) {
-    for (std::size_t done = 0; done < s.size();) {
-      const ssize_t n = ::send(fd_, s.data() + done, s.size() - done, MSG_NOSIGNAL);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return false;
-      done += static_cast<std::size_t>(n);
-    }
-    return true;
-  }
+  bool sendAll(const std::string& s) { return detail::sendAll(fd_, s); }
   int fd_ = -1;
   pid_t pid_ = -1, owner_ = -1;
 };

@@ -431,19 +431,25 @@ private:
     expectSectionEnd();
   }
 
+  /// The header line of a 4.1 $Nodes or $Elements section: its block count,
+  /// its `item` count (each item at least `bytes` binary bytes or `chars`
+  /// ASCII characters of what follows), the smallest and largest tags.
+  std::pair<unsigned long long, unsigned long long> sectionCounts(const std::string& item, int bytes, int chars) {
+    const unsigned long long blocks = count("number of " + item + " blocks", 20, 4);
+    const unsigned long long total = count("number of " + item + "s", bytes, chars);
+    for (const char* which : {"minimum ", "maximum "}) {
+      if (binary_) bin<std::uint64_t>(which + item + " tag");
+      else readInt(which + item + " tag", 0, LLONG_MAX);
+    }
+    const std::string counts = "the " + item + " counts";
+    eol(counts.c_str());
+    return {blocks, total};
+  }
+
   void nodes4() {
     once(nodesSeen_);
     dataIsBinary_ = binary_;
-    const unsigned long long blocks = count("number of node blocks", 20, 4);
-    const unsigned long long total = count("number of nodes", 32, 4);
-    if (binary_) {
-      bin<std::uint64_t>("minimum node tag");
-      bin<std::uint64_t>("maximum node tag");
-    } else {
-      readInt("minimum node tag", 0, LLONG_MAX);
-      readInt("maximum node tag", 0, LLONG_MAX);
-    }
-    eol("the node counts");
+    const auto [blocks, total] = sectionCounts("node", 32, 4);
     unsigned long long seen = 0;
     for (unsigned long long k = 0; k < blocks; ++k) {
       const std::string what = "node block " + std::to_string(k + 1);
@@ -524,16 +530,7 @@ private:
     once(elementsSeen_);
     if (!nodesSeen_) failAt(sectionStart_, "$Elements before $Nodes");
     dataIsBinary_ = binary_;
-    const unsigned long long blocks = count("number of element blocks", 20, 4);
-    const unsigned long long total = count("number of elements", 16, 2);
-    if (binary_) {
-      bin<std::uint64_t>("minimum element tag");
-      bin<std::uint64_t>("maximum element tag");
-    } else {
-      readInt("minimum element tag", 0, LLONG_MAX);
-      readInt("maximum element tag", 0, LLONG_MAX);
-    }
-    eol("the element counts");
+    const auto [blocks, total] = sectionCounts("element", 16, 2);
     unsigned long long seen = 0;
     for (unsigned long long k = 0; k < blocks; ++k) {
       const std::string what = "element block " + std::to_string(k + 1);

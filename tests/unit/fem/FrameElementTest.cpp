@@ -331,21 +331,30 @@ TEST(FrameStiffness, EqualsPrzemienieckiClosedFormRotated) {
   }
 }
 
+/// The oblique element in both theories, with and without rotary inertia:
+/// every variant the mass matrix has.
+std::vector<FrameElement> massVariants() {
+  std::vector<FrameElement> out;
+  for (BeamTheory theory : {BeamTheory::EulerBernoulli, BeamTheory::Timoshenko})
+    for (bool rotary : {false, true}) {
+      out.push_back(obliqueElement(theory));
+      out.back().section.rotaryInertia = rotary;
+    }
+  return out;
+}
+
 // A rigid translation carries the whole mass: d_a^T M d_b = rho A L a.b for
 // unit translations, in both theories, with and without rotary inertia.
 // Tolerance 1e-13: 5-point Gauss is exact for these degree-6 integrands.
 TEST(FrameMass, RigidTranslationCarriesTheTotalMass) {
-  for (BeamTheory theory : {BeamTheory::EulerBernoulli, BeamTheory::Timoshenko})
-    for (bool rotary : {false, true}) {
-      FrameElement e = obliqueElement(theory);
-      e.section.rotaryInertia = rotary;
-      const ElementMatrix m = frameMass(e);
-      const double total = e.material.rho * e.section.A * axesOf(e).L;
-      const Vec3 a{0.6, -0.8, 0.0}, b{0.3, 0.4, 1.2};
-      EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(a)), total, 1e-13 * total);
-      EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(b)), total * dot(a, b),
-                  1e-13 * total);
-    }
+  for (const FrameElement& e : massVariants()) {
+    const ElementMatrix m = frameMass(e);
+    const double total = e.material.rho * e.section.A * axesOf(e).L;
+    const Vec3 a{0.6, -0.8, 0.0}, b{0.3, 0.4, 1.2};
+    EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(a)), total, 1e-13 * total);
+    EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(b)), total * dot(a, b),
+                1e-13 * total);
+  }
 }
 
 // Rigid rotations about the midpoint: about the beam axis only the rotary
@@ -355,23 +364,20 @@ TEST(FrameMass, RigidTranslationCarriesTheTotalMass) {
 // represent rigid rotation exactly, so this holds for Timoshenko too.
 // Tolerance 1e-12 relative: exact quadrature, rounding only.
 TEST(FrameMass, RigidRotationsCarryTheBeamInertia) {
-  for (BeamTheory theory : {BeamTheory::EulerBernoulli, BeamTheory::Timoshenko})
-    for (bool rotary : {false, true}) {
-      FrameElement e = obliqueElement(theory);
-      e.section.rotaryInertia = rotary;
-      const Axes ax = axesOf(e);
-      const ElementMatrix m = frameMass(e);
-      const double rho = e.material.rho, L = ax.L, r = rotary ? 1.0 : 0.0;
-      const double rhoA = rho * e.section.A, Iy = e.section.Iy, Iz = e.section.Iz;
-      const Vec3 mid = midpoint(e);
-      const double axial = form(m, rigidRotation(e, ax.e1, mid), rigidRotation(e, ax.e1, mid));
-      const double aboutY = form(m, rigidRotation(e, ax.e2, mid), rigidRotation(e, ax.e2, mid));
-      const double aboutZ = form(m, rigidRotation(e, ax.e3, mid), rigidRotation(e, ax.e3, mid));
-      const double tilt = rhoA * L * L * L / 12.0;
-      EXPECT_NEAR(axial, rho * (Iy + Iz) * L, 1e-12 * rho * (Iy + Iz) * L);
-      EXPECT_NEAR(aboutY, tilt + r * rho * Iy * L, 1e-12 * tilt);
-      EXPECT_NEAR(aboutZ, tilt + r * rho * Iz * L, 1e-12 * tilt);
-    }
+  for (const FrameElement& e : massVariants()) {
+    const Axes ax = axesOf(e);
+    const ElementMatrix m = frameMass(e);
+    const double rho = e.material.rho, L = ax.L, r = e.section.rotaryInertia ? 1.0 : 0.0;
+    const double rhoA = rho * e.section.A, Iy = e.section.Iy, Iz = e.section.Iz;
+    const Vec3 mid = midpoint(e);
+    const double axial = form(m, rigidRotation(e, ax.e1, mid), rigidRotation(e, ax.e1, mid));
+    const double aboutY = form(m, rigidRotation(e, ax.e2, mid), rigidRotation(e, ax.e2, mid));
+    const double aboutZ = form(m, rigidRotation(e, ax.e3, mid), rigidRotation(e, ax.e3, mid));
+    const double tilt = rhoA * L * L * L / 12.0;
+    EXPECT_NEAR(axial, rho * (Iy + Iz) * L, 1e-12 * rho * (Iy + Iz) * L);
+    EXPECT_NEAR(aboutY, tilt + r * rho * Iy * L, 1e-12 * tilt);
+    EXPECT_NEAR(aboutZ, tilt + r * rho * Iz * L, 1e-12 * tilt);
+  }
 }
 
 // Euler-Bernoulli without rotary inertia on an element along x: the classic

@@ -18,48 +18,16 @@
 #include <unistd.h>
 #include <vector>
 
+#include "ExpectError.hpp"
+#include "TempFiles.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
 
 namespace fs = std::filesystem;
+using namespace cms::fixtures;
 using cms::fem::Component;
 
 namespace {
-
-/// A fresh folder for the files a test writes, removed afterwards.
-class TempDir {
-public:
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "cms_sidecar_test_XXXXXX").string();
-    if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = t;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    const std::string p = (path_ / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  const fs::path& path() const { return path_; }
-
-private:
-  fs::path path_;
-};
-
-/// fn throws cms::InputError whose message holds every one of parts.
-void expectInputError(const std::function<void()>& fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no cms::InputError (expected one mentioning \"" << *parts.begin() << "\")";
-  } catch (const cms::InputError& e) {
-    const std::string what = e.what();
-    for (const std::string& p : parts)
-      EXPECT_NE(what.find(p), std::string::npos) << "message \"" << what << "\" lacks \"" << p << "\"";
-  }
-}
 
 cms::fem::MatrixSubstructureFile sample() {
   cms::fem::MatrixSubstructureFile f;
@@ -77,7 +45,7 @@ cms::fem::MatrixSubstructureFile sample() {
 }
 
 TEST(Sidecar, RoundTrip) {
-  TempDir dir;
+  TempDir dir("cms_sidecar_test");
   const auto f = sample();
   const std::string path = (dir.path() / "blade.cms").string();
   cms::fem::writeMatrixSubstructureFile(f, path);
@@ -100,7 +68,7 @@ TEST(Sidecar, RoundTrip) {
 }
 
 TEST(Sidecar, CommentsAbsolutePathsAndOptionalRecords) {
-  TempDir dir;
+  TempDir dir("cms_sidecar_test");
   const std::string p = dir.write("s.cms",
                                   "# header comment\n\n   cms-substructure 1   # trailing comment\n"
                                   "matrix K /abs/K.mtx\r\nmatrix M M.mtx\nset ends 5\nnode 5 0 0 0 uz\n");
@@ -114,7 +82,7 @@ TEST(Sidecar, CommentsAbsolutePathsAndOptionalRecords) {
 }
 
 TEST(Sidecar, MalformedRecordsNameTheLine) {
-  TempDir dir;
+  TempDir dir("cms_sidecar_test");
   const std::string head = "cms-substructure 1\nmatrix K K.mtx\nmatrix M M.mtx\n";  // lines 1-3
   const std::string node = "node 12 0 0 0 ux uy uz\n";                                 // line 4
   struct Case {
@@ -154,12 +122,12 @@ TEST(Sidecar, MalformedRecordsNameTheLine) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.text);
     const std::string p = dir.write("bad.cms", c.text);
-    expectInputError([&] { cms::fem::readMatrixSubstructureFile(p); }, {p + c.line, c.what});
+    expectInputErrorWith([&] { cms::fem::readMatrixSubstructureFile(p); }, {p + c.line, c.what});
   }
 }
 
 TEST(Sidecar, MissingPieces) {
-  TempDir dir;
+  TempDir dir("cms_sidecar_test");
   const std::string node = "node 12 0 0 0 ux\n";
   struct Case {
     std::string text, what;
@@ -173,29 +141,29 @@ TEST(Sidecar, MissingPieces) {
   };
   for (const Case& c : cases) {
     const std::string p = dir.write("bad.cms", c.text);
-    expectInputError([&] { cms::fem::readMatrixSubstructureFile(p); }, {p + ": ", c.what});
+    expectInputErrorWith([&] { cms::fem::readMatrixSubstructureFile(p); }, {p + ": ", c.what});
   }
   const std::string missing = (dir.path() / "missing.cms").string();
-  expectInputError([&] { cms::fem::readMatrixSubstructureFile(missing); }, {missing, "cannot open"});
+  expectInputErrorWith([&] { cms::fem::readMatrixSubstructureFile(missing); }, {missing, "cannot open"});
 }
 
 TEST(Sidecar, WriterRejectsWhatCannotBeReadBack) {
-  TempDir dir;
+  TempDir dir("cms_sidecar_test");
   const std::string p = (dir.path() / "w.cms").string();
   auto f = sample();
   f.matrices["K"] = "my matrix.mtx";
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "whitespace"});
+  expectInputErrorWith([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "whitespace"});
   f = sample();
   f.nodeSets["a b"] = {12};
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "set name"});
+  expectInputErrorWith([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "set name"});
   f = sample();
   f.coordinates[4] = std::nan("");
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "non-finite"});
+  expectInputErrorWith([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "non-finite"});
   f = sample();
   f.matrices["X"] = "x.mtx";
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "unknown matrix name 'X'"});
+  expectInputErrorWith([&] { cms::fem::writeMatrixSubstructureFile(f, p); }, {p, "unknown matrix name 'X'"});
   const std::string nowhere = (dir.path() / "no/such/dir/w.cms").string();
-  expectInputError([&] { cms::fem::writeMatrixSubstructureFile(sample(), nowhere); }, {nowhere, "cannot open"});
+  expectInputErrorWith([&] { cms::fem::writeMatrixSubstructureFile(sample(), nowhere); }, {nowhere, "cannot open"});
 }
 
 }  // namespace

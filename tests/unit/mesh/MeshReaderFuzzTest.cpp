@@ -39,6 +39,8 @@
 #include <typeinfo>
 #include <vector>
 
+#include "LimitedChild.hpp"
+#include "TempFiles.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
 #include "cms/mesh/Mesh.hpp"
@@ -78,10 +80,7 @@ std::vector<fs::path> filesIn(const fs::path& dir) {
   return out;
 }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using cms::fixtures::slurp;
 
 void spit(const fs::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -379,15 +378,7 @@ void readOne(const Reader& read, const fs::path& file, const std::string& label,
 /// Runs job(outcome) in a child process under the memory limit; a crash or
 /// hang is pinned on the case named in `progress` (see readOne).
 Outcome inChild(const std::function<void(Outcome&)>& job, const fs::path& progress) {
-  int pipefd[2];
-  if (pipe(pipefd) != 0) throw std::runtime_error("pipe failed");
-  std::cout.flush();
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
-  if (pid == 0) {
-    close(pipefd[0]);
-    const rlimit limit{kAddressSpace, kAddressSpace};
-    setrlimit(RLIMIT_AS, &limit);
+  const auto child = cms::fixtures::forkLimited(kAddressSpace, [&](int fd) {
     Outcome out;
     try {
       job(out);
@@ -396,25 +387,10 @@ Outcome inChild(const std::function<void(Outcome&)>& job, const fs::path& progre
     }
     std::string report = std::to_string(out.accepted) + " " + std::to_string(out.rejected) + "\n";
     for (const std::string& f : out.failures) report += f + "\n";
-    for (std::size_t done = 0; done < report.size();) {
-      const ssize_t n = write(pipefd[1], report.data() + done, report.size() - done);
-      if (n <= 0) break;
-      done += static_cast<std::size_t>(n);
-    }
-    _exit(0);  // no atexit handlers, no gtest teardown in the child
-  }
-  close(pipefd[1]);
+    cms::fixtures::writeAll(fd, report);
+  });
   std::string report;
-  char buf[4096];
-  for (ssize_t n; (n = read(pipefd[0], buf, sizeof buf)) != 0;) {
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) break;
-    report.append(buf, static_cast<std::size_t>(n));
-  }
-  close(pipefd[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  const int status = cms::fixtures::finish(child, [&](const char* data, std::size_t n) { report.append(data, n); });
   Outcome out;
   const std::string where = slurp(progress);
   const std::string label = where.substr(0, where.find('\n'));

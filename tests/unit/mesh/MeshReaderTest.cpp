@@ -18,66 +18,19 @@
 #include <unistd.h>
 #include <vector>
 
+#include "ExpectError.hpp"
+#include "TempFiles.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/mesh/Mesh.hpp"
 
-#ifndef CMS_TEST_DATA_DIR
-#define CMS_TEST_DATA_DIR "tests/data"
-#endif
-
 namespace fs = std::filesystem;
+using namespace cms::fixtures;
 using cms::mesh::CellType;
 using cms::mesh::Mesh;
 
 namespace {
 
 const std::string kMeshes = std::string(CMS_TEST_DATA_DIR) + "/meshes/";
-
-/// A fresh folder for the files a test writes, removed afterwards.
-class TempDir {
-public:
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "cms_mesh_test_XXXXXX").string();
-    if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = t;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    const std::string p = (path_ / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  const fs::path& path() const { return path_; }
-
-private:
-  fs::path path_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const std::size_t at = s.find(from);
-  if (at == std::string::npos) throw std::runtime_error("test text lacks \"" + from + "\"");
-  return s.replace(at, from.size(), to);
-}
-
-/// fn throws cms::InputError whose message holds every one of parts.
-void expectInputError(const std::function<void()>& fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no cms::InputError (expected one mentioning \"" << *parts.begin() << "\")";
-  } catch (const cms::InputError& e) {
-    const std::string what = e.what();
-    for (const std::string& p : parts)
-      EXPECT_NE(what.find(p), std::string::npos) << "message \"" << what << "\" lacks \"" << p << "\"";
-  }
-}
 
 const cms::mesh::CellBlock& onlyBlock(const Mesh& m, const std::string& group) {
   const auto& g = m.group(group);
@@ -212,7 +165,7 @@ TEST(MeshReader, FourMshFormatsAgree) {
 }
 
 TEST(MeshReader, ScriptsDoNotInheritEachOthersSettings) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   // The same parameter name with another default: Gmsh keeps ONELAB
   // parameters across sessions unless they are cleared.
   std::string coarse = slurp(kMeshes + "bar_hex.geo");
@@ -235,7 +188,7 @@ TEST(MeshReader, CellNamesAndCounts) {
 }
 
 TEST(MeshReader, OtherCellTypesAreKeptWithTheirGmshType) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string geo = dir.write("prism.geo",
                                     "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {0, 1, 0};\n"
                                     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n"
@@ -294,7 +247,7 @@ $EndElements
 )";
 
 TEST(MeshReaderErrors, HandWrittenMeshReads) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const Mesh m = cms::mesh::readGmsh(dir.write("line.msh", kLine41));
   expectWellFormed(m);
   EXPECT_EQ(m.nodeCount(), 3u);
@@ -304,7 +257,7 @@ TEST(MeshReaderErrors, HandWrittenMeshReads) {
 }
 
 TEST(MeshReaderErrors, WindowsLineEndingsRead) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   std::string crlf;
   for (char c : kLine41) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   const Mesh m = cms::mesh::readGmsh(dir.write("crlf.msh", crlf));
@@ -313,51 +266,51 @@ TEST(MeshReaderErrors, WindowsLineEndingsRead) {
 }
 
 TEST(MeshReaderErrors, MissingAndUnrecognisedFiles) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string missing = (dir.path() / "nope.msh").string();
-  expectInputError([&] { cms::mesh::readGmsh(missing); }, {missing, "cannot open"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(missing); }, {missing, "cannot open"});
   const std::string junk = dir.write("junk.msh", "Point(1) = {0, 0, 0};\n");
-  expectInputError([&] { cms::mesh::readGmsh(junk); }, {junk, "not a Gmsh mesh"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(junk); }, {junk, "not a Gmsh mesh"});
   const std::string version = dir.write("v3.msh", replaced(kLine41, "4.1 0 8", "3.0 0 8"));
-  expectInputError([&] { cms::mesh::readGmsh(version); }, {version + ":2:", "version 3.0"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(version); }, {version + ":2:", "version 3.0"});
   const std::string script = dir.write("broken.geo", "Point(1) = {0, 0, 0};\nLine(1) = {1, ;\n");
-  expectInputError([&] { cms::mesh::readGmsh(script); }, {script + ": ", "rror"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(script); }, {script + ": ", "rror"});
 }
 
 TEST(MeshReaderErrors, EmptyMesh) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string msh = dir.write("empty.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
-  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "empty mesh"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh, "empty mesh"});
   const std::string geo = dir.write("empty.geo", "// nothing here\n");
-  expectInputError([&] { cms::mesh::readGmsh(geo); }, {geo, "empty mesh"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(geo); }, {geo, "empty mesh"});
 }
 
 TEST(MeshReaderErrors, NoPhysicalGroups) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string geo = dir.write("bare.geo", "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Line(1) = {1, 2};\n");
-  expectInputError([&] { cms::mesh::readGmsh(geo); }, {geo, "no physical groups"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(geo); }, {geo, "no physical groups"});
 }
 
 TEST(MeshReaderErrors, PhysicalGroupWithoutCells) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   // Group "root" keeps its point entity, but the point element is gone.
   const std::string msh =
       dir.write("nocells.msh", replaced(replaced(kLine41, "0 1 15 1\n1 1\n", ""), "2 3 1 3\n", "1 2 2 3\n"));
-  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "\"root\"", "has no cells"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh, "\"root\"", "has no cells"});
 }
 
 TEST(MeshReaderErrors, NonFiniteCoordinate) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   for (const char* bad : {"nan", "inf", "-1e999"}) {
     const std::string msh = dir.write("nan.msh", replaced(kLine41, "\n3\n0.5 0 0\n", std::string("\n3\n0.5 ") + bad + " 0\n"));
-    expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "node 3", "non-finite coordinate y"});
+    expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh, "node 3", "non-finite coordinate y"});
   }
 }
 
 TEST(MeshReaderErrors, CoincidentNodes) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string msh = dir.write("dup.msh", replaced(kLine41, "\n3\n0.5 0 0\n", "\n3\n1e-12 0 0\n"));
-  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "nodes 1 and 3 coincide"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh, "nodes 1 and 3 coincide"});
   // Far apart at the 1e-9 scale: distinct.
   const std::string ok = dir.write("ok.msh", replaced(kLine41, "\n3\n0.5 0 0\n", "\n3\n1e-8 0 0\n"));
   EXPECT_EQ(cms::mesh::readGmsh(ok).nodeCount(), 3u);
@@ -390,22 +343,22 @@ std::string chainWithPair(std::mt19937& rng, double gap) {
 }
 
 TEST(MeshReaderErrors, CoincidentNodesFoundInEveryDirection) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   std::mt19937 rng(12345);
   for (int trial = 0; trial < 100; ++trial) {
     SCOPED_TRACE(trial);
     const std::string close = dir.write("close.msh", chainWithPair(rng, 0.9));
-    expectInputError([&] { cms::mesh::readGmsh(close); }, {close, "coincide"});
+    expectInputErrorWith([&] { cms::mesh::readGmsh(close); }, {close, "coincide"});
     const std::string apart = dir.write("apart.msh", chainWithPair(rng, 1.1));
     EXPECT_EQ(cms::mesh::readGmsh(apart).nodeCount(), 44u);
   }
 }
 
 TEST(MeshReaderErrors, DuplicatePhysicalNames) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string msh =
       dir.write("names.msh", replaced(kLine41, "2\n0 2 \"root\"\n1 1 \"beam\"\n", "3\n0 2 \"root\"\n1 1 \"beam\"\n1 5 \"beam\"\n"));
-  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh + ":8:", "\"beam\"", "used twice", "tags 1 and 5"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh + ":8:", "\"beam\"", "used twice", "tags 1 and 5"});
   // The same name in two dimensions is two groups.
   const std::string ok = dir.write("ok.msh", replaced(kLine41, "0 2 \"root\"", "0 2 \"beam\""));
   const Mesh m = cms::mesh::readGmsh(ok);
@@ -413,55 +366,55 @@ TEST(MeshReaderErrors, DuplicatePhysicalNames) {
 }
 
 TEST(MeshReaderErrors, UnknownNodeInElement) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string msh = dir.write("unknown.msh", replaced(kLine41, "3 3 2\n", "3 3 9\n"));
-  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh + ":33:", "element 3", "node 9"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh + ":33:", "element 3", "node 9"});
 }
 
 TEST(MeshReaderErrors, DuplicateNodeTag) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string msh = dir.write("duptag.msh", replaced(kLine41, "\n3\n0.5 0 0\n", "\n2\n0.5 0 0\n"));
-  expectInputError([&] { cms::mesh::readGmsh(msh); }, {msh, "node tag 2 appears twice"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(msh); }, {msh, "node tag 2 appears twice"});
 }
 
 TEST(MeshReaderErrors, TruncatedFiles) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string ascii = dir.write("cut.msh", kLine41.substr(0, kLine41.find("1 1 0 1\n")));
-  expectInputError([&] { cms::mesh::readGmsh(ascii); }, {ascii + ":23:", "file ends inside $Nodes"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(ascii); }, {ascii + ":23:", "file ends inside $Nodes"});
   for (const char* f : {"bar_hex_small_v41_binary.msh", "bar_hex_small_v22_binary.msh"}) {
     const std::string full = slurp(kMeshes + f);
     const std::string cut = dir.write(std::string("cut_") + f, full.substr(0, full.find("$EndNodes") - 40));
-    expectInputError([&] { cms::mesh::readGmsh(cut); }, {cut + ":", "$Nodes (binary) at byte"});
+    expectInputErrorWith([&] { cms::mesh::readGmsh(cut); }, {cut + ":", "$Nodes (binary) at byte"});
   }
 }
 
 TEST(MeshReaderErrors, HugeCounts) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string nodes = dir.write("huge.msh", replaced(kLine41, "3 3 1 3\n", "3 99999999999 1 3\n"));
-  expectInputError([&] { cms::mesh::readGmsh(nodes); }, {nodes + ":16:", "number of nodes is 99999999999"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(nodes); }, {nodes + ":16:", "number of nodes is 99999999999"});
   const std::string names = dir.write("names.msh", replaced(kLine41, "$PhysicalNames\n2\n", "$PhysicalNames\n2147483647\n"));
-  expectInputError([&] { cms::mesh::readGmsh(names); }, {names + ":5:", "2147483647"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(names); }, {names + ":5:", "2147483647"});
   const std::string negative = dir.write("neg.msh", replaced(kLine41, "0 1 0 1\n", "0 1 0 -1\n"));
-  expectInputError([&] { cms::mesh::readGmsh(negative); }, {negative + ":17:", "-1", "out of range"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(negative); }, {negative + ":17:", "-1", "out of range"});
   // A 2.2 binary node count beyond the data.
   std::string bin = slurp(kMeshes + "bar_hex_small_v22_binary.msh");
   bin = replaced(bin, "$Nodes\n63\n", "$Nodes\n6300000\n");
   const std::string b = dir.write("huge22.msh", bin);
-  expectInputError([&] { cms::mesh::readGmsh(b); }, {b + ":", "number of nodes is 6300000", "bytes left"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(b); }, {b + ":", "number of nodes is 6300000", "bytes left"});
 }
 
 TEST(MeshReaderErrors, UnsupportedSectionsAndTrailingText) {
-  TempDir dir;
+  TempDir dir("cms_mesh_test");
   const std::string post = dir.write("post.msh", kLine41 + "$NodeData\n1\n\"u\"\n$EndNodeData\n");
-  expectInputError([&] { cms::mesh::readGmsh(post); }, {post + ":35:", "$NodeData", "not supported"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(post); }, {post + ":35:", "$NodeData", "not supported"});
   const std::string extra = dir.write("extra.msh", replaced(kLine41, "0.5 0 0\n", "0.5 0 0 7\n"));
-  expectInputError([&] { cms::mesh::readGmsh(extra); }, {extra + ":25:", "unexpected \"7\" after node coordinates"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(extra); }, {extra + ":25:", "unexpected \"7\" after node coordinates"});
   const std::string outside = dir.write("outside.msh", kLine41 + "stray text\n");
-  expectInputError([&] { cms::mesh::readGmsh(outside); }, {outside + ":35:", "outside a section"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(outside); }, {outside + ":35:", "outside a section"});
   const std::string tab = dir.write("tab.msh", replaced(kLine41, "0.5 0 0\n", "0.5\t0 0\n"));
-  expectInputError([&] { cms::mesh::readGmsh(tab); }, {tab + ":25:", "control character 9"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(tab); }, {tab + ":25:", "control character 9"});
   const std::string split = dir.write("split.msh", replaced(kLine41, "0.5 0 0\n", "0.5 0\n0\n"));
-  expectInputError([&] { cms::mesh::readGmsh(split); }, {split + ":25:", "line ends before coordinate 3 of node 3"});
+  expectInputErrorWith([&] { cms::mesh::readGmsh(split); }, {split + ":25:", "line ends before coordinate 3 of node 3"});
   // Comments and other unknown sections are skipped, as Gmsh does.
   const std::string comment = dir.write("comment.msh", kLine41 + "$Comments\nwritten by hand\n$EndComments\n");
   EXPECT_EQ(cms::mesh::readGmsh(comment).nodeCount(), 3u);
@@ -471,8 +424,8 @@ TEST(MeshReaderErrors, MissingGroupNamesTheAlternatives) {
   const Mesh m = cms::mesh::readGmsh(kMeshes + "beam_line.geo");
   EXPECT_TRUE(m.hasGroup("beam"));
   EXPECT_FALSE(m.hasGroup("hub"));
-  expectInputError([&] { m.group("hub"); }, {"beam_line.geo", "\"hub\"", "\"beam\"", "\"root\"", "\"tip\""});
-  expectInputError([&] { m.nodeSet("hub"); }, {"\"hub\""});
+  expectInputErrorWith([&] { m.group("hub"); }, {"beam_line.geo", "\"hub\"", "\"beam\"", "\"root\"", "\"tip\""});
+  expectInputErrorWith([&] { m.nodeSet("hub"); }, {"\"hub\""});
 }
 
 }  // namespace

@@ -30,12 +30,7 @@ auto world() { return Teuchos::DefaultComm<int>::getComm(); }
 /// lowest modes are distinct.
 substructure::Substructure clampedBeam() {
   fem::IsotropicMaterial steel{2e11, 0.3, 7800};
-  fem::BeamSection sec;
-  sec.A = 1e-3;
-  sec.Iy = 1e-7;
-  sec.Iz = 3e-7;
-  sec.J = 2e-7;
-  sec.orientation = {0.0, 1.0, 0.0};
+  auto sec = fixtures::beamSection(1e-3, 1e-7, 3e-7, 2e-7, {0.0, 1.0, 0.0});
   auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 40), steel, sec);
   fem::FixedSet root;
   root.name = "clamped root";

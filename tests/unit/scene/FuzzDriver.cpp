@@ -52,6 +52,8 @@
 
 #include <Teuchos_DefaultComm.hpp>
 
+#include "LimitedChild.hpp"
+#include "TempFiles.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
 #include "cms/mesh/Mesh.hpp"
@@ -65,10 +67,7 @@ namespace {
 constexpr rlim_t kAddressSpace = 4000000000ull;
 constexpr long kBatch = 2000;  // cases a worker reads before a fresh one takes over
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using cms::fixtures::slurp;
 
 void spit(const fs::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -392,22 +391,10 @@ private:
   /// Runs cases [from, count) in a forked worker until it finishes or dies;
   /// returns the case to go on from.
   long batch(long from) {
-    int fd[2];
-    if (pipe(fd) != 0) throw std::runtime_error("pipe failed");
-    std::cout.flush();
-    const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error("fork failed");
-    if (pid == 0) {
-      close(fd[0]);
-      const rlimit limit{kAddressSpace, kAddressSpace};
-      setrlimit(RLIMIT_AS, &limit);
+    const auto child = cms::fixtures::forkLimited(kAddressSpace, [&](int fd) {
       Worker w(c_);
       auto say = [&](const std::string& s) {
-        for (std::size_t done = 0; done < s.size();) {
-          const ssize_t n = write(fd[1], s.data() + done, s.size() - done);
-          if (n <= 0) _exit(9);
-          done += static_cast<std::size_t>(n);
-        }
+        if (!cms::fixtures::writeAll(fd, s)) _exit(9);
       };
       // At most kBatch cases a worker: Gmsh 4.8 leaks a little per read.
       for (long k = from; k < std::min(c_.count, from + kBatch); ++k) {
@@ -433,18 +420,12 @@ private:
         if (message.size() > 400) message = message.substr(0, 400) + "...";
         say("D " + std::to_string(k) + " " + std::to_string(static_cast<int>(v)) + " " + kind + " " + message + "\n");
       }
-      close(fd[1]);
-      _exit(0);
-    }
-    close(fd[1]);
+    });
     std::string buffer;
-    char chunk[8192];
     long running = from - 1;  // last case started
     long done = from - 1;
-    for (ssize_t n; (n = ::read(fd[0], chunk, sizeof chunk)) != 0;) {
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) break;
-      buffer.append(chunk, static_cast<std::size_t>(n));
+    const int status = cms::fixtures::finish(child, [&](const char* chunk, std::size_t n) {
+      buffer.append(chunk, n);
       for (std::size_t eol; (eol = buffer.find('\n')) != std::string::npos; buffer.erase(0, eol + 1)) {
         const std::string line = buffer.substr(0, eol);
         char tag = line[0];
@@ -463,11 +444,7 @@ private:
         record(k, v, kind, message);
         done = k;
       }
-    }
-    close(fd[0]);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    });
     if (WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) != 0)) {
       if (running > done) {
         const int sig = WIFSIGNALED(status) ? WTERMSIG(status) : 0;

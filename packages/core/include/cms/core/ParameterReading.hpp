@@ -20,6 +20,11 @@ std::string namesOf(const Teuchos::ParameterList& valid);
 /// valid has one; the message lists the valid keys.
 void checkKeys(const Teuchos::ParameterList& p, const Teuchos::ParameterList& valid, const std::string& path);
 
+/// A class's options checked against its valid list: checkKeys (a message
+/// naming every valid key), then Teuchos' validation (types, validators),
+/// defaults filled in; any failure a cms::InputError starting with `owner`.
+void validateOptions(Teuchos::ParameterList& p, const Teuchos::ParameterList& valid, const std::string& owner);
+
 /// A finite number (int or double), or `fallback` when absent (required when none).
 double getNumber(const Teuchos::ParameterList& p, const std::string& key, const std::string& path,
                  std::optional<double> fallback = std::nullopt);
