@@ -136,6 +136,44 @@ TEST(FiniteElementModelYaml, MalformedEntriesNameTheirKeyPath) {
   expectRefused(edit("    Stress Stiffening: false", "    Stress Stiffening: 3"), "must be true or false");
 }
 
+// The element of each hex shape that has a choice: the set's key ("Hex8:
+// Incompatible", "Hex20: Reduced"), else the deck's element name of the
+// block (C3D8I, C3D8R, C3D20R, any case), else full integration. Values are
+// checked; the keys belong to Solid sets only.
+TEST(FiniteElementModelYaml, SolidSetsChooseTheirHexElements) {
+  const FiniteElementModel m = read(edit("blade: {Type: Solid, Material: steel}",
+                                         "blade: {Type: Solid, Material: steel, Hex8: Incompatible, Hex20: Reduced}"));
+  const ElementSet& s = m.elementSets.at(0);
+  ASSERT_TRUE(s.hex8 && s.hex20);
+  EXPECT_EQ(*s.hex8, SolidType::Hex8Incompatible);
+  EXPECT_EQ(*s.hex20, SolidType::Hex20Reduced);
+  mesh::CellBlock hex8, hex20, wedge, tri;
+  hex8.type = mesh::CellType::Hex8, hex20.type = mesh::CellType::Hex20, wedge.type = mesh::CellType::Wedge15;
+  tri.type = mesh::CellType::Tri6;
+  EXPECT_EQ(solidTypeOf(s, hex8), SolidType::Hex8Incompatible);
+  EXPECT_EQ(solidTypeOf(s, hex20), SolidType::Hex20Reduced);
+  EXPECT_EQ(solidTypeOf(s, wedge), SolidType::Wedge15);
+  ElementSet plain;
+  plain.group = "blade";
+  EXPECT_EQ(solidTypeOf(plain, hex8), SolidType::Hex8);
+  EXPECT_EQ(solidTypeOf(plain, hex20), SolidType::Hex20);
+  hex8.elementName = "c3d8i", hex20.elementName = "C3D20R";
+  EXPECT_EQ(solidTypeOf(plain, hex8), SolidType::Hex8Incompatible);
+  EXPECT_EQ(solidTypeOf(plain, hex20), SolidType::Hex20Reduced);
+  hex8.elementName = "C3D8R";
+  EXPECT_EQ(solidTypeOf(plain, hex8), SolidType::Hex8Incompatible);
+  plain.hex8 = SolidType::Hex8;  // the key wins over the deck
+  EXPECT_EQ(solidTypeOf(plain, hex8), SolidType::Hex8);
+  EXPECT_THROW(solidTypeOf(plain, tri), InputError);
+
+  expectRefused(edit("blade: {Type: Solid, Material: steel}", "blade: {Type: Solid, Material: steel, Hex8: Reduced}"),
+                "Element Sets/blade/Hex8 = \"Reduced\" must be \"Full\" or \"Incompatible\"");
+  expectRefused(edit("blade: {Type: Solid, Material: steel}", "blade: {Type: Solid, Material: steel, Hex20: Incompatible}"),
+                "Element Sets/blade/Hex20 = \"Incompatible\" must be \"Full\" or \"Reduced\"");
+  expectRefused(edit("blade: {Type: Solid, Material: steel}", "blade: {Type: Solid, Material: steel, Hex20: 2}"),
+                "Hex20");
+}
+
 TEST(FiniteElementModelYaml, MeshParametersSetTheGeoScriptsConstants) {
   // "Mesh Parameters" reach the script's DefineConstant (ONELAB
   // "Parameters/<name>"): halving h gives a finer mesh; an unset one keeps

@@ -1,7 +1,8 @@
-// Solid elements (Tet4, Tet10, Hex8): exactness of the quadrature, rigid-body
-// modes, mass and volume, constant-stress patch tests, rotating-frame terms,
-// geometric stiffness, cantilever convergence against beam theory, rejection
-// of inverted elements, and Gmsh's Tet10 node order.
+// Solid elements (Tet4, Tet10, Hex8, Hex8Incompatible, Hex20, Hex20Reduced,
+// Wedge15): exactness of the quadrature, rigid-body modes, mass, inertia and
+// volume, constant-stress patch tests, rotating-frame terms, geometric
+// stiffness, the reduced Hex20's spurious modes, cantilever convergence
+// against beam theory, rejection of inverted elements, and Gmsh's node orders.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include <gmsh.h>
 
+#include "SolidTestMeshes.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/fem/SolidElement.hpp"
 
@@ -33,10 +35,31 @@ using namespace cms::fem;
 
 namespace {
 
-constexpr SolidType kTypes[] = {SolidType::Tet4, SolidType::Tet10, SolidType::Hex8};
+using cms::fixtures::TestMesh;
+using cms::fixtures::fromHexGrid;
+using cms::fixtures::hexGrid;
+using cms::fixtures::toTet4;
+using cms::fixtures::toTet10;
 
-const char* typeName(SolidType t) {
-  return t == SolidType::Tet4 ? "Tet4" : t == SolidType::Tet10 ? "Tet10" : "Hex8";
+constexpr SolidType kTypes[] = {SolidType::Tet4,  SolidType::Tet10,   SolidType::Hex8,
+                                SolidType::Hex20, SolidType::Wedge15, SolidType::Hex8Incompatible,
+                                SolidType::Hex20Reduced};
+
+const char* typeName(SolidType t) { return solidTypeName(t); }
+
+bool isHex(SolidType t) {
+  return t == SolidType::Hex8 || t == SolidType::Hex8Incompatible || t == SolidType::Hex20 ||
+         t == SolidType::Hex20Reduced;
+}
+bool isQuadraticHex(SolidType t) { return t == SolidType::Hex20 || t == SolidType::Hex20Reduced; }
+
+/// Corners followed by the midpoints of the table's edges.
+template <std::size_t E>
+std::vector<double> withEdgeMidpoints(std::vector<double> x, const int (&edges)[E][2]) {
+  const std::vector<double> corners = x;
+  for (const auto& e : edges)
+    for (int i = 0; i < 3; ++i) x.push_back(0.5 * (corners[3 * e[0] + i] + corners[3 * e[1] + i]));
+  return x;
 }
 
 IsotropicMaterial material(double E = 200.0, double nu = 0.3, double rho = 7.8) {
@@ -133,6 +156,8 @@ const std::vector<double> kTet = {1.1, 2.0, -0.3, 2.3, 2.2, -0.1, 1.4, 3.05, 0.2
 /// A unit cube in Gmsh's hex order.
 const std::vector<double> kCube = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
                                    0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+/// The reference wedge's corners mapped to z in [0, 1], in Gmsh's order.
+const std::vector<double> kWedge = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1};
 
 /// Distorted, valid elements: the skewed tet; its Tet10 with curved edges; a
 /// cube with every node moved (non-planar faces), shifted off the origin.
@@ -145,12 +170,19 @@ std::vector<double> distorted(SolidType t) {
     for (int k = 0; k < 18; ++k) x[12 + k] += bend[k];
     return x;
   }
+  if (t == SolidType::Wedge15) {
+    std::vector<double> x = kWedge;
+    const double move[18] = {0.08, -0.05, 0.06, -0.07, 0.04, -0.05, 0.05, 0.09, 0.03,
+                             -0.06, 0.03,  0.1,  0.07,  -0.08, -0.04, -0.03, 0.05, 0.08};
+    for (int k = 0; k < 18; ++k) x[k] += move[k] + (k % 3 == 0 ? 3.0 : k % 3 == 1 ? -1.0 : 0.5);
+    return withEdgeMidpoints(x, cms::fixtures::kWedge15Edges);
+  }
   std::vector<double> x = kCube;
   const double move[24] = {0.10,  -0.05, 0.08,  -0.12, 0.07,  -0.03, 0.06,  0.11,
                            -0.09, 0.04,  -0.10, 0.05,  -0.07, 0.03,  0.12,  0.09,
                            -0.06, -0.04, 0.02,  0.08,  0.10,  -0.11, -0.02, -0.08};
   for (int k = 0; k < 24; ++k) x[k] += move[k] + (k % 3 == 0 ? 3.0 : k % 3 == 1 ? -1.0 : 0.5);
-  return x;
+  return isQuadraticHex(t) ? withEdgeMidpoints(x, cms::fixtures::kHex20Edges) : x;
 }
 
 /// Elements whose geometry is affine (straight-sided tets, a parallelepiped):
@@ -160,12 +192,15 @@ std::vector<double> affine(SolidType t) {
   if (t == SolidType::Tet10) return withMidNodes(kTet);
   const double o[3] = {0.5, -1.0, 2.0},
                A[3][3] = {{1.2, 0.3, -0.2}, {0.1, 0.9, 0.25}, {0.15, -0.2, 0.7}};
-  std::vector<double> x(24);
-  for (int a = 0; a < 8; ++a)
+  const std::vector<double>& ref = t == SolidType::Wedge15 ? kWedge : kCube;
+  const int nv = static_cast<int>(ref.size() / 3);
+  std::vector<double> x(3 * nv);
+  for (int a = 0; a < nv; ++a)
     for (int i = 0; i < 3; ++i)
       x[3 * a + i] =
-          o[i] + A[i][0] * kCube[3 * a] + A[i][1] * kCube[3 * a + 1] + A[i][2] * kCube[3 * a + 2];
-  return x;
+          o[i] + A[i][0] * ref[3 * a] + A[i][1] * ref[3 * a + 1] + A[i][2] * ref[3 * a + 2];
+  if (t == SolidType::Wedge15) return withEdgeMidpoints(x, cms::fixtures::kWedge15Edges);
+  return isQuadraticHex(t) ? withEdgeMidpoints(x, cms::fixtures::kHex20Edges) : x;
 }
 
 double tetVolume(const std::vector<double>& x) {
@@ -179,7 +214,7 @@ double tetVolume(const std::vector<double>& x) {
 }
 
 std::vector<double> vertexMean(SolidType t, const std::vector<double>& x) {
-  const int nv = t == SolidType::Hex8 ? 8 : 4;
+  const int nv = isHex(t) ? 8 : t == SolidType::Wedge15 ? 6 : 4;
   std::vector<double> c(3, 0.0);
   for (int a = 0; a < nv; ++a)
     for (int i = 0; i < 3; ++i) c[i] += x[3 * a + i] / nv;
@@ -320,10 +355,12 @@ TEST(SolidQuadrature, Hex8MassExactOnDistortedHex) {
 // Stiffness of a distorted element: symmetric (to rounding, 1e-14 relative),
 // exactly six zero eigenvalues (the rigid-body modes; 1e-10 relative to the
 // largest allows for the rounding of an eigensolver on a matrix with
-// condition ~1e3), and the rest clearly positive (full integration: no
-// spurious zero-energy modes).
+// condition ~1e3), and the rest clearly positive (full integration, and the
+// condensed incompatible modes: no spurious zero-energy modes). Hex20Reduced
+// has some on purpose: SolidHourglass below.
 TEST(SolidElementMatrices, StiffnessSymmetricWithExactlySixRigidBodyModes) {
   for (SolidType t : kTypes) {
+    if (t == SolidType::Hex20Reduced) continue;
     SCOPED_TRACE(typeName(t));
     const std::vector<double> x = distorted(t);
     const ElementMatrix K = solidStiffness({t, x.data(), material()});
@@ -405,70 +442,18 @@ TEST(SolidElementMatrices, VolumeIsExact) {
   }
   const double vFrustum = h * (a * a + a * b + b * b) / 3.0;
   EXPECT_NEAR(solidVolume({SolidType::Hex8, f.data(), m}), vFrustum, 1e-14 * vFrustum);
+  const std::vector<double> f20 = withEdgeMidpoints(f, cms::fixtures::kHex20Edges);
+  for (SolidType t : {SolidType::Hex20, SolidType::Hex20Reduced, SolidType::Hex8Incompatible})
+    EXPECT_NEAR(solidVolume({t, (t == SolidType::Hex8Incompatible ? f : f20).data(), m}), vFrustum, 1e-14 * vFrustum)
+        << typeName(t);
+  // The affine wedge: half the parallelepiped of its edges.
+  const std::vector<double> w = affine(SolidType::Wedge15);
+  EXPECT_NEAR(solidVolume({SolidType::Wedge15, w.data(), m}), 0.5 * vPar, 1e-14 * vPar);
 }
 
 // ---- patch tests ----------------------------------------------------------------
 
 namespace {
-
-struct TestMesh {
-  SolidType type = SolidType::Hex8;
-  std::vector<double> xyz;
-  std::vector<std::vector<int>> cells;
-  int nodes() const { return static_cast<int>(xyz.size() / 3); }
-};
-
-/// Structured hex grid of [0, Lx] x [0, Ly] x [0, Lz], Gmsh node order per cell.
-TestMesh hexGrid(int nx, int ny, int nz, double Lx, double Ly, double Lz) {
-  TestMesh m;
-  auto id = [&](int i, int j, int k) { return i + (nx + 1) * (j + (ny + 1) * k); };
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i)
-        m.xyz.insert(m.xyz.end(), {Lx * i / nx, Ly * j / ny, Lz * k / nz});
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        m.cells.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
-                           id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1),
-                           id(i, j + 1, k + 1)});
-  return m;
-}
-
-/// Kuhn's split of every hex into six positively oriented tets around the
-/// diagonal 0-6; conforming between translated cells.
-TestMesh toTet4(const TestMesh& hex) {
-  static const int kuhn[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6},
-                                 {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
-  TestMesh m;
-  m.type = SolidType::Tet4;
-  m.xyz = hex.xyz;
-  for (const auto& c : hex.cells)
-    for (const auto& t : kuhn) m.cells.push_back({c[t[0]], c[t[1]], c[t[2]], c[t[3]]});
-  return m;
-}
-
-/// Tet10 with a node at the midpoint of every edge (shared between cells).
-TestMesh toTet10(const TestMesh& tet4) {
-  TestMesh m;
-  m.type = SolidType::Tet10;
-  m.xyz = tet4.xyz;
-  std::map<std::pair<int, int>, int> mid;
-  for (auto c : tet4.cells) {
-    for (const auto& e : kEdge) {
-      const int a = c[e[0]], b = c[e[1]];
-      const std::pair<int, int> key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it == mid.end()) {
-        it = mid.emplace(key, m.nodes()).first;
-        for (int i = 0; i < 3; ++i) m.xyz.push_back(0.5 * (m.xyz[3 * a + i] + m.xyz[3 * b + i]));
-      }
-      c.push_back(it->second);
-    }
-    m.cells.push_back(c);
-  }
-  return m;
-}
 
 std::vector<double> cellCoords(const TestMesh& m, const std::vector<int>& c) {
   std::vector<double> x;
@@ -526,7 +511,8 @@ bool onUnitCubeBoundary(const double* p) {
 }
 
 /// A 3x3x3 patch of the unit cube with every interior node moved randomly by
-/// up to `amplitude` per coordinate; Tet10 edges straight unless bendEdges.
+/// up to 0.06 per coordinate; edges straight (edge nodes at midpoints) except
+/// Tet10's with bendEdges.
 TestMesh patch(SolidType t, bool bendEdges = false) {
   TestMesh hex = hexGrid(3, 3, 3, 1.0, 1.0, 1.0);
   std::mt19937 rng(2024);
@@ -534,9 +520,8 @@ TestMesh patch(SolidType t, bool bendEdges = false) {
   for (int a = 0; a < hex.nodes(); ++a)
     if (!onUnitCubeBoundary(&hex.xyz[3 * a]))
       for (int i = 0; i < 3; ++i) hex.xyz[3 * a + i] += jitter(rng);
-  if (t == SolidType::Hex8) return hex;
+  if (t != SolidType::Tet10) return fromHexGrid(hex, t);
   TestMesh m = toTet4(hex);
-  if (t == SolidType::Tet4) return m;
   const int vertices = m.nodes();
   m = toTet10(m);
   if (bendEdges)
@@ -554,7 +539,13 @@ TestMesh patch(SolidType t, bool bendEdges = false) {
 // Every interior node must reproduce the linear field and every element
 // carry the constant stress D eps(G). This holds on distorted hexes and on
 // curved Tet10 too, because the stiffness rules integrate (adj J) grad_ref N
-// exactly. Tolerances relative: to the largest displacement of the field
+// exactly; on straight-edged distorted Hex20 even for the reduced 2x2x2 rule
+// (on a trilinear geometry (adj J) grad_ref N has degree <= 3 per
+// coordinate), on distorted wedges, and for the incompatible modes by
+// Taylor's centre Jacobian (∫ grad P_k dV = 0, so constant strain leaves them
+// unexcited). First, without a solve, the interior rows of K times the linear
+// field vanish: n eps ||K||_max ||u||_max with n the number of entries in a row
+// (a sum of n products). Then the solve. Tolerances relative: to the largest displacement of the field
 // and to the largest stress, eps kappa with the condition number kappa ~ 1e3
 // of the interior system for the displacements (measured: 4 eps), 1e-10 for
 // the stresses (differences of neighbouring displacements over h).
@@ -572,7 +563,9 @@ TEST(SolidPatchTest, LinearFieldIsReproducedWithConstantStress) {
   };
   for (const Case& k :
        {Case{SolidType::Tet4, false, "Tet4"}, Case{SolidType::Tet10, false, "Tet10"},
-        Case{SolidType::Tet10, true, "Tet10 curved"}, Case{SolidType::Hex8, false, "Hex8"}}) {
+        Case{SolidType::Tet10, true, "Tet10 curved"}, Case{SolidType::Hex8, false, "Hex8"},
+        Case{SolidType::Hex8Incompatible, false, "Hex8Incompatible"}, Case{SolidType::Hex20, false, "Hex20"},
+        Case{SolidType::Hex20Reduced, false, "Hex20Reduced"}, Case{SolidType::Wedge15, false, "Wedge15"}}) {
     SCOPED_TRACE(k.name);
     const TestMesh m = patch(k.type, k.bend);
     const std::vector<double> ulin = linearField(m.xyz, c, G);
@@ -585,7 +578,19 @@ TEST(SolidPatchTest, LinearFieldIsReproducedWithConstantStress) {
       for (int i = 0; i < 3; ++i) fixed[3 * a + i] = b, u[3 * a + i] = b ? ulin[3 * a + i] : 0.0;
     }
     ASSERT_GE(interior, 8);
-    solve(assemble(m, mat), std::vector<double>(u.size(), 0.0), fixed, u);
+    const std::vector<double> K = assemble(m, mat);
+    const int n = static_cast<int>(u.size());
+    double kMax = 0.0, residual = 0.0, ulinMax = 0.0;
+    for (double v : K) kMax = std::max(kMax, std::abs(v));
+    for (double v : ulin) ulinMax = std::max(ulinMax, std::abs(v));
+    for (int i = 0; i < n; ++i) {
+      if (fixed[i]) continue;
+      double r = 0.0;
+      for (int j = 0; j < n; ++j) r += K[static_cast<std::size_t>(i) * n + j] * ulin[j];
+      residual = std::max(residual, std::abs(r));
+    }
+    EXPECT_LE(residual, n * std::numeric_limits<double>::epsilon() * kMax * ulinMax);
+    solve(K, std::vector<double>(u.size(), 0.0), fixed, u);
     double err = 0.0, uScale = 0.0;
     for (std::size_t i = 0; i < u.size(); ++i)
       err = std::max(err, std::abs(u[i] - ulin[i])), uScale = std::max(uScale, std::abs(ulin[i]));
@@ -724,7 +729,9 @@ namespace {
 double cantileverTip(SolidType t, int nx, int nyz) {
   const double L = 1.0, h = 0.1;
   TestMesh m = hexGrid(nx, nyz, nyz, L, h, h);
-  if (t != SolidType::Hex8) m = toTet4(m);
+  const bool brick = t == SolidType::Hex8 || t == SolidType::Hex8Incompatible;
+  if (brick) m.type = t;
+  else m = toTet4(m);
   if (t == SolidType::Tet10) m = toTet10(m);
   const int n = 3 * m.nodes();
   std::vector<double> f(n, 0.0), u(n, 0.0);
@@ -737,7 +744,7 @@ double cantileverTip(SolidType t, int nx, int nyz) {
     std::vector<double> share;
   };
   std::vector<Face> faces;
-  if (t == SolidType::Hex8) {
+  if (brick) {
     for (const auto& q : {std::vector<int>{0, 1, 2, 3},
                           {4, 5, 6, 7},
                           {0, 1, 5, 4},
@@ -767,13 +774,13 @@ double cantileverTip(SolidType t, int nx, int nyz) {
       if (!tip) continue;
       const double* p0 = &m.xyz[3 * c[fc.nodes[0]]];
       const double* p1 = &m.xyz[3 * c[fc.nodes[1]]];
-      const double* p2 = &m.xyz[3 * c[fc.nodes[t == SolidType::Hex8 ? 3 : 2]]];
+      const double* p2 = &m.xyz[3 * c[fc.nodes[brick ? 3 : 2]]];
       const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
       const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
       const double area = std::sqrt(std::pow(e1[1] * e2[2] - e1[2] * e2[1], 2) +
                                     std::pow(e1[2] * e2[0] - e1[0] * e2[2], 2) +
                                     std::pow(e1[0] * e2[1] - e1[1] * e2[0], 2)) *
-                          (t == SolidType::Hex8 ? 1.0 : 0.5);
+                          (brick ? 1.0 : 0.5);
       for (std::size_t k = 0; k < fc.nodes.size(); ++k)
         f[3 * c[fc.nodes[k]] + 2] += fc.share[k] * area * traction;
     }
@@ -844,6 +851,18 @@ TEST(SolidCantilever, ConvergenceOrderUnderRefinement) {
   EXPECT_GT(tet10, 2.5);
 }
 
+// The incompatible modes remove Hex8's shear locking: on the coarse mesh
+// where the full brick is >20% too stiff, the condensed one is within 3% of
+// Timoshenko's tip deflection (the rest: the mesh's 2 elements across and the
+// beam model's idealised clamp, as for Tet10 above).
+TEST(SolidCantilever, IncompatibleModesRemoveHex8Locking) {
+  const double ref = beamTip();
+  const double full = cantileverTip(SolidType::Hex8, 8, 2), incompatible = cantileverTip(SolidType::Hex8Incompatible, 8, 2);
+  std::printf("tip / beam at nx = 8: Hex8 %.4f, Hex8Incompatible %.4f\n", full / ref, incompatible / ref);
+  EXPECT_LT(full / ref, 0.8);
+  EXPECT_NEAR(incompatible / ref, 1.0, 0.03);
+}
+
 // ---- invalid elements ------------------------------------------------------------------
 
 // Swapping two vertices inverts an element; a flat tet is degenerate. Every
@@ -857,10 +876,15 @@ TEST(SolidElementErrors, InvertedOrDegenerateElementThrowsNumericalError) {
   std::swap_ranges(hex.begin(), hex.begin() + 12, hex.begin() + 12);  // top and bottom swapped
   std::vector<double> flat = kTet;
   for (int i = 0; i < 3; ++i) flat[9 + i] = (flat[i] + flat[3 + i] + flat[6 + i]) / 3.0;
-  const std::pair<SolidType, const std::vector<double>*> bad[] = {{SolidType::Tet4, &tet},
-                                                                  {SolidType::Tet10, &tet10},
-                                                                  {SolidType::Hex8, &hex},
-                                                                  {SolidType::Tet4, &flat}};
+  const std::vector<double> hex20 = withEdgeMidpoints(hex, cms::fixtures::kHex20Edges);
+  std::vector<double> wedge = distorted(SolidType::Wedge15);
+  wedge.resize(18);  // corners
+  std::swap_ranges(wedge.begin(), wedge.begin() + 9, wedge.begin() + 9);
+  wedge = withEdgeMidpoints(wedge, cms::fixtures::kWedge15Edges);
+  const std::pair<SolidType, const std::vector<double>*> bad[] = {
+      {SolidType::Tet4, &tet},         {SolidType::Tet10, &tet10},          {SolidType::Hex8, &hex},
+      {SolidType::Tet4, &flat},        {SolidType::Hex8Incompatible, &hex}, {SolidType::Hex20, &hex20},
+      {SolidType::Hex20Reduced, &hex20}, {SolidType::Wedge15, &wedge}};
   for (const auto& [t, x] : bad) {
     SCOPED_TRACE(typeName(t));
     const SolidElement e{t, x->data(), material()};
@@ -923,4 +947,167 @@ TEST(GmshTet10, EdgeNodesAreMidpointsOfAssumedVertexPairs) {
     volume += solidVolume({SolidType::Tet10, x.data(), material()});
   }
   EXPECT_NEAR(volume, 1.0, 4 * elements.size() * eps * 1.0);
+}
+
+// Gmsh's 20-node hexahedra (type 17, Mesh.SecondOrderIncomplete) and 15-node
+// prisms (type 18) put their edge nodes on the corner pairs of
+// cms::fixtures::kHex20Edges / kWedge15Edges (the order Mesh.hpp documents
+// and SolidElement.cpp uses): on a structured mesh of the unit cube (planar
+// faces, straight edges) every edge node is the midpoint of its pair, and the
+// elements, positively oriented in our convention, integrate to the cube's
+// volume. Unlike the Tet10 mesh above, Gmsh computes the extruded layers'
+// nodes to its own rounding (measured: 7e-14 off the exact midpoint, nodes at
+// 0.2499999999994), so the bound is 1e-10 of the extent, far below the
+// quarter of an element (0.125) a node on a wrong pair would be off by; the
+// volume to the same 1e-10.
+TEST(GmshQuadraticSolids, EdgeNodesAreMidpointsOfAssumedCornerPairs) {
+  struct Session {
+    Session() {
+      gmsh::initialize(0, nullptr, false);
+      gmsh::option::setNumber("General.Terminal", 0);
+    }
+    ~Session() { gmsh::finalize(); }
+  } session;
+  struct Case {
+    int gmshType, nodes, corners;
+    SolidType type;
+    bool recombine;
+  };
+  for (const Case& c : {Case{17, 20, 8, SolidType::Hex20, true}, Case{18, 15, 6, SolidType::Wedge15, false}}) {
+    SCOPED_TRACE(typeName(c.type));
+    gmsh::clear();
+    gmsh::model::add("cube");
+    const int p1 = gmsh::model::geo::addPoint(0, 0, 0), p2 = gmsh::model::geo::addPoint(1, 0, 0),
+              p3 = gmsh::model::geo::addPoint(1, 1, 0), p4 = gmsh::model::geo::addPoint(0, 1, 0);
+    const int l1 = gmsh::model::geo::addLine(p1, p2), l2 = gmsh::model::geo::addLine(p2, p3),
+              l3 = gmsh::model::geo::addLine(p3, p4), l4 = gmsh::model::geo::addLine(p4, p1);
+    const int loop = gmsh::model::geo::addCurveLoop({l1, l2, l3, l4});
+    const int face = gmsh::model::geo::addPlaneSurface({loop});
+    for (int l : {l1, l2, l3, l4}) gmsh::model::geo::mesh::setTransfiniteCurve(l, 3);
+    gmsh::model::geo::mesh::setTransfiniteSurface(face);
+    if (c.recombine) gmsh::model::geo::mesh::setRecombine(2, face);
+    gmsh::vectorpair out;
+    gmsh::model::geo::extrude({{2, face}}, 0, 0, 1, out, {3}, {}, true);
+    gmsh::model::geo::synchronize();
+    gmsh::option::setNumber("Mesh.ElementOrder", 2);
+    gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
+    gmsh::model::mesh::generate(3);
+    std::vector<std::size_t> tags, nodeTags, elements;
+    std::vector<double> coord, param;
+    gmsh::model::mesh::getNodes(tags, coord, param, -1, -1, true, false);
+    std::map<std::size_t, std::size_t> index;
+    for (std::size_t i = 0; i < tags.size(); ++i) index[tags[i]] = i;
+    gmsh::model::mesh::getElementsByType(c.gmshType, elements, nodeTags);
+    ASSERT_GE(elements.size(), 12u);
+    ASSERT_EQ(nodeTags.size(), static_cast<std::size_t>(c.nodes) * elements.size());
+    const double extent = 1.0;
+    double volume = 0.0;
+    for (std::size_t el = 0; el < elements.size(); ++el) {
+      std::vector<double> x(3 * c.nodes);
+      for (int a = 0; a < c.nodes; ++a)
+        for (int i = 0; i < 3; ++i) x[3 * a + i] = coord[3 * index.at(nodeTags[c.nodes * el + a]) + i];
+      for (int k = 0; k < c.nodes - c.corners; ++k) {
+        const int* e = c.type == SolidType::Hex20 ? cms::fixtures::kHex20Edges[k] : cms::fixtures::kWedge15Edges[k];
+        for (int i = 0; i < 3; ++i)
+          ASSERT_NEAR(x[3 * (c.corners + k) + i], 0.5 * (x[3 * e[0] + i] + x[3 * e[1] + i]), 1e-10 * extent)
+              << "element " << elements[el] << " edge node " << c.corners + k;
+      }
+      volume += solidVolume({c.type, x.data(), material()});
+    }
+    EXPECT_NEAR(volume, 1.0, 1e-10 * 1.0);
+  }
+}
+
+// ---- inertia and spurious modes ---------------------------------------------------------
+
+// A rigid rotation u = w x x of a box carries the box's inertia about the
+// origin, u^T M u = w^T J w with J = rho ∫ (|x|² I - x x^T) dV in closed form
+// (box moments ∫ x² dV = (x1³ - x0³)/3 * (y1 - y0)(z1 - z0), ...): every
+// element interpolates a linear field exactly and its mass rule is exact on a
+// box, so the bound is rounding: n eps times the sum of the terms' sizes.
+TEST(SolidElementMatrices, RigidRotationCarriesTheBoxInertia) {
+  const double lo[3] = {0.3, -0.4, 0.2}, size[3] = {1.1, 0.7, 0.5}, rho = 7.8;
+  const TestMesh grid = hexGrid(2, 2, 2, size[0], size[1], size[2], lo[0], lo[1], lo[2]);
+  double m2[3], cross[3][3];  // ∫ x_i² dV, ∫ x_i x_j dV
+  const double vol = size[0] * size[1] * size[2];
+  for (int i = 0; i < 3; ++i) {
+    const double a = lo[i], b = lo[i] + size[i];
+    m2[i] = (b * b * b - a * a * a) / 3.0 * vol / size[i];
+    for (int j = 0; j < 3; ++j) {
+      const double c = lo[j], d = lo[j] + size[j];
+      cross[i][j] = 0.5 * (b * b - a * a) * 0.5 * (d * d - c * c) * vol / (size[i] * size[j]);
+    }
+  }
+  double J[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) J[i][j] = rho * ((i == j ? m2[0] + m2[1] + m2[2] : 0.0) - (i == j ? m2[i] : cross[i][j]));
+  const Vec3 w{0.3, -0.8, 0.5};
+  double expected = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) expected += w[i] * J[i][j] * w[j];
+  for (SolidType t : kTypes) {
+    SCOPED_TRACE(typeName(t));
+    const TestMesh m = fromHexGrid(grid, t);
+    double energy = 0.0, size2 = 0.0, mass = 0.0;
+    const IsotropicMaterial mat = material(200.0, 0.3, rho);
+    for (const auto& c : m.cells) {
+      const std::vector<double> x = cellCoords(m, c);
+      const ElementMatrix M = solidMass({m.type, x.data(), mat});
+      std::vector<double> u(x.size());
+      for (std::size_t a = 0; a < x.size() / 3; ++a) {
+        const double* p = &x[3 * a];
+        u[3 * a] = w[1] * p[2] - w[2] * p[1];
+        u[3 * a + 1] = w[2] * p[0] - w[0] * p[2];
+        u[3 * a + 2] = w[0] * p[1] - w[1] * p[0];
+      }
+      for (int i = 0; i < M.n; ++i)
+        for (int j = 0; j < M.n; ++j) energy += u[i] * M(i, j) * u[j], size2 += std::abs(u[i] * M(i, j) * u[j]);
+      mass += form(M, translation(M.n / 3, {1, 0, 0}), translation(M.n / 3, {1, 0, 0}));
+    }
+    const double eps = std::numeric_limits<double>::epsilon();
+    EXPECT_NEAR(energy, expected, 3 * m.nodes() * eps * size2);
+    EXPECT_NEAR(mass, rho * vol, 3 * m.nodes() * eps * rho * vol);
+  }
+}
+
+// Hourglass check of the reduced Hex20 (CalculiX's C3D20R): 2x2x2 points give
+// K a rank of at most 6 strains x 8 points = 48 of its 60 rows, so a single
+// element has at least 60 - 48 - 6 = 6 spurious zero-energy modes beside
+// its six rigid-body modes; measured: exactly 12 zero eigenvalues on the cube
+// and on a distorted element. These modes are not communicable: in an
+// unsupported 2x2x2 patch of such elements (81 nodes, 243 rows) K has exactly
+// the six rigid-body zeros, the seventh eigenvalue well clear. Thresholds:
+// 1e-10 of the largest eigenvalue for a zero (rounding of the eigensolver,
+// as above), 1e-6 for a nonzero.
+TEST(SolidHourglass, ReducedHex20HasSpuriousModesAloneButNotInAPatch) {
+  auto zeros = [](const ElementMatrix& K, double* next) {
+    const std::vector<double> w = eigenvalues(K);
+    int count = 0;
+    while (count < K.n && std::abs(w[count]) <= 1e-10 * w.back()) ++count;
+    *next = w[count] / w.back();
+    return count;
+  };
+  double next = 0.0;
+  for (bool distort : {false, true}) {
+    SCOPED_TRACE(distort ? "distorted" : "cube");
+    const std::vector<double> x =
+        distort ? distorted(SolidType::Hex20Reduced) : withEdgeMidpoints(kCube, cms::fixtures::kHex20Edges);
+    EXPECT_EQ(zeros(solidStiffness({SolidType::Hex20Reduced, x.data(), material()}), &next), 12);
+    EXPECT_EQ(zeros(solidStiffness({SolidType::Hex20, x.data(), material()}), &next), 6);
+  }
+  for (bool distort : {false, true}) {
+    SCOPED_TRACE(distort ? "distorted patch" : "cube patch");
+    TestMesh m = fromHexGrid(hexGrid(2, 2, 2, 1.0, 1.0, 1.0), SolidType::Hex20Reduced);
+    if (distort) {
+      // Move the centre node and re-centre the edge nodes: straight edges.
+      m = hexGrid(2, 2, 2, 1.0, 1.0, 1.0);
+      for (int i = 0; i < 3; ++i) m.xyz[3 * 13 + i] += 0.07 * (i + 1) - 0.1;
+      m = fromHexGrid(m, SolidType::Hex20Reduced);
+    }
+    ElementMatrix K(3 * m.nodes());
+    const std::vector<double> k = assemble(m, material());
+    K.a = k;
+    EXPECT_EQ(zeros(K, &next), 6);
+    EXPECT_GT(next, 1e-6);
+  }
 }
