@@ -76,7 +76,9 @@ TEST(CampbellStudy, TrackKeepsItsIdentityThroughACrossing) {
     if (g0 < 0 && g1 >= 0) crossing = r.speeds[k - 1][0] + g0 / (g0 - g1) * (r.speeds[k][0] - r.speeds[k - 1][0]);
   }
   EXPECT_NEAR(crossing, std::sqrt((k1 - k2) / c), 0.1 * 0.1 / (8 * 0.8));
-  EXPECT_GT(r.tracks[0].minMac, 1.0 - 1e-12);  // uncoupled: each mode is a unit vector throughout
+  // Uncoupled: each mode is a unit vector throughout, so its MAC with the
+  // previous one is 1 up to the rounding of two 2-term products: kRound.
+  EXPECT_GT(r.tracks[0].minMac, 1.0 - kRound);
 }
 
 TEST(CampbellStudy, TrackFollowsItsBranchThroughAVeering) {

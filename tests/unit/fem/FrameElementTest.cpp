@@ -345,15 +345,18 @@ std::vector<FrameElement> massVariants() {
 
 // A rigid translation carries the whole mass: d_a^T M d_b = rho A L a.b for
 // unit translations, in both theories, with and without rotary inertia.
-// Tolerance 1e-13: 5-point Gauss is exact for these degree-6 integrands.
+// 5-point Gauss is exact for these degree-6 integrands, so only rounding is
+// left: a 12 x 12 quadratic form sums 144 products, kForm = 144 eps relative
+// to the mass it carries (x 4 for the quadrature's own sums).
+const double kForm = 4 * 144 * std::numeric_limits<double>::epsilon();
 TEST(FrameMass, RigidTranslationCarriesTheTotalMass) {
   for (const FrameElement& e : massVariants()) {
     const ElementMatrix m = frameMass(e);
     const double total = e.material.rho * e.section.A * axesOf(e).L;
     const Vec3 a{0.6, -0.8, 0.0}, b{0.3, 0.4, 1.2};
-    EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(a)), total, 1e-13 * total);
+    EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(a)), total, kForm * total);
     EXPECT_NEAR(form(m, rigidTranslation(a), rigidTranslation(b)), total * dot(a, b),
-                1e-13 * total);
+                kForm * total);
   }
 }
 
@@ -362,7 +365,7 @@ TEST(FrameMass, RigidTranslationCarriesTheTotalMass) {
 // the twist's only mass); about e2 (e3) the translational
 // rho A L^3 / 12 plus rho Iy L (rho Iz L). The interdependent shape functions
 // represent rigid rotation exactly, so this holds for Timoshenko too.
-// Tolerance 1e-12 relative: exact quadrature, rounding only.
+// Exact quadrature: rounding only, kForm relative to the inertia carried.
 TEST(FrameMass, RigidRotationsCarryTheBeamInertia) {
   for (const FrameElement& e : massVariants()) {
     const Axes ax = axesOf(e);
@@ -374,9 +377,9 @@ TEST(FrameMass, RigidRotationsCarryTheBeamInertia) {
     const double aboutY = form(m, rigidRotation(e, ax.e2, mid), rigidRotation(e, ax.e2, mid));
     const double aboutZ = form(m, rigidRotation(e, ax.e3, mid), rigidRotation(e, ax.e3, mid));
     const double tilt = rhoA * L * L * L / 12.0;
-    EXPECT_NEAR(axial, rho * (Iy + Iz) * L, 1e-12 * rho * (Iy + Iz) * L);
-    EXPECT_NEAR(aboutY, tilt + r * rho * Iy * L, 1e-12 * tilt);
-    EXPECT_NEAR(aboutZ, tilt + r * rho * Iz * L, 1e-12 * tilt);
+    EXPECT_NEAR(axial, rho * (Iy + Iz) * L, kForm * rho * (Iy + Iz) * L);
+    EXPECT_NEAR(aboutY, tilt + r * rho * Iy * L, kForm * (tilt + r * rho * Iy * L));
+    EXPECT_NEAR(aboutZ, tilt + r * rho * Iz * L, kForm * (tilt + r * rho * Iz * L));
   }
 }
 
@@ -489,7 +492,7 @@ TEST(FrameSpin, GyroscopicIsSkewAndSofteningSymmetric) {
 // On rigid translations only the translational terms act, and the element
 // behaves as its total mass m = rho A L at its midpoint:
 // a^T KT1 a = m |n x a|^2, a^T G1 b = 2 m a.(n x b), f1.a = m r_perp(mid).a.
-// Tolerance 1e-12 relative: exact quadrature, rounding only.
+// Exact quadrature: rounding only, kForm relative to the inertia carried.
 TEST(FrameSpin, RigidTranslationsSeeTheTotalMassAtTheMidpoint) {
   const Spin spin{unit({0.3, -1.0, 0.4}), {0.5, 0.2, -0.1}};
   const Vec3& n = spin.axis;
