@@ -381,28 +381,12 @@ void setDamping(GyroscopicMode& m) {
 }
 
 namespace {
-/// Another returned mode within r of m (or of a mirror of m) whose shape is
-/// nearly parallel to m's (|q_m^H q_o|^2 >= 0.9 |q_m|^2 |q_o|^2): the two
-/// are values of one split defective eigenvalue (their eigenvectors both
-/// approximate its single eigenvector).
-bool splitPartner(const std::vector<GyroscopicMode>& modes, const GyroscopicMode& m, double r) {
-  for (const auto& o : modes) {
-    if (&o == &m || o.q.size() != m.q.size()) continue;
-    const double d = std::min({std::abs(o.lambda - m.lambda), std::abs(o.lambda + std::conj(m.lambda)),
-                               std::abs(o.lambda - std::conj(m.lambda)), std::abs(o.lambda + m.lambda)});
-    if (d > r) continue;
-    std::complex<double> dot = 0.0;
-    double mm = 0.0, oo = 0.0;
-    for (std::size_t i = 0; i < m.q.size(); ++i)
-      dot += std::conj(m.q[i]) * o.q[i], mm += std::norm(m.q[i]), oo += std::norm(o.q[i]);
-    if (std::norm(dot) >= 0.9 * mm * oo) return true;
-  }
-  return false;
-}
-/// The values of m's split cluster (m and the modes within r of it, or of a
-/// mirror, with nearly parallel shapes), each taken with Im >= 0: is their
-/// centre within twice their spread of zero?
-bool centredAtZero(const std::vector<GyroscopicMode>& modes, const GyroscopicMode& m, double r) {
+/// m's split cluster: m and every other returned mode within r of m (or of a
+/// mirror of m) whose shape is nearly parallel to m's (|q_m^H q_o|^2 >= 0.9
+/// |q_m|^2 |q_o|^2: the values of one split defective eigenvalue all
+/// approximate its single eigenvector), each eigenvalue taken with Im >= 0.
+std::vector<std::complex<double>> splitCluster(const std::vector<GyroscopicMode>& modes, const GyroscopicMode& m,
+                                               double r) {
   auto upper = [](std::complex<double> l) { return l.imag() < 0.0 ? std::conj(l) : l; };
   std::vector<std::complex<double>> members{upper(m.lambda)};
   for (const auto& o : modes) {
@@ -416,6 +400,11 @@ bool centredAtZero(const std::vector<GyroscopicMode>& modes, const GyroscopicMod
       dot += std::conj(m.q[i]) * o.q[i], mm += std::norm(m.q[i]), oo += std::norm(o.q[i]);
     if (std::norm(dot) >= 0.9 * mm * oo) members.push_back(upper(o.lambda));
   }
+  return members;
+}
+
+/// Is a split cluster centred within twice its spread of zero?
+bool centredAtZero(const std::vector<std::complex<double>>& members) {
   std::complex<double> centre = 0.0;
   for (auto l : members) centre += l;
   centre /= static_cast<double>(members.size());
@@ -475,7 +464,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       // shapes and are not one split cluster: without this, which of them
       // were taken for a split zero (and called rigid) depended on how
       // rounding placed the mirrors, i.e. on the rank count (issue #11).
-      if (near >= k && near <= 2 * k && (k <= 2 || !completeShapes || splitPartner(modes, m, r)))
+      if (near >= k && near <= 2 * k && (k <= 2 || !completeShapes || splitCluster(modes, m, r).size() > 1))
         radius = r, radiusOrder = k;
     }
     // Rigid through the radius only for a cluster that can be centred at
@@ -483,7 +472,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // around its centre, so a cluster whose centre lies further from zero
     // than its spread (a free body's frame-rate triple at i Omega, split by
     // 1e-4 Omega) is a cluster at that centre, not a split zero.
-    const bool zeroCentred = radiusOrder <= 2 || !completeShapes || centredAtZero(modes, m, radius);
+    const bool zeroCentred = radiusOrder <= 2 || !completeShapes || centredAtZero(splitCluster(modes, m, radius));
     // A growing mode of a conservative system has a partner -conj(lambda)
     // (a real one, +/- sigma, is kept as +sigma alone). An eigenvalue near
     // the imaginary axis without one is simple and isolated, and Hamiltonian
