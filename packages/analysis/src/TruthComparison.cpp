@@ -177,7 +177,11 @@ std::vector<InclusionViolation> checkInclusion(const synthesis::StructureModes& 
 
 long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
                                 double omega) {
-  const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+  return truthFrequenciesBelow(synthesis::SynthesizedStructure::synthesize(structure, true), speeds, omega);
+}
+
+long long truthFrequenciesBelow(const synthesis::SynthesizedStructure& truth, const std::vector<double>& speeds,
+                                double omega) {
   const auto sys = truth.system(speeds);
   const auto A = Tpetra::MatrixMatrix::add(1.0, false, *sys.K, -omega * omega, false, *sys.M);
   auto B = Teuchos::rcp(new CrsMatrix(*sys.G, Teuchos::Copy));

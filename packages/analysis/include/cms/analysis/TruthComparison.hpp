@@ -83,5 +83,8 @@ std::vector<double> frequencies(const synthesis::StructureModes& modes);
 /// pivot zero to rounding: omega is a frequency). Collective.
 long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
                                 double omega);
+/// The same count on a truth already synthesised (every basis Full).
+long long truthFrequenciesBelow(const synthesis::SynthesizedStructure& truth, const std::vector<double>& speeds,
+                                double omega);
 
 }  // namespace cms::analysis
