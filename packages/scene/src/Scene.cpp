@@ -18,6 +18,7 @@
 
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
+#include "cms/fem/RigidPlacement.hpp"
 #include "cms/reduction/RitzBasis.hpp"
 
 namespace cms::scene {
@@ -93,6 +94,10 @@ ParameterList substructureKeys() {
   spin.set("Frame", "Rotating", "A: Rotating (own frame) or Stationary (axisymmetric, parent's frame)");
   spin.set("Stress Stiffening", true, "centrifugal prestress in rotating frames");
   p.sublist("Reduction").disableRecursiveValidation();
+  p.set("Copies", 1,
+        "N identical copies in an azimuthal pattern about the parent's spin axis, sharing one reduction "
+        "(named <name>[1] .. <name>[N]; doc/theory.md §15)");
+  p.set("Copy Phase", 0.0, "angle of the first copy from the substructure as written (degrees)");
   return p;
 }
 
@@ -220,31 +225,11 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     const auto& pl = p.sublist("Placement");
     const std::string pp = path + "/Placement";
     checkKeys(pl, substructureKeys().sublist("Placement"), pp);
-    fem::Vec3 a = vec3(pl, "Axis", pp, std::vector<double>{0, 0, 1});
-    const double an = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    CMS_INPUT_CHECK(!(an > 0), pp << "/Axis must be a nonzero vector");
-    for (double& v : a) v /= an;
+    const fem::Vec3 a = vec3(pl, "Axis", pp, std::vector<double>{0, 0, 1});
+    CMS_INPUT_CHECK(!(fem::norm(a) > 0), pp << "/Axis must be a nonzero vector");
     const double th = getNumber(pl, "Angle", pp, 0.0) * M_PI / 180.0;
-    const fem::Vec3 t = vec3(pl, "Translation", pp, std::vector<double>{0, 0, 0});
-    const double c = std::cos(th), sn = std::sin(th);
-    double R[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) R[i][j] = c * (i == j) + (1 - c) * a[i] * a[j];
-    R[0][1] -= sn * a[2], R[0][2] += sn * a[1], R[1][0] += sn * a[2];
-    R[1][2] -= sn * a[0], R[2][0] -= sn * a[1], R[2][1] += sn * a[0];
-    auto rotate = [&](const fem::Vec3& x) {
-      return fem::Vec3{R[0][0] * x[0] + R[0][1] * x[1] + R[0][2] * x[2], R[1][0] * x[0] + R[1][1] * x[1] + R[1][2] * x[2],
-                       R[2][0] * x[0] + R[2][1] * x[1] + R[2][2] * x[2]};
-    };
-    auto model = std::make_shared<fem::FiniteElementModel>(*s.model);
-    auto mesh = std::make_shared<mesh::Mesh>(*model->mesh);
-    for (std::size_t n = 0; n < mesh->nodeCount(); ++n) {
-      const auto x = rotate({mesh->coordinates[3 * n], mesh->coordinates[3 * n + 1], mesh->coordinates[3 * n + 2]});
-      for (int d = 0; d < 3; ++d) mesh->coordinates[3 * n + d] = x[d] + t[d];
-    }
-    for (auto& es : model->elementSets) es.section.orientation = rotate(es.section.orientation);
-    model->mesh = mesh;
-    s.model = model;
+    s.model = fem::placedModel(*s.model, fem::Rotation::about(a, th), {0, 0, 0},
+                               vec3(pl, "Translation", pp, std::vector<double>{0, 0, 0}));
   }
   if (p.isSublist("Rotor")) {
     const auto& r = p.sublist("Rotor");
@@ -268,6 +253,15 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     rate.stressStiffening = getBool(sp, "Stress Stiffening", spp, true);
     s.spin = rate;
   }
+  const double copies = getNumber(p, "Copies", path, 1.0);
+  CMS_INPUT_CHECK(copies < 1 || copies > 1000 || std::floor(copies) != copies,
+                  path << "/Copies = " << copies << " must be an integer from 1 to 1000");
+  s.copies = static_cast<int>(copies);
+  s.copyPhase = getNumber(p, "Copy Phase", path, 0.0) * M_PI / 180.0;
+  CMS_INPUT_CHECK(!std::isfinite(s.copyPhase), path << "/Copy Phase must be finite (degrees)");
+  CMS_INPUT_CHECK(s.copies > 1 && s.kind == SubstructureKind::Central,
+                  path << "/Copies: the central substructure (C) cannot be copied; copies are placed about "
+                          "their parent's spin axis");
   if (p.isSublist("Reduction")) {
     s.reduction = p.sublist("Reduction");
     try {
@@ -354,7 +348,7 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
     bool frame = false;
     for (const auto& es : s.model->elementSets) frame |= es.kind == fem::ElementSet::Kind::Frame;
     const long long dofs = static_cast<long long>(s.model->mesh->nodeCount()) * (frame ? 6 : 3);
-    scene.estimatedDofs += dofs;
+    scene.estimatedDofs += dofs * s.copies;  // a copied descendant is counted once: a lower bound
     if (dofs > largestDofs) {
       largestDofs = dofs;
       const auto& fe = p.sublist("Substructures").sublist(s.name);

@@ -635,6 +635,14 @@ int solveFamilyPrestress(const AssembledStructure& out, const std::vector<std::p
 
 const SubstructureSpec& AssembledStructure::substructure(std::size_t k) const { return parts_.at(k)->spec; }
 
+std::size_t AssembledStructure::prototypeOf(std::size_t k) const {
+  const auto& copy = parts_.at(k)->spec.copy;
+  if (!copy) return k;
+  for (std::size_t i = 0; i < parts_.size(); ++i)
+    if (parts_[i]->spec.name == copy->prototype) return i;
+  return k;
+}
+
 fem::Vec3 AssembledStructure::attachmentPoint(std::size_t k) const { return parts_.at(k)->point; }
 
 const substructure::Substructure* AssembledStructure::assembled(std::size_t k) const {
@@ -655,10 +663,10 @@ std::vector<std::pair<std::string, long long>> AssembledStructure::substructureD
 
 // The phases in the order they happen (theory §11.1-§11.5); each is a
 // function above with the why.
-AssembledStructure AssembledStructure::assemble(const StructureDescription& d,
+AssembledStructure AssembledStructure::assemble(const StructureDescription& description,
                                                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const auto t0 = std::chrono::steady_clock::now();
-  d.validate();
+  const StructureDescription d = description.withCopies();  // 0. "Copies: N" made (theory §15)
   AssembledStructure out;
   out.comm_ = comm;
   out.free_ = !d.freeReference.empty();

@@ -1,9 +1,13 @@
 #include "cms/synthesis/Structure.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <set>
+#include <sstream>
 
 #include "cms/core/Error.hpp"
+#include "cms/fem/RigidPlacement.hpp"
 
 namespace cms::synthesis {
 
@@ -30,6 +34,12 @@ void StructureDescription::validate() const {
     const auto& s = substructures[i];
     const std::string who = "substructure '" + s.name + "' (" + toString(s.kind) + ")";
     CMS_INPUT_CHECK(s.name.empty(), "structure: substructure " << i + 1 << " has no name");
+    CMS_INPUT_CHECK(s.copies < 1 || !std::isfinite(s.copyPhase),
+                    who << ": \"Copies\" must be at least 1 and its phase finite (got " << s.copies << ", "
+                        << s.copyPhase << ")");
+    CMS_INPUT_CHECK(s.copies > 1 && s.kind == SubstructureKind::Central,
+                    who << ": the central substructure cannot be copied (\"Copies\" places copies about the parent's "
+                           "spin axis)");
     CMS_INPUT_CHECK(!names.insert(s.name).second, "structure: two substructures are named '" << s.name << "'");
     if (s.kind == SubstructureKind::Central) {
       CMS_INPUT_CHECK(central >= 0, who << ": a second central substructure (the first is '"
@@ -91,6 +101,152 @@ void StructureDescription::validate() const {
       p = &substructures[find(p->parent)];
     }
   }
+}
+
+namespace {
+
+/// The axis a child of `parent` is patterned about, and a point of it: C's
+/// spin axis through its Origin, an A's spin axis through its attachment
+/// point (the given Point, or the centroid of its parent's attachment
+/// nodes, as AssembledStructure places it).
+std::pair<fem::Vec3, fem::Vec3> patternAxis(const StructureDescription& d, const SubstructureSpec& parent,
+                                            const SubstructureSpec& copied) {
+  CMS_INPUT_CHECK(!parent.spin, "substructure '" << copied.name << "': \"Copies: " << copied.copies
+                                                 << "\" places the copies about the parent's spin axis, and its parent '"
+                                                 << parent.name << "' does not spin");
+  if (parent.kind == SubstructureKind::Central) return {fem::unit(parent.spin->axis), parent.spin->origin};
+  if (parent.attachment.point) return {fem::unit(parent.spin->axis), *parent.attachment.point};
+  const auto& grand = d.substructures[d.find(parent.parent)];
+  const auto nodes = grand.model->mesh->nodeSet(parent.attachment.parentNodes);
+  CMS_INPUT_CHECK(nodes.empty(), "substructure '" << parent.name << "': attachment node set '"
+                                                  << parent.attachment.parentNodes << "' of '" << grand.name
+                                                  << "' is empty");
+  fem::Vec3 c{0, 0, 0};
+  for (auto n : nodes)
+    for (int k = 0; k < 3; ++k) c[k] += grand.model->mesh->coordinates[3 * n + k] / static_cast<double>(nodes.size());
+  return {fem::unit(parent.spin->axis), c};
+}
+
+/// The parent's nodes where the nodes of its set `set` turn to, added to the
+/// parent's mesh as the node set `name` (the parent's model is copied).
+void addTurnedNodeSet(SubstructureSpec& parent, const std::string& set, const fem::Rotation& turn,
+                      const fem::Vec3& origin, const std::string& name, const std::string& who, double degrees) {
+  const mesh::Mesh& mesh = *parent.model->mesh;
+  CMS_INPUT_CHECK(!mesh.hasGroup(set), who << ": attachment node set '" << set << "' is not a physical group of '"
+                                           << parent.name << "' (" << mesh.source << ")");
+  // Coincident within 1e-6 of the parent's size: a mesher's rounding of a
+  // position it was asked for, far below any element.
+  fem::Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
+    for (int k = 0; k < 3; ++k)
+      lo[k] = std::min(lo[k], mesh.coordinates[3 * n + k]), hi[k] = std::max(hi[k], mesh.coordinates[3 * n + k]);
+  const double tol = 1e-6 * fem::norm(fem::sub(hi, lo));
+  mesh::PhysicalGroup group{name, 0, 0, {}};
+  for (const auto& g : mesh.groups) group.tag = std::max(group.tag, g.tag + 1);
+  mesh::CellBlock points;
+  points.type = mesh::CellType::Point1, points.gmshType = 15, points.nodesPerCell = 1;
+  for (auto n : mesh.nodeSet(set)) {
+    const fem::Vec3 x{mesh.coordinates[3 * n], mesh.coordinates[3 * n + 1], mesh.coordinates[3 * n + 2]};
+    const fem::Vec3 target = fem::axpy(1.0, turn.apply(fem::sub(x, origin)), origin);
+    std::int64_t found = -1;
+    for (std::size_t m = 0; m < mesh.nodeCount() && found < 0; ++m)
+      if (fem::norm(fem::sub({mesh.coordinates[3 * m], mesh.coordinates[3 * m + 1], mesh.coordinates[3 * m + 2]},
+                             target)) <= tol)
+        found = static_cast<std::int64_t>(m);
+    CMS_INPUT_CHECK(found < 0, who << ": its parent '" << parent.name << "' has no node at (" << target[0] << ", "
+                                   << target[1] << ", " << target[2] << "), where node " << mesh.nodeTags[n]
+                                   << " of '" << set << "' turns to by " << degrees
+                                   << " degrees about the parent's spin axis (the copy's attachment)");
+    points.nodes.push_back(found);
+    points.cellTags.push_back(points.cellTags.size() + 1);
+  }
+  group.blocks.push_back(points);
+  auto model = std::make_shared<fem::FiniteElementModel>(*parent.model);
+  auto copy = std::make_shared<mesh::Mesh>(mesh);
+  copy->groups.push_back(group);
+  model->mesh = copy;
+  parent.model = model;
+}
+
+}  // namespace
+
+StructureDescription StructureDescription::withCopies() const {
+  auto copied = [](const SubstructureSpec& s) { return s.copies > 1; };
+  if (std::none_of(substructures.begin(), substructures.end(), copied)) return *this;
+  validate();
+  StructureDescription out = *this;
+  // A copied item inside another's subtree is refused (its copies would need
+  // two indices); then the copied items expand one at a time.
+  for (const auto& s : substructures) {
+    if (!copied(s)) continue;
+    for (const SubstructureSpec* a = &s; !a->parent.empty();) {
+      a = &substructures[find(a->parent)];
+      CMS_INPUT_CHECK(copied(*a), "substructure '" << s.name << "' (Copies: " << s.copies << ") is inside '" << a->name
+                                                  << "' (Copies: " << a->copies
+                                                  << "): copies inside a copied subtree are not supported");
+    }
+  }
+  for (;;) {
+    auto it = std::find_if(out.substructures.begin(), out.substructures.end(), copied);
+    if (it == out.substructures.end()) break;
+    const SubstructureSpec top = *it;
+    const std::string who = "substructure '" + top.name + "' (Copies: " + std::to_string(top.copies) + ")";
+    CMS_INPUT_CHECK(top.copies > 1000, who << ": at most 1000 copies");
+    // The subtree, in the description's order.
+    std::vector<std::size_t> subtree;
+    std::function<bool(const SubstructureSpec&)> inside = [&](const SubstructureSpec& s) {
+      if (s.name == top.name) return true;
+      return !s.parent.empty() && inside(out.substructures[out.find(s.parent)]);
+    };
+    for (std::size_t i = 0; i < out.substructures.size(); ++i)
+      if (inside(out.substructures[i])) subtree.push_back(i);
+    const auto topIndex = static_cast<std::size_t>(it - out.substructures.begin());
+    const int parentIndex = out.find(top.parent);
+    const auto [axis, origin] = patternAxis(out, out.substructures[parentIndex], top);
+    std::vector<SubstructureSpec> made;
+    for (int j = 0; j < top.copies; ++j) {
+      const double angle = top.copyPhase + 2.0 * M_PI * j / top.copies;
+      const auto turn = fem::Rotation::about(axis, angle);
+      const std::string suffix = "[" + std::to_string(j + 1) + "]";
+      for (std::size_t i : subtree) {
+        const SubstructureSpec& x = out.substructures[i];
+        SubstructureSpec c = x;
+        c.name = x.name + suffix;
+        c.copies = 1;
+        c.copyPhase = 0.0;
+        c.copy = CopyPlacement{x.name + "[1]", x.name, j, top.copies, angle, axis, origin};
+        if (&x != &*it) c.parent = x.parent + suffix;
+        const std::string cwho = "substructure '" + c.name + "' (copy " + std::to_string(j + 1) + " of '" + x.name + "')";
+        if (x.model) {
+          const std::string variant = fem::rotationVariantItem(*x.model, turn);
+          CMS_INPUT_CHECK(!variant.empty(),
+                          cwho << ": its " << variant << " acts along the structure's axes, and turned by "
+                               << angle * 180 / M_PI << " degrees about the spin axis it would act along others: give "
+                               << "it the same values in every direction normal to the spin axis, or do not copy it");
+          c.model = fem::placedModel(*x.model, turn, origin);
+        }
+        if (c.spin) {
+          c.spin->axis = turn.apply(x.spin->axis);
+          c.spin->origin = fem::axpy(1.0, turn.apply(fem::sub(x.spin->origin, origin)), origin);
+        }
+        if (c.attachment.point) c.attachment.point = fem::axpy(1.0, turn.apply(fem::sub(*x.attachment.point, origin)), origin);
+        if (&x == &*it && angle != 0.0) {
+          c.attachment.parentNodes = x.attachment.parentNodes + "@" + c.name;
+          addTurnedNodeSet(out.substructures[parentIndex], x.attachment.parentNodes, turn, origin,
+                           c.attachment.parentNodes, cwho, angle * 180 / M_PI);
+        }
+        made.push_back(std::move(c));
+      }
+    }
+    // Replace the subtree by its copies, where the copied item was.
+    const auto at = topIndex - static_cast<std::size_t>(std::count_if(subtree.begin(), subtree.end(),
+                                                                       [&](std::size_t i) { return i < topIndex; }));
+    for (auto i = subtree.rbegin(); i != subtree.rend(); ++i)
+      out.substructures.erase(out.substructures.begin() + static_cast<long>(*i));
+    out.substructures.insert(out.substructures.begin() + static_cast<long>(at), made.begin(), made.end());
+  }
+  out.validate();
+  return out;
 }
 
 }  // namespace cms::synthesis

@@ -23,6 +23,7 @@
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "CopiedBasis.hpp"
 #include "PartData.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -470,14 +471,26 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
 /// Step 1 of synthesize: every substructure's basis and its report, reused
 /// from `previous` where its "Reduction" list is unchanged; the others on
 /// the schedule.
-void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>& reductions, ReductionSchedule schedule,
+void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>& requested, ReductionSchedule schedule,
                                       const SynthesizedStructure* previous) {
   const auto& parts = structure_->parts();
   const auto comm = structure_->comm();
   const int rank = comm->getRank(), nranks = comm->getSize();
   bases_.assign(parts.size(), reduction::RitzBasis());
   reports_.assign(parts.size(), SubstructureReduction());
-  reductionLists_ = reductions;
+  // The copies of a "Copies: N" item are truncated alike: each takes its
+  // prototype's list, and (below) its basis turned (theory §15).
+  std::vector<Teuchos::ParameterList> own(requested);
+  std::vector<bool> turned(parts.size(), false);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const std::size_t p = structure_->prototypeOf(k);
+    own[k] = requested[p];
+    turned[k] = p != k && parts[k]->sub &&
+                !(own[k].isParameter("Basis") && own[k].isType<std::string>("Basis") &&
+                  own[k].get<std::string>("Basis") == "Full");
+  }
+  const std::vector<Teuchos::ParameterList>& reductions = own;
+  reductionLists_ = own;
   std::vector<bool> reused(parts.size(), false);
   if (previous != nullptr)
     for (std::size_t k = 0; k < parts.size(); ++k)
@@ -506,7 +519,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
   if (schedule == ReductionSchedule::Concurrent && nranks > 1) {
     std::vector<std::pair<double, std::size_t>> work;
     for (std::size_t k = 0; k < parts.size(); ++k)
-      if (parts[k]->sub && !reused[k] &&
+      if (parts[k]->sub && !reused[k] && !turned[k] &&
           !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
             reductions[k].get<std::string>("Basis") == "Full"))
         work.push_back({std::pow(static_cast<double>(parts[k]->sub->dofs().rows()), 1.5), k});
@@ -591,6 +604,21 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       continue;
     }
     if (reused[k]) continue;
+    if (turned[k]) {
+      // Its prototype, earlier in tree order, has its basis by now.
+      const std::size_t q = structure_->prototypeOf(k);
+      const auto& placed = *p.spec.copy;
+      const auto turn = fem::Rotation::about(placed.axis, placed.angle - parts[q]->spec.copy->angle);
+      std::string why;
+      if (auto b = detail::turnedBasis(*parts[q]->sub, bases_[q], *p.sub, turn, why)) {
+        bases_[k] = std::move(*b);
+        report(k);
+        rep.turnedFrom = parts[q]->spec.name;
+        rep.frequencyEstimates = reports_[q].frequencyEstimates;  // the same reduced K and M
+        continue;
+      }
+      rep.notTurned = why;
+    }
     if (owner[k] < 0) {
       bases_[k] = reduction::buildRitzBasis(*p.sub, boundaryOf(k), reductions[k]);
       if (!bases_[k].full && bases_[k].size() > 0)
@@ -988,6 +1016,7 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
       c.relativeStrain.push_back(strain);
     }
     for (double& v : c.kineticShare) v = total > 0.0 ? v / total : 0.0;
+    c.cyclic = detail::cyclicContent(parts, u);  // §15.3
     if (structure_->freeFloating()) {
       // a = q_r^H M_rr q_r and the elastic part e = q_e^H M_ee q_e =
       // q^H M q - 2 Re(q_r^H (M q)_r) + a: both non-negative, unlike the

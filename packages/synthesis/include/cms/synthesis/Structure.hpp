@@ -80,6 +80,18 @@ struct SpinRate {
   bool stressStiffening = true;  ///< centrifugal prestress in rotating frames
 };
 
+/// Where a copy made by "Copies: N" sits (doc/theory.md §15): the prototype
+/// (its first copy) turned by `angle` about `axis` through `origin`, the
+/// spin axis of the copied substructure's parent.
+struct CopyPlacement {
+  std::string prototype;  ///< name of copy 1 of the same item (itself for copy 1)
+  std::string group;      ///< the name as written ("blade" for "blade[3]")
+  int index = 0;          ///< 0 .. count-1
+  int count = 1;
+  double angle = 0.0;     ///< rad, phase + 2 pi index / count
+  fem::Vec3 axis{0, 0, 1}, origin{0, 0, 0};
+};
+
 struct SubstructureSpec {
   std::string name;
   SubstructureKind kind = SubstructureKind::Elastic;
@@ -92,6 +104,14 @@ struct SubstructureSpec {
   std::optional<SpinRate> spin;  ///< C (frame), A and R (relative); none: not spinning
   /// "Reduction" parameters (reduction::validParameters()).
   Teuchos::ParameterList reduction = Teuchos::ParameterList("Reduction");
+  /// "Copies: N": N identical copies in an azimuthal pattern about the
+  /// parent's spin axis, the first at `copyPhase` (rad) from the item as
+  /// written; its descendants are copied with it. Expanded by
+  /// StructureDescription::withCopies.
+  int copies = 1;
+  double copyPhase = 0.0;
+  /// Set on the items withCopies makes: which copy this is.
+  std::optional<CopyPlacement> copy;
 };
 
 struct StructureDescription {
@@ -108,6 +128,16 @@ struct StructureDescription {
   void validate() const;
   /// Index of the named substructure, or -1.
   int find(const std::string& name) const;
+  /// The description with every "Copies: N" item (and its descendants)
+  /// replaced by N items named "<name>[1]" .. "<name>[N]", turned about the
+  /// parent's spin axis (C: its Spin axis through its Origin; A, R: their
+  /// spin axis through their attachment point), each attached to the
+  /// parent's nodes found where the written attachment nodes turn to (a node
+  /// set "<set>@<copy>" added to the parent's mesh). Throws cms::InputError
+  /// naming the item: parent not spinning, no parent node at a turned
+  /// position, a per-component item (support, spring, damper) the turn does
+  /// not map onto itself. Identity when nothing is copied.
+  StructureDescription withCopies() const;
 };
 
 }  // namespace cms::synthesis

@@ -58,7 +58,12 @@ public:
 
   std::size_t numSubstructures() const { return parts_.size(); }
   /// The k-th substructure's description, tree order (pre-order from C).
+  /// The copies of a "Copies: N" item are items of their own ("blade[2]"),
+  /// each with SubstructureSpec::copy set.
   const SubstructureSpec& substructure(std::size_t k) const;
+  /// A copy's prototype (copy 1 of the same item, whose reduction every copy
+  /// shares: doc/theory.md §15); k itself for anything else.
+  std::size_t prototypeOf(std::size_t k) const;
   /// The point its frame follows (attachment point; a free C's reference
   /// point; a rigid rotor's centre). For a clamped C: the origin.
   fem::Vec3 attachmentPoint(std::size_t k) const;
@@ -106,6 +111,13 @@ struct SubstructureReduction {
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
   /// held (rad/s): the paper's truncation guide. Empty for Full and R.
   std::vector<double> frequencyEstimates;
+  /// A copy of a "Copies: N" item: the prototype whose basis it turned
+  /// instead of reducing again (no factorisation, no eigensolve; `seconds`
+  /// is the turn and its check: theory §15.2). Empty otherwise.
+  std::string turnedFrom;
+  /// A copy reduced on its own because its matrices are not its
+  /// prototype's turned, and why (a finding to report). Empty otherwise.
+  std::string notTurned;
 };
 
 /// Whether a substructure's basis can represent its own modes below a
@@ -147,8 +159,27 @@ struct StructureModes {
   double seconds = 0.0;
 };
 
+/// A mode's content in the cyclic harmonics of the copies of one "Copies: N"
+/// item (doc/theory.md §15.3): the copies' motions u_j, turned back into the
+/// prototype's axes, transformed over the copy index j,
+/// c_h = sum_j u_j exp(-2 pi i j h / N), and the kinetic energy
+/// c_h^H M c_h / N of each harmonic (Parseval: they sum to the copies').
+struct CyclicContent {
+  std::string group;  ///< the item as written ("blade")
+  int copies = 0;     ///< N
+  /// share[h], h = 0 .. N/2 (h and N - h together): of the copies' kinetic
+  /// energy; sums to 1 (all zero when the copies do not move).
+  std::vector<double> share;
+  int dominant = 0;  ///< the h with the largest share
+  /// "collective" (h = 0), "cyclic h" (the h-th cosine/sine pair: in phase
+  /// with h nodal diameters), "differential" (h = N/2, N even: reactionless).
+  std::string label() const;
+};
+
 /// What a mode is made of (doc/theory.md §11.6).
 struct ModeCharacter {
+  /// Per "Copies: N" item, its harmonic content (empty without copies).
+  std::vector<CyclicContent> cyclic;
   /// Share of the mode's kinetic energy (u_s^H M_s u_s) in each
   /// substructure, tree order; sums to 1.
   std::vector<double> kineticShare;

@@ -1,0 +1,220 @@
+#include "CopiedBasis.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include <Teuchos_SerialDenseMatrix.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+namespace cms::synthesis::detail {
+
+namespace {
+
+/// V^T A V on every rank, and the bound of its rounding: the products sum
+/// over the rows n, so |fl - exact| <= gamma_n |V|^T |A| |V|, whose
+/// Frobenius norm is at most n eps ||A||_F ||V||_F^2 (Higham, §3.5).
+struct Projection {
+  Teuchos::SerialDenseMatrix<int, double> P;
+  double rounding = 0.0;
+};
+
+Projection project(const CrsMatrix& A, const MultiVector& V) {
+  const auto n = static_cast<int>(V.getNumVectors());
+  MultiVector AV(A.getRangeMap(), n);
+  A.apply(V, AV);
+  auto local = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(n), 0, V.getMap()->getComm(),
+                                    Tpetra::LocallyReplicated));
+  MultiVector S(local, n);
+  S.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, V, AV, 0.0);
+  Projection out;
+  out.P.shape(n, n);
+  for (int j = 0; j < n; ++j) {
+    const auto col = S.getData(j);
+    for (int i = 0; i < n; ++i) out.P(i, j) = col[i];
+  }
+  std::vector<double> norms(n);
+  V.norm2(Teuchos::ArrayView<double>(norms));
+  double v2 = 0;
+  for (double x : norms) v2 += x * x;
+  out.rounding = static_cast<double>(V.getGlobalLength()) * std::numeric_limits<double>::epsilon() *
+                 A.getFrobeniusNorm() * v2;
+  return out;
+}
+
+}  // namespace
+
+Teuchos::RCP<MultiVector> turnedRows(const MultiVector& X, const substructure::DofTable& table,
+                                     const Teuchos::RCP<const Map>& toMap, const fem::Rotation& turn) {
+  const int ncols = static_cast<int>(X.getNumVectors());
+  const auto rowNode = table.rowNodes();
+  // 1. The rows of X each local row of the result reads: its node's
+  // translations (or rotations), which the turn mixes.
+  auto sources = [&](GlobalOrdinal g, long long r[3]) {
+    const int base = static_cast<int>(table.components[g]) < 3 ? 0 : 3;
+    for (int e = 0; e < 3; ++e) r[e] = table.row(rowNode[g], static_cast<fem::Component>(base + e));
+    return static_cast<int>(table.components[g]) - base;
+  };
+  std::vector<GlobalOrdinal> need;
+  const auto nlocal = toMap->getNodeNumElements();
+  for (std::size_t lr = 0; lr < nlocal; ++lr) {
+    long long r[3];
+    sources(toMap->getGlobalElement(static_cast<LocalOrdinal>(lr)), r);
+    for (long long v : r)
+      if (v >= 0) need.push_back(static_cast<GlobalOrdinal>(v));
+  }
+  std::sort(need.begin(), need.end());
+  need.erase(std::unique(need.begin(), need.end()), need.end());
+  auto needMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                      Teuchos::ArrayView<const GlobalOrdinal>(need), 0, toMap->getComm()));
+  MultiVector Xn(needMap, ncols);
+  Xn.doImport(X, Tpetra::Import<>(X.getMap(), needMap), Tpetra::INSERT);
+  // 2. (Q x)_(node, c) = sum_e R[c][e] x_(node, e), a fixed component (no
+  // row) being zero.
+  auto out = Teuchos::rcp(new MultiVector(toMap, ncols));
+  for (int j = 0; j < ncols; ++j) {
+    const auto src = Xn.getData(j);
+    auto dst = out->getDataNonConst(j);
+    for (std::size_t lr = 0; lr < nlocal; ++lr) {
+      long long r[3];
+      const int c = sources(toMap->getGlobalElement(static_cast<LocalOrdinal>(lr)), r);
+      double v = 0;
+      for (int e = 0; e < 3; ++e)
+        if (r[e] >= 0) v += turn.R[c][e] * src[needMap->getLocalElement(static_cast<GlobalOrdinal>(r[e]))];
+      dst[lr] = v;
+    }
+  }
+  return out;
+}
+
+std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure& prototype,
+                                                const reduction::RitzBasis& basis,
+                                                const substructure::Substructure& copy, const fem::Rotation& turn,
+                                                std::string& why) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& dp = prototype.dofs();
+  const auto& dc = copy.dofs();
+  if (dp.offsets != dc.offsets || dp.components != dc.components) {
+    why = "its DOFs are not the prototype's (node by node)";
+    return std::nullopt;
+  }
+  if (basis.full || basis.vectors.is_null()) {
+    why = "the prototype's basis is Full";
+    return std::nullopt;
+  }
+  const auto& Vp = *basis.vectors;
+  const int ncols = static_cast<int>(Vp.getNumVectors());
+  auto Vc = turnedRows(Vp, dc, copy.map(), turn);
+  // The check: the copy's reduced matrices are the prototype's.
+  struct Pair {
+    const char* name;
+    Teuchos::RCP<const CrsMatrix> p, c;
+  };
+  for (const Pair& m : {Pair{"M", prototype.M(), copy.M()}, Pair{"K", prototype.K(), copy.K()},
+                        Pair{"G1", prototype.G1(), copy.G1()}, Pair{"KS1 - KT1", prototype.K2(), copy.K2()}}) {
+    if (m.p.is_null() != m.c.is_null()) {
+      why = std::string("it has ") + (m.c.is_null() ? "no " : "") + m.name + " where the prototype has " +
+            (m.p.is_null() ? "none" : "one");
+      return std::nullopt;
+    }
+    if (m.p.is_null()) continue;
+    const auto a = project(*m.p, Vp), b = project(*m.c, *Vc);
+    double diff = 0, scale = 0;
+    for (int j = 0; j < ncols; ++j)
+      for (int i = 0; i < ncols; ++i) {
+        diff += std::pow(a.P(i, j) - b.P(i, j), 2);
+        scale += std::pow(a.P(i, j), 2);
+      }
+    diff = std::sqrt(diff);
+    if (diff > a.rounding + b.rounding) {
+      std::ostringstream os;
+      os.precision(3);
+      os << "its reduced " << m.name << " differs from the prototype's by " << diff / std::max(std::sqrt(scale), 1e-300)
+         << " (relative; rounding allows " << (a.rounding + b.rounding) / std::max(std::sqrt(scale), 1e-300)
+         << "): the copy is not the prototype turned (a load, support or spin not symmetric about the pattern axis)";
+      why = os.str();
+      return std::nullopt;
+    }
+  }
+  reduction::RitzBasis out = basis;
+  out.vectors = Vc;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+std::vector<CyclicContent> cyclicContent(const std::vector<std::shared_ptr<AssembledStructure::Part>>& parts,
+                                         const std::vector<Teuchos::RCP<MultiVector>>& u) {
+  // The copies of each item, by copy index.
+  std::map<std::string, std::vector<std::size_t>> groups;
+  std::vector<std::string> order;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& c = parts[k]->spec.copy;
+    if (!c) continue;
+    auto& g = groups[c->group];
+    if (g.empty()) order.push_back(c->group), g.assign(static_cast<std::size_t>(c->count), parts.size());
+    g[static_cast<std::size_t>(c->index)] = k;
+  }
+  std::vector<CyclicContent> out;
+  for (const auto& name : order) {
+    const auto& g = groups[name];
+    const auto& proto = *parts[g[0]];
+    bool comparable = proto.sub.has_value();
+    for (std::size_t k : g)
+      comparable = comparable && k < parts.size() && parts[k]->sub &&
+                   parts[k]->sub->dofs().offsets == proto.sub->dofs().offsets &&
+                   parts[k]->sub->dofs().components == proto.sub->dofs().components;
+    if (!comparable) continue;
+    const int N = static_cast<int>(g.size());
+    // Each copy's motion in the prototype's axes (turned back).
+    std::vector<Teuchos::RCP<MultiVector>> back;
+    for (std::size_t k : g) {
+      const auto& c = *parts[k]->spec.copy;
+      const auto turn = fem::Rotation::about(c.axis, proto.spec.copy->angle - c.angle);
+      back.push_back(turnedRows(*u[k], proto.sub->dofs(), proto.sub->map(), turn));
+    }
+    CyclicContent content;
+    content.group = name;
+    content.copies = N;
+    content.share.assign(static_cast<std::size_t>(N / 2 + 1), 0.0);
+    const auto map = proto.sub->map();
+    for (int h = 0; h < N; ++h) {
+      // c_h = sum_j (a_j + i b_j)(cos phi - i sin phi), phi = 2 pi j h / N.
+      MultiVector C(map, 2), MC(map, 2);
+      for (int j = 0; j < N; ++j) {
+        const double phi = 2.0 * M_PI * j * h / N, cs = std::cos(phi), sn = std::sin(phi);
+        auto a = back[j]->getVector(0), b = back[j]->getVector(1);
+        C.getVectorNonConst(0)->update(cs, *a, sn, *b, 1.0);
+        C.getVectorNonConst(1)->update(cs, *b, -sn, *a, 1.0);
+      }
+      proto.sub->M()->apply(C, MC);
+      Teuchos::Array<double> d(2);
+      C.dot(MC, d());
+      content.share[static_cast<std::size_t>(std::min(h, N - h))] += (d[0] + d[1]) / N;
+    }
+    double total = 0;
+    for (double v : content.share) total += v;
+    for (double& v : content.share) v = total > 0 ? v / total : 0.0;
+    content.dominant = static_cast<int>(std::max_element(content.share.begin(), content.share.end()) -
+                                        content.share.begin());
+    out.push_back(content);
+  }
+  return out;
+}
+
+}  // namespace cms::synthesis::detail
+
+namespace cms::synthesis {
+
+std::string CyclicContent::label() const {
+  if (dominant == 0) return "collective";
+  if (2 * dominant == copies) return "differential";
+  return "cyclic " + std::to_string(dominant);
+}
+
+}  // namespace cms::synthesis

@@ -1,0 +1,42 @@
+// The basis of a copy made by "Copies: N", turned from its prototype's
+// instead of built again (doc/theory.md §15).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "cms/fem/RigidPlacement.hpp"
+#include "cms/reduction/RitzBasis.hpp"
+#include "cms/substructure/Substructure.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
+#include "PartData.hpp"
+
+namespace cms::synthesis::detail {
+
+/// Q X: the rows of X (a substructure with DOF table `table`) with every
+/// node's translations and rotations turned by `turn`, onto `toMap` (the
+/// rows of a substructure with the same table: a copy). Collective.
+Teuchos::RCP<MultiVector> turnedRows(const MultiVector& X, const substructure::DofTable& table,
+                                     const Teuchos::RCP<const Map>& toMap, const fem::Rotation& turn);
+
+/// V_c = Q V_p, Q turning every node's translations and rotations by `turn`
+/// (the copy's placement relative to the prototype's). Exact when the copy
+/// is the prototype turned about an axis its loads and supports are
+/// symmetric about (K_c = Q K_p Q^T, and so for M, G1, KS1 - KT1): then
+/// V_c^T A_c V_c = V_p^T A_p V_p for each. That is checked here, to the
+/// rounding of the products (theory §15.2), and the copy's matrices
+/// differing from the prototype's turned is reported in `why` with no basis
+/// returned (the caller then reduces the copy itself). Collective.
+std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure& prototype,
+                                                const reduction::RitzBasis& basis,
+                                                const substructure::Substructure& copy, const fem::Rotation& turn,
+                                                std::string& why);
+
+/// The harmonic content of every copied item in one mode: `parts` and `u`
+/// (the mode's motion per part, SynthesizedStructure::expand) in tree
+/// order. Items whose copies have no DOF table of their own (rigid rotors)
+/// or differing tables are left out. Collective.
+std::vector<CyclicContent> cyclicContent(const std::vector<std::shared_ptr<AssembledStructure::Part>>& parts,
+                                         const std::vector<Teuchos::RCP<MultiVector>>& u);
+
+}  // namespace cms::synthesis::detail
