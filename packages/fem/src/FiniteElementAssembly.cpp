@@ -47,29 +47,50 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 /// One contribution to the matrices: an element of a set, or a lumped item.
 struct Item {
-  enum class Kind : std::uint8_t { Frame, Solid, PointMass, GroundSpring, Spring };
+  enum class Kind : std::uint8_t { Frame, Solid, PointMass, GroundSpring, Spring, Hinge };
   Kind kind;
   int set;                 ///< index into the model's sets of that kind
   const mesh::CellBlock* block;  ///< Frame, Solid
   std::int64_t cell;       ///< Frame, Solid: cell index; lumped: first node
-  std::int64_t other;      ///< Spring: second node
+  std::int64_t other;      ///< Spring, Hinge: second node
+};
+
+/// One node pair of a hinge (theory §17): the second node b keeps only its
+/// rotation about coordinate axis k (the one closest to the hinge axis n);
+/// u_b = u_a and theta_b = theta_a + n phi with phi = (theta_b,k - theta_a,k) / n_k.
+struct HingePair {
+  std::int64_t a, b;
+  int hinge;  ///< index into the model's hinges
+  int k;      ///< the kept rotation of b: component 3 + k
+  Vec3 n;     ///< unit axis
+};
+
+/// An item's element DOFs as combinations of rows, when it touches a
+/// hinge's second node: element DOF i = sum_j T(i, j) row_j over the item's
+/// row list (n x m, row-major). Element matrices A become T^T A T, loads
+/// T^T f, and displacements T u.
+struct ItemTransform {
+  int n = 0, m = 0;
+  std::vector<double> T;
 };
 
 std::string nodeName(const mesh::Mesh& mesh, std::int64_t node) {
   return "node " + std::to_string(mesh.nodeTags[node]);
 }
 
-/// Nodes of a and b paired by coincident coordinates (a joint between two
-/// coincident node sets), or the single pair when both hold one node.
-std::vector<std::pair<std::int64_t, std::int64_t>> springPairs(const mesh::Mesh& mesh,
-                                                               const SpringSet& s) {
-  const auto a = mesh.nodeSet(s.nodeSet), b = mesh.nodeSet(s.toNodeSet);
+/// Nodes of two node sets paired by coincident coordinates (a joint between
+/// two coincident node sets; `what` names the item in messages, e.g.
+/// "spring 'x'"); for springs (`anyPlace`) the single pair when both hold
+/// one node, wherever they are.
+std::vector<std::pair<std::int64_t, std::int64_t>> coincidentPairs(const mesh::Mesh& mesh, const std::string& what,
+                                                                   const std::string& setA, const std::string& setB,
+                                                                   bool anyPlace) {
+  const auto a = mesh.nodeSet(setA), b = mesh.nodeSet(setB);
   std::vector<std::pair<std::int64_t, std::int64_t>> pairs;
-  if (a.size() == 1 && b.size() == 1) return {{a[0], b[0]}};
+  if (anyPlace && a.size() == 1 && b.size() == 1) return {{a[0], b[0]}};
   CMS_INPUT_CHECK(a.size() != b.size(),
-                  "spring '" << s.name << "': node sets '" << s.nodeSet << "' (" << a.size()
-                             << " nodes) and '" << s.toNodeSet << "' (" << b.size()
-                             << " nodes) must have the same size to be paired");
+                  what << ": node sets '" << setA << "' (" << a.size() << " nodes) and '" << setB << "' ("
+                       << b.size() << " nodes) must have the same size to be paired");
   double scale = 0.0;
   for (std::size_t i = 0; i < mesh.coordinates.size(); ++i)
     scale = std::max(scale, std::abs(mesh.coordinates[i]));
@@ -81,12 +102,16 @@ std::vector<std::pair<std::int64_t, std::int64_t>> springPairs(const mesh::Mesh&
       for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(mesh.x(na)[c] - mesh.x(nb)[c]));
       if (d <= tol) { match = nb; break; }
     }
-    CMS_INPUT_CHECK(match < 0, "spring '" << s.name << "': " << nodeName(mesh, na) << " of set '"
-                                          << s.nodeSet << "' has no coincident node in set '"
-                                          << s.toNodeSet << "'");
+    CMS_INPUT_CHECK(match < 0, what << ": " << nodeName(mesh, na) << " of set '" << setA
+                                    << "' has no coincident node in set '" << setB << "' (within " << tol
+                                    << " m)");
     pairs.emplace_back(na, match);
   }
   return pairs;
+}
+
+std::vector<std::pair<std::int64_t, std::int64_t>> springPairs(const mesh::Mesh& mesh, const SpringSet& s) {
+  return coincidentPairs(mesh, "spring '" + s.name + "'", s.nodeSet, s.toNodeSet, true);
 }
 
 bool hasRotationalStiffness(const std::array<double, 6>& k) {
@@ -99,6 +124,7 @@ int itemNodeDofs(const Item& it, const FiniteElementModel& model) {
   switch (it.kind) {
     case Item::Kind::Frame: return 6;
     case Item::Kind::Solid: return 3;
+    case Item::Kind::Hinge: return 6;
     case Item::Kind::PointMass: {
       const auto& p = model.pointMasses[it.set];
       return std::any_of(p.inertia.begin(), p.inertia.end(), [](double v) { return v != 0.0; }) ? 6 : 3;
@@ -199,6 +225,21 @@ class Assembler {
           items_.push_back({Item::Kind::Spring, static_cast<int>(s), nullptr, a, b});
       }
     }
+    // Hinges (theory §17): every pair is a constraint; a pair with a spring
+    // or a damper about the axis is also an item.
+    for (std::size_t h = 0; h < model_.hinges.size(); ++h) {
+      const HingeSet& hs = model_.hinges[h];
+      const Vec3 n = unit(hs.axis);
+      int k = 0;
+      for (int d = 1; d < 3; ++d)
+        if (std::abs(n[d]) > std::abs(n[k])) k = d;
+      for (auto [a, b] : coincidentPairs(mesh_, model_.name + ": hinge '" + hs.name + "'", hs.nodeSet,
+                                         hs.toNodeSet, false)) {
+        hingePairs_.push_back({a, b, static_cast<int>(h), k, n});
+        if (hs.stiffness != 0.0 || hs.damping != 0.0)
+          items_.push_back({Item::Kind::Hinge, static_cast<int>(h), nullptr, a, b});
+      }
+    }
   }
 
   /// The item's nodes into out (at most 27); returns their count.
@@ -209,7 +250,7 @@ class Assembler {
       return n;
     }
     out[0] = it.cell;
-    if (it.kind == Item::Kind::Spring) { out[1] = it.other; return 2; }
+    if (it.kind == Item::Kind::Spring || it.kind == Item::Kind::Hinge) { out[1] = it.other; return 2; }
     return 1;
   }
 
@@ -232,6 +273,7 @@ class Assembler {
       if (it.kind == Item::Kind::Frame || it.kind == Item::Kind::Solid) continue;
       const int nn = itemNodes(it, nodes);
       const bool rotations = itemNodeDofs(it, model_) == 6;
+      if (it.kind == Item::Kind::Hinge) continue;  // checked with every hinge pair below
       const std::string& name =
           it.kind == Item::Kind::PointMass ? model_.pointMasses[it.set].name : model_.springs[it.set].name;
       for (int a = 0; a < nn; ++a) {
@@ -267,6 +309,7 @@ class Assembler {
         }
       }
     }
+    layOutHinges();
     L.first.assign(numNodes_, 0);
     long long next = 0;
     for (std::int64_t n = 0; n < numNodes_; ++n) {
@@ -274,7 +317,79 @@ class Assembler {
       next += L.componentCount(n);
     }
     L.size = next;
+    recordDependentDofs();
     CMS_INPUT_CHECK(L.size == 0, model_.name << ": every DOF is fixed; nothing to assemble");
+  }
+
+  // 2b. Hinges (theory §17): both nodes of a pair must be frame nodes (six
+  // components); the second node's components other than its kept rotation
+  // become slaved (no row). A node is the second node of at most one hinge
+  // and never also a first node (no chains: the elimination is one level),
+  // and carries no boundary condition (fix the first node instead).
+  void layOutHinges() {
+    DofLayout& L = out_.layout;
+    if (hingePairs_.empty()) return;
+    L.slaved.assign(numNodes_, 0);
+    slaveOf_.assign(numNodes_, -1);
+    std::vector<char> master(numNodes_, 0);
+    for (const HingePair& p : hingePairs_) master[p.a] = 1;
+    for (std::size_t i = 0; i < hingePairs_.size(); ++i) {
+      const HingePair& p = hingePairs_[i];
+      const HingeSet& h = model_.hinges[p.hinge];
+      const std::string what = model_.name + ": hinge '" + h.name + "'";
+      for (auto [node, set] : {std::pair{p.a, &h.nodeSet}, std::pair{p.b, &h.toNodeSet}})
+        CMS_INPUT_CHECK((L.present[node] & kAllComponents) != kAllComponents,
+                        what << ": " << nodeName(mesh_, node) << " of set '" << *set
+                             << "' has no rotations (only nodes of frame elements do); a hinge joins frame nodes");
+      CMS_INPUT_CHECK(p.a == p.b, what << ": " << nodeName(mesh_, p.a) << " is in both '" << h.nodeSet << "' and '"
+                                       << h.toNodeSet << "'; a hinge needs two coincident nodes");
+      CMS_INPUT_CHECK(slaveOf_[p.b] >= 0,
+                      what << ": " << nodeName(mesh_, p.b) << " of set '" << h.toNodeSet
+                           << "' is already the second node of hinge '"
+                           << model_.hinges[hingePairs_[slaveOf_[p.b]].hinge].name << "'");
+      CMS_INPUT_CHECK(master[p.b],
+                      what << ": " << nodeName(mesh_, p.b) << " of set '" << h.toNodeSet
+                           << "' is also the first node of a hinge; hinges in series need an element between them");
+      CMS_INPUT_CHECK(L.fixed[p.b] != 0,
+                      what << ": " << nodeName(mesh_, p.b) << " of set '" << h.toNodeSet
+                           << "' has a boundary condition; fix the hinge's first node set '" << h.nodeSet
+                           << "' instead (the second follows it)");
+      slaveOf_[p.b] = static_cast<int>(i);
+      L.slaved[p.b] = kAllComponents & ~static_cast<std::uint8_t>(1u << (3 + p.k));
+    }
+  }
+
+  /// Every slaved DOF as its combination of rows (after the rows are numbered).
+  void recordDependentDofs() {
+    for (const HingePair& p : hingePairs_)
+      for (int c = 0; c < 6; ++c) {
+        if (c == 3 + p.k) continue;
+        AssembledMatrices::DependentDof d;
+        d.node = p.b;
+        d.component = static_cast<Component>(c);
+        expand(p.b, c, 1.0, d.terms);
+        out_.dependent.push_back(std::move(d));
+      }
+  }
+
+  /// Element DOF (node, c) as rows with coefficients (appended to out,
+  /// scaled by w): the row itself, nothing for a fixed DOF, or for a
+  /// hinge's slaved component its expression in the free rows (theory §17):
+  /// u_b = u_a, theta_b,j = theta_a,j + (n_j / n_k)(theta_b,k - theta_a,k).
+  void expand(std::int64_t node, int c, double w, std::vector<std::pair<long long, double>>& out) const {
+    const DofLayout& L = out_.layout;
+    if (L.slaved.empty() || !(L.slaved[node] & (1u << c))) {
+      const long long r = L.row(node, static_cast<Component>(c));
+      if (r >= 0 && w != 0.0) out.emplace_back(r, w);
+      return;
+    }
+    const HingePair& p = hingePairs_[slaveOf_[node]];
+    expand(p.a, c, w, out);
+    if (c < 3) return;
+    const double ratio = p.n[c - 3] / p.n[p.k];
+    if (ratio == 0.0) return;
+    expand(p.b, 3 + p.k, w * ratio, out);
+    expand(p.a, 3 + p.k, -w * ratio, out);
   }
 
   // 3. Ownership: a coordinate-slab partition of the nodes (sorted along the
@@ -326,11 +441,37 @@ class Assembler {
     const DofLayout& L = out_.layout;
     std::int64_t nodes[32];
     itemDofStart_.assign(localItems_.size() + 1, 0);
+    std::vector<std::pair<long long, double>> terms;
     for (std::size_t k = 0; k < localItems_.size(); ++k) {
       const Item& it = items_[localItems_[k]];
       const int nn = itemNodes(it, nodes), nd = itemNodeDofs(it, model_);
-      for (int a = 0; a < nn; ++a)
-        for (int c = 0; c < nd; ++c) itemDofs_.push_back(L.row(nodes[a], static_cast<Component>(c)));
+      bool hinged = false;
+      for (int a = 0; a < nn && !slaveOf_.empty(); ++a) hinged = hinged || slaveOf_[nodes[a]] >= 0;
+      if (!hinged) {
+        for (int a = 0; a < nn; ++a)
+          for (int c = 0; c < nd; ++c) itemDofs_.push_back(L.row(nodes[a], static_cast<Component>(c)));
+      } else {
+        // The item's rows: every row its element DOFs depend on, and T.
+        std::vector<std::vector<std::pair<long long, double>>> dofTerms;
+        std::vector<long long> rows;
+        for (int a = 0; a < nn; ++a)
+          for (int c = 0; c < nd; ++c) {
+            terms.clear();
+            expand(nodes[a], c, 1.0, terms);
+            for (const auto& t : terms) rows.push_back(t.first);
+            dofTerms.push_back(terms);
+          }
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        ItemTransform& tr = transforms_[k];
+        tr.n = nn * nd;
+        tr.m = static_cast<int>(rows.size());
+        tr.T.assign(static_cast<std::size_t>(tr.n) * tr.m, 0.0);
+        for (int i = 0; i < tr.n; ++i)
+          for (const auto& [r, w] : dofTerms[i])
+            tr.T[static_cast<std::size_t>(i) * tr.m + (std::lower_bound(rows.begin(), rows.end(), r) - rows.begin())] += w;
+        itemDofs_.insert(itemDofs_.end(), rows.begin(), rows.end());
+      }
       itemDofStart_[k + 1] = static_cast<std::int64_t>(itemDofs_.size());
     }
     rowLid_.assign(L.size, -1);  // global row -> overlap lid (one int per row: 4 MB at 10^6)
@@ -573,8 +714,56 @@ class Assembler {
         m.K = twoNodeSpringMatrix(model_.springs[it.set].stiffness, nd);
         if (damped_) m.D = twoNodeSpringMatrix(model_.springs[it.set].damping, nd);
         break;
+      case Item::Kind::Hinge: {
+        // A spring k and a damper c on the relative rotation about the axis,
+        // phi = n . (theta_b - theta_a): k w w^T, c w w^T (theory §17).
+        const HingeSet& h = model_.hinges[it.set];
+        const Vec3 n = unit(h.axis);
+        double w[12] = {};
+        for (int d = 0; d < 3; ++d) w[3 + d] = -n[d], w[9 + d] = n[d];
+        m.K = ElementMatrix(12);
+        if (damped_) m.D = ElementMatrix(12);
+        for (int i = 0; i < 12; ++i)
+          for (int j = 0; j < 12; ++j) {
+            m.K(i, j) = h.stiffness * w[i] * w[j];
+            if (damped_) m.D(i, j) = h.damping * w[i] * w[j];
+          }
+        break;
+      }
     }
     return m;
+  }
+
+  /// T^T A T for an item with a transform (theory §17), else A unchanged.
+  ElementMatrix constrained(std::size_t local, const ElementMatrix& A) const {
+    const auto t = transforms_.find(local);
+    if (t == transforms_.end() || A.n == 0) return A;
+    const ItemTransform& tr = t->second;
+    ElementMatrix out(tr.m);
+    std::vector<double> at(static_cast<std::size_t>(tr.n) * tr.m, 0.0);  // A T, n x m
+    for (int i = 0; i < tr.n; ++i)
+      for (int l = 0; l < tr.n; ++l) {
+        const double a = A(i, l);
+        if (a == 0.0) continue;
+        for (int j = 0; j < tr.m; ++j) at[static_cast<std::size_t>(i) * tr.m + j] += a * tr.T[static_cast<std::size_t>(l) * tr.m + j];
+      }
+    for (int i = 0; i < tr.n; ++i)
+      for (int p = 0; p < tr.m; ++p) {
+        const double t_ip = tr.T[static_cast<std::size_t>(i) * tr.m + p];
+        if (t_ip == 0.0) continue;
+        for (int j = 0; j < tr.m; ++j) out(p, j) += t_ip * at[static_cast<std::size_t>(i) * tr.m + j];
+      }
+    return out;
+  }
+  /// T^T f for an item with a transform.
+  std::vector<double> constrained(std::size_t local, const std::vector<double>& f) const {
+    const auto t = transforms_.find(local);
+    if (t == transforms_.end() || f.empty()) return f;
+    const ItemTransform& tr = t->second;
+    std::vector<double> out(tr.m, 0.0);
+    for (int i = 0; i < tr.n; ++i)
+      for (int p = 0; p < tr.m; ++p) out[p] += tr.T[static_cast<std::size_t>(i) * tr.m + p] * f[i];
+    return out;
   }
 
   // 7. Element matrices into the owned and ghost arrays. Errors are collected
@@ -585,7 +774,7 @@ class Assembler {
     rotatingFrame_ = spinning_ && model_.spin->frame == SpinDefinition::Frame::Rotating;
     damped_ = std::any_of(model_.springs.begin(), model_.springs.end(), [](const SpringSet& s) {
       return std::any_of(s.damping.begin(), s.damping.end(), [](double c) { return c != 0.0; });
-    });
+    }) || std::any_of(model_.hinges.begin(), model_.hinges.end(), [](const HingeSet& h) { return h.damping != 0.0; });
     if (damped_) vD_ = target("D");
     tilt_ = spinning_ && !rotatingFrame_ && model_.spin->frameAxis.has_value();
     vM_ = target("M");
@@ -599,12 +788,12 @@ class Assembler {
       try {
         const ItemMatrices m = itemMatrices(it);
         locate(local);
-        scatter(m.K, vK_);
-        if (m.M.n) scatter(m.M, vM_);
-        if (m.D.n) scatter(m.D, vD_);
-        if (m.spin.G1.n) scatter(m.spin.G1, vG_);
-        if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatter(m.spin.KT1, vKT_);
-        if (rotatingFrame_ && !m.spin.f1.empty()) scatterVector(local, m.spin.f1, vf_);
+        scatter(constrained(local, m.K), vK_);
+        if (m.M.n) scatter(constrained(local, m.M), vM_);
+        if (m.D.n) scatter(constrained(local, m.D), vD_);
+        if (m.spin.G1.n) scatter(constrained(local, m.spin.G1), vG_);
+        if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatter(constrained(local, m.spin.KT1), vKT_);
+        if (rotatingFrame_ && !m.spin.f1.empty()) scatterVector(local, constrained(local, m.spin.f1), vf_);
       } catch (const std::exception& e) {
         std::ostringstream os;
         os << model_.name << ": ";
@@ -671,9 +860,12 @@ class Assembler {
     }
   }
 
-  /// The row of a held or loaded DOF of the PrestressConditions (-1 if the
-  /// model fixes it); an InputError if the node or component does not exist.
-  long long prestressRow(const PrestressConditions::NodalValue& v, const char* what) const {
+  /// The rows of a held or loaded DOF of the PrestressConditions with their
+  /// coefficients: one row, none if the model fixes it, or for a hinge's
+  /// slaved DOF its expression in the free rows (theory §17); an InputError
+  /// if the node or component does not exist.
+  std::vector<std::pair<long long, double>> prestressRows(const PrestressConditions::NodalValue& v,
+                                                          const char* what) const {
     const DofLayout& L = out_.layout;
     CMS_INPUT_CHECK(v.node < 0 || v.node >= numNodes_,
                     model_.name << ": prestress " << what << " at node index " << v.node << " (mesh has "
@@ -681,7 +873,9 @@ class Assembler {
     CMS_INPUT_CHECK(!(L.present[v.node] & (1u << static_cast<int>(v.component))),
                     model_.name << ": prestress " << what << " on " << componentName(v.component) << " at "
                                 << nodeName(mesh_, v.node) << ", which has no such DOF");
-    return L.row(v.node, v.component);
+    std::vector<std::pair<long long, double>> rows;
+    expand(v.node, static_cast<int>(v.component), 1.0, rows);
+    return rows;
   }
 
   // 9a. Centrifugal prestress (theory §10): u1 per unit Omega^2, either the
@@ -708,19 +902,28 @@ class Assembler {
     for (const auto& h : prestress_.held) {
       if (h.node >= 0 && h.node < numNodes_ && !(L.present[h.node] & (1u << static_cast<int>(h.component))))
         continue;
-      const long long r = prestressRow(h, "hold");
-      if (r < 0 || std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
+      const auto rows = prestressRows(h, "hold");
+      if (rows.empty()) continue;
+      // A hinge's slaved translation is its first node's: hold that. A
+      // slaved rotation mixing rows is a constraint holdDofs cannot make.
+      CMS_INPUT_CHECK(rows.size() != 1 || rows[0].second != 1.0,
+                      model_.name << ": prestress hold on " << componentName(h.component) << " at "
+                                  << nodeName(mesh_, h.node) << ", the second node of hinge '"
+                                  << model_.hinges[hingePairs_[slaveOf_[h.node]].hinge].name
+                                  << "', which follows the hinge rotation; attach at the hinge's first node set");
+      const long long r = rows[0].first;
+      if (std::find(heldRows.begin(), heldRows.end(), r) != heldRows.end()) continue;
       heldRows.push_back(r);
       heldDofs.push_back(h);
     }
     auto f = Teuchos::rcp(new MultiVector(*out_.f1, Teuchos::Copy));
     {
       auto fv = f->getDataNonConst(0);
-      for (const auto& l : prestress_.loads) {
-        const long long r = prestressRow(l, "load");
-        const auto lid = ownedMap_->getLocalElement(static_cast<GlobalOrdinal>(r));
-        if (r >= 0 && lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += l.value;
-      }
+      for (const auto& l : prestress_.loads)
+        for (const auto& [r, w] : prestressRows(l, "load")) {  // T^T f for a hinge's slaved DOF
+          const auto lid = ownedMap_->getLocalElement(static_cast<GlobalOrdinal>(r));
+          if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += w * l.value;
+        }
     }
     Teuchos::RCP<const CrsMatrix> Ksolve = out_.K;
     auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
@@ -774,22 +977,34 @@ class Assembler {
     auto u = uOverlap.getData(0);
     const Spin spin = model_.spin->spin;
     Target vKS = target("KS1");
-    std::vector<double> ue(6 * 27);
+    std::vector<double> ue(6 * 27), ur(6 * 27 * 3);
     for (std::size_t local = 0; local < localItems_.size() && failure_.empty(); ++local) {
       const Item& it = items_[localItems_[local]];
       if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
       const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
-      for (auto p = b; p < e; ++p) ue[p - b] = itemLids_[p] >= 0 ? u[itemLids_[p]] : 0.0;
+      for (auto p = b; p < e; ++p) ur[p - b] = itemLids_[p] >= 0 ? u[itemLids_[p]] : 0.0;
+      // The element's DOFs: the rows themselves, or T u for an element at a
+      // hinge's second node (its slaved DOFs follow the hinge, theory §17).
+      const auto t = transforms_.find(local);
+      if (t == transforms_.end()) {
+        std::copy(ur.begin(), ur.begin() + (e - b), ue.begin());
+      } else {
+        const ItemTransform& tr = t->second;
+        for (int i = 0; i < tr.n; ++i) {
+          ue[i] = 0.0;
+          for (int j = 0; j < tr.m; ++j) ue[i] += tr.T[static_cast<std::size_t>(i) * tr.m + j] * ur[j];
+        }
+      }
       try {
         if (it.kind == Item::Kind::Frame) {
           const FrameElement fe = frameOf(it);
           locate(local);
           // N(x) from the element's equilibrium under its own
           // centrifugal load: quadratic along it (theory §10).
-          scatter(frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin)), vKS);
+          scatter(constrained(local, frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin))), vKS);
         } else {
           locate(local);
-          scatter(solidGeometricStiffness(solidOf(it), ue.data()), vKS);
+          scatter(constrained(local, solidGeometricStiffness(solidOf(it), ue.data())), vKS);
         }
       } catch (const std::exception& ex) {
         failureIsInput_ = dynamic_cast<const InputError*>(&ex) != nullptr;
@@ -810,6 +1025,11 @@ class Assembler {
 
   // listItems
   std::vector<Item> items_;
+  std::vector<HingePair> hingePairs_;
+  // layOutHinges: hinge pair of each second node (-1: none; empty: no hinges)
+  std::vector<int> slaveOf_;
+  // mapItemRows: local items that touch a hinge's second node
+  std::unordered_map<std::size_t, ItemTransform> transforms_;
   std::size_t numElements_ = 0;
   // partitionNodes, mapItemRows: rows and maps
   std::vector<std::size_t> localItems_;  ///< indices into items_ of this rank's items
@@ -842,12 +1062,13 @@ class Assembler {
 }  // namespace
 
 int DofLayout::componentCount(std::int64_t node) const {
-  return __builtin_popcount(present[node] & ~fixed[node]);
+  const std::uint8_t gone = fixed[node] | (slaved.empty() ? 0 : slaved[node]);
+  return __builtin_popcount(present[node] & ~gone);
 }
 
 long long DofLayout::row(std::int64_t node, Component c) const {
   const int bit = static_cast<int>(c);
-  const std::uint8_t free = present[node] & ~fixed[node];
+  const std::uint8_t free = present[node] & ~fixed[node] & ~(slaved.empty() ? 0 : slaved[node]);
   if (!(free & (1u << bit))) return -1;
   return first[node] + __builtin_popcount(free & ((1u << bit) - 1u));
 }

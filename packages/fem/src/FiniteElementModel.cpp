@@ -86,6 +86,17 @@ ParameterList damperParameters() {
   return p;
 }
 
+ParameterList hingeParameters() {
+  ParameterList p("Hinge");
+  p.set("Node Set", "", "physical group of frame nodes on one side (they keep all their DOFs)");
+  p.set("To Node Set", "", "the other side: nodes coincident with those of \"Node Set\", paired by position");
+  p.set("Axis", Teuchos::Array<double>(Teuchos::tuple<double>(0.0, 0.0, 1.0)),
+        "the hinge axis (any nonzero direction): free rotation about it, rigid otherwise");
+  p.set("Stiffness", 0.0, "rotational spring about the axis (N m/rad)");
+  p.set("Damping", 0.0, "viscous damper about the axis (N m s/rad)");
+  return p;
+}
+
 ParameterList structuralDampingParameters() {
   ParameterList p("Structural Damping");
   p.set("Rayleigh Alpha", 0.0, "D += alpha M (1/s): zeta = alpha / (2 w) per mode");
@@ -129,6 +140,29 @@ void forEachEntry(const ParameterList& p, const std::string& key, const std::str
 
 }  // namespace
 
+HingeSet hingeFromParameters(const std::string& name, const ParameterList& p, const std::string& path) {
+  checkKeys(p, hingeParameters(), path);
+  HingeSet h;
+  h.name = name;
+  h.nodeSet = getString(p, "Node Set", path);
+  h.toNodeSet = getString(p, "To Node Set", path);
+  CMS_INPUT_CHECK(h.nodeSet == h.toNodeSet,
+                  path << ": \"Node Set\" and \"To Node Set\" are both '" << h.nodeSet
+                       << "'; a hinge joins two sets of coincident nodes (duplicate the nodes in the mesh)");
+  const auto a = getNumbers(p, "Axis", path, 3, std::vector<double>{0.0, 0.0, 1.0});
+  const double norm = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  CMS_INPUT_CHECK(!(norm > 0.0) || !std::isfinite(norm), path << "/Axis = [" << a[0] << ", " << a[1] << ", " << a[2]
+                                                                << "] must be a finite nonzero vector");
+  for (int d = 0; d < 3; ++d) h.axis[d] = a[d] / norm;
+  h.stiffness = getNumber(p, "Stiffness", path, 0.0);
+  h.damping = getNumber(p, "Damping", path, 0.0);
+  CMS_INPUT_CHECK(!(h.stiffness >= 0.0) || !std::isfinite(h.stiffness),
+                  path << "/Stiffness = " << h.stiffness << " must be finite and >= 0 (N m/rad)");
+  CMS_INPUT_CHECK(!(h.damping >= 0.0) || !std::isfinite(h.damping),
+                  path << "/Damping = " << h.damping << " must be finite and >= 0 (N m s/rad)");
+  return h;
+}
+
 Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
   auto p = Teuchos::rcp(new ParameterList("Finite Element Model"));
   p->set("Name", "substructure", "used in messages and output");
@@ -139,6 +173,8 @@ Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
   p->sublist("Point Masses", false, "name -> point mass").sublist("<name>") = pointMassParameters();
   p->sublist("Springs", false, "name -> spring").sublist("<name>") = springParameters();
   p->sublist("Dampers", false, "name -> viscous damper").sublist("<name>") = damperParameters();
+  p->sublist("Hinges", false, "name -> hinge (exact joint free about one axis)").sublist("<name>") =
+      hingeParameters();
   p->sublist("Structural Damping", false, "Rayleigh and modal damping of the whole substructure") =
       structuralDampingParameters();
   p->sublist("Boundary Conditions", false, "name -> fixed node set").sublist("<name>") = fixedParameters();
@@ -253,6 +289,10 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
       s.damping[i] = c[i];
     }
     m.springs.push_back(s);
+  });
+  forEachEntry(params, "Hinges", path, hingeParameters(), [&](const std::string& name, const ParameterList& p,
+                                                              const std::string& sub) {
+    m.hinges.push_back(hingeFromParameters(name, p, sub));
   });
   if (params.isSublist("Structural Damping")) {
     const std::string sub = path + "/Structural Damping";
@@ -384,6 +424,16 @@ void FiniteElementModel::validate() const {
     if (!s.toNodeSet.empty()) mesh->group(s.toNodeSet);
   }
   for (const FixedSet& f : fixed) mesh->group(f.nodeSet);
+  for (const HingeSet& h : hinges) {
+    const std::string what = name + ": hinge '" + h.name + "'";
+    for (const std::string* set : {&h.nodeSet, &h.toNodeSet}) {
+      CMS_INPUT_CHECK(!mesh->hasGroup(*set), what << ": no node set '" << *set << "' in " << mesh->source);
+    }
+    const double n2 = h.axis[0] * h.axis[0] + h.axis[1] * h.axis[1] + h.axis[2] * h.axis[2];
+    CMS_INPUT_CHECK(!(std::abs(n2 - 1.0) <= 1e-12), what << ": the axis must be a unit vector");
+    CMS_INPUT_CHECK(!(h.stiffness >= 0.0) || !(h.damping >= 0.0),
+                    what << ": stiffness and damping must be >= 0");
+  }
   if (spin) {
     const Vec3& a = spin->spin.axis;
     CMS_INPUT_CHECK(std::abs(a[0] * a[0] + a[1] * a[1] + a[2] * a[2] - 1.0) > 1e-12,

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "cms/core/TpetraTypes.hpp"
@@ -22,6 +23,10 @@ namespace cms::fem {
 struct DofLayout {
   std::vector<std::uint8_t> present;  ///< bit c: node carries component c
   std::vector<std::uint8_t> fixed;    ///< bit c: component c is fixed (no row)
+  /// bit c: component c of a hinge's second node, eliminated by the hinge
+  /// (theory §17): no row, it follows the first node and the hinge rotation.
+  /// Empty: none.
+  std::vector<std::uint8_t> slaved;
   std::vector<long long> first;       ///< row of the node's first free component
   long long size = 0;                 ///< number of free DOFs
 
@@ -64,6 +69,15 @@ struct AssembledMatrices {
   /// Stationary frame with SpinDefinition::frameAxis: the tilt stiffness per
   /// unit Omega_frame * omega (null otherwise).
   Teuchos::RCP<const CrsMatrix> KX1;
+  /// The DOFs that hinges eliminated (theory §17), each as a combination of
+  /// free rows: u(node, component) = sum coefficient * u[row]. Identical on
+  /// every rank; empty without hinges. Expands a solution to every DOF.
+  struct DependentDof {
+    std::int64_t node = 0;  ///< mesh node index (a hinge's second node)
+    Component component = Component::UX;
+    std::vector<std::pair<long long, double>> terms;  ///< (row, coefficient)
+  };
+  std::vector<DependentDof> dependent;
   Teuchos::RCP<const MultiVector> f1;  ///< centrifugal load per Omega^2
   Teuchos::RCP<const MultiVector> u1;  ///< static response K u1 = f1 (prestress)
   /// Per held DOF of the PrestressConditions (same order; DOFs the model

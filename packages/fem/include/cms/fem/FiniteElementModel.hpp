@@ -63,6 +63,27 @@ struct SpringSet {
   std::array<double, 6> damping{};
 };
 
+/// A blade hinge (a scene's "Hinges", theory §17): a zero-length joint
+/// between the coincident nodes of two node sets of frame nodes, rigid in
+/// the translations and in the two rotations normal to `axis`, free in the
+/// rotation about it, with an optional rotational spring and viscous damper
+/// about the axis. An exact constraint, not a penalty: the assembly
+/// eliminates the second node's dependent DOFs (u = T u_free), keeping of
+/// that node only its rotation about the coordinate axis closest to `axis`.
+struct HingeSet {
+  std::string name;
+  std::string nodeSet;    ///< the first (master) nodes: they keep all their DOFs
+  std::string toNodeSet;  ///< the second nodes, paired by coincident coordinates; one DOF each remains
+  Vec3 axis{0.0, 0.0, 1.0};  ///< the hinge axis, normalised by the reader (any direction)
+  double stiffness = 0.0;    ///< rotational spring about the axis (N m/rad)
+  double damping = 0.0;      ///< viscous damper about the axis (N m s/rad), into D
+};
+
+/// One "Hinges" entry (keys Node Set, To Node Set, Axis, Stiffness, Damping),
+/// validated; `path` names it in messages (cms::InputError). Also used by
+/// the scene's built-in Beam, whose hinges name stations instead of sets.
+HingeSet hingeFromParameters(const std::string& name, const Teuchos::ParameterList& p, const std::string& path);
+
 /// Damping of the whole substructure (a scene's "Structural Damping"):
 /// Rayleigh D = alpha M + beta K (K at rest), and a modal damping ratio that
 /// the synthesis applies in a reduced substructure's own coordinates
@@ -102,6 +123,7 @@ struct FiniteElementModel {
   std::vector<ElementSet> elementSets;
   std::vector<PointMassSet> pointMasses;
   std::vector<SpringSet> springs;  ///< springs, and the dampers (stiffness 0)
+  std::vector<HingeSet> hinges;    ///< exact hinge constraints (theory §17)
   std::vector<FixedSet> fixed;
   StructuralDamping damping;
   std::optional<SpinDefinition> spin;  ///< none: a non-rotating substructure
