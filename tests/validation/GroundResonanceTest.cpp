@@ -252,6 +252,10 @@ TEST(GroundResonance, FloquetOfIndividualBladesMatchesMultiBladeEigenvalues) {
         }
         worst = std::max(worst, best);
         EXPECT_NEAR(match->growthRate, m.lambda.real(), tol) << "N = " << N << ", Omega = " << r.Omega;
+        // Floquet's own error estimate bounds the difference (the multi-blade
+        // eigenvalue's rounding, n eps |lambda|, added: it is not exact either).
+        EXPECT_LE(std::abs(match->growthRate - m.lambda.real()),
+                  match->growthRateError + 10.0 * r.size() * DBL_EPSILON * std::abs(m.lambda));
         EXPECT_NEAR(match->frequency, m.lambda.imag(), tol)
             << "N = " << N << ", Omega = " << r.Omega << ": harmonic " << match->harmonic << " share "
             << match->harmonicShare;
@@ -264,9 +268,13 @@ TEST(GroundResonance, FloquetOfIndividualBladesMatchesMultiBladeEigenvalues) {
         EXPECT_LT(best, 2 * tol) << "Floquet exponent " << fm.fixedFrameExponent() << " has no multi-blade match";
       }
       std::printf("N = %d, Omega = %.4f: %zu modes, worst |lambda_Floquet - lambda_MBC| = %.2e Omega, "
-                  "monodromy error %.1e at %d steps, largest growth %.3e (%s)\n",
-                  N, r.Omega, modes.modes.size(), worst / r.Omega, f.monodromyError, f.steps, f.largestGrowthRate,
-                  analysis::toString(f.stability));
+                  "monodromy error %.1e at %d steps, Liouville defect %.1e, largest growth %.3e (%s)\n",
+                  N, r.Omega, modes.modes.size(), worst / r.Omega, f.monodromyError, f.steps, f.liouvilleDefect,
+                  f.largestGrowthRate, analysis::toString(f.stability));
+      // Liouville: sum ln|mu| against int tr A, both to the integration's
+      // error (relative monodromy error times n, the log-determinant's
+      // sensitivity to a relative perturbation of each multiplier) plus rounding.
+      EXPECT_LT(f.liouvilleDefect, 2 * r.size() * (f.monodromyError + 1e2 * DBL_EPSILON));
       // Inside the band (the centre speed) unstable, outside not: the same verdict both ways.
       // (The undamped case's damping ratios are 0 to rounding: a simple
       // eigenvalue's real part to 100 n eps |lambda|.)

@@ -151,6 +151,38 @@ double norm(const std::vector<cplx>& v) {
   return std::sqrt(s);
 }
 
+/// In-place discrete Fourier transform a_k = sum_j a_j e^(-2 pi i k j / S):
+/// radix-2 FFT when S is a power of two (the steps are a power of two times
+/// "Steps Per Period"), the direct sum otherwise.
+void dft(std::vector<cplx>& a) {
+  const int S = static_cast<int>(a.size());
+  if (S > 1 && (S & (S - 1)) == 0) {
+    for (int i = 1, j = 0; i < S; ++i) {  // bit reversal
+      int bit = S >> 1;
+      for (; j & bit; bit >>= 1) j ^= bit;
+      j ^= bit;
+      if (i < j) std::swap(a[i], a[j]);
+    }
+    for (int len = 2; len <= S; len <<= 1) {
+      const cplx w = std::polar(1.0, -2.0 * M_PI / len);
+      for (int i = 0; i < S; i += len) {
+        cplx wk = 1.0;
+        for (int k = 0; k < len / 2; ++k, wk *= w) {
+          const cplx u = a[i + k], v = a[i + k + len / 2] * wk;
+          a[i + k] = u + v;
+          a[i + k + len / 2] = u - v;
+        }
+      }
+    }
+    return;
+  }
+  std::vector<cplx> out(S), twiddle(S);
+  for (int j = 0; j < S; ++j) twiddle[j] = std::polar(1.0, -2.0 * M_PI * j / S);
+  for (int k = 0; k < S; ++k)
+    for (int j = 0; j < S; ++j) out[k] += a[j] * twiddle[(static_cast<long>(k) * j) % S];
+  a = std::move(out);
+}
+
 /// Principal-branch rule (theory §16.3): the harmonic k of largest energy in
 /// the periodic part p(t_j) = C(t_j) Phi(t_j) v e^(-rho t_j) sampled at
 /// t_j = j T / S, by the DFT over |k| < S / 2 (Nyquist excluded). Ties go to
@@ -158,38 +190,30 @@ double norm(const std::vector<cplx>& v) {
 void harmonicRule(const std::vector<DenseMatrix>& samples, double T, FloquetMultiplier& m) {
   const int S = static_cast<int>(samples.size());
   const int p = samples.front().numRows(), n = samples.front().numCols();
-  std::vector<std::vector<cplx>> y(S, std::vector<cplx>(p));
-  for (int j = 0; j < S; ++j) {
-    const cplx shift = std::exp(-m.exponent * (j * T / S));
-    for (int r = 0; r < p; ++r) {
+  std::vector<double> energy(S, 0.0);
+  std::vector<cplx> y(S);
+  for (int r = 0; r < p; ++r) {
+    for (int j = 0; j < S; ++j) {
       cplx s = 0.0;
       for (int c = 0; c < n; ++c) s += samples[j](r, c) * m.eigenvector[c];
-      y[j][r] = s * shift;
+      y[j] = s * std::exp(-m.exponent * (j * T / S));
     }
+    dft(y);
+    for (int k = 0; k < S; ++k) energy[k] += std::norm(y[k] / double(S));
   }
   const int kmax = (S - 1) / 2;
-  std::vector<cplx> twiddle(S);
-  for (int j = 0; j < S; ++j) twiddle[j] = std::polar(1.0, -2.0 * M_PI * j / S);
   double total = 0.0, best = -1.0;
   int bestK = 0;
-  std::vector<int> order;
-  for (int a = 0; a <= kmax; ++a) {
-    order.push_back(a);
-    if (a > 0) order.push_back(-a);
-  }
-  for (int k : order) {
-    double e = 0.0;
-    for (int r = 0; r < p; ++r) {
-      cplx ck = 0.0;
-      for (int j = 0; j < S; ++j) ck += y[j][r] * twiddle[((k * j) % S + S) % S];
-      e += std::norm(ck / double(S));
+  for (int a = 0; a <= kmax; ++a)
+    for (int k : {a, -a}) {
+      if (a == 0 && k < 0) continue;
+      const double e = energy[(k + S) % S];
+      total += e;
+      if (e > best * (1.0 + 1e3 * kEps)) {  // strictly larger beyond rounding: ties keep the smaller |k|
+        best = e;
+        bestK = k;
+      }
     }
-    total += e;
-    if (e > best * (1.0 + 1e3 * kEps)) {  // strictly larger beyond rounding: ties keep the smaller |k|
-      best = e;
-      bestK = k;
-    }
-  }
   m.harmonic = bestK;
   m.harmonicShare = total > 0.0 ? best / total : 0.0;
   m.frequency = m.exponent.imag() + bestK * 2.0 * M_PI / T;

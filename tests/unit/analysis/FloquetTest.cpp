@@ -123,6 +123,7 @@ TEST(Floquet, ExponentsAndFixedFrameFrequenciesOfARotatedConstantSystem) {
   p.set("Tolerance", 1e-13);
   const auto r = analysis::FloquetAnalysis(p).analyse(rc.system(true));
   ASSERT_TRUE(r.converged) << r.monodromyError;
+  EXPECT_EQ(r.steps & (r.steps - 1), 0);  // 64 doubled: a power of two, the FFT
   ASSERT_EQ(r.multipliers.size(), 2u);
   // Growth rate alpha; the error estimate bounds the actual error.
   for (const auto& m : r.multipliers) {
@@ -145,7 +146,9 @@ TEST(Floquet, RotatingFrameObservationPicksTheLargerCircularComponent) {
   const RotatedConstantSystem rc;
   Teuchos::ParameterList p;
   p.set("Tolerance", 1e-13);
+  p.set("Steps Per Period", 48);  // not a power of two: the direct DFT (the other test: the FFT)
   const auto r = analysis::FloquetAnalysis(p).analyse(rc.system(false));
+  EXPECT_NE(r.steps & (r.steps - 1), 0);
   for (const auto& m : r.multipliers) {
     // eigenvector of B with eigenvalue alpha + i beta * sign: (b, lambda - a)
     const double s = m.frequency > 0 ? 1.0 : -1.0;
