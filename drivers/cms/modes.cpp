@@ -96,6 +96,12 @@ void printSubstructures(const analysis::ModalResult& r) {
   }
   for (std::size_t k = 0; k < reps.size(); ++k)
     if (const auto n = droppedNote(reps[k], structure.substructure(k).reduction); !n.empty()) std::cout << n << '\n';
+  for (const auto& s : reps) {  // copies (theory §15.2)
+    if (!s.turnedFrom.empty())
+      std::cout << s.name << ": basis of " << s.turnedFrom << " turned (" << std::setprecision(2) << s.seconds
+                << " s; no factorisation or eigensolve of its own)\n";
+    if (!s.notTurned.empty()) std::cout << "FINDING: " << s.name << " reduced on its own: " << s.notTurned << '\n';
+  }
   for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';
   // Missing-mode detection (theory §11.9).
   std::cout << "coverage below " << std::setprecision(5) << r.cutoff / (2 * M_PI)
@@ -135,6 +141,10 @@ void printModes(const analysis::ModalResult& r) {
     std::cout << "  " << reps[top].name << " " << std::setprecision(3) << share[top]
               << (r.character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
     for (const auto& w : r.whirls[m]) std::cout << "  " << w;
+    for (const auto& c : r.character[m].cyclic) {  // its share when the harmonics mix (an asymmetric parent)
+      std::cout << "  " << c.group << ": " << c.label();
+      if (c.share[c.dominant] < 0.99) std::cout << " (" << std::setprecision(2) << c.share[c.dominant] << ")";
+    }
     std::cout << '\n';
   }
   // The stability margin of a damped structure (theory §13.3).

@@ -13,6 +13,7 @@
 #include <Teuchos_DefaultComm.hpp>
 
 #include "cms/core/DenseMatrix.hpp"
+#include "cms/analysis/TruncationStudy.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/scene/Scene.hpp"
@@ -265,4 +266,74 @@ TEST(Copies, ItemsThatDoNotTurnWithTheCopyAreRefused) {
   tab.copies = 2;
   nested.substructures.push_back(tab);
   expectInputError([&] { nested.withCopies(); }, "copies inside a copied subtree are not supported");
+}
+
+TEST(Copies, AreTruncatedAlike) {
+  // The truncation search grows the prototype, and its copies with it: every
+  // step has the same vector count for the four blades (the symmetry the
+  // written-out rotor loses when each blade is grown on its own).
+  const auto a = assembled(copiedRotor());
+  Teuchos::ParameterList solve;
+  solve.set("Number of Modes", 8);
+  solve.set("Solver", "Dense");
+  Teuchos::ParameterList options;
+  options.set("Start", 2);
+  options.set("Accuracy", 1e-4);
+  const auto result = analysis::TruncationStudy(a, solve, options).run();
+  ASSERT_GT(result.steps.size(), 1u);
+  for (const auto& step : result.steps) {
+    for (std::size_t k = 2; k < 5; ++k) EXPECT_EQ(step.vectors[k], step.vectors[1]) << "step " << step.step;
+    EXPECT_EQ(step.changed.find("blade[2]"), std::string::npos) << step.changed;
+  }
+  EXPECT_TRUE(result.reached);
+}
+
+TEST(Copies, EstimatesAndCountsUseThePrototypesFactorisation) {
+  // The copies' error estimates and Sturm counts come from blade[1]'s
+  // factorisation, their residuals turned back (theory §15.2): the same as
+  // the written-out rotor's, each blade factored on its own.
+  const auto copied = SynthesizedStructure::synthesize(assembled(copiedRotor()));
+  const auto written = SynthesizedStructure::synthesize(assembled(writtenOutRotor()));
+  const auto a = solve(copied, 1.0), b = solve(written, 1.0);
+  const auto ea = copied.errorEstimates(a), eb = written.errorEstimates(b);
+  ASSERT_EQ(ea.size(), eb.size());
+  // An estimate is quadratic in its mode's residual r (|r| ~ omega sqrt(e) for
+  // a mass-normalised mode), so the eigenpairs' rounding (the dense accuracy
+  // rho) moves it by at most 2 e rho / |r| = 2 sqrt(e) rho / omega.
+  const double rho = denseAccuracy(copied, 1.0) + denseAccuracy(written, 1.0);
+  for (std::size_t m = 0; m < ea.size(); ++m) {
+    ASSERT_GT(eb[m], 0.0);
+    EXPECT_NEAR(ea[m], eb[m], 2 * std::sqrt(eb[m]) * rho / b.result.modes[m].omega + 64 * eps * eb[m]) << "mode " << m;
+  }
+  const double cutoff = a.result.modes.back().omega;
+  const auto ca = copied.coverage(cutoff), cb = written.coverage(cutoff);
+  for (std::size_t k = 1; k < 5; ++k) {
+    EXPECT_EQ(ca[k].sturmCount, cb[k].sturmCount) << ca[k].name;
+    EXPECT_EQ(ca[k].sturmCount, ca[1].sturmCount) << ca[k].name;
+  }
+}
+
+TEST(Copies, ParentNodesNamedPerCopyAreTheTurnedOnes) {
+  // Two blades on a hub arm along x: blade[2] hangs on the arm's other end,
+  // found by turning "end" by 180 degrees or named in Copy Parent Nodes.
+  auto arm = [](const std::string& attachment) {
+    std::string text = rotor(blade("blade", 0.0, "      Copies: 2\n", kAdmissible));
+    text.replace(text.find("From: [0.0, 0.0, -0.4], To: [0.0, 0.0, 0.0]"),
+                 std::string("From: [0.0, 0.0, -0.4], To: [0.0, 0.0, 0.0]").size(),
+                 "From: [-0.2, 0.0, 0.0], To: [0.2, 0.0, 0.0]");
+    text.replace(text.find("Clamp: start"), 12, "Clamp: mid");
+    text.replace(text.find("Orientation: [1.0, 0.0, 0.0]"), 28, "Orientation: [0.0, 0.0, 1.0]");
+    text.replace(text.find("{Parent Nodes: end, Nodes: start}"), 33, attachment);
+    return text;
+  };
+  const auto turned = SynthesizedStructure::synthesize(assembled(arm("{Parent Nodes: end, Nodes: start}")), true);
+  const auto named = SynthesizedStructure::synthesize(
+      assembled(arm("{Parent Nodes: end, Copy Parent Nodes: [end, start], Nodes: start}")), true);
+  const auto a = solve(turned, 1.0), b = solve(named, 1.0);
+  const double tol = denseAccuracy(turned, 1.0) + denseAccuracy(named, 1.0);
+  ASSERT_EQ(a.result.modes.size(), b.result.modes.size());
+  for (std::size_t m = 0; m < a.result.modes.size(); ++m)
+    EXPECT_NEAR(a.result.modes[m].omega, b.result.modes[m].omega, tol) << "mode " << m;
+  expectInputError([&] { assembled(arm("{Parent Nodes: end, Copy Parent Nodes: [end], Nodes: start}")); },
+                   "names 1 node sets for 2 copies");
 }

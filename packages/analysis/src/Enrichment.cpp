@@ -18,8 +18,14 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
   std::vector<bool> tunable(ns, false);
   for (std::size_t k = 0; k < ns; ++k) {
     const std::string basis = reductions[k].get<std::string>("Basis", "Admissible");
-    tunable[k] = structure.assembled(k) && basis != "Full" && basis != "Guyan";
+    // Copies follow their prototype (theory §15.2): it alone is grown.
+    tunable[k] = structure.assembled(k) && basis != "Full" && basis != "Guyan" && structure.prototypeOf(k) == k;
   }
+  auto mirrorCopies = [&] {
+    for (std::size_t k = 0; k < ns; ++k)
+      if (structure.prototypeOf(k) != k) reductions[k] = reductions[structure.prototypeOf(k)];
+  };
+  mirrorCopies();
   Enrichment out;
   // Grows substructure k; false when it cannot grow any more.
   auto grow = [&](std::size_t k) {
@@ -70,9 +76,11 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
     // The reducible substructure with the largest share of the worst mode's
     // kinetic energy; if it is complete, the next one.
     const auto character = s.characterise(m);
+    std::vector<double> share(ns, 0.0);  // a prototype's share is its copies' together
+    for (std::size_t k = 0; k < ns; ++k) share[structure.prototypeOf(k)] += character[worst].kineticShare[k];
     std::vector<std::pair<double, std::size_t>> order;
     for (std::size_t k = 0; k < ns; ++k)
-      if (tunable[k]) order.push_back({-character[worst].kineticShare[k], k});
+      if (tunable[k]) order.push_back({-share[k], k});
     std::sort(order.begin(), order.end());
     for (const auto& [share, k] : order)
       if (grow(k)) {
@@ -82,6 +90,7 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
       }
     out.notes.push_back(os.str());
     if (!grown) break;
+    mirrorCopies();
   }
   std::ostringstream os;
   os << (out.reached ? "reached" : "NOT reached") << "; bases:";

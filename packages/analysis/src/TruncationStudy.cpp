@@ -72,6 +72,10 @@ TruncationResult TruncationStudy::run(
       red[q].set("Vectors", count[q]);
     }
   }
+  // Copies follow their prototype (theory §15.2): it alone is grown, and its
+  // count stands for theirs.
+  auto prototype = [&](std::size_t q) { return structure.prototypeOf(q); };
+  for (std::size_t q = 0; q < ns; ++q) result.reducible[q] = result.reducible[q] && prototype(q) == q;
 
   // 3. One model: its largest estimated error over the wanted modes (theory §11.8).
   struct Model {
@@ -137,7 +141,9 @@ TruncationResult TruncationStudy::run(
     // mode's kinetic energy, as enrichToAccuracy does (theory §11.10).
     std::string changed = structure.substructure(best).name;
     if (!(trials[best]->estimate < current.estimate) && current.worst >= 0 && current.synthesis) {
-      const auto share = current.synthesis->characterise(current.modes)[current.worst].kineticShare;
+      const auto own = current.synthesis->characterise(current.modes)[current.worst].kineticShare;
+      std::vector<double> share(ns, 0.0);  // a prototype's share is its copies' together
+      for (std::size_t q = 0; q < ns; ++q) share[prototype(q)] += own[q];
       int energetic = -1;
       for (std::size_t q = 0; q < ns; ++q)
         if (trials[q] && (energetic < 0 || share[q] > share[energetic])) energetic = static_cast<int>(q);
@@ -154,6 +160,11 @@ TruncationResult TruncationStudy::run(
       findings = checkInclusion(current.modes, bestModel.modes, static_cast<int>(bestModel.dofs - current.dofs));
     count[best] += step;
     red[best].set("Vectors", count[best]);
+    for (std::size_t q = 0; q < ns; ++q)
+      if (prototype(q) == static_cast<std::size_t>(best) && q != static_cast<std::size_t>(best)) {
+        count[q] = count[best];
+        red[q] = red[best];
+      }
     current = std::move(bestModel);
     record(changed, current, std::move(findings));
   }

@@ -49,6 +49,9 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
                                   {"basis_seconds", s.seconds},
                                   {"frequency_estimates_hz", hz},
                                   {"dropped", s.dropped}});
+    // A copy's basis turned from its prototype's (theory §15.2), or why not.
+    if (!s.turnedFrom.empty()) o["substructures"].back()["basis_turned_from"] = s.turnedFrom;
+    if (!s.notTurned.empty()) o["substructures"].back()["basis_not_turned"] = s.notTurned;
   }
   json coverage = {{"cutoff_hz", r.cutoff / kTwoPi}, {"substructures", json::array()}};
   for (const auto& c : r.coverage)
@@ -91,6 +94,9 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
     j["frame_artefact"] = r.character[m].frameArtefact;
     j["whirl"] = r.whirls[m];
     j["kinetic_share"] = r.character[m].kineticShare;
+    // Per copied item, the mode's cyclic harmonic (theory §15.3).
+    for (const auto& c : r.character[m].cyclic)
+      j["cyclic"][c.group] = {{"label", c.label()}, {"harmonic", c.dominant}, {"share", c.share}};
     o["modes"].push_back(j);
   }
   AtomicFile f(file);
@@ -104,6 +110,8 @@ void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResul
   out << "mode,hz,rad_per_s,growth_rate,damping_ratio,log_decrement,stability,residual,error_estimate,error_bound,"
          "frame_artefact";
   for (const auto& s : r.reduced->reductions()) out << ",share_" << csvField(s.name);
+  if (!r.character.empty())
+    for (const auto& c : r.character.front().cyclic) out << ",cyclic_" << csvField(c.group);
   out << '\n';
   const auto& modes = r.modes.result.modes;
   for (std::size_t m = 0; m < modes.size(); ++m) {
@@ -114,6 +122,7 @@ void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResul
         << (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0 ? r.accuracy[m].bound : std::nan("")) << ','
         << r.character[m].frameArtefact;
     for (double v : r.character[m].kineticShare) out << ',' << v;
+    for (const auto& c : r.character[m].cyclic) out << ',' << csvField(c.label());
     out << '\n';
   }
   f.commit();

@@ -60,6 +60,9 @@ ParameterList substructureKeys() {
   at.set("Parent Nodes", "", "node set of the parent");
   at.set("Nodes", "", "its own node set moving with the attachment (not for R)");
   at.set("Point", Teuchos::Array<double>(3, 0.0), "attachment point (default: the parent node or set centroid)");
+  at.set("Copy Parent Nodes", Teuchos::Array<std::string>(),
+         "with Copies: N, the parent's node set of each copy (default: the parent's nodes where the written "
+         "ones turn to)");
   ParameterList& beam = p.sublist("Beam");
   beam.set("From", Teuchos::Array<double>(3, 0.0), "first end (node set \"start\")");
   beam.set("To", Teuchos::Array<double>(3, 0.0), "second end (node set \"end\"; \"mid\" the middle node)");
@@ -203,6 +206,11 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     s.attachment.parentNodes = getString(a, "Parent Nodes", ap);
     s.attachment.childNodes = getString(a, "Nodes", ap, std::string());
     if (a.isParameter("Point")) s.attachment.point = vec3(a, "Point", ap);
+    if (a.isParameter("Copy Parent Nodes")) {
+      CMS_INPUT_CHECK(!a.isType<Teuchos::Array<std::string>>("Copy Parent Nodes"),
+                      ap << "/Copy Parent Nodes must be a list of node set names, e.g. [side0, side2, side4]");
+      for (const auto& n : a.get<Teuchos::Array<std::string>>("Copy Parent Nodes")) s.copyParentNodes.push_back(n);
+    }
   }
   const int sources = p.isSublist("Beam") + p.isSublist("Finite Element Model") + p.isSublist("Rotor");
   CMS_INPUT_CHECK(sources != 1, path << ": give exactly one of \"Beam\", \"Finite Element Model\" and \"Rotor\"");

@@ -148,6 +148,28 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
   return out;
 }
 
+bool operatorsAreTurned(const substructure::Substructure& prototype, const substructure::Substructure& copy,
+                        const fem::Rotation& turn) {
+  const auto& table = prototype.dofs();
+  if (table.offsets != copy.dofs().offsets || table.components != copy.dofs().components) return false;
+  MultiVector x(prototype.map(), 1);
+  x.randomize();
+  const auto Qx = turnedRows(x, table, copy.map(), turn);
+  for (const auto& [Ap, Ac] : {std::make_pair(prototype.K(), copy.K()), std::make_pair(prototype.M(), copy.M())}) {
+    MultiVector yp(prototype.map(), 1), yc(copy.map(), 1);
+    Ap->apply(x, yp);
+    Ac->apply(*Qx, yc);
+    yc.update(-1.0, *turnedRows(yp, table, copy.map(), turn), 1.0);
+    Teuchos::Array<double> diff(1), size(1);
+    yc.norm2(diff());
+    x.norm2(size());
+    const double rounding = 4.0 * static_cast<double>(x.getGlobalLength()) * std::numeric_limits<double>::epsilon() *
+                            Ap->getFrobeniusNorm() * size[0];
+    if (!(diff[0] <= rounding)) return false;
+  }
+  return true;
+}
+
 std::vector<CyclicContent> cyclicContent(const std::vector<std::shared_ptr<AssembledStructure::Part>>& parts,
                                          const std::vector<Teuchos::RCP<MultiVector>>& u) {
   // The copies of each item, by copy index.

@@ -32,6 +32,13 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
                                                 const substructure::Substructure& copy, const fem::Rotation& turn,
                                                 std::string& why);
 
+/// Whether the copy's K and M are the prototype's turned, Q A_p Q^T = A_c,
+/// tested on a random vector to the rounding of the two products
+/// (n eps ||A||_F ||x||): then one factorisation of the prototype's serves
+/// the copy's solves and inertias (error estimates, coverage). Collective.
+bool operatorsAreTurned(const substructure::Substructure& prototype, const substructure::Substructure& copy,
+                        const fem::Rotation& turn);
+
 /// The harmonic content of every copied item in one mode: `parts` and `u`
 /// (the mode's motion per part, SynthesizedStructure::expand) in tree
 /// order. Items whose copies have no DOF table of their own (rigid rotors)

@@ -37,6 +37,8 @@ void StructureDescription::validate() const {
     CMS_INPUT_CHECK(s.copies < 1 || !std::isfinite(s.copyPhase),
                     who << ": \"Copies\" must be at least 1 and its phase finite (got " << s.copies << ", "
                         << s.copyPhase << ")");
+    CMS_INPUT_CHECK(!s.copyParentNodes.empty() && s.copies == 1,
+                    who << ": \"Copy Parent Nodes\" without \"Copies\" (more than one)");
     CMS_INPUT_CHECK(s.copies > 1 && s.kind == SubstructureKind::Central,
                     who << ": the central substructure cannot be copied (\"Copies\" places copies about the parent's "
                            "spin axis)");
@@ -201,6 +203,9 @@ StructureDescription StructureDescription::withCopies() const {
     for (std::size_t i = 0; i < out.substructures.size(); ++i)
       if (inside(out.substructures[i])) subtree.push_back(i);
     const auto topIndex = static_cast<std::size_t>(it - out.substructures.begin());
+    CMS_INPUT_CHECK(!top.copyParentNodes.empty() && static_cast<int>(top.copyParentNodes.size()) != top.copies,
+                    who << ": \"Copy Parent Nodes\" names " << top.copyParentNodes.size() << " node sets for "
+                        << top.copies << " copies");
     const int parentIndex = out.find(top.parent);
     const auto [axis, origin] = patternAxis(out, out.substructures[parentIndex], top);
     std::vector<SubstructureSpec> made;
@@ -230,7 +235,10 @@ StructureDescription StructureDescription::withCopies() const {
           c.spin->origin = fem::axpy(1.0, turn.apply(fem::sub(x.spin->origin, origin)), origin);
         }
         if (c.attachment.point) c.attachment.point = fem::axpy(1.0, turn.apply(fem::sub(*x.attachment.point, origin)), origin);
-        if (&x == &*it && angle != 0.0) {
+        if (&x == &*it && !top.copyParentNodes.empty()) {
+          c.attachment.parentNodes = top.copyParentNodes[static_cast<std::size_t>(j)];
+          c.copyParentNodes.clear();
+        } else if (&x == &*it && angle != 0.0) {
           c.attachment.parentNodes = x.attachment.parentNodes + "@" + c.name;
           addTurnedNodeSet(out.substructures[parentIndex], x.attachment.parentNodes, turn, origin,
                            c.attachment.parentNodes, cwho, angle * 180 / M_PI);

@@ -421,7 +421,8 @@ struct SynthesizedStructure::Sums {
 /// (synthesize's `previous`), so that neither the error estimates of every
 /// mode, nor a second call, nor an enrichment step factorises again.
 struct SynthesizedStructure::Factorisations {
-  explicit Factorisations(std::size_t n) : flexibility(n), carriedRigidly(n, -1), constraintModes(n), heldK(n), heldM(n) {}
+  explicit Factorisations(std::size_t n)
+      : flexibility(n), carriedRigidly(n, -1), constraintModes(n), heldK(n), heldM(n), turnedImage(n, -1) {}
   /// K_a,s with its attachment held, factored (the estimates' flexibility, §11.8).
   std::vector<std::shared_ptr<const reduction::StaticCorrection>> flexibility;
   /// K_s X_s = 0 to rounding (1), or the part is grounded (0); -1 not yet known.
@@ -432,6 +433,8 @@ struct SynthesizedStructure::Factorisations {
   /// with them, per (part, cut-off).
   std::vector<Teuchos::RCP<const CrsMatrix>> heldK, heldM;
   std::map<std::pair<std::size_t, double>, SparseInertia> counts;
+  /// A copy's K and M are its prototype's turned (1), not (0), not yet known (-1).
+  std::vector<int> turnedImage;
 };
 
 SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& structure,
@@ -1177,10 +1180,22 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     // A Full basis satisfies its own equations (with its children's forces)
     // to the solver's accuracy; a rigid rotor has no deformation.
     if (!p.sub || reports_[k].basis == "Full") continue;
-    MultiVector X(rmap, nc);
-    flexibility(k).solve(R, X);  // zero on the held rows; factored once per substructure
     Teuchos::Array<double> d(nc);
-    R.dot(X, d());
+    if (sharesPrototypeFactorisations(k)) {
+      // r^T K_c^-1 r = (Q^T r)^T K_p^-1 (Q^T r): the prototype's factor (§15.2).
+      const std::size_t q = structure_->prototypeOf(k);
+      const auto& proto = *parts[q]->sub;
+      const auto back = detail::turnedRows(R, proto.dofs(), proto.map(),
+                                           fem::Rotation::about(p.spec.copy->axis,
+                                                                parts[q]->spec.copy->angle - p.spec.copy->angle));
+      MultiVector X(proto.map(), nc);
+      flexibility(q).solve(*back, X);
+      back->dot(X, d());
+    } else {
+      MultiVector X(rmap, nc);
+      flexibility(k).solve(R, X);  // zero on the held rows; factored once per substructure
+      R.dot(X, d());
+    }
     for (int m = 0; m < nm; ++m) correction[m] += d[2 * m] + d[2 * m + 1];
   }
   return correction;
@@ -1267,6 +1282,21 @@ std::vector<ModeAccuracy> SynthesizedStructure::accuracy(const StructureModes& m
   return out;
 }
 
+bool SynthesizedStructure::sharesPrototypeFactorisations(std::size_t k) const {
+  if (reports_[k].turnedFrom.empty()) return false;
+  auto& known = factorisations_->turnedImage[k];
+  if (known < 0) {
+    const auto& parts = structure_->parts();
+    const std::size_t q = structure_->prototypeOf(k);
+    known = detail::operatorsAreTurned(*parts[q]->sub, *parts[k]->sub,
+                                       fem::Rotation::about(parts[k]->spec.copy->axis,
+                                                            parts[k]->spec.copy->angle - parts[q]->spec.copy->angle))
+                ? 1
+                : 0;
+  }
+  return known == 1;
+}
+
 bool SynthesizedStructure::carriedRigidly(std::size_t k) const {
   auto& known = factorisations_->carriedRigidly[k];
   if (known >= 0) return known == 1;
@@ -1337,15 +1367,18 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
       // contributing one positive eigenvalue each (K's diagonal, M's zero).
       // Held once per substructure; a count once per cut-off (an inertia is
       // the shift's own: each cut-off needs its own LDL^T).
+      // A copy with its prototype's K and M turned has its counts (§15.2).
+      const std::size_t src = sharesPrototypeFactorisations(k) ? structure_->prototypeOf(k) : k;
+      const auto& ps = *parts[src];
       auto& f = *factorisations_;
-      if (f.heldK[k].is_null()) {
-        f.heldK[k] = holdDofsScaled(*p.sub->K(), p.held);
-        f.heldM[k] = holdDofs(*p.sub->M(), p.held, 0.0);
+      if (f.heldK[src].is_null()) {
+        f.heldK[src] = holdDofsScaled(*ps.sub->K(), ps.held);
+        f.heldM[src] = holdDofs(*ps.sub->M(), ps.held, 0.0);
       }
-      auto known = f.counts.find({k, omega});
+      auto known = f.counts.find({src, omega});
       if (known == f.counts.end()) {
-        const auto A = Tpetra::MatrixMatrix::add(1.0, false, *f.heldK[k], -omega * omega, false, *f.heldM[k]);
-        known = f.counts.emplace(std::make_pair(k, omega), inertia(*A)).first;
+        const auto A = Tpetra::MatrixMatrix::add(1.0, false, *f.heldK[src], -omega * omega, false, *f.heldM[src]);
+        known = f.counts.emplace(std::make_pair(src, omega), inertia(*A)).first;
       }
       const auto& count = known->second;
       for (double w : rep.frequencyEstimates) c.represented += w < omega;

@@ -110,6 +110,10 @@ struct SubstructureSpec {
   /// StructureDescription::withCopies.
   int copies = 1;
   double copyPhase = 0.0;
+  /// The parent's node set of each copy ("Attachment/Copy Parent Nodes"),
+  /// for a parent whose mesh has no node where the written set turns to (an
+  /// unstructured hub); empty: found by turning.
+  std::vector<std::string> copyParentNodes;
   /// Set on the items withCopies makes: which copy this is.
   std::optional<CopyPlacement> copy;
 };

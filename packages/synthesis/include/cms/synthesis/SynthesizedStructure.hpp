@@ -302,6 +302,9 @@ private:
   std::vector<double> residualFlexibilityNorms(const StructureModes& modes) const;
   const reduction::StaticCorrection& flexibility(std::size_t k) const;
   bool carriedRigidly(std::size_t k) const;
+  /// A copy whose basis was turned and whose K and M are its prototype's
+  /// turned: the prototype's factorisations serve it (theory §15.2).
+  bool sharesPrototypeFactorisations(std::size_t k) const;
 
   std::shared_ptr<const AssembledStructure> structure_;
   std::vector<reduction::RitzBasis> bases_;  ///< per part (empty for a rigid rotor)
