@@ -30,14 +30,11 @@
 #include <vector>
 
 #include <Teuchos_Array.hpp>
-#include <Teuchos_CommandLineProcessor.hpp>
-#include <Teuchos_DefaultComm.hpp>
 #include <Teuchos_ParameterList.hpp>
-#include <Tpetra_Core.hpp>
 
 #include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/Error.hpp"
-#include "cms/core/ProgramBoundary.hpp"
+#include "cms/core/Program.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -132,27 +129,20 @@ ParameterList spacecraft(int vectors, double wheelSpeed) {
 
 int main(int argc, char* argv[]) {
   using namespace cms;
-  Tpetra::ScopeGuard mpi(&argc, &argv);
-  const auto comm = Teuchos::DefaultComm<int>::getComm();
-  const bool root = comm->getRank() == 0;
-  return reportErrors("ex1_spacecraft", root, [&]() -> int {
+  return runProgram("ex1_spacecraft", argc, argv, [&](const CommPtr& comm, bool root) -> int {
     // 1. Options, printed back so that the output records how it was made.
     int modes = 12, vectors = 8;
     double wheelSpeed = 600.0;
     std::string scenePath;
-    Teuchos::CommandLineProcessor clp(false, true);
-    clp.setDocString("Modes of a spinning spacecraft by component-mode synthesis (examples/ex1_spacecraft.cpp).");
-    clp.setOption("modes", &modes, "lowest modes to compute");
-    clp.setOption("vectors", &vectors, "admissible vectors per boom and for the mast");
-    clp.setOption("wheel-speed", &wheelSpeed, "momentum wheel speed relative to the bus (rad/s)");
-    clp.setOption("scene", &scenePath, "read this YAML scene instead of the built-in spacecraft");
-    if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
+    ProgramOptions options("ex1_spacecraft",
+                           "Modes of a spinning spacecraft by component-mode synthesis (examples/ex1_spacecraft.cpp).");
+    options.add("modes", &modes, "lowest modes to compute");
+    options.add("vectors", &vectors, "admissible vectors per boom and for the mast");
+    options.add("wheel-speed", &wheelSpeed, "momentum wheel speed relative to the bus (rad/s)");
+    options.add("scene", &scenePath, "read this YAML scene instead of the built-in spacecraft");
+    if (const auto exit = options.parse(argc, argv, *comm)) return *exit;
     CMS_INPUT_CHECK(modes < 1, "--modes = " << modes << " must be at least 1");
     CMS_INPUT_CHECK(vectors < 1, "--vectors = " << vectors << " must be at least 1");
-    if (root)
-      std::cout << "ex1_spacecraft --modes=" << modes << " --vectors=" << vectors << " --wheel-speed=" << wheelSpeed
-                << (scenePath.empty() ? "" : " --scene=" + scenePath) << " on " << comm->getSize()
-                << " rank(s)\n";
 
     // 2. The structure: a tree of substructures of the paper's kinds C, E, R
     //    and A (theory §11.1), read and checked like a scene file.

@@ -29,13 +29,10 @@
 #include <string>
 #include <vector>
 
-#include <Teuchos_CommandLineProcessor.hpp>
-#include <Teuchos_DefaultComm.hpp>
-#include <Tpetra_Core.hpp>
 
 #include "cms/analysis/TruthComparison.hpp"
 #include "cms/core/Error.hpp"
-#include "cms/core/ProgramBoundary.hpp"
+#include "cms/core/Program.hpp"
 #include "cms/core/Stopwatch.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
@@ -55,26 +52,20 @@ struct Strategy {
 
 int main(int argc, char* argv[]) {
   using namespace cms;
-  Tpetra::ScopeGuard mpi(&argc, &argv);
-  const auto comm = Teuchos::DefaultComm<int>::getComm();
-  const bool root = comm->getRank() == 0;
-  return reportErrors("ex2_rotor", root, [&]() -> int {
-    // 1. Options.
+  return runProgram("ex2_rotor", argc, argv, [&](const CommPtr& comm, bool root) -> int {
+    // 1. Options, printed back so that the output records how it was made.
     int vectors = 8, modes = 8;
     std::string first = "Admissible", second = "Craig-Bampton", scenePath;
-    Teuchos::CommandLineProcessor clp(false, true);
-    clp.setDocString("A rotor reduced by two strategies, each against the truth (examples/ex2_rotor.cpp).");
-    clp.setOption("vectors", &vectors, "vectors per substructure, both strategies (capped at its free DOFs)");
-    clp.setOption("modes", &modes, "lowest modes compared");
-    clp.setOption("first", &first, "first basis: Admissible, Modes, Craig-Bampton, Guyan, Polynomial");
-    clp.setOption("second", &second, "second basis, as --first");
-    clp.setOption("scene", &scenePath, "read this YAML scene instead of the rotor chain");
-    if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
+    ProgramOptions options("ex2_rotor",
+                           "A rotor reduced by two strategies, each against the truth (examples/ex2_rotor.cpp).");
+    options.add("vectors", &vectors, "vectors per substructure, both strategies (capped at its free DOFs)");
+    options.add("modes", &modes, "lowest modes compared");
+    options.add("first", &first, "first basis: Admissible, Modes, Craig-Bampton, Guyan, Polynomial");
+    options.add("second", &second, "second basis, as --first");
+    options.add("scene", &scenePath, "read this YAML scene instead of the rotor chain");
+    if (const auto exit = options.parse(argc, argv, *comm)) return *exit;
     CMS_INPUT_CHECK(vectors < 1, "--vectors = " << vectors << " must be at least 1");
     CMS_INPUT_CHECK(modes < 1, "--modes = " << modes << " must be at least 1");
-    if (root)
-      std::cout << "ex2_rotor --vectors=" << vectors << " --modes=" << modes << " --first=" << first
-                << " --second=" << second << (scenePath.empty() ? "" : " --scene=" + scenePath) << '\n';
 
     // 2. The structure, read and checked as a scene (keys, kinds, tree).
     scene::Scene sc = scene::Scene::read(scenePath.empty() ? CMS_EXAMPLE_SCENES "/rotor-chain.yaml" : scenePath);

@@ -35,13 +35,10 @@
 #include <string>
 #include <vector>
 
-#include <Teuchos_CommandLineProcessor.hpp>
-#include <Teuchos_DefaultComm.hpp>
-#include <Tpetra_Core.hpp>
 
 #include "cms/analysis/ModalAnalysis.hpp"
 #include "cms/core/Error.hpp"
-#include "cms/core/ProgramBoundary.hpp"
+#include "cms/core/Program.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -59,22 +56,19 @@ struct Probe {
 
 int main(int argc, char* argv[]) {
   using namespace cms;
-  Tpetra::ScopeGuard mpi(&argc, &argv);
-  const auto comm = Teuchos::DefaultComm<int>::getComm();
-  const bool root = comm->getRank() == 0;
-  return reportErrors("ex3_custom_study", root, [&]() -> int {
-    // 1. Options.
+  return runProgram("ex3_custom_study", argc, argv, [&](const CommPtr& comm, bool root) -> int {
+    // 1. Options, printed back so that the output records how it was made.
     int steps = 17, bisections = 30;
     double maxSpeed = 0.0;
     std::string scenePath, speedName;
-    Teuchos::CommandLineProcessor clp(false, true);
-    clp.setDocString("The 1X forward critical speed by a user's own sweep (examples/ex3_custom_study.cpp).");
-    clp.setOption("steps", &steps, "speeds of the coarse sweep, from 0 to --max-speed");
-    clp.setOption("max-speed", &maxSpeed, "top of the sweep, rad/s (default: twice the nominal rate)");
-    clp.setOption("speed", &speedName, "the substructure whose spin is swept (default: the first that spins)");
-    clp.setOption("bisections", &bisections, "bisection steps refining the crossing");
-    clp.setOption("scene", &scenePath, "read this YAML scene instead of the shaft on its support");
-    if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
+    ProgramOptions options("ex3_custom_study",
+                           "The 1X forward critical speed by a user's own sweep (examples/ex3_custom_study.cpp).");
+    options.add("steps", &steps, "speeds of the coarse sweep, from 0 to --max-speed");
+    options.add("max-speed", &maxSpeed, "top of the sweep, rad/s (default: twice the nominal rate)");
+    options.add("speed", &speedName, "the substructure whose spin is swept (default: the first that spins)");
+    options.add("bisections", &bisections, "bisection steps refining the crossing");
+    options.add("scene", &scenePath, "read this YAML scene instead of the shaft on its support");
+    if (const auto exit = options.parse(argc, argv, *comm)) return *exit;
     CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
     CMS_INPUT_CHECK(bisections < 0, "--bisections = " << bisections << " must be >= 0");
 

@@ -5,10 +5,11 @@
 #      cms::cms), build ex1_spacecraft and run it;
 #   4. run the installed `cms modes` with no scene from a directory outside
 #      the source tree: the default scene must come from <prefix>/share/cms;
-#   5. no path of the source tree in the installed cms (file(STRINGS), as
-#      `strings` would show it), except the build tree's .geo mesher
-#      fallback (packages/mesh: Mesh.cpp's last resort after $CMS_GEO_MESHER
-#      and the executable's own directory, which holds it once installed).
+#   5. the installed cms meshes a .geo scene with the installed helper
+#      (<prefix>/libexec/cms/cms-geo-mesher, found from <prefix>/bin/cms);
+#   6. no path of the source or build tree in the installed cms nor in
+#      libcms_mesh (file(STRINGS), as `strings` would show it): the .geo
+#      mesher is found relative to the running program, not compiled in.
 # Arguments: -DBUILD_DIR -DSOURCE_DIR -DWORK_DIR -DCXX [-DLAUNCHER] [-DBUILD_TYPE]
 foreach(v BUILD_DIR SOURCE_DIR WORK_DIR CXX)
   if(NOT DEFINED ${v})
@@ -43,7 +44,7 @@ run("cmake --install" ${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${pref
 foreach(f include/cms/core/Error.hpp include/cms/scene/Scene.hpp include/cms/synthesis/SynthesizedStructure.hpp
           lib/libcms_core.a lib/cmake/cms/cmsConfig.cmake lib/cmake/cms/cmsConfigVersion.cmake
           lib/cmake/cms/cmsTargets.cmake lib/cmake/cms/FindCHOLMOD.cmake
-          bin/cms bin/campbell bin/cms-geo-mesher
+          bin/cms bin/campbell libexec/cms/cms-geo-mesher
           share/cms/scenes/spacecraft.yaml share/cms/scenes/meshes/blade.geo share/cms/plot_results.py
           share/cms/bench/rotor/rotor.yaml share/cms/bench/blade_hex.geo)
   if(NOT EXISTS "${prefix}/${f}")
@@ -75,21 +76,34 @@ if(NOT RUN_OUTPUT MATCHES "spacecraft" OR NOT EXISTS "${WORK_DIR}/run/cms-result
   message(FATAL_ERROR "the installed cms did not run the default spacecraft scene:\n${RUN_OUTPUT}")
 endif()
 
-# 5. No source path compiled into the installed cms.
-file(STRINGS "${prefix}/bin/cms" paths REGEX "/")
-set(leaks "")
-foreach(s IN LISTS paths)
-  string(FIND "${s}" "${SOURCE_DIR}/" at)
-  if(at GREATER_EQUAL 0)
-    string(SUBSTRING "${s}" ${at} -1 path)
-    string(FIND "${path}" "${BUILD_DIR}/" inbuild)
-    if(NOT inbuild EQUAL 0)
-      list(APPEND leaks "${s}")
-    endif()
+# 5. A .geo scene: meshed by the installed helper, which nothing but the
+#    install layout leads to (coarse mesh: this checks the lookup, not Gmsh).
+run("installed cms modes on a .geo scene" "${prefix}/bin/cms" modes "${prefix}/share/cms/scenes/solid-blade.yaml"
+    --mesh-parameters=h=0.05 --output=geo-results)
+if(NOT RUN_OUTPUT MATCHES "solid-blade")
+  message(FATAL_ERROR "the installed cms did not run the .geo scene:\n${RUN_OUTPUT}")
+endif()
+
+# 6. No source or build path compiled into the installed cms or libcms_mesh.
+file(GLOB mesh_library "${prefix}/lib*/libcms_mesh.*")
+if(NOT mesh_library)
+  message(FATAL_ERROR "not installed: ${prefix}/lib/libcms_mesh.*")
+endif()
+foreach(binary "${prefix}/bin/cms" ${mesh_library})
+  file(STRINGS "${binary}" paths REGEX "/")
+  set(leaks "")
+  foreach(s IN LISTS paths)
+    foreach(tree "${SOURCE_DIR}/" "${BUILD_DIR}/")
+      string(FIND "${s}" "${tree}" at)
+      if(at GREATER_EQUAL 0)
+        list(APPEND leaks "${s}")
+      endif()
+    endforeach()
+  endforeach()
+  if(leaks)
+    list(REMOVE_DUPLICATES leaks)
+    message(FATAL_ERROR "source or build paths compiled into ${binary}:\n${leaks}")
   endif()
 endforeach()
-if(leaks)
-  message(FATAL_ERROR "source paths compiled into ${prefix}/bin/cms:\n${leaks}")
-endif()
-message(STATUS "no source path in the installed cms: ok")
+message(STATUS "no source or build path in the installed cms and libcms_mesh: ok")
 file(REMOVE_RECURSE "${prefix}" "${WORK_DIR}/run")

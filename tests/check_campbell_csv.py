@@ -3,7 +3,7 @@
 (analysis::CampbellResult::writeCsv / writeCrossingsCsv, written by
 `cms campbell` and `campbell --csv`):
 
-    check_campbell_csv.py <name>-campbell.csv --reference=NAME [--held=a,b] [--orders=1,2]
+    check_campbell_csv.py <name>-campbell.csv --reference=NAME [--held=a,b] [--orders=1,2] [--parts=a,b]
 
 - the first columns are factor, then <reference>_rad_per_s, then the other
   rates; a rate named in --held is constant over the sweep, every other one
@@ -13,14 +13,17 @@
   _frame_rate (yes, no) columns;
 - <name>-campbell-crossings.csv has the header below, only --orders appear,
   each frequency is order times the speed, rpm is rad/s * 30 / pi, and
-  "unbalance" is yes exactly for forward whirl at order 1.
+  "unbalance" is yes exactly for forward whirl at order 1, and "dominant"
+  names the part (or parts "a & b") of each track (among --parts when
+  given: the scene's substructures).
 Exit 0 on success, 1 with the reasons otherwise.
 """
 import csv
 import math
 import sys
 
-CROSSINGS = ["order", "speed_rad_per_s", "speed_rpm", "frequency_hz", "whirl", "unbalance", "tracks", "refined"]
+CROSSINGS = ["order", "speed_rad_per_s", "speed_rpm", "frequency_hz", "whirl", "unbalance", "tracks", "refined",
+             "dominant"]
 
 
 def main(argv):
@@ -29,6 +32,7 @@ def main(argv):
     ref = opts["reference"]
     held = set(filter(None, opts.get("held", "").split(",")))
     orders = {float(o) for o in opts.get("orders", "1").split(",")}
+    parts = set(filter(None, opts.get("parts", "").split(",")))
     bad = []
     with open(path, newline="") as f:
         reader = csv.reader(f)
@@ -82,6 +86,11 @@ def main(argv):
             bad.append(f"{side}: {c['speed_rpm']} rpm is not {w} rad/s")
         if (c["unbalance"] == "yes") != (order == 1.0 and c["whirl"] == "FW"):
             bad.append(f"{side}: unbalance {c['unbalance']} for {order}X {c['whirl']}")
+        names = c.get("dominant", "").split(";")
+        named = {n for name in names for n in name.split(" & ")}
+        if len(names) != len(c["tracks"].split(";")) or not all(names) or (parts and not named <= parts):
+            bad.append(f"{side}: dominant {c.get('dominant')!r} for tracks {c['tracks']!r}"
+                       + (f" (parts: {sorted(parts)})" if parts else ""))
     if bad:
         print("check_campbell_csv: " + "; ".join(bad))
         return 1

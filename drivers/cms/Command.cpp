@@ -75,10 +75,9 @@ void Options::printHelp(std::ostream& os) const {
   }
 }
 
-std::optional<SceneRun> SceneRun::start(Options& options, int argc, char* argv[], int& exitCode) {
-  SceneRun run;
+std::optional<int> SceneRun::start(Options& options, int argc, char* argv[]) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  run.root = comm->getRank() == 0;
+  root = comm->getRank() == 0;
   // 1. The command line: [SCENE] then this subcommand's options and the common ones.
   std::string scenePath, output, meshText;
   int first = 2;
@@ -86,12 +85,11 @@ std::optional<SceneRun> SceneRun::start(Options& options, int argc, char* argv[]
   options.add("output", &output, "results directory (default: the scene's \"Output\", else ./cms-results)");
   options.add("mesh-parameters", &meshText,
               "name=value,...: \"Mesh Parameters\" of every substructure meshed from a .geo (e.g. h=0.01)");
-  options.flag("timers", &run.timers, "print the Teuchos::TimeMonitor summary at the end");
+  options.flag("timers", &timers, "print the Teuchos::TimeMonitor summary at the end");
   for (int i = first; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      if (run.root) options.printHelp(std::cout);
-      exitCode = ExitSuccess;
-      return std::nullopt;
+      if (root) options.printHelp(std::cout);
+      return ExitSuccess;
     }
   Teuchos::CommandLineProcessor clp(false, true);
   for (const auto& e : options.entries_) e.declare(clp);
@@ -99,7 +97,7 @@ std::optional<SceneRun> SceneRun::start(Options& options, int argc, char* argv[]
   for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
   std::ostringstream errors;  // Teuchos' message replaced by one naming the subcommand
   if (clp.parse(static_cast<int>(rest.size()), rest.data(), &errors) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) {
-    if (run.root) {
+    if (root) {
       // Teuchos' message: its first non-empty line names the option.
       std::istringstream lines(errors.str());
       std::string why, line;
@@ -108,40 +106,42 @@ std::optional<SceneRun> SceneRun::start(Options& options, int argc, char* argv[]
       std::cerr << "cms " << options.command() << ": bad input: " << why << " (cms " << options.command()
                 << " --help lists the options)\n";
     }
-    exitCode = ExitInputError;
-    return std::nullopt;
+    return ExitInputError;
   }
   // 2. The scene, checked key by key before anything is computed.
   if (scenePath.empty()) scenePath = defaultScene();
   const auto mesh = meshParameters(meshText);
-  run.scene = scene::Scene::read(scenePath, mesh);
+  scene = scene::Scene::read(scenePath, mesh);
   if (!mesh.empty()) {
     bool used = false;
-    for (const auto& s : run.scene.structure.substructures)
+    for (const auto& s : scene.structure.substructures)
       used = used || (s.model && s.model->mesh && s.model->mesh->source.size() > 4 &&
                       s.model->mesh->source.compare(s.model->mesh->source.size() - 4, 4, ".geo") == 0);
     CMS_INPUT_CHECK(!used, "--mesh-parameters: no substructure of " << scenePath << " is meshed from a .geo script");
   }
   // 3. The output directory, writable before anything is computed.
-  run.outDir = !output.empty() ? output
-                               : (!run.scene.outputDirectory.empty() ? run.scene.outputDirectory : "cms-results");
+  outDir = !output.empty() ? output : (!scene.outputDirectory.empty() ? scene.outputDirectory : "cms-results");
   std::error_code ec;
-  if (std::filesystem::create_directories(run.outDir, ec) && run.root) createdOutput() = run.outDir;
-  CMS_INPUT_CHECK(ec || !std::filesystem::is_directory(run.outDir),
-                  run.outDir.string() << ": cannot create the output directory (" << ec.message() << ")");
+  if (std::filesystem::create_directories(outDir, ec) && root) createdOutput() = outDir;
+  CMS_INPUT_CHECK(ec || !std::filesystem::is_directory(outDir),
+                  outDir.string() << ": cannot create the output directory (" << ec.message() << ")");
   // What a mesh reader skipped or assumed (an .inp deck's materials and
   // steps, GENERATE ids it lacks), once per mesh file.
-  if (run.root) {
+  if (root) {
     std::set<std::string> seen;
-    for (const auto& s : run.scene.structure.substructures)
+    for (const auto& s : scene.structure.substructures)
       if (s.model && s.model->mesh && seen.insert(s.model->mesh->source).second)
         for (const std::string& note : s.model->mesh->notes) std::cout << "cms: note: " << note << "\n";
   }
-  if (run.root)
-    std::cout << "cms " << options.command() << ": scene " << run.scene.path << " (\"" << run.scene.name << "\", units "
-              << run.scene.units << ", " << run.scene.structure.substructures.size() << " substructures, "
+  if (root)
+    std::cout << "cms " << options.command() << ": scene " << scene.path << " (\"" << scene.name << "\", units "
+              << scene.units << ", " << scene.structure.substructures.size() << " substructures, "
               << comm->getSize() << " rank(s))\n";
-  return run;
+  return std::nullopt;
+}
+
+synthesis::AssembledStructure SceneRun::assemble() const {
+  return synthesis::AssembledStructure::assemble(scene.structure, Teuchos::DefaultComm<int>::getComm());
 }
 
 std::filesystem::path& createdOutput() {

@@ -13,6 +13,7 @@
 
 #include "../CommandLine.hpp"  // positiveIntegers, positiveNumbers, plotCsv
 #include "cms/scene/Scene.hpp"
+#include "cms/synthesis/SynthesizedStructure.hpp"
 
 namespace Teuchos { class CommandLineProcessor; }
 
@@ -59,9 +60,15 @@ struct SceneRun {
 
   /// Parses argv[2..] against `options` (and the common --output,
   /// --mesh-parameters, --timers), reads the scene and makes the output
-  /// directory. Empty with `exitCode` set when --help was printed (0) or
-  /// the command line is wrong (2). Throws cms::InputError for a bad scene.
-  static std::optional<SceneRun> start(Options& options, int argc, char* argv[], int& exitCode);
+  /// directory. Returns the exit code when the program ends here (--help
+  /// printed: 0; a wrong command line: 2), nothing when the run goes on.
+  /// Throws cms::InputError for a bad scene.
+  std::optional<int> start(Options& options, int argc, char* argv[]);
+
+  /// The scene's structure assembled across all ranks: each substructure's
+  /// matrices per unit speed, centrifugal prestress first (theory §11.4).
+  /// Collective.
+  synthesis::AssembledStructure assemble() const;
 };
 
 /// The output directory this run created (empty if it existed before).

@@ -25,7 +25,6 @@
 #include <sstream>
 
 #include <Teuchos_Array.hpp>
-#include <Teuchos_DefaultComm.hpp>
 
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
@@ -51,18 +50,16 @@ int campbell(int argc, char* argv[]) {
   options.add("axis", &axisText, "units: hz (rev/s, Hz), rpm (rpm, Hz) or per-rev (rpm, frequency per rev)");
   options.flag("refine", &refine, "bisect each crossing to 1e-6 of its speed (else linear between speeds)");
   options.plotOption();
-  int code = ExitSuccess;
-  const auto run = SceneRun::start(options, argc, argv, code);
-  if (!run) return code;
-  const auto& sc = run->scene;
-  const bool root = run->root;
+  SceneRun run;
+  if (const auto exit = run.start(options, argc, argv)) return *exit;
+  const auto& sc = run.scene;
   CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
   CMS_INPUT_CHECK(!(maxFactor > 0), "--max-factor = " << maxFactor << " must be positive");
   const Teuchos::Array<double> orders(positiveNumbers(ordersText, "--orders"));
   const auto axis = analysis::speedAxis(axisText);
 
   // 2. Assemble and reduce once; every speed parameter is a polynomial variable.
-  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, Teuchos::DefaultComm<int>::getComm());
+  const auto structure = run.assemble();
   CMS_INPUT_CHECK(structure.speeds().empty(), sc.path << ": nothing spins in this scene: no Campbell diagram");
   if (!speed.empty()) {
     std::string names;
@@ -85,7 +82,7 @@ int campbell(int argc, char* argv[]) {
   const auto t0 = std::chrono::steady_clock::now();
   const analysis::CampbellResult r = analysis::CampbellStudy(study).run(problem);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!root) return outcome(r.status).code;
+  if (!run.root) return outcome(r.status).code;
 
   // 4. What an engineer reads: the tracks, then the critical speeds.
   std::cout << stamp(seconds) << steps << " speeds, " << reduced.size() << " coordinates, no re-projection; "
@@ -100,8 +97,8 @@ int campbell(int argc, char* argv[]) {
   }
 
   // 5. The tables, written whole or not at all, and the plot.
-  const auto csv = run->outDir / (sc.name + "-campbell.csv");
-  const auto crossings = run->outDir / (sc.name + "-campbell-crossings.csv");
+  const auto csv = run.outDir / (sc.name + "-campbell.csv");
+  const auto crossings = run.outDir / (sc.name + "-campbell-crossings.csv");
   io::AtomicFile f(csv), g(crossings);
   r.writeCsv(f.stream());
   r.writeCrossingsCsv(g.stream());

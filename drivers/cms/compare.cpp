@@ -18,7 +18,6 @@
 #include <iostream>
 
 #include <Teuchos_Array.hpp>
-#include <Teuchos_DefaultComm.hpp>
 
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
@@ -46,14 +45,12 @@ int compare(int argc, char* argv[]) {
   std::string counts = "2,4,8";
   options.add("counts", &counts, "vectors per substructure, comma-separated");
   options.plotOption();
-  int code = ExitSuccess;
-  const auto run = SceneRun::start(options, argc, argv, code);
-  if (!run) return code;
-  const auto& sc = run->scene;
-  const bool root = run->root;
+  SceneRun run;
+  if (const auto exit = run.start(options, argc, argv)) return *exit;
+  const auto& sc = run.scene;
 
   // 2. The comparison (analysis::StrategyComparison), one line per strategy as it comes.
-  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, Teuchos::DefaultComm<int>::getComm());
+  const auto structure = run.assemble();
   Teuchos::ParameterList study;
   study.set("Counts", Teuchos::Array<int>(positiveIntegers(counts, "--counts")));
   study.set("Speed Factor", sc.speedFactor);
@@ -64,7 +61,7 @@ int compare(int argc, char* argv[]) {
           const auto o = outcome(other->status);
           if (worst.code == ExitSuccess || o.code == ExitNumericalError) worst = o;
         }
-        if (!root) return;
+        if (!run.root) return;
         if (row)
           std::cout << "[" << row->basis << " " << row->vectors << "] " << row->dofs << " DOFs, max error "
                     << errorText(row->accuracy) << '\n';
@@ -77,7 +74,7 @@ int compare(int argc, char* argv[]) {
       });
   // Without a converged truth there is nothing to compare with: its outcome is the run's.
   if (const auto o = outcome(c.truthModes.result.status); o.code != ExitSuccess) {
-    if (root)
+    if (run.root)
       std::cerr << "cms: " << o.message << ": the truth model (" << c.truthSize << " coordinates) "
                 << toString(c.truthModes.result.status) << ": " << condense(c.truthModes.result.reason)
                 << "; no files written\n";
@@ -86,13 +83,13 @@ int compare(int argc, char* argv[]) {
   const int nModes = sc.solve.get<int>("Number of Modes");
   if (c.rows.empty()) {
     if (worst.code == ExitSuccess) worst = kBreakdown;  // nothing could be compared
-    if (root)
+    if (run.root)
       std::cerr << "cms: " << worst.message << ": no strategy gave " << nModes << " modes to compare; no files written\n";
     return worst.code;
   }
 
   // 3. The table, then the CSV.
-  if (!root) return worst.code;
+  if (!run.root) return worst.code;
   std::cout << "\ntruth: " << c.truthSize << " coordinates, " << c.truthSeconds << " s (" << c.truthModes.path
             << ")\nlowest " << nModes << " modes compared (MISSING n: n modes the reduced model lacks)\n\n"
             << "strategy        vectors  DOFs    reduce s  solve s   peak MiB  max rel err  max est err  mean rel err  worst MAC\n";
@@ -103,7 +100,7 @@ int compare(int argc, char* argv[]) {
               << std::setw(13) << r.estimate << std::setw(14) << r.accuracy.meanRelativeError << std::setw(11)
               << r.accuracy.worstMac << '\n';
   const std::string csv = sc.name + (worst.code == ExitSuccess ? "-compare.csv" : "-compare-partial.csv");
-  io::AtomicFile f(run->outDir / csv);
+  io::AtomicFile f(run.outDir / csv);
   f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,"
                 "max_estimated_rel_error,mean_rel_error,worst_mac,missing_modes,truth_dofs,truth_s";
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
@@ -118,12 +115,12 @@ int compare(int argc, char* argv[]) {
     f.stream() << '\n';
   }
   f.commit();
-  std::cout << "\nwrote " << (run->outDir / csv).string() << '\n';
+  std::cout << "\nwrote " << (run.outDir / csv).string() << '\n';
   if (worst.code != ExitSuccess) {
     std::cerr << "cms: " << worst.message << ": some strategies failed (FAILED above); the others are in " << csv << '\n';
     return worst.code;
   }
-  plot(options, "compare", run->outDir / csv);
+  plot(options, "compare", run.outDir / csv);
   return ExitSuccess;
 }
 

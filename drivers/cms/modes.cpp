@@ -168,11 +168,10 @@ int modes(int argc, char* argv[]) {
   options.flag("truth", &truth, "also solve the truth model and print the true error beside each estimate");
   options.flag("check-count", &checkCount,
                "count the truth's frequencies below the highest one (one factorisation of the assembled model)");
-  int code = ExitSuccess;
-  const auto run = SceneRun::start(options, argc, argv, code);
-  if (!run) return code;
-  const auto& sc = run->scene;
-  const bool root = run->root;
+  SceneRun run;
+  if (const auto exit = run.start(options, argc, argv)) return *exit;
+  const auto& sc = run.scene;
+  const bool root = run.root;
 
   // 2. The analysis (analysis::ModalAnalysis: assemble, reduce, solve, judge).
   Teuchos::ParameterList study;
@@ -219,7 +218,7 @@ int modes(int argc, char* argv[]) {
                 << outcome.code << "): " << condense(r.modes.result.reason) << "; no files written\n";
     return outcome.code;
   }
-  const auto base = run->outDir / sc.name;
+  const auto base = run.outDir / sc.name;
   if (root) {
     if (sc.csv) {
       io::writeModesCsv(base.string() + "-modes.csv", r);
@@ -237,7 +236,7 @@ int modes(int argc, char* argv[]) {
               << (sc.csv ? "(and -modes.csv, -coverage.csv)" : "") << '\n';
   }
   if (vtu) {  // collective
-    const auto files = io::writeModeShapes(*r.structure, *r.reduced, r.modes, run->outDir.string(), sc.name);
+    const auto files = io::writeModeShapes(*r.structure, *r.reduced, r.modes, run.outDir.string(), sc.name);
     if (root) std::cout << "wrote " << files.size() - 1 << " mode shapes for ParaView: " << files.back() << '\n';
   }
   return ExitSuccess;

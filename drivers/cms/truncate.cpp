@@ -16,7 +16,6 @@
 #include <iostream>
 #include <sstream>
 
-#include <Teuchos_DefaultComm.hpp>
 
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
@@ -38,16 +37,14 @@ int truncate(int argc, char* argv[]) {
   options.add("accuracy", &accuracy, "target largest relative error of the lowest modes (estimated)");
   options.flag("truth", &truth, "also solve the truth model and print the true error beside each estimate");
   options.plotOption();
-  int code = ExitSuccess;
-  const auto run = SceneRun::start(options, argc, argv, code);
-  if (!run) return code;
-  const auto& sc = run->scene;
-  const bool root = run->root;
+  SceneRun run;
+  if (const auto exit = run.start(options, argc, argv)) return *exit;
+  const auto& sc = run.scene;
   CMS_INPUT_CHECK(start < 0 || step < 1, "--start must be >= 0 and --step >= 1");
   CMS_INPUT_CHECK(!(accuracy > 0), "--accuracy = " << accuracy << " must be positive");
 
   // 2. The search, one line per step as it is taken.
-  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, Teuchos::DefaultComm<int>::getComm());
+  const auto structure = run.assemble();
   Teuchos::ParameterList study;
   study.set("Start", start);
   study.set("Step", step);
@@ -62,7 +59,7 @@ int truncate(int argc, char* argv[]) {
   table << '\n' << std::setprecision(12);
   int findings = 0;
   const auto r = search.run([&](const analysis::TruncationStep& s, const analysis::TruncationResult& sofar) {
-    if (root && s.step == 0)
+    if (run.root && s.step == 0)
       std::cout << (truth ? "truth: " + std::to_string(sofar.truthSize) + " coordinates; " : "no truth solve; ")
                 << "target: the lowest " << sc.solve.get<int>("Number of Modes") << " within " << accuracy
                 << ", by their error estimates\n\nstep  added to      DOFs  max est err  max true err  incl.\n";
@@ -71,7 +68,7 @@ int truncate(int argc, char* argv[]) {
           << s.findings.size();
     for (int v : s.vectors) table << ',' << v;
     table << '\n';
-    if (!root) return;
+    if (!run.root) return;
     std::cout << std::setw(4) << s.step << "  " << std::left << std::setw(12) << s.changed << std::right << std::setw(7)
               << s.dofs << std::setw(13) << std::setprecision(4) << s.estimate << std::setw(13) << s.trueError
               << std::setw(6) << s.findings.size() << '\n';
@@ -82,7 +79,7 @@ int truncate(int argc, char* argv[]) {
 
   // 3. The verdict and the suggested counts; the table only when reached.
   const auto& last = r.steps.back();
-  if (!root) return r.reached ? ExitSuccess : kNotConverged.code;
+  if (!run.root) return r.reached ? ExitSuccess : kNotConverged.code;
   std::cout << "\n" << (r.reached ? "reached " : "NOT reached: ") << "max estimated relative error " << last.estimate
             << " with " << last.dofs << " coordinates";
   if (truth) std::cout << " (true error " << last.trueError << ", truth " << r.truthSize << " coordinates)";
@@ -96,7 +93,7 @@ int truncate(int argc, char* argv[]) {
               << "): --accuracy not reached; no files written\n";
     return kNotConverged.code;
   }
-  const auto csv = run->outDir / (sc.name + "-truncate.csv");
+  const auto csv = run.outDir / (sc.name + "-truncate.csv");
   io::AtomicFile f(csv);
   f.stream() << table.str();
   f.commit();

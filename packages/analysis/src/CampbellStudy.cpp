@@ -122,6 +122,23 @@ synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<doubl
   return reduced_.solve(speeds, solveParams_);
 }
 
+std::vector<std::string> SynthesizedSweepProblem::dominant(const synthesis::StructureModes& modes) const {
+  // Parts whose shares agree with the largest to three digits are named
+  // together: identical parts in a symmetric mode ("boom+ & boom-"), where
+  // which of them is largest is rounding.
+  const double sameShare = 1e-3;
+  std::vector<std::string> names;
+  for (const auto& c : reduced_.characterise(modes)) {
+    const double top = c.kineticShare.empty() ? 0.0 : *std::max_element(c.kineticShare.begin(), c.kineticShare.end());
+    std::string name;
+    for (std::size_t k = 0; k < c.kineticShare.size(); ++k)
+      if (c.kineticShare[k] >= (1.0 - sameShare) * top)
+        name += (name.empty() ? "" : " & ") + structure_.substructure(k).name;
+    names.push_back(name);
+  }
+  return names;
+}
+
 std::vector<std::vector<double>> SynthesizedSweepProblem::mac(const std::vector<eigen::GyroscopicMode>& a,
                                                               const std::vector<eigen::GyroscopicMode>& b) const {
   return macMatrix(*M_, reduced_.size(), a, b);
@@ -340,8 +357,13 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       tr.lost.push_back(j < 0);
       tr.dampingRatio.push_back(j < 0 ? std::nan("") : modes[j].dampingRatio);
       if (j < 0) continue;
-      // Engine-order crossings in (f_{k-1}, f_k]: a sign change of omega - order * Omega_ref.
-      const bool frameLike = rateLike(tr) >= 0;
+      // Engine-order crossings in (f_{k-1}, f_k]: a sign change of omega -
+      // order * Omega_ref, bisected. Frame-rate tracks too (their crossings
+      // are set aside at the end, at an accurate speed all the same), but
+      // not one that follows a swept rate: it lies on an engine-order line,
+      // and its sign changes are rounding.
+      const int follows = rateLike(tr);
+      const bool onLine = follows >= 0 && r.scaled[static_cast<std::size_t>(follows)];
       for (double order : orders) {
         const double f0 = r.factors[k - 1];
         double lo = f0, hi = f, gLo = w0 - order * refAt(lo), gHi = modes[j].omega - order * refAt(hi);
@@ -350,11 +372,12 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         c.order = order;
         c.tracks = {static_cast<int>(t)};
         c.whirl = std::abs(gLo) < std::abs(gHi) ? tr.whirl[k - 1] : tr.whirl[k];
-        if (refine && !frameLike) {
+        // The last bisection's solve, nearest the crossing (none: f_k's).
+        synthesis::StructureModes at;
+        int atIndex = -1;
+        if (refine && !onLine) {
           // Bisection, following the track by MAC into each half.
           eigen::GyroscopicMode modeLo = last[t];
-          synthesis::StructureModes at;
-          int atIndex = -1;
           for (int it = 0; it < 200 && hi - lo > crossingTol * hi; ++it) {
             const double mid = 0.5 * (lo + hi);
             auto m = problem.solve(speedsAt(mid));
@@ -368,6 +391,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
           }
           if (atIndex >= 0) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
         }
+        c.dominant = {atIndex >= 0 ? problem.dominant(at)[atIndex] : problem.dominant(sol)[j]};
         c.factor = lo + gLo / (gLo - gHi) * (hi - lo);
         c.speed = refAt(c.factor);
         c.omega = order * c.speed;
@@ -381,19 +405,24 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
   std::vector<EngineOrderCrossing> kept;
   for (const auto& c : found) {
-    if (r.tracks[c.tracks.front()].frameRate) ++r.frameRateCrossings;
-    else kept.push_back(c);
+    const auto& tr = r.tracks[c.tracks.front()];
+    if (!tr.frameRate) kept.push_back(c);
+    else if (r.scaled[static_cast<std::size_t>(tr.frameRateOf)]) ++r.frameRateOnLine;
+    else r.frameRateCrossings.push_back(c);
   }
   // Identical parts (or a repeated mode): the same order, whirl and speed to
   // the cluster tolerance: one entry naming every track.
-  std::stable_sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) {
+  const auto byOrderThenSpeed = [](const auto& a, const auto& b) {
     return a.order != b.order ? a.order < b.order : a.speed < b.speed;
-  });
+  };
+  std::stable_sort(kept.begin(), kept.end(), byOrderThenSpeed);
+  std::stable_sort(r.frameRateCrossings.begin(), r.frameRateCrossings.end(), byOrderThenSpeed);
   for (const auto& c : kept) {
     if (!r.crossings.empty()) {
       auto& p = r.crossings.back();
       if (p.order == c.order && p.whirl == c.whirl && std::abs(p.speed - c.speed) <= clusterTol * std::abs(c.speed)) {
         p.tracks.push_back(c.tracks.front());
+        p.dominant.push_back(c.dominant.front());
         continue;
       }
     }
@@ -414,6 +443,16 @@ bool flagged(const CampbellTrack& tr, std::size_t k) {
 std::string orderText(double o) {
   std::ostringstream os;
   os << o << "X";
+  return os.str();
+}
+/// "track 3 (blade)" or "tracks 3,4 (blade1, blade2)".
+std::string tracksText(const EngineOrderCrossing& c) {
+  std::ostringstream os;
+  os << "track" << (c.tracks.size() > 1 ? "s" : "");
+  for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? "," : " ") << c.tracks[i] + 1;
+  os << " (";
+  for (std::size_t i = 0; i < c.dominant.size(); ++i) os << (i ? ", " : "") << c.dominant[i];
+  os << ")";
   return os.str();
 }
 std::string unbalanceNote(const EngineOrderCrossing& c) {
@@ -482,9 +521,8 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   for (const auto& c : crossings) {
     os << "  " << std::setw(5) << orderText(c.order) << std::setw(11) << toString(c.whirl) << std::fixed
        << std::setprecision(4) << std::setw(14) << c.speed << " rad/s" << std::setw(14) << c.speed * 30.0 / M_PI
-       << " rpm" << std::setw(12) << c.omega / (2 * M_PI) << " Hz   " << unbalanceNote(c) << "   track";
-    if (c.tracks.size() > 1) os << "s";
-    for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? "," : " ") << c.tracks[i] + 1;
+       << " rpm" << std::setw(12) << c.omega / (2 * M_PI) << " Hz   " << unbalanceNote(c) << "   "
+       << tracksText(c);
     if (c.tracks.size() > 1) os << " (identical parts or a repeated mode: listed once)";
     if (!c.refined) os << " (linear between sweep speeds)";
     os << '\n';
@@ -494,10 +532,19 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   for (std::size_t t = 0; t < tracks.size(); ++t)
     if (tracks[t].frameRate) frame.push_back(static_cast<int>(t));
   if (!frame.empty()) {
-    os << "frame-rate tracks (a rigid motion seen at a spin rate, no vibration; their " << frameRateCrossings
-       << " crossing(s) are not critical speeds):";
+    os << "frame-rate tracks (a rigid motion seen at a spin rate, no vibration; their "
+       << frameRateCrossings.size() + frameRateOnLine << " crossing(s) are not critical speeds";
+    if (frameRateOnLine > 0)
+      os << ", " << frameRateOnLine << " of them rounding about an engine-order line they follow";
+    os << "):";
     for (int t : frame) os << " track" << t + 1 << " (" << parameters[tracks[t].frameRateOf].name << ")";
     os << '\n';
+    for (const auto& c : frameRateCrossings) {
+      os << "  " << std::setw(5) << orderText(c.order) << std::fixed << std::setprecision(4) << std::setw(14) << c.speed
+         << " rad/s" << std::setw(14) << c.speed * 30.0 / M_PI << " rpm   frame rate, not a critical speed   "
+         << tracksText(c) << (c.refined ? "" : " (linear between sweep speeds)") << '\n';
+      os.flags(flags);
+    }
   }
   for (const auto& [a, b] : unstableRanges)
     os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'\n";
@@ -531,12 +578,14 @@ void CampbellResult::writeCsv(std::ostream& os) const {
 
 void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
   const auto prec = os.precision();
-  os << std::setprecision(12) << "order,speed_rad_per_s,speed_rpm,frequency_hz,whirl,unbalance,tracks,refined\n";
+  os << std::setprecision(12) << "order,speed_rad_per_s,speed_rpm,frequency_hz,whirl,unbalance,tracks,refined,dominant\n";
   for (const auto& c : crossings) {
     os << c.order << ',' << c.speed << ',' << c.speed * 30.0 / M_PI << ',' << c.omega / (2 * M_PI) << ','
        << toString(c.whirl) << ',' << (c.order == 1.0 && c.whirl == Whirl::Forward ? "yes" : "no") << ',';
     for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? ";" : "") << "track" << c.tracks[i] + 1;
-    os << ',' << (c.refined ? "yes" : "no") << '\n';
+    os << ',' << (c.refined ? "yes" : "no") << ',';
+    for (std::size_t i = 0; i < c.dominant.size(); ++i) os << (i ? ";" : "") << c.dominant[i];
+    os << '\n';
   }
   os.precision(prec);
 }

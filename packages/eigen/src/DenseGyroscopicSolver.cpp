@@ -11,7 +11,6 @@
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 
 #include "cms/core/Error.hpp"
-#include "cms/core/ParameterReading.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
@@ -600,25 +599,13 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
     pl->set("Number of Modes", -1, "How many of the lowest modes to return; -1 for all n");
     pl->set("Structure Tolerance", 1e-10,
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
-    pl->set("Rigid Body Tolerance", 1e-6,
-            "|lambda| below this times the frequency scale sqrt(||K||/||M||)+||G||/||M|| is a "
-            "rigid-body (zero-frequency) mode; rigid pairs form Jordan blocks, so their computed "
-            "lambda carries an error ~sqrt(eps)");
-    pl->set("Instability Tolerance", 1e-7,
-            "Re(lambda) above this times the frequency scale is reported as divergence or "
-            "flutter; below it the mode is stable (double roots at a critical speed split by "
-            "~sqrt(eps))");
+    addStabilityTolerances(*pl);
     pl->set("Definiteness Tolerance", 1e-14,
             "K is treated as not positive definite when its smallest Cholesky pivot squared is "
             "below this times the largest (the symmetric form would lose all accuracy)");
     return pl;
   }();
   return valid;
-}
-
-DenseGyroscopicSolver::DenseGyroscopicSolver(const Teuchos::ParameterList& params)
-    : params_(params) {
-  validateOptions(params_, *getValidParameters(), "DenseGyroscopicSolver");
 }
 
 GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) const {

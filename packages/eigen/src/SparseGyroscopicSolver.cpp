@@ -17,7 +17,6 @@
 #include "SparseIterations.hpp"
 #include "SpectralTransform.hpp"
 #include "cms/core/Error.hpp"
-#include "cms/core/ParameterReading.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
@@ -64,8 +63,7 @@ Teuchos::RCP<const Teuchos::ParameterList> SparseGyroscopicSolver::getValidParam
     pl->set("Residual Tolerance", 1e-8,
             "A returned mode whose backward error ||Q(lambda) q|| / ((||K|| + |lambda| ||G|| + "
             "|lambda|^2 ||M||) ||q||) exceeds this makes the status NotConverged");
-    pl->set("Rigid Body Tolerance", 1e-6, "As for the dense solver");
-    pl->set("Instability Tolerance", 1e-7, "As for the dense solver");
+    addStabilityTolerances(*pl);
     pl->set("Verbosity", 0, "0 silent, 1 summary, 2 iteration details (Anasazi's output on rank 0)");
     return pl;
   }();
@@ -73,8 +71,7 @@ Teuchos::RCP<const Teuchos::ParameterList> SparseGyroscopicSolver::getValidParam
 }
 
 SparseGyroscopicSolver::SparseGyroscopicSolver(const Teuchos::ParameterList& params)
-    : params_(params) {
-  validateOptions(params_, *getValidParameters(), "SparseGyroscopicSolver");
+    : GyroscopicSolverManager(params, *getValidParameters(), "SparseGyroscopicSolver") {
   const int k = params_.get<int>("Number of Modes"), bs = params_.get<int>("Block Size");
   CMS_INPUT_CHECK(k < 1, "SparseGyroscopicSolver: \"Number of Modes\" = " << k << " must be >= 1");
   CMS_INPUT_CHECK(bs < 2, "SparseGyroscopicSolver: \"Block Size\" = "

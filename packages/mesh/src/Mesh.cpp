@@ -24,6 +24,7 @@
 #include <type_traits>
 #include <utility>
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -408,17 +409,46 @@ double positiveFromEnvironment(const char* name, double fallback) {
   return x;
 }
 
-/// The helper: $CMS_GEO_MESHER, else next to the running executable, else
-/// where the build put it.
+/// The helper, found without any path compiled in (doc/architecture.md,
+/// "Install layout"): $CMS_GEO_MESHER when set, else libexec/cms/cms-geo-mesher
+/// one level above the directory of the running program or of the library
+/// holding this code (installed: <prefix>/bin/cms and <prefix>/lib find
+/// <prefix>/libexec/cms; in the build tree every program sits one level below
+/// build/, and the build puts the helper in build/libexec/cms), else beside
+/// the running program. Throws cms::InputError naming every place tried.
 std::string geoMesherPath() {
-  if (const char* v = std::getenv("CMS_GEO_MESHER"); v && *v) return v;
+  const char* name = "cms-geo-mesher";
+  if (const char* v = std::getenv("CMS_GEO_MESHER"); v && *v) {
+    CMS_INPUT_CHECK(::access(v, X_OK) != 0, "the .geo mesher: CMS_GEO_MESHER = " << v << " is not an executable file ("
+                                                << std::strerror(errno) << "); unset it to use the installed "
+                                                << name << " (<prefix>/libexec/cms/" << name << ")");
+    return v;
+  }
+  // The running program and the library holding this code (the program
+  // itself when libcms_mesh is linked statically).
+  std::vector<std::filesystem::path> homes;
   std::error_code ec;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const std::filesystem::path sibling = self.parent_path() / "cms-geo-mesher";
-    if (::access(sibling.c_str(), X_OK) == 0) return sibling.string();
+  if (!ec) homes.push_back(self);
+  Dl_info library{};
+  if (::dladdr(reinterpret_cast<void*>(&geoMesherPath), &library) != 0 && library.dli_fname && *library.dli_fname)
+    homes.push_back(std::filesystem::absolute(library.dli_fname, ec));
+  std::vector<std::filesystem::path> candidates;
+  for (const auto& home : homes) {
+    const auto c = (home.parent_path().parent_path() / "libexec" / "cms" / name).lexically_normal();
+    if (std::find(candidates.begin(), candidates.end(), c) == candidates.end()) candidates.push_back(c);
   }
-  return CMS_GEO_MESHER_BUILD_PATH;
+  if (!self.empty()) candidates.push_back(self.parent_path() / name);
+  std::string tried;
+  for (const auto& c : candidates) {
+    if (::access(c.c_str(), X_OK) == 0) return c.string();
+    tried += (tried.empty() ? "" : ", ") + c.string();
+  }
+  CMS_INPUT_CHECK(true, "cannot find the .geo mesher " << name << ", which meshes .geo scripts (tried: "
+                                                       << (tried.empty() ? "nothing" : tried)
+                                                       << "); set CMS_GEO_MESHER to its path (installed: "
+                                                          "<prefix>/libexec/cms/" << name << ")");
+  return {};
 }
 
 /// The cms-geo-mesher server of this process (GeoMesher.cpp): started by

@@ -8,6 +8,9 @@
 
 #include <cfloat>
 #include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <Teuchos_Array.hpp>
 
@@ -45,6 +48,48 @@ Teuchos::ParameterList sweep(int steps, double maxFactor, std::vector<double> or
   p.set("Refine Crossings", refine);
   return p;
 }
+
+/// Two spin rates, "bus" (swept) and "wheel" (held at 10 rad/s), and two
+/// modes in closed form: one whose frequency is the wheel's rate within
+/// a(bus)^2 (a rigid motion of the wheel seen at its rate, slightly bent by
+/// the bus's speed: a frame-rate track that crosses 1X of the bus where
+/// bus = wheel (1 + a bus^2)), and a stiff mode of the bus at 50 rad/s. Each
+/// mode is dominated by the part it moves.
+class TwoRateProblem : public analysis::SpeedSweepProblem {
+public:
+  static constexpr double kWheel = 10.0, kBend = 1e-6, kStiff = 50.0;
+  std::vector<synthesis::SpeedParameter> parameters() const override { return {{"bus", 1.0}, {"wheel", kWheel}}; }
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+    synthesis::StructureModes out;
+    out.speeds = speeds;
+    const double wheel = speeds[1] * (1.0 + kBend * speeds[0] * speeds[0]);
+    for (const double w : {wheel, kStiff}) {
+      eigen::GyroscopicMode m;
+      m.omega = w, m.hz = w / (2 * M_PI), m.lambda = {0.0, w};
+      m.q = {w == kStiff ? 0.0 : 1.0, w == kStiff ? 1.0 : 0.0};
+      out.result.modes.push_back(m);
+    }
+    return out;
+  }
+  std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
+                                       const std::vector<eigen::GyroscopicMode>& b) const override {
+    std::vector<std::vector<double>> m(a.size(), std::vector<double>(b.size()));
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < b.size(); ++j)
+        m[i][j] = std::norm(a[i].q[0] * b[j].q[0] + a[i].q[1] * b[j].q[1]);
+    return m;
+  }
+  std::vector<analysis::Whirl> whirl(const synthesis::StructureModes& modes,
+                                     const analysis::WhirlClassification&) const override {
+    return std::vector<analysis::Whirl>(modes.result.modes.size(), analysis::Whirl::Neutral);
+  }
+  std::string whirlOf() const override { return ""; }
+  std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override {
+    std::vector<std::string> names;
+    for (const auto& m : modes.result.modes) names.push_back(std::abs(m.q[0]) > 0.5 ? "wheel" : "bus");
+    return names;
+  }
+};
 
 // The frequencies are eigenvalues of symmetric 2 x 2 problems: computed to
 // a few eps times the largest (Weyl), 100 eps of margin for the gyroscopic
@@ -155,6 +200,7 @@ TEST(CampbellStudy, CrossingsOfIdenticalPartsAreListedOnce) {
   ASSERT_EQ(r.crossings.size(), 3u);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(r.crossings[i].tracks.size(), 2u) << "crossing " << i;
+    EXPECT_EQ(r.crossings[i].dominant.size(), 2u) << "crossing " << i << ": one dominant part per track";
     EXPECT_NEAR(r.crossings[i].speed, want[i], 1e-6 * 3.0 + kRound * 4.0) << "crossing " << i;
   }
 }
@@ -188,6 +234,8 @@ TEST(CampbellStudy, FrameRateTracksGiveNoCriticalSpeeds) {
   }
   EXPECT_EQ(frame, 2);  // the free mass's two translations, nothing elastic
   ASSERT_EQ(r.crossings.size(), 2u) << "a frame-rate track was listed as a critical speed";
+  // Its tracks follow the swept rate, on the 1X line: rounding, not listed.
+  EXPECT_TRUE(r.frameRateCrossings.empty());
   EXPECT_EQ(r.crossings[0].order, 1.0);
   EXPECT_NEAR(r.crossings[0].speed, w0 / 2, tol * w0 + kRound * 40.0);
   EXPECT_EQ(r.crossings[1].order, 2.0);
@@ -213,4 +261,46 @@ TEST(CampbellStudy, RefusesBadParameters) {
   o.set("Engine Orders", Teuchos::Array<double>(1, -1.0));
   fixtures::expectInputError([&] { analysis::CampbellStudy{o}; }, "Engine Orders");
   fixtures::expectInputError([&] { analysis::speedAxis("rad"); }, "hz, rpm or per-rev");
+}
+
+TEST(CampbellStudy, FrameRateCrossingsAreBisectedAndListedApart) {
+  // The wheel's frame-rate track meets 1X of the bus between sweep speeds
+  // 10 and 11 (bus 0..20 by 1): g = wheel (1 + a bus^2) - bus has g'' =
+  // 2 a wheel = 2e-5 and |g'| ~ 1, so interpolating between sweep speeds is
+  // off by up to h^2 g'' / 8 = 2.5e-6; bisected to "Crossing Tolerance" =
+  // 1e-12 it is within 1e-12 of its bracket's top, and the crossing stays
+  // out of the critical speeds.
+  const double a = TwoRateProblem::kBend, w = TwoRateProblem::kWheel;
+  const double exactSpeed = (1.0 - std::sqrt(1.0 - 4.0 * a * w * w)) / (2.0 * a * w);
+  auto params = sweep(21, 20.0, {1.0});
+  params.set("Speed Parameter", std::string("bus"));
+  params.set("Crossing Tolerance", 1e-12);
+  const auto r = analysis::CampbellStudy(params).run(TwoRateProblem());
+  ASSERT_EQ(r.tracks.size(), 2u);
+  EXPECT_TRUE(r.tracks[0].frameRate);
+  EXPECT_EQ(r.tracks[0].frameRateOf, 1);
+  EXPECT_TRUE(r.crossings.empty()) << "a frame-rate track was listed as a critical speed";
+  ASSERT_EQ(r.frameRateCrossings.size(), 1u);
+  EXPECT_EQ(r.frameRateOnLine, 0);
+  const auto& c = r.frameRateCrossings[0];
+  EXPECT_TRUE(c.refined);
+  // The bracket's width (1e-12 of its top) and the rounding of g near 10.
+  EXPECT_NEAR(c.speed, exactSpeed, 1e-12 * 11.0 + kRound * 40.0);
+  ASSERT_EQ(c.dominant.size(), 1u);
+  EXPECT_EQ(c.dominant[0], "wheel");
+}
+
+TEST(CampbellStudy, CrossingsNameTheDominantPartOfEachTrack) {
+  // DenseSweepProblem is one part: its name at every crossing. Identical
+  // parts merged into one crossing keep one name per track.
+  const analysis::DenseSweepProblem one(twoDof(4.0, 1.0, 1.0, 0.0), "spin", 3.0);
+  const auto r = analysis::CampbellStudy(sweep(31, 1.0, {1.0, 2.0})).run(one);
+  ASSERT_EQ(r.crossings.size(), 3u);
+  for (const auto& c : r.crossings) EXPECT_EQ(c.dominant, std::vector<std::string>{"spin"});
+  std::ostringstream csv, console;
+  r.writeCrossingsCsv(csv);
+  r.printCrossings(console);
+  EXPECT_NE(csv.str().find(",refined,dominant\n"), std::string::npos) << csv.str();
+  EXPECT_NE(csv.str().find(",track2,yes,spin\n"), std::string::npos) << csv.str();
+  EXPECT_NE(console.str().find("track 2 (spin)"), std::string::npos) << console.str();
 }

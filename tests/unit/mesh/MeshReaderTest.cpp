@@ -15,6 +15,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
@@ -426,6 +427,73 @@ TEST(MeshReaderErrors, MissingGroupNamesTheAlternatives) {
   EXPECT_FALSE(m.hasGroup("hub"));
   expectInputErrorWith([&] { m.group("hub"); }, {"beam_line.geo", "\"hub\"", "\"beam\"", "\"root\"", "\"tip\""});
   expectInputErrorWith([&] { m.nodeSet("hub"); }, {"\"hub\""});
+}
+
+// ---------------------------------------------------------------------------
+// The .geo mesher helper, found without a path compiled in (Mesh.cpp,
+// geoMesherPath): $CMS_GEO_MESHER, else <program>/../libexec/cms.
+// ---------------------------------------------------------------------------
+
+/// Run only in a copy of this program (GeoMesherLookup.* below): reads a
+/// .geo script, and expects the mesher found when CMS_TEST_MESHER is
+/// "found", the error naming where it looked when it is "missing".
+TEST(GeoMesherLookup, DISABLED_InACopyOfThisProgram) {
+  const char* expected = std::getenv("CMS_TEST_MESHER");
+  ASSERT_NE(expected, nullptr) << "run by GeoMesherLookup.* only";
+  const char* tried = std::getenv("CMS_TEST_MESHER_TRIED");
+  if (std::string(expected) == "found") {
+    EXPECT_EQ(cms::mesh::readGmsh(kMeshes + "bar_hex.geo").nodeCount(), 21u * 9);
+  } else {
+    expectInputErrorWith([&] { cms::mesh::readGmsh(kMeshes + "bar_hex.geo"); },
+                         {"cannot find the .geo mesher cms-geo-mesher", tried ? tried : "?", "set CMS_GEO_MESHER"});
+  }
+}
+
+/// Runs this program's copy `exe` on the test above with `env` added; true when it passed.
+bool copyPasses(const fs::path& exe, const std::string& env) {
+  const std::string command = "env -u CMS_GEO_MESHER " + env + " '" + exe.string() +
+                              "' --gtest_also_run_disabled_tests"
+                              " --gtest_filter=GeoMesherLookup.DISABLED_InACopyOfThisProgram";
+  return std::system(command.c_str()) == 0;
+}
+
+TEST(GeoMesherLookup, FoundInLibexecAboveTheProgramNotInTheBuildTree) {
+  // A copy of this program in <tmp>/bin: no path of the build may lead it
+  // to the helper; <tmp>/libexec/cms/cms-geo-mesher (the installed layout) does.
+  TempDir dir("cms_mesher_lookup");
+  fs::create_directories(dir.path() / "bin");
+  const fs::path exe = dir.path() / "bin" / "test_mesh_readers";
+  fs::copy_file(fs::read_symlink("/proc/self/exe"), exe);
+  const fs::path libexec = dir.path() / "libexec" / "cms" / "cms-geo-mesher";
+  EXPECT_TRUE(copyPasses(exe, "CMS_TEST_MESHER=missing CMS_TEST_MESHER_TRIED='" + libexec.string() + "'"))
+      << "a copy of the program outside the build found the build tree's mesher";
+  fs::create_directories(libexec.parent_path());
+  fs::create_symlink(CMS_TEST_GEO_MESHER, libexec);
+  EXPECT_TRUE(copyPasses(exe, "CMS_TEST_MESHER=found")) << "the mesher in " << libexec << " was not found";
+}
+
+TEST(GeoMesherLookup, ABadOverrideIsNamed) {
+  // In a child: this process's mesher may be running already (started once).
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    setenv("CMS_GEO_MESHER", "/nonexistent/cms-geo-mesher", 1);
+    try {
+      cms::mesh::readGmsh(kMeshes + "bar_hex.geo");
+    } catch (const cms::InputError& e) {
+      const std::string what = e.what();
+      _exit(what.find("CMS_GEO_MESHER = /nonexistent/cms-geo-mesher is not an executable file") != std::string::npos
+                ? 0 : 2);
+    } catch (...) {
+      _exit(3);
+    }
+    _exit(4);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "2: the message does not name the variable and its value; 3: not an "
+                                       "InputError; 4: no error";
 }
 
 }  // namespace

@@ -67,6 +67,9 @@ public:
   virtual std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const = 0;
   /// The part whose orbit defines whirl ("" when none).
   virtual std::string whirlOf() const = 0;
+  /// Per mode of `modes`, the part that carries the largest share of its
+  /// kinetic energy (a substructure's name; theory §11.6).
+  virtual std::vector<std::string> dominant(const synthesis::StructureModes& modes) const = 0;
 };
 
 /// One speed, dense: eigen::DenseGyroscopicSolver with `solverParams`.
@@ -80,6 +83,10 @@ public:
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
   std::string whirlOf() const override { return system_.whirlPairs.empty() ? "" : name_; }
+  /// One part: `name` for every mode.
+  std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override {
+    return std::vector<std::string>(modes.result.modes.size(), name_);
+  }
 
 private:
   SpeedDependentSystem system_;
@@ -101,6 +108,10 @@ public:
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
   std::string whirlOf() const override;
+  /// By SynthesizedStructure::characterise's kinetic shares; parts whose
+  /// shares agree with the largest to 1e-3 are named together, "a & b"
+  /// (identical parts in a symmetric mode).
+  std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override;
 
 private:
   const synthesis::AssembledStructure& structure_;
@@ -140,6 +151,9 @@ struct EngineOrderCrossing {
   double omega = 0.0;      ///< = order * speed (rad/s)
   Whirl whirl = Whirl::Neutral;
   std::vector<int> tracks; ///< several: identical parts (or a repeated mode), listed once
+  /// Per entry of `tracks`: the substructure that carries most of that
+  /// track's kinetic energy at the crossing (for identical parts, each copy).
+  std::vector<std::string> dominant;
   bool refined = false;    ///< by bisection (else linear between sweep speeds)
 };
 
@@ -161,7 +175,14 @@ struct CampbellResult {
   std::vector<CampbellTrack> tracks;
   std::vector<double> orders;        ///< the engine orders asked
   std::vector<EngineOrderCrossing> crossings;  ///< by order, then speed; frame-rate tracks left out
-  int frameRateCrossings = 0;        ///< crossings of frame-rate tracks, left out
+  /// The crossings of frame-rate tracks that follow a held rate (met by an
+  /// engine order of the swept one), bisected like the others but no
+  /// critical speeds (a rigid motion seen at a spin rate): listed apart.
+  std::vector<EngineOrderCrossing> frameRateCrossings;
+  /// Sign changes of frame-rate tracks that follow a swept rate: such a
+  /// track lies on an engine-order line at every speed and rounding puts it
+  /// on either side. Counted; neither bisected nor listed.
+  int frameRateOnLine = 0;
   std::vector<std::pair<double, double>> unstableRanges;  ///< Omega_ref (rad/s) where some mode is unstable
   std::string whirlOf;               ///< the part whose orbit defines whirl
   std::string solver;                ///< the solver at the last speed
@@ -175,14 +196,17 @@ struct CampbellResult {
   void printTable(std::ostream& os, SpeedAxis axis = SpeedAxis::Rpm) const;
   /// Engine-order crossings (critical speeds) in rad/s and rpm, forward and
   /// backward told apart (unbalance excites forward whirl), identical parts
-  /// once, and the frame-rate tracks and unstable ranges.
+  /// once, each with the substructure that dominates its mode; then the
+  /// frame-rate tracks and their crossings, and the unstable ranges.
   void printCrossings(std::ostream& os) const;
   /// CSV: factor, <parameter>_rad_per_s (the reference first), and per track
   /// track<i>_hz, track<i>_stability, track<i>_damping_ratio, track<i>_whirl,
   /// track<i>_frame_rate.
   void writeCsv(std::ostream& os) const;
-  /// CSV of the crossings: order, speed_rad_per_s, speed_rpm, frequency_hz,
-  /// whirl, unbalance (yes: forward whirl at order 1), tracks (a;b).
+  /// CSV of the crossings (critical speeds only): order, speed_rad_per_s,
+  /// speed_rpm, frequency_hz, whirl, unbalance (yes: forward whirl at order
+  /// 1), tracks (a;b), refined (yes: bisected), dominant (the substructure
+  /// that dominates each track's mode there, a;b).
   void writeCrossingsCsv(std::ostream& os) const;
 };
 

@@ -20,23 +20,20 @@
 #include <Teuchos_RCP.hpp>
 
 #include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/GyroscopicSolverManager.hpp"
 #include "cms/eigen/GyroscopicSystem.hpp"
 
 namespace cms::eigen {
 
-class DenseGyroscopicSolver {
+/// The dense manager (GyroscopicSolverManager.hpp): every mode of a
+/// replicated system, or the lowest "Number of Modes".
+class DenseGyroscopicSolver : public GyroscopicSolverManager<GyroscopicSystem> {
 public:
-  /// `params` is validated against getValidParameters(): an unknown key or a
-  /// wrong type throws cms::InputError naming the key.
-  explicit DenseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList());
-
   /// Keys, types, defaults and one-line docs (print them with `print()`).
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
-
-  GyroscopicResult solve(const GyroscopicSystem& system) const;
-
-private:
-  Teuchos::ParameterList params_;
+  explicit DenseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList())
+      : GyroscopicSolverManager(params, *getValidParameters(), "DenseGyroscopicSolver") {}
+  GyroscopicResult solve(const GyroscopicSystem& system) const override;
 };
 
 /// Residual, energies, phase normalisation and stability class of modes whose

@@ -28,24 +28,21 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include "cms/eigen/GyroscopicModes.hpp"
+#include "cms/eigen/GyroscopicSolverManager.hpp"
 #include "cms/eigen/SparseGyroscopicSystem.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
 
-class SparseGyroscopicSolver {
+/// The distributed manager (GyroscopicSolverManager.hpp). Beyond the
+/// validation: "Number of Modes" >= 1 and "Block Size" >= 2 (cms::InputError).
+class SparseGyroscopicSolver : public GyroscopicSolverManager<SparseGyroscopicSystem> {
 public:
-  /// `params` is validated against getValidParameters(); unknown keys and
-  /// wrong types throw cms::InputError naming the key.
-  explicit SparseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList());
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
-
+  explicit SparseGyroscopicSolver(const Teuchos::ParameterList& params = Teuchos::ParameterList());
   /// Collective. Modes carry this rank's rows of q. On the symmetric path with
   /// Shift >= 0 a converged set is checked by checkLowestModes.
-  GyroscopicResult solve(const SparseGyroscopicSystem& system) const;
-
-private:
-  Teuchos::ParameterList params_;
+  GyroscopicResult solve(const SparseGyroscopicSystem& system) const override;
 };
 
 /// The sparse path's completeness check, factored out of solve() so that a

@@ -1,0 +1,80 @@
+// What a cms program's main does around its own steps: MPI started and
+// finished, every exception turned into one message on rank 0 and an exit
+// code (ProgramBoundary.hpp), and the options declared once each with a
+// help string, parsed, and printed back on rank 0 so that every output
+// records how it was made (as MFEM's examples do). The examples
+// (examples/ex*.cpp), built against the installed library, start this way.
+#pragma once
+
+#include <functional>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Teuchos_CommandLineProcessor.hpp>
+#include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_Core.hpp>
+
+#include "cms/core/ProgramBoundary.hpp"
+
+namespace cms {
+
+using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
+
+/// Runs `body(comm, root)` between MPI's start and end (Tpetra::ScopeGuard)
+/// inside reportErrors(program, ...): returns body's exit code, or the code
+/// of the exception it threw, with its message printed on rank 0. `argc`
+/// and `argv` are those of main, as MPI leaves them.
+template <class Body>
+int runProgram(const char* program, int& argc, char**& argv, Body&& body) {
+  Tpetra::ScopeGuard mpi(&argc, &argv);
+  const CommPtr comm = Teuchos::DefaultComm<int>::getComm();
+  const bool root = comm->getRank() == 0;
+  return reportErrors(program, root, [&]() -> int { return body(comm, root); });
+}
+
+/// A program's options: each declared once with its help string
+/// (Teuchos::CommandLineProcessor underneath; an unknown option is an
+/// error), and after parsing printed back as the command line that
+/// reproduces the run.
+class ProgramOptions {
+public:
+  /// `program`: the name printed back; `doc`: what it computes, for --help.
+  ProgramOptions(std::string program, const std::string& doc) : program_(std::move(program)), clp_(false, true) {
+    clp_.setDocString(doc.c_str());
+  }
+
+  /// --name=value into *value (int, double or std::string); *value is the
+  /// default --help shows. `value` must outlive parse().
+  template <class T>
+  void add(const char* name, T* value, const char* help) {
+    clp_.setOption(name, value, help);
+    echo_.push_back([name, value](std::ostream& os) { os << " --" << name << "=" << *value; });
+  }
+
+  /// Parses argv[1..]. Returns the exit code when the program ends here
+  /// (--help printed: ExitSuccess; an unknown or malformed option, which
+  /// Teuchos names: ExitInputError), nothing when it goes on, after
+  /// printing "<program> --name=value ... on <n> rank(s)" on rank 0.
+  std::optional<int> parse(int argc, char* argv[], const Teuchos::Comm<int>& comm) {
+    switch (clp_.parse(argc, argv)) {
+      case Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL: break;
+      case Teuchos::CommandLineProcessor::PARSE_HELP_PRINTED: return ExitSuccess;
+      default: return ExitInputError;
+    }
+    if (comm.getRank() == 0) {
+      std::cout << program_;
+      for (const auto& echo : echo_) echo(std::cout);
+      std::cout << " on " << comm.getSize() << " rank(s)\n";
+    }
+    return std::nullopt;
+  }
+
+private:
+  std::string program_;
+  Teuchos::CommandLineProcessor clp_;
+  std::vector<std::function<void(std::ostream&)>> echo_;
+};
+
+}  // namespace cms
