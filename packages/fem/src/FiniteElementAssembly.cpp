@@ -225,8 +225,10 @@ class Assembler {
           items_.push_back({Item::Kind::Spring, static_cast<int>(s), nullptr, a, b});
       }
     }
-    // Hinges (theory §17): every pair is a constraint; a pair with a spring
-    // or a damper about the axis is also an item.
+    // Hinges (theory §17): every pair is a constraint and an item (its
+    // spring and damper, zero for a free hinge: the item puts the pair's
+    // coupling in the pattern, which the prestress solve of a free hinge
+    // uses).
     for (std::size_t h = 0; h < model_.hinges.size(); ++h) {
       const HingeSet& hs = model_.hinges[h];
       const Vec3 n = unit(hs.axis);
@@ -236,8 +238,7 @@ class Assembler {
       for (auto [a, b] : coincidentPairs(mesh_, model_.name + ": hinge '" + hs.name + "'", hs.nodeSet,
                                          hs.toNodeSet, false)) {
         hingePairs_.push_back({a, b, static_cast<int>(h), k, n});
-        if (hs.stiffness != 0.0 || hs.damping != 0.0)
-          items_.push_back({Item::Kind::Hinge, static_cast<int>(h), nullptr, a, b});
+        items_.push_back({Item::Kind::Hinge, static_cast<int>(h), nullptr, a, b});
       }
     }
   }
@@ -925,13 +926,13 @@ class Assembler {
           if (lid != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) fv[lid] += w * l.value;
         }
     }
-    Teuchos::RCP<const CrsMatrix> Ksolve = out_.K;
+    Teuchos::RCP<const CrsMatrix> Ksolve = holdFreeHinges();
     auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
     if (!heldRows.empty()) {
       // Held rows and columns replaced by the identity, held loads zeroed:
       // u1 = 0 there, the rest is the supported problem.
       const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
-      Ksolve = holdDofsScaled(*out_.K, rows);
+      Ksolve = holdDofsScaled(*Ksolve, rows);
       zeroHeldRows(*fSolve, rows);
     }
     SparseDirectSolver solver(Ksolve, "CHOLMOD");
@@ -943,8 +944,81 @@ class Assembler {
                            ". Add boundary conditions or set \"Stress Stiffening\" to false");
     auto u1 = Teuchos::rcp(new MultiVector(ownedMap_, 1));
     solver.solve(*fSolve, *u1);
+    checkFreeHingesBalance(*u1, *f);
     if (!heldRows.empty()) recordReactions(*u1, *f, heldRows, heldDofs);
     return u1;
+  }
+
+  /// The hinge rotation phi = (theta_b,k - theta_a,k) / n_k of a pair as
+  /// rows and coefficients (theta_a,k may be fixed: then one row).
+  std::vector<std::pair<long long, double>> hingeRotationRows(const HingePair& p) const {
+    std::vector<std::pair<long long, double>> w;
+    expand(p.b, 3 + p.k, 1.0 / p.n[p.k], w);
+    expand(p.a, 3 + p.k, -1.0 / p.n[p.k], w);
+    return w;
+  }
+
+  /// A free hinge (no spring) is a mechanism, and K is singular. Its
+  /// steady state at the undeformed position exists only when the
+  /// centrifugal loads have no moment about it (a balanced blade, theory
+  /// §17.2); the static solve then holds each free hinge with a spring
+  /// k_s w w^T of K's own scale (the RMS entry), which carries nothing, and
+  /// checkFreeHingesBalance verifies that. Collective (the norm).
+  Teuchos::RCP<const CrsMatrix> holdFreeHinges() {
+    bool anyFree = false;
+    for (const HingePair& p : hingePairs_) anyFree = anyFree || model_.hinges[p.hinge].stiffness == 0.0;
+    if (!anyFree) return out_.K;
+    freeHingeStiffness_ = out_.K->getFrobeniusNorm() / std::sqrt(static_cast<double>(out_.layout.size));
+    auto K = Teuchos::rcp(new CrsMatrix(*out_.K, Teuchos::Copy));
+    K->resumeFill();
+    for (const HingePair& p : hingePairs_) {
+      if (model_.hinges[p.hinge].stiffness != 0.0) continue;
+      const auto w = hingeRotationRows(p);
+      for (const auto& [r, wr] : w) {
+        if (ownedMap_->getLocalElement(static_cast<GO>(r)) == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+        std::vector<GO> cols;
+        std::vector<double> vals;
+        for (const auto& [c, wc] : w) cols.push_back(static_cast<GO>(c)), vals.push_back(freeHingeStiffness_ * wr * wc);
+        K->sumIntoGlobalValues(static_cast<GO>(r), Teuchos::ArrayView<const GO>(cols),
+                               Teuchos::ArrayView<const double>(vals));
+      }
+    }
+    K->fillComplete(ownedMap_, ownedMap_);
+    return K;
+  }
+
+  /// The moment k_s phi each free hinge needed in the static solve must be
+  /// zero to rounding: below 1e-9 of the load's own moment scale
+  /// ||f||_1 times the model's extent. Otherwise the loads turn the blade
+  /// about the hinge and the undeformed position is no steady state.
+  /// Collective.
+  void checkFreeHingesBalance(const MultiVector& u1, const MultiVector& f) const {
+    if (freeHingeStiffness_ == 0.0) return;
+    double extent = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      double lo = mesh_.x(0)[c], hi = lo;
+      for (std::int64_t n = 1; n < numNodes_; ++n) lo = std::min(lo, mesh_.x(n)[c]), hi = std::max(hi, mesh_.x(n)[c]);
+      extent = std::max(extent, hi - lo);
+    }
+    const double scale = f.getVector(0)->norm1() * extent;
+    auto uv = u1.getData(0);
+    for (const HingePair& p : hingePairs_) {
+      if (model_.hinges[p.hinge].stiffness != 0.0) continue;
+      double local = 0.0, phi = 0.0;
+      for (const auto& [r, w] : hingeRotationRows(p)) {
+        const auto lid = ownedMap_->getLocalElement(static_cast<GO>(r));
+        if (lid != Teuchos::OrdinalTraits<LO>::invalid()) local += w * uv[lid];
+      }
+      Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, local, Teuchos::outArg(phi));
+      const double moment = freeHingeStiffness_ * std::abs(phi);
+      CMS_INPUT_CHECK(moment > 1e-9 * scale,
+                      model_.name << ": hinge '" << model_.hinges[p.hinge].name << "' is free (no Stiffness) but the "
+                                  << "centrifugal loads have a moment of " << moment << " N m per (rad/s)^2 about it at "
+                                  << nodeName(mesh_, p.a)
+                                  << ": the blade is not in equilibrium at its undeformed position (no steady "
+                                     "state to linearise about). Give the hinge a Stiffness, or set \"Stress "
+                                     "Stiffening\" to false");
+    }
   }
 
   /// The force each hold exerts per unit Omega^2, r = K u1 - f, on every
@@ -1051,6 +1125,7 @@ class Assembler {
   // assembleElements
   bool spinning_ = false, rotatingFrame_ = false, tilt_ = false;
   bool damped_ = false;  ///< some spring item has damping: D is assembled
+  double freeHingeStiffness_ = 0.0;  ///< k_s of holdFreeHinges (0: no free hinge)
   std::vector<std::int64_t> positions_;
   std::vector<double> xyz_ = std::vector<double>(3 * 27);
   Target vM_, vK_, vG_, vKT_, vD_;

@@ -1,5 +1,6 @@
 #include "cms/scene/Scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
@@ -78,6 +79,8 @@ ParameterList substructureKeys() {
            "a vector in the local x-y plane");
   beam.set("Clamp", "", "node set clamped (start, end, mid or ends; empty: none)");
   beam.set("Tip Mass", 0.0, "point mass at \"end\" (kg)");
+  beam.sublist("Hinges", false, "name -> hinge at a station (theory §17): Station, Axis, Stiffness, Damping")
+      .disableRecursiveValidation();
   beam.set("Tip Inertia", Teuchos::Array<double>(3, 0.0),
            "principal moments Jxx Jyy Jzz of the tip mass about \"end\" (kg m^2; a disc)");
   p.sublist("Finite Element Model").disableRecursiveValidation();
@@ -108,6 +111,60 @@ fem::Vec3 vec3(const ParameterList& p, const std::string& key, const std::string
                std::optional<std::vector<double>> fallback = std::nullopt) {
   const auto v = getNumbers(p, key, path, 3, fallback);
   return {v[0], v[1], v[2]};
+}
+
+/// A Beam's "Hinges" (theory §17): each at a station (m from "From") on an
+/// interior node, which is split in two coincident nodes, the one toward
+/// "From" keeping the elements before it (node set "<name>_inboard", the
+/// hinge's first node) and a new one the elements after it
+/// ("<name>_outboard", the second). Axis, Stiffness and Damping as in a
+/// Finite Element Model's Hinges.
+void addBeamHinges(const ParameterList& b, const std::string& path, int elements, double length,
+                   mesh::Mesh& mesh, fem::FiniteElementModel& model) {
+  if (!b.isSublist("Hinges")) return;
+  const ParameterList& list = b.sublist("Hinges");
+  std::vector<int> split;  // the interior node of each hinge
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string name = list.name(it), hp = path + "/Hinges/" + name;
+    CMS_INPUT_CHECK(!list.isSublist(name), hp << ": must be a list of keys (Station, Axis, Stiffness, Damping)");
+    ParameterList h = list.sublist(name);
+    CMS_INPUT_CHECK(h.isParameter("Node Set") || h.isParameter("To Node Set"),
+                    hp << ": a Beam's hinge is placed by \"Station\", not by node sets (those are for a "
+                          "\"Finite Element Model\")");
+    CMS_INPUT_CHECK(!h.isParameter("Station"), hp << ": missing \"Station\" (m from \"From\", at a node)");
+    const double station = getNumber(h, "Station", hp);
+    const double spacing = length / elements, at = station / spacing;
+    const long long node = std::llround(at);
+    CMS_INPUT_CHECK(!(station > 0.0 && station < length) || std::abs(at - node) > 1e-9 * elements || node <= 0 ||
+                        node >= elements,
+                    hp << "/Station = " << station << " must be at an interior node of the beam: the nodes are every "
+                       << spacing << " m (length " << length << ", Elements = " << elements << "), e.g. "
+                       << spacing * std::clamp<long long>(node, 1, elements - 1));
+    CMS_INPUT_CHECK(std::find(split.begin(), split.end(), static_cast<int>(node)) != split.end(),
+                    hp << "/Station = " << station << ": another hinge is at that node; hinges in series need an "
+                          "element between them");
+    split.push_back(static_cast<int>(node));
+    h.remove("Station");
+    h.set("Node Set", name + "_inboard");
+    h.set("To Node Set", name + "_outboard");
+    model.hinges.push_back(fem::hingeFromParameters(name, h, hp));
+    // The new node, coincident, takes over the element after the station.
+    const auto twin = static_cast<std::int64_t>(mesh.nodeCount());
+    mesh.nodeTags.push_back(mesh.nodeTags.size() + 1);
+    for (int d = 0; d < 3; ++d) mesh.coordinates.push_back(mesh.coordinates[3 * node + d]);
+    mesh::CellBlock& lines = mesh.groups.front().blocks.front();
+    lines.nodes[2 * node] = twin;  // element `node` runs from node to node + 1
+    for (auto [set, v] : {std::pair{name + "_inboard", static_cast<std::int64_t>(node)}, std::pair{name + "_outboard", twin}}) {
+      CMS_INPUT_CHECK(mesh.hasGroup(set), hp << ": node set '" << set << "' exists already (two hinges named alike?)");
+      mesh::PhysicalGroup pg{set, 0, static_cast<int>(mesh.groups.size()) + 1, {}};
+      mesh::CellBlock blk;
+      blk.type = mesh::CellType::Point1, blk.gmshType = 15, blk.nodesPerCell = 1;
+      blk.nodes.push_back(v);
+      blk.cellTags.push_back(static_cast<std::size_t>(3 * elements + 10 + v));
+      pg.blocks.push_back(blk);
+      mesh.groups.push_back(pg);
+    }
+  }
 }
 
 /// A straight frame beam from the "Beam" keys: the mesh of a segment with
@@ -179,6 +236,7 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
   for (double v : J) CMS_INPUT_CHECK(v < 0, path << "/Tip Inertia: " << v << " must be >= 0");
   CMS_INPUT_CHECK(tip == 0 && (J[0] > 0 || J[1] > 0 || J[2] > 0), path << "/Tip Inertia needs a \"Tip Mass\"");
   if (tip > 0) m->pointMasses.push_back({"tip mass", "end", tip, {J[0], J[1], J[2], 0, 0, 0}});
+  addBeamHinges(b, path, elements, length, *mesh, *m);
   return m;
 }
 

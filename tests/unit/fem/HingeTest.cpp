@@ -268,3 +268,21 @@ TEST(Hinge, BadInputIsAnInputErrorNamingTheHinge) {
   p.set("Axle", 1.0);
   fixtures::expectInputError([&] { fem::hingeFromParameters("lag", p, "scene.yaml: Hinges/lag"); }, "Axle");
 }
+
+// A free hinge (no spring) is a mechanism: the prestress solve holds it
+// with a spring that must carry nothing. A radial blade is balanced (the
+// centrifugal loads pass through the hinge): assembled, its hinge rotation
+// stiffness at speed is then Omega^2 e S alone (the offset-hinge validation
+// checks its frequency). With the spin axis moved off the hub's line
+// (origin at y = 0.3) the centrifugal loads turn the blade about its lag
+// hinge: no steady state at the undeformed position, an input error naming
+// the hinge.
+TEST(Hinge, FreeHingeNeedsBalancedCentrifugalLoads) {
+  fixtures::HingedBladeSpec b;
+  b.spinning = true;
+  EXPECT_NO_THROW(fem::assemble(fixtures::hingedBlade(b), world()));
+  auto m = fixtures::hingedBlade(b);
+  m.spin->spin.origin = {0.0, 0.3, 0.0};
+  fixtures::expectInputError([&] { fem::assemble(m, world()); },
+                             "hinge 'hinge' is free (no Stiffness) but the centrifugal loads have a moment");
+}
