@@ -75,6 +75,16 @@ std::vector<std::int64_t> nodeSet(const SubstructureSpec& s, const std::string& 
                                            << "' is not a physical group of " << mesh.source);
   auto nodes = mesh.nodeSet(set);
   CMS_INPUT_CHECK(nodes.empty(), "substructure '" << s.name << "': " << role << " node set '" << set << "' is empty");
+  // A hinge's second node keeps only its hinge rotation as a row (theory
+  // §17): its translations are the first node's, which the attachment maps
+  // (built from the rows) would miss. Refused rather than clamped silently.
+  for (const fem::HingeSet& h : s.model->hinges)
+    for (std::int64_t b : mesh.nodeSet(h.toNodeSet))
+      CMS_INPUT_CHECK(std::find(nodes.begin(), nodes.end(), b) != nodes.end(),
+                      "substructure '" << s.name << "': " << role << " node set '" << set << "' holds node "
+                                       << mesh.nodeTags[b] << ", the second node of hinge '" << h.name
+                                       << "', which follows the hinge; use its first node set '" << h.nodeSet
+                                       << "' instead");
   return nodes;
 }
 
