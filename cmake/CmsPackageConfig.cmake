@@ -8,7 +8,7 @@
 #   <prefix>/lib/cmake/cms/cmsConfigVersion.cmake   SameMinorVersion (0.x: minor
 #                                                   versions may break the API)
 #   <prefix>/lib/cmake/cms/cmsTargets[-release].cmake  cms::cms, cms::<package>
-#   <prefix>/lib/cmake/cms/Find{CHOLMOD,ARPACK,Gmsh}.cmake  for find_dependency
+#   <prefix>/lib/cmake/cms/Find{CHOLMOD,MUMPS,ARPACK,Gmsh}.cmake  for find_dependency
 include_guard(GLOBAL)
 include(CMakePackageConfigHelpers)
 include(GNUInstallDirs)
@@ -37,6 +37,7 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/cmake/cmsConfigVersion.cm
                                  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(EXPORT cmsTargets NAMESPACE cms:: DESTINATION ${CMS_INSTALL_CMAKEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/cmake/cmsConfig.cmake ${PROJECT_BINARY_DIR}/cmake/cmsConfigVersion.cmake
-              ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake ${PROJECT_SOURCE_DIR}/cmake/FindARPACK.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake ${PROJECT_SOURCE_DIR}/cmake/FindMUMPS.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/FindARPACK.cmake
               ${PROJECT_SOURCE_DIR}/cmake/FindGmsh.cmake
         DESTINATION ${CMS_INSTALL_CMAKEDIR})

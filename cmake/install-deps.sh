@@ -9,6 +9,7 @@ packages=(
   trilinos-all-dev libptscotch-dev libscotch-dev   # Tpetra, Anasazi, Amesos2, Belos, Teuchos
   libopenmpi-dev openmpi-bin                        # MPI (Trilinos is built against Open MPI)
   libsuitesparse-dev                                # CHOLMOD
+  libmumps-dev                                      # MUMPS: distributed factorisations
   libarpack2-dev libparpack2-dev                    # ARPACK and its MPI version PARPACK
   libgtest-dev                                      # GoogleTest
   gmsh libgmsh-dev                                  # meshes: the Gmsh SDK and command

@@ -13,6 +13,7 @@
 #include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
 
 namespace cms {
@@ -44,6 +45,38 @@ struct SparseDirectSolver::Impl {
   cholmod_factor* factor = nullptr;
   bool commonStarted = false;
   double factorNonzeros = 0.0, factorFlops = 0.0;  ///< CHOLMOD's nnz(L) and flop count
+  // "MUMPS" (LU) and "MUMPS-LDLT" (L D L^T, definiteness as CHOLMOD reports
+  // it): factored across the ranks, nothing gathered (DistributedDirectSolver).
+  std::unique_ptr<DistributedDirectSolver> mumps;
+
+  Outcome factorMumps(const std::string& method, std::string& failure) {
+    const bool ldlt = method == "MUMPS-LDLT";
+    mumps = std::make_unique<DistributedDirectSolver>(
+        A, ldlt ? DistributedDirectSolver::Kind::Symmetric : DistributedDirectSolver::Kind::General,
+        "a matrix of " + std::to_string(A->getGlobalNumRows()) + " rows");
+    try {
+      mumps->factor(/*allowNullPivots*/ true);  // told apart below
+    } catch (const NumericalError& e) {
+      failure = std::string(method + ": ") + e.what();
+      mumps.reset();
+      return Outcome::Singular;
+    }
+    factorNonzeros = mumps->factorEntries();
+    factorFlops = mumps->factorFlops();
+    if (ldlt && mumps->negativePivots() > 0) {
+      failure = "MUMPS-LDLT: not positive definite (" + std::to_string(mumps->negativePivots()) +
+                " negative pivots of " + std::to_string(mumps->rows()) + ")";
+      return Outcome::NotPositiveDefinite;
+    }
+    if (mumps->nullPivots() > 0) {
+      // The same verdict as CHOLMOD's pivot-ratio test: definite (or
+      // nonsingular) only to rounding.
+      failure = method + ": " + std::to_string(mumps->nullPivots()) + " pivots of " +
+                std::to_string(mumps->rows()) + " zero to rounding (singular to working precision)";
+      return ldlt ? Outcome::NotPositiveDefinite : Outcome::Singular;
+    }
+    return Outcome::Factored;
+  }
 
   ~Impl() {
     if (factor) cholmod_free_factor(&factor, &common);
@@ -215,14 +248,14 @@ struct SparseDirectSolver::Impl {
 };
 
 bool SparseDirectSolver::isKnownMethod(const std::string& m) {
-  return m == "KLU2" || m == "Tacho" || m == "CHOLMOD";
+  return m == "KLU2" || m == "Tacho" || m == "CHOLMOD" || m == "MUMPS" || m == "MUMPS-LDLT";
 }
 
 SparseDirectSolver::SparseDirectSolver(Teuchos::RCP<const CrsMatrix> A, const std::string& method)
     : impl_(new Impl), method_(method) {
   CMS_INPUT_CHECK(!isKnownMethod(method), "SparseDirectSolver: unknown method \""
                                               << method
-                                              << "\"; valid: KLU2, Tacho, CHOLMOD");
+                                              << "\"; valid: KLU2, Tacho, CHOLMOD, MUMPS, MUMPS-LDLT");
   CMS_INPUT_CHECK(A.is_null() || !A->isFillComplete(),
                   "SparseDirectSolver: the matrix must exist and be fill-complete");
   impl_->A = A;
@@ -236,7 +269,8 @@ SparseDirectSolver::Outcome SparseDirectSolver::factor() {
   if (method_ == "CHOLMOD") {
     out = impl_->factorCholmod(failure_);
   } else {
-    out = impl_->factorAmesos(method_, failure_);
+    out = method_.rfind("MUMPS", 0) == 0 ? impl_->factorMumps(method_, failure_)
+                                         : impl_->factorAmesos(method_, failure_);
     // LU codes factor a singular matrix without complaint and then return
     // Inf/NaN or a huge null-space component: solve a probe A x = A x0. A
     // backward-stable solve has a small residual even then, so judge the
@@ -277,6 +311,10 @@ SparseDirectSolver::Outcome SparseDirectSolver::factor() {
 void SparseDirectSolver::solve(const MultiVector& B, MultiVector& X) const {
   if (method_ == "CHOLMOD") {
     impl_->solveCholmod(B, X);
+    return;
+  }
+  if (impl_->mumps) {
+    impl_->mumps->solve(B, X);
     return;
   }
   TEUCHOS_TEST_FOR_EXCEPTION(impl_->toRoot.is_null(), std::logic_error,

@@ -1,0 +1,113 @@
+// A sparse direct factorisation done across the ranks of a distributed
+// Tpetra::CrsMatrix by MUMPS (Debian's libmumps-dev, called directly through
+// its C interface; issue 18), instead of gathering the matrix to rank 0 as
+// SparseDirectSolver's CHOLMOD and KLU2 do.
+//
+//   input    distributed assembled (ICNTL(18) = 3): each rank hands MUMPS the
+//            rows it owns, straight from the CrsMatrix (upper triangle only
+//            for the symmetric kinds); nothing is gathered.
+//   ordering sequential analysis on the host (ICNTL(28) = 1, ICNTL(7) = 7,
+//            MUMPS's automatic choice): Debian's parallel libmumps-dev has
+//            PORD, AMD, AMF and QAMD but neither PT-Scotch nor ParMETIS
+//            (those are libmumps-ptscotch-dev, not linked here). The
+//            analysis is symbolic; the factorisation is distributed.
+//   solve    distributed right-hand side (ICNTL(20) = 10: each rank gives
+//            its own rows) and distributed solution (ICNTL(21) = 1), moved to
+//            the caller's map by one Tpetra::Import; no rank holds all of B
+//            or X.
+//   inertia  for the symmetric kinds, the number of negative pivots of
+//            L D L^T (INFOG(12)), which by Sylvester's law is the number of
+//            negative eigenvalues (Sturm counts), and the null pivots
+//            (INFOG(28), null-pivot detection ICNTL(24) = 1 at a threshold).
+//   errors   INFOG(1) < 0 becomes cms::NumericalError naming the matrix,
+//            MUMPS's code, INFOG(2) and the meaning of the code. Workspace
+//            shortfalls (-8, -9, -14, -17, -20) are retried with twice the
+//            relaxation (ICNTL(14)) up to four times first.
+//
+// Every call is collective over the matrix's communicator. The matrix must be
+// square and fill-complete with its row, domain and range maps the same.
+// Tpetra and MUMPS headers stay in the .cpp.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "cms/core/SparseInertia.hpp"
+#include "cms/core/TpetraTypes.hpp"
+
+namespace cms {
+
+class DistributedDirectSolver {
+public:
+  enum class Kind {
+    General,            ///< SYM = 0: LU with partial threshold pivoting, any nonsingular matrix
+    Symmetric,          ///< SYM = 2: L D L^T with 1x1/2x2 pivots, symmetric indefinite; inertia
+    PositiveDefinite    ///< SYM = 1: L D L^T without pivoting, symmetric positive definite only
+  };
+
+  /// `name` is how errors refer to the matrix ("K of blade", "Q(tau)").
+  /// `nullPivotThreshold` > 0: a pivot whose row/column infinity norm is at
+  /// or below it is null (counted in nullPivots(), replaced by MUMPS); 0:
+  /// kTinyPivot times the largest |a_jj|, the same "zero to rounding" as
+  /// cms::inertia. Throws cms::InputError for a matrix that is not square,
+  /// not fill-complete, or has different row and domain/range maps.
+  DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A, Kind kind, std::string name,
+                          double nullPivotThreshold = 0.0);
+  ~DistributedDirectSolver();
+  DistributedDirectSolver(const DistributedDirectSolver&) = delete;
+  DistributedDirectSolver& operator=(const DistributedDirectSolver&) = delete;
+
+  /// Analysis and numeric factorisation. Throws cms::NumericalError (the
+  /// matrix's name, MUMPS's INFOG(1), INFOG(2) and meaning) if MUMPS fails,
+  /// and, unless `allowNullPivots`, when MUMPS found null pivots (the matrix
+  /// is singular to working precision; the counts are set either way, for a
+  /// caller that counts inertia or tells "not positive definite" apart).
+  void factor(bool allowNullPivots = false);
+  /// X = A^-1 B (B and X on A's row map; any number of columns).
+  void solve(const MultiVector& B, MultiVector& X) const;
+
+  /// Symmetric kinds: negative pivots of L D L^T, i.e. negative eigenvalues
+  /// (INFOG(12)); General: 0.
+  long long negativePivots() const { return negative_; }
+  /// Pivots MUMPS found null at the threshold (INFOG(28)).
+  long long nullPivots() const { return null_; }
+  long long rows() const { return n_; }
+
+  double factorSeconds() const { return factorSeconds_; }
+  /// Entries of the factors (INFOG(29)) and flops of the elimination (RINFOG(3)).
+  double factorEntries() const { return factorEntries_; }
+  double factorFlops() const { return factorFlops_; }
+  /// MUMPS's own memory in the factorisation, MB: the largest rank's
+  /// (INFOG(21)) and the sum over ranks (INFOG(22)).
+  double factorMemoryMaxMB() const { return memoryMaxMB_; }
+  double factorMemoryTotalMB() const { return memoryTotalMB_; }
+  const std::string& name() const { return name_; }
+
+  /// What MUMPS's error code INFOG(1) < 0 means (MUMPS 5.5 user guide §8).
+  static std::string errorMeaning(int infog1, long long infog2);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::string name_;
+  long long n_ = 0, negative_ = 0, null_ = 0;
+  double factorSeconds_ = 0.0, factorEntries_ = 0.0, factorFlops_ = 0.0;
+  double memoryMaxMB_ = 0.0, memoryTotalMB_ = 0.0;
+};
+
+/// The inertia of the symmetric A from MUMPS's distributed L D L^T (SYM = 2):
+/// the same contract as cms::inertia (SparseInertia.hpp), pivots zero to
+/// rounding counted in tinyPivots by MUMPS's null-pivot detection at
+/// kTinyPivot max |a_jj|; maxPivotRatio is not available from MUMPS (0).
+/// A MUMPS failure is returned in `failure`, not thrown. Collective.
+SparseInertia distributedInertia(const CrsMatrix& A);
+
+/// The "Direct Solver" choice for a factorisation of A: "CHOLMOD" (the
+/// gathered SparseDirectSolver methods), "MUMPS", or "Auto": MUMPS when A is
+/// distributed over more than one rank and has at least
+/// kDistributedAutoRows rows, else CHOLMOD. Returns true for MUMPS.
+/// Throws cms::InputError for any other choice.
+bool useDistributedSolver(const std::string& choice, const CrsMatrix& A);
+inline constexpr long long kDistributedAutoRows = 20000;
+
+}  // namespace cms

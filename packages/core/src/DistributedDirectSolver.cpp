@@ -1,0 +1,349 @@
+#include "cms/core/DistributedDirectSolver.hpp"
+
+#include <dmumps_c.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Teuchos_Time.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
+
+#include "cms/core/Error.hpp"
+
+namespace cms {
+
+namespace {
+
+// ICNTL(k), INFOG(k), ... are 1-based in MUMPS's documentation.
+inline MUMPS_INT& icntl(DMUMPS_STRUC_C& id, int k) { return id.icntl[k - 1]; }
+inline double& cntl(DMUMPS_STRUC_C& id, int k) { return id.cntl[k - 1]; }
+inline MUMPS_INT infog(const DMUMPS_STRUC_C& id, int k) { return id.infog[k - 1]; }
+inline MUMPS_INT info(const DMUMPS_STRUC_C& id, int k) { return id.info[k - 1]; }
+
+/// MUMPS reports large counts negative, in millions (INFOG(29), INFO(2) ...).
+double countOf(MUMPS_INT v) { return v >= 0 ? double(v) : -1e6 * double(v); }
+
+MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
+  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
+  return mpi ? (*mpi->getRawMpiComm())() : MPI_COMM_SELF;
+}
+
+bool isWorkspaceShortfall(int code) {
+  return code == -8 || code == -9 || code == -14 || code == -17 || code == -20;
+}
+
+}  // namespace
+
+std::string DistributedDirectSolver::errorMeaning(int e, long long i2) {
+  const std::string n2 = std::to_string(i2);
+  switch (e) {
+    case -1: return "an error occurred on MPI process " + n2;
+    case -2: return "NNZ (entries) out of range: " + n2;
+    case -3: return "MUMPS called with an invalid JOB";
+    case -4: return "error in the user-given permutation (PERM_IN) at " + n2;
+    case -5: return "not enough memory for the real workspace of the analysis (" + n2 + ")";
+    case -6: return "the matrix is structurally singular (structural rank " + n2 + ")";
+    case -7: return "not enough memory for the integer workspace of the analysis (" + n2 + ")";
+    case -8: return "the integer workarray IS is too small for the factorisation (ICNTL(14))";
+    case -9: return "the real workarray S is too small for the factorisation (ICNTL(14))";
+    case -10: return "the matrix is numerically singular (" + n2 + " pivots eliminated)";
+    case -11: return "the real workarray S is too small for the solution";
+    case -12: return "the real workarray S is too small for iterative refinement";
+    case -13: return "an allocation failed (" + n2 + " entries; negative: millions)";
+    case -14: return "the integer workarray IS is too small for the solution";
+    case -15: return "the integer workarray IS is too small for iterative refinement or error analysis";
+    case -16: return "N is out of range: " + n2;
+    case -17: return "the internal send buffer is too small (ICNTL(14))";
+    case -19: return "the memory limit ICNTL(23) is too small";
+    case -20: return "the internal reception buffer is too small (ICNTL(14))";
+    case -21: return "PAR = 0 is not allowed on one process";
+    case -22: return "an array given to MUMPS is missing or too small (" + n2 + ")";
+    case -23: return "MPI was not initialised";
+    case -25: return "BLACS/ScaLAPACK failed on the root node";
+    case -26: return "LRHS is out of range: " + n2;
+    case -29: return "LSOL_loc is smaller than INFO(23): " + n2;
+    case -32: return "incompatible NRHS: " + n2;
+    case -38: return "parallel analysis requested without PT-Scotch or ParMETIS";
+    case -40: return "SYM = 1 (positive definite) was declared but a negative or null pivot was met; use SYM = 2";
+    case -44: return "the solve phase was called without a successful factorisation";
+    case -53: return "the structure of the matrix changed between analysis and factorisation";
+    default: return "MUMPS error " + std::to_string(e) + " (INFOG(2) = " + n2 + "); see the MUMPS 5.5 user guide §8";
+  }
+}
+
+struct DistributedDirectSolver::Impl {
+  Teuchos::RCP<const CrsMatrix> A;
+  Kind kind = Kind::General;
+  double nullTolerance = kTinyPivot;
+  DMUMPS_STRUC_C id{};
+  bool started = false;
+  // MUMPS's 1-based index of each owned row (the caller's local order) and
+  // of each column of A's column map.
+  std::vector<MUMPS_INT> rowIndex, colIndex;
+  // idMap: the same rows, in the same local order, with global id = MUMPS
+  // index - 1: the space the distributed solution is imported into.
+  Teuchos::RCP<const Map> idMap;
+  // The distributed solution's layout (ISOL_loc, fixed after factorisation)
+  // and its import to idMap, built at the first solve.
+  mutable Teuchos::RCP<const Map> solMap;
+  mutable Teuchos::RCP<const Tpetra::Import<>> fromSol;
+  std::vector<MUMPS_INT> irn, jcn;
+  std::vector<double> values;
+
+  void call(int job) {
+    id.job = job;
+    dmumps_c(&id);
+  }
+
+  ~Impl() {
+    if (started) call(-2);
+  }
+
+  /// MUMPS indices: gid - min + 1 when the row map's ids fill [min, max]
+  /// exactly (every map in this code), else a contiguous renumbering in
+  /// rank order with the columns' numbers imported from their owners.
+  void number() {
+    const auto rowMap = A->getRowMap();
+    const auto colMap = A->getColMap();
+    const auto comm = rowMap->getComm();
+    const long long N = static_cast<long long>(rowMap->getGlobalNumElements());
+    const long long lo = rowMap->getMinAllGlobalIndex(), hi = rowMap->getMaxAllGlobalIndex();
+    const size_t nloc = rowMap->getNodeNumElements();
+    rowIndex.resize(nloc);
+    colIndex.resize(colMap->getNodeNumElements());
+    Teuchos::Array<GlobalOrdinal> ids(nloc);
+    if (hi - lo + 1 == N) {
+      for (size_t i = 0; i < nloc; ++i) rowIndex[i] = static_cast<MUMPS_INT>(rowMap->getGlobalElement(i) - lo + 1);
+      for (size_t c = 0; c < colIndex.size(); ++c)
+        colIndex[c] = static_cast<MUMPS_INT>(colMap->getGlobalElement(c) - lo + 1);
+    } else {
+      long long offset = 0, mine = static_cast<long long>(nloc);
+      Teuchos::scan(*comm, Teuchos::REDUCE_SUM, mine, Teuchos::outArg(offset));
+      offset -= mine;
+      Vector own(rowMap), cols(colMap);
+      {
+        auto v = own.getLocalViewHost(Tpetra::Access::OverwriteAll);
+        for (size_t i = 0; i < nloc; ++i) {
+          rowIndex[i] = static_cast<MUMPS_INT>(offset + static_cast<long long>(i) + 1);
+          v(i, 0) = rowIndex[i];
+        }
+      }
+      cols.doImport(own, Tpetra::Import<>(rowMap, colMap), Tpetra::INSERT);
+      auto c = cols.getLocalViewHost(Tpetra::Access::ReadOnly);
+      for (size_t k = 0; k < colIndex.size(); ++k) colIndex[k] = static_cast<MUMPS_INT>(std::lround(c(k, 0)));
+    }
+    for (size_t i = 0; i < nloc; ++i) ids[i] = rowIndex[i] - 1;
+    idMap = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(N), ids(), 0, comm));
+  }
+
+  /// The owned rows as coordinate triplets (upper triangle for SYM != 0).
+  double triplets() {
+    const size_t nloc = A->getRowMap()->getNodeNumElements();
+    irn.clear();
+    jcn.clear();
+    values.clear();
+    irn.reserve(A->getNodeNumEntries());
+    jcn.reserve(A->getNodeNumEntries());
+    values.reserve(A->getNodeNumEntries());
+    double maxDiag = 0.0;
+    CrsMatrix::local_inds_host_view_type cols;
+    CrsMatrix::values_host_view_type vals;
+    for (size_t i = 0; i < nloc; ++i) {
+      A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+      const MUMPS_INT r = rowIndex[i];
+      for (size_t e = 0; e < cols.extent(0); ++e) {
+        const MUMPS_INT c = colIndex[cols(e)];
+        if (c == r) maxDiag = std::max(maxDiag, std::abs(vals(e)));
+        if (kind != Kind::General && c < r) continue;
+        irn.push_back(r);
+        jcn.push_back(c);
+        values.push_back(vals(e));
+      }
+    }
+    return maxDiag;
+  }
+};
+
+DistributedDirectSolver::DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A, Kind kind, std::string name,
+                                                 double nullPivotTolerance)
+    : impl_(new Impl), name_(std::move(name)) {
+  CMS_INPUT_CHECK(A.is_null() || !A->isFillComplete(),
+                  "DistributedDirectSolver (" << name_ << "): the matrix must exist and be fill-complete");
+  CMS_INPUT_CHECK(A->getGlobalNumRows() != A->getGlobalNumCols() ||
+                      !A->getRowMap()->isSameAs(*A->getDomainMap()) ||
+                      !A->getRowMap()->isSameAs(*A->getRangeMap()),
+                  "DistributedDirectSolver (" << name_ << "): the matrix must be square with its row, domain and "
+                                                 "range maps the same");
+  CMS_INPUT_CHECK(A->getGlobalNumRows() > static_cast<Tpetra::global_size_t>(std::numeric_limits<MUMPS_INT>::max()),
+                  "DistributedDirectSolver (" << name_ << "): " << A->getGlobalNumRows()
+                                              << " rows exceed MUMPS's 32-bit indices (libmumps64-dev has 64-bit ones)");
+  CMS_INPUT_CHECK(!(nullPivotTolerance >= 0.0), "DistributedDirectSolver (" << name_ << "): the null-pivot tolerance "
+                                                                              << nullPivotTolerance << " must be >= 0");
+  impl_->A = A;
+  impl_->kind = kind;
+  if (nullPivotTolerance > 0.0) impl_->nullTolerance = nullPivotTolerance;
+  n_ = static_cast<long long>(A->getGlobalNumRows());
+}
+
+DistributedDirectSolver::~DistributedDirectSolver() = default;
+
+void DistributedDirectSolver::factor(bool allowNullPivots) {
+  Teuchos::Time timer("factor", true);
+  Impl& m = *impl_;
+  const auto comm = m.A->getComm();
+  if (m.started) {  // a second factor() starts afresh
+    m.call(-2);
+    m.started = false;
+  }
+  m.number();
+  m.triplets();
+  DMUMPS_STRUC_C& id = m.id;
+  id = DMUMPS_STRUC_C{};
+  id.par = 1;  // the host works too
+  id.sym = m.kind == Kind::General ? 0 : (m.kind == Kind::PositiveDefinite ? 1 : 2);
+  id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(rawComm(*comm)));
+  m.call(-1);
+  m.started = true;
+  auto check = [&](const char* phase) {
+    const int e = infog(id, 1);
+    if (e >= 0) return;
+    throw NumericalError(name_ + ": MUMPS " + phase + " failed with INFOG(1) = " + std::to_string(e) +
+                         ", INFOG(2) = " + std::to_string(infog(id, 2)) + ": " +
+                         errorMeaning(e, infog(id, 2)) + " (" + std::to_string(n_) + " rows)");
+  };
+  check("initialisation");
+  icntl(id, 1) = -1;  // no error, diagnostic, global or statistics output: errors come back as exceptions
+  icntl(id, 2) = -1;
+  icntl(id, 3) = -1;
+  icntl(id, 4) = 0;
+  icntl(id, 5) = 0;   // assembled matrix
+  icntl(id, 18) = 3;  // distributed by the user: each rank its own rows
+  icntl(id, 28) = 1;  // sequential analysis (no PT-Scotch/ParMETIS in libmumps-dev)
+  icntl(id, 7) = 7;   // ordering: MUMPS's automatic choice among those built in
+  icntl(id, 20) = 10; // distributed right-hand side
+  icntl(id, 21) = 1;  // distributed solution
+  icntl(id, 24) = 1;  // null-pivot detection: counted in INFOG(28), never silently divided by
+  cntl(id, 3) = m.nullTolerance;  // null if |pivot row| <= CNTL(3) ||A_pre||
+  // The root node by ScaLAPACK does not count its negative pivots for
+  // SYM = 2 in every version: factor it sequentially so INFOG(12) is exact.
+  if (m.kind != Kind::General) icntl(id, 13) = 1;
+  id.n = static_cast<MUMPS_INT>(n_);
+  id.nnz_loc = static_cast<MUMPS_INT8>(m.irn.size());
+  id.irn_loc = m.irn.data();
+  id.jcn_loc = m.jcn.data();
+  id.a_loc = m.values.data();
+  m.call(1);
+  check("analysis");
+  for (int attempt = 0;; ++attempt) {
+    m.call(2);
+    if (!(isWorkspaceShortfall(infog(id, 1)) && attempt < 4)) break;
+    icntl(id, 14) = 2 * std::max<MUMPS_INT>(icntl(id, 14), 20);
+  }
+  check("factorisation");
+  negative_ = m.kind == Kind::General ? 0 : countOf(infog(id, 12));
+  null_ = countOf(infog(id, 28));
+  factorEntries_ = countOf(infog(id, 29));
+  factorFlops_ = id.rinfog[2];
+  memoryMaxMB_ = infog(id, 21);
+  memoryTotalMB_ = infog(id, 22);
+  // The factors are MUMPS's own now; the triplets are not needed to solve.
+  std::vector<MUMPS_INT>().swap(m.irn);
+  std::vector<MUMPS_INT>().swap(m.jcn);
+  std::vector<double>().swap(m.values);
+  id.irn_loc = id.jcn_loc = nullptr;
+  id.a_loc = nullptr;
+  m.solMap = Teuchos::null;
+  m.fromSol = Teuchos::null;
+  factorSeconds_ = timer.stop();
+  if (null_ > 0 && !allowNullPivots) {
+    std::ostringstream os;
+    os << name_ << ": singular to working precision: MUMPS found " << null_ << " null pivots of " << n_
+       << " (a pivot row's norm at or below " << m.nullTolerance
+       << " times the matrix's; null-pivot detection, ICNTL(24))";
+    throw NumericalError(os.str());
+  }
+}
+
+void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const {
+  Impl& m = *impl_;
+  CMS_INPUT_CHECK(!m.started || m.idMap.is_null(), "DistributedDirectSolver (" << name_ << "): solve before factor");
+  DMUMPS_STRUC_C& id = m.id;
+  const size_t nv = B.getNumVectors();
+  const size_t nloc = m.rowIndex.size();
+  // Each rank's own rows of B, column-major (B may be strided).
+  std::vector<double> rhs(std::max<size_t>(1, nloc * nv));
+  {
+    auto b = B.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (size_t j = 0; j < nv; ++j)
+      for (size_t i = 0; i < nloc; ++i) rhs[i + j * nloc] = b(i, j);
+  }
+  const size_t nsol = static_cast<size_t>(std::max<MUMPS_INT>(info(id, 23), 0));
+  std::vector<double> sol(std::max<size_t>(1, nsol * nv));
+  std::vector<MUMPS_INT> isol(std::max<size_t>(1, nsol));
+  id.nrhs = static_cast<MUMPS_INT>(nv);
+  id.nloc_rhs = static_cast<MUMPS_INT>(nloc);
+  id.lrhs_loc = static_cast<MUMPS_INT>(std::max<size_t>(1, nloc));
+  id.irhs_loc = const_cast<MUMPS_INT*>(m.rowIndex.data());
+  id.rhs_loc = rhs.data();
+  id.lsol_loc = static_cast<MUMPS_INT>(std::max<size_t>(1, nsol));
+  id.sol_loc = sol.data();
+  id.isol_loc = isol.data();
+  m.call(3);
+  const int e = infog(id, 1);
+  id.rhs_loc = id.sol_loc = nullptr;
+  id.irhs_loc = id.isol_loc = nullptr;
+  if (e < 0)
+    throw NumericalError(name_ + ": MUMPS solve failed with INFOG(1) = " + std::to_string(e) + ": " +
+                         errorMeaning(e, infog(id, 2)));
+  if (m.solMap.is_null()) {
+    Teuchos::Array<GlobalOrdinal> ids(nsol);
+    for (size_t k = 0; k < nsol; ++k) ids[k] = isol[k] - 1;
+    m.solMap = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(n_), ids(), 0, m.idMap->getComm()));
+    m.fromSol = Teuchos::rcp(new Tpetra::Import<>(m.solMap, m.idMap));
+  }
+  MultiVector S(m.solMap, nv), Xid(m.idMap, nv);
+  {
+    auto s = S.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t j = 0; j < nv; ++j)
+      for (size_t k = 0; k < nsol; ++k) s(k, j) = sol[k + j * nsol];
+  }
+  Xid.doImport(S, *m.fromSol, Tpetra::INSERT);
+  auto from = Xid.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto to = X.getLocalViewHost(Tpetra::Access::OverwriteAll);
+  for (size_t j = 0; j < nv; ++j)
+    for (size_t i = 0; i < nloc; ++i) to(i, j) = from(i, j);
+}
+
+SparseInertia distributedInertia(const CrsMatrix& A) {
+  SparseInertia out;
+  DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
+  try {
+    f.factor(/*allowNullPivots*/ true);
+  } catch (const NumericalError& e) {
+    out.failure = e.what();
+    return out;
+  }
+  out.negative = f.negativePivots();
+  out.tinyPivots = f.nullPivots();
+  out.positive = f.rows() - out.negative - out.tinyPivots;
+  return out;
+}
+
+bool useDistributedSolver(const std::string& choice, const CrsMatrix& A) {
+  if (choice == "MUMPS") return true;
+  if (choice == "CHOLMOD") return false;
+  CMS_INPUT_CHECK(choice != "Auto", "\"Direct Solver\" = \"" << choice << "\"; valid: Auto, CHOLMOD, MUMPS");
+  return A.getComm()->getSize() > 1 && static_cast<long long>(A.getGlobalNumRows()) >= kDistributedAutoRows;
+}
+
+}  // namespace cms
