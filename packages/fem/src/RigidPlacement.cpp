@@ -67,6 +67,7 @@ std::shared_ptr<FiniteElementModel> placedModel(const FiniteElementModel& model,
   out->mesh = mesh;
   for (auto& es : out->elementSets) es.section.orientation = rotation.apply(es.section.orientation);
   for (auto& pm : out->pointMasses) pm.inertia = rotation.applyToTensor(pm.inertia);
+  for (auto& h : out->hinges) h.axis = rotation.apply(h.axis);  // a hinge turns with its nodes (theory §17)
   return out;
 }
 

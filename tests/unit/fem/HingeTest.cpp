@@ -20,6 +20,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
+#include "cms/fem/RigidPlacement.hpp"
 
 using namespace cms;
 using fem::Component;
@@ -285,4 +286,27 @@ TEST(Hinge, FreeHingeNeedsBalancedCentrifugalLoads) {
   m.spin->spin.origin = {0.0, 0.3, 0.0};
   fixtures::expectInputError([&] { fem::assemble(m, world()); },
                              "hinge 'hinge' is free (no Stiffness) but the centrifugal loads have a moment");
+}
+
+// A placed model (a scene's Placement, the copies of "Copies: N") turns its
+// hinge axes with its nodes: the hinged blade and spin turned by
+// fem::placedModel has the frequencies of the model built turned (the
+// invariance test's reference), to the same 1e3 eps omega_max.
+TEST(Hinge, PlacementTurnsTheHingeAxis) {
+  fixtures::HingedBladeSpec b;
+  b.E = 7e10;
+  b.hingeAxis = fem::unit({0.2, 0.1, 1.0});
+  b.stiffness = 500.0;
+  b.spinning = true;
+  const auto aligned = fixtures::hingedBlade(b);
+  const fem::Vec3 axis{1, 2, 3};
+  b.rotation = fixtures::rotationAbout(axis, 0.7);
+  const auto built = solveAll(denseSystem(fem::assemble(fixtures::hingedBlade(b), world()), 20.0));
+  auto placed = *fem::placedModel(aligned, fem::Rotation::about(fem::unit(axis), 0.7), {0, 0, 0});
+  placed.spin->spin.axis = fixtures::rotate(b.rotation, {0, 0, 1});  // the frame's spin is the structure's
+  const auto moved = solveAll(denseSystem(fem::assemble(placed, world()), 20.0));
+  ASSERT_EQ(built.modes.size(), moved.modes.size());
+  const double tol = 1e3 * eps * largestOmega(built);
+  for (std::size_t i = 0; i < built.modes.size(); ++i)
+    EXPECT_NEAR(moved.modes[i].omega, built.modes[i].omega, tol) << "mode " << i;
 }

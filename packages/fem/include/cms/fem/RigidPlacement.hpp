@@ -25,7 +25,8 @@ struct Rotation {
 };
 
 /// The model with every node at pivot + R (x - pivot) + translation, frame
-/// section orientations turned by R, point-mass inertia tensors R J R^T.
+/// section orientations and hinge axes turned by R, point-mass inertia
+/// tensors R J R^T.
 /// Per-component items (fixed DOFs, springs, dampers) are left as written:
 /// they act along the structure's axes (see rotationVariantItem).
 std::shared_ptr<FiniteElementModel> placedModel(const FiniteElementModel& model, const Rotation& rotation,
