@@ -14,8 +14,12 @@
 // vectors against the truth. At 1 and 2 ranks.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -24,6 +28,7 @@
 #include "DenseOf.hpp"
 #include "HingedBlade.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
+#include "cms/io/ModeShapeFiles.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -252,4 +257,58 @@ TEST(OffsetHinge, SceneHingeErrorsNameTheKey) {
             std::string::npos)
       << errorOf(replaced(good, "Nodes: start}", "Nodes: lag_outboard}"));
   EXPECT_EQ(errorOf(good), "no error");
+}
+
+namespace {
+/// The rows of 3 numbers of the DataArray that follows `marker` in a VTU file.
+std::vector<std::array<double, 3>> vtuArray(const std::string& text, const std::string& marker) {
+  std::vector<std::array<double, 3>> rows;
+  auto at = text.find(marker);
+  if (at == std::string::npos) return rows;
+  at = text.find('\n', text.find("<DataArray", at)) + 1;
+  std::istringstream in(text.substr(at, text.find("</DataArray>", at) - at));
+  std::array<double, 3> r;
+  while (in >> r[0] >> r[1] >> r[2]) rows.push_back(r);
+  return rows;
+}
+}  // namespace
+
+// Mode-shape files show a hinge's second node moving with the joint: its
+// translations are its partner's and, for the lag hinge about z, its
+// rotations about x and y too (the row it keeps is its rotation about z).
+// The files print 10 digits, so equal to 1e-9 of the mode's largest
+// displacement; the partner does move (above 1e-6 of it) in some mode.
+TEST(OffsetHinge, ModeShapeFilesShowTheHingeMovingWithTheBlade) {
+  const auto comm = world();
+  const auto scene = scene::Scene::parse(hingedRotorScene("Full", 0, 7e10, 22, 0.5), "hinged-rotor.yaml");
+  const auto assembled = synthesis::AssembledStructure::assemble(scene.structure, comm);
+  const auto s = synthesis::SynthesizedStructure::synthesize(assembled, true);
+  Teuchos::ParameterList p;
+  p.set("Number of Modes", 4);
+  const auto modes = s.solve({20.0}, p);
+  const auto dir = std::filesystem::temp_directory_path() / ("cms_hinge_vtu_np" + std::to_string(comm->getSize()));
+  io::writeModeShapes(assembled, s, modes, dir.string(), "hinged");
+  if (comm->getRank() != 0) return;
+  double moved = 0.0;
+  for (std::size_t m = 1; m <= modes.result.modes.size(); ++m) {
+    std::ifstream f(dir / ("hinged-mode-" + std::to_string(m) + ".vtu"));
+    const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const auto points = vtuArray(text, "<Points>"), u = vtuArray(text, "Name=\"displacement_real\""),
+               r = vtuArray(text, "Name=\"rotation_real\"");
+    ASSERT_EQ(points.size(), u.size());
+    ASSERT_EQ(points.size(), r.size());
+    std::vector<std::size_t> hinge;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (std::abs(points[i][0] - 1.0) < 1e-12 && std::abs(points[i][1]) < 1e-12) hinge.push_back(i);
+      for (double v : u[i]) largest = std::max(largest, std::abs(v));
+    }
+    ASSERT_EQ(hinge.size(), 2u) << "the hinge's two coincident points";
+    const auto a = hinge[0], b = hinge[1];
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(u[b][c], u[a][c], 1e-9 * largest) << "mode " << m << " u" << c;
+    for (int c = 0; c < 2; ++c) EXPECT_NEAR(r[b][c], r[a][c], 1e-9 * largest) << "mode " << m << " r" << c;
+    for (int c = 0; c < 3; ++c) moved = std::max(moved, std::abs(u[a][c]) / largest);
+  }
+  EXPECT_GT(moved, 1e-6);
+  std::filesystem::remove_all(dir);
 }

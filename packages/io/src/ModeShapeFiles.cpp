@@ -1,5 +1,7 @@
 #include "cms/io/ModeShapeFiles.hpp"
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -54,6 +56,38 @@ std::vector<std::array<double, 2>> gather(const MultiVector& u) {
   return out;
 }
 
+/// A hinge's second node has one row, its rotation about the coordinate
+/// axis k closest to the hinge axis n (theory §17.1): its translations are
+/// its partner's (the coincident node of the first set) and its other
+/// rotations theta_a,j + (n_j / n_k)(theta_b,k - theta_a,k). Filled in here
+/// so that the file shows the joint moving with the blade.
+void followHinge(const fem::Mesh& mesh, const fem::HingeSet& h, long long base,
+                 std::vector<std::array<double, 6>>& re, std::vector<std::array<double, 6>>& im) {
+  const auto first = mesh.nodeSet(h.nodeSet), second = mesh.nodeSet(h.toNodeSet);
+  const fem::Vec3 n = fem::unit(h.axis);
+  int k = 0;
+  for (int d = 1; d < 3; ++d)
+    if (std::abs(n[d]) > std::abs(n[k])) k = d;
+  for (std::int64_t b : second) {
+    std::int64_t a = -1;
+    double best = 0.0;
+    for (std::int64_t c : first) {  // the partner: the nearest (coincident) node
+      double d2 = 0.0;
+      for (int d = 0; d < 3; ++d) d2 += std::pow(mesh.coordinates[3 * c + d] - mesh.coordinates[3 * b + d], 2);
+      if (a < 0 || d2 < best) a = c, best = d2;
+    }
+    if (a < 0) continue;
+    for (auto* v : {&re, &im}) {
+      const std::array<double, 6> ua = (*v)[base + a];
+      std::array<double, 6>& ub = (*v)[base + b];
+      const double turn = ub[3 + k] - ua[3 + k];  // n_k phi
+      for (int c = 0; c < 3; ++c) ub[c] = ua[c];
+      for (int j = 0; j < 3; ++j)
+        if (j != k) ub[3 + j] = ua[3 + j] + n[j] / n[k] * turn;
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& structure,
@@ -96,6 +130,7 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
         re.push_back(r), im.push_back(i);
       }
       const fem::Mesh& mesh = *structure.substructure(k).model->mesh;
+      for (const auto& h : structure.substructure(k).model->hinges) followHinge(mesh, h, base, re, im);
       for (const auto& es : structure.substructure(k).model->elementSets)
         for (const auto& b : mesh.group(es.group).blocks) {
           const int vt = vtkType(b.type);
