@@ -312,3 +312,82 @@ TEST(OffsetHinge, ModeShapeFilesShowTheHingeMovingWithTheBlade) {
   EXPECT_GT(moved, 1e-6);
   std::filesystem::remove_all(dir);
 }
+
+namespace {
+/// The flexible blade of hingedRotorScene (0.5 to 6 m, 22 elements, the
+/// hinge at x = 1) as an Abaqus deck with the hinge's node duplicated
+/// (node 24 at x = 1 takes over element 3), node sets start, hub_side
+/// (node 3) and blade_side (node 24).
+std::string bladeDeck() {
+  std::ostringstream d;
+  d << "*NODE\n";
+  for (int i = 1; i <= 23; ++i) d << i << ", " << 0.5 + 0.25 * (i - 1) << ", 0, 0\n";
+  d << "24, 1.0, 0, 0\n*ELEMENT, TYPE=B31, ELSET=blade\n";
+  for (int e = 1; e <= 22; ++e) d << e << ", " << (e == 3 ? 24 : e) << ", " << e + 1 << "\n";
+  d << "*NSET, NSET=start\n1\n*NSET, NSET=hub_side\n3\n*NSET, NSET=blade_side\n24\n*NSET, NSET=tip\n23\n";
+  return d.str();
+}
+
+/// hingedRotorScene with the blade as a Finite Element Model of bladeDeck()
+/// (at `mesh`) whose "Hinges" entry is `hinge`.
+std::string deckScene(const std::string& mesh, const std::string& hinge) {
+  std::string s = hingedRotorScene("Full", 0, 7e10, 22, 0.5);
+  const auto beam = s.find("      Beam:\n        From: [0.5");
+  const auto reduction = s.find("      Reduction:", beam);
+  return s.replace(beam, reduction - beam,
+                   "      Finite Element Model:\n"
+                   "        Mesh: " + mesh + "\n"
+                   "        Materials:\n"
+                   "          m: {Young's Modulus: 7.0e10, Poisson's Ratio: 0.3, Density: 1000}\n"
+                   "        Element Sets:\n"
+                   "          blade: {Type: Frame, Material: m, Area: 0.01, Iy: 1.0e-4, Iz: 1.0e-4,"
+                   " Torsion Constant: 2.0e-4, Orientation: [0, 0, 1]}\n"
+                   "        Hinges:\n"
+                   "          lag: " + hinge + "\n");
+}
+}  // namespace
+
+// The same hinged blade written as a Finite Element Model (an .inp deck with
+// the hinge's node duplicated, "Hinges" between node sets) is the same
+// model as the Beam with a hinge station: its lag frequency agrees to the
+// rounding of two differently ordered assemblies (1e-9, far below any
+// modelling difference). Its input errors name the scene file and the key
+// path: a missing set, a set whose node is not coincident, a zero axis.
+TEST(OffsetHinge, FiniteElementModelHingesMatchTheBeamStation) {
+  const auto comm = world();
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("cms_hinge_deck_np" + std::to_string(comm->getSize()) + "_" + std::to_string(comm->getRank()));
+  std::filesystem::create_directories(dir);
+  const std::string mesh = (dir / "blade.inp").string();
+  std::ofstream(mesh) << bladeDeck();
+  const std::string good =
+      "{Node Set: hub_side, To Node Set: blade_side, Axis: [0, 0, 1], Stiffness: 2000.0}";
+  auto lowestOfScene = [&](const std::string& text) {
+    const auto scene = scene::Scene::parse(text, "hinged-rotor.yaml");
+    return lowestOf(synthesis::SynthesizedStructure::synthesize(
+                        synthesis::AssembledStructure::assemble(scene.structure, comm), true),
+                    20.0);
+  };
+  const double beam = lowestOfScene(hingedRotorScene("Full", 0, 7e10, 22, 0.5));
+  EXPECT_NEAR(lowestOfScene(deckScene(mesh, good)) / beam, 1.0, 1e-9);
+  auto errorOf = [&](const std::string& hinge) -> std::string {
+    try {
+      lowestOfScene(deckScene(mesh, hinge));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  std::string e = errorOf("{Node Set: hub_side, To Node Set: nowhere, Axis: [0, 0, 1]}");
+  EXPECT_NE(e.find("hinged-rotor.yaml: Scene/Substructures/blade/Finite Element Model"), std::string::npos) << e;
+  EXPECT_NE(e.find("hinge 'lag': no node set 'nowhere'"), std::string::npos) << e;
+  e = errorOf("{Node Set: hub_side, To Node Set: tip, Axis: [0, 0, 1]}");
+  EXPECT_NE(e.find("hinge 'lag': node 3 of set 'hub_side' has no coincident node in set 'tip'"), std::string::npos)
+      << e;
+  EXPECT_NE(e.find("blade"), std::string::npos) << e;
+  e = errorOf("{Node Set: hub_side, To Node Set: blade_side, Axis: [0, 0, 0]}");
+  EXPECT_NE(e.find("Finite Element Model/Hinges/lag/Axis = [0, 0, 0] must be a finite nonzero vector"),
+            std::string::npos)
+      << e;
+  std::filesystem::remove_all(dir);
+}
