@@ -735,7 +735,14 @@ class Assembler {
     return m;
   }
 
-  /// T^T A T for an item with a transform (theory §17), else A unchanged.
+  /// Adds local item's matrix A at the positions the last locate() found:
+  /// A itself, or T^T A T for an item at a hinge's second node (no copy of
+  /// A for the others: most items).
+  void scatterItem(std::size_t local, const ElementMatrix& A, Target& t) const {
+    if (transforms_.empty() || !transforms_.count(local)) scatter(A, t);
+    else scatter(constrained(local, A), t);
+  }
+  /// T^T A T for an item with a transform (theory §17).
   ElementMatrix constrained(std::size_t local, const ElementMatrix& A) const {
     const auto t = transforms_.find(local);
     if (t == transforms_.end() || A.n == 0) return A;
@@ -789,12 +796,15 @@ class Assembler {
       try {
         const ItemMatrices m = itemMatrices(it);
         locate(local);
-        scatter(constrained(local, m.K), vK_);
-        if (m.M.n) scatter(constrained(local, m.M), vM_);
-        if (m.D.n) scatter(constrained(local, m.D), vD_);
-        if (m.spin.G1.n) scatter(constrained(local, m.spin.G1), vG_);
-        if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatter(constrained(local, m.spin.KT1), vKT_);
-        if (rotatingFrame_ && !m.spin.f1.empty()) scatterVector(local, constrained(local, m.spin.f1), vf_);
+        scatterItem(local, m.K, vK_);
+        if (m.M.n) scatterItem(local, m.M, vM_);
+        if (m.D.n) scatterItem(local, m.D, vD_);
+        if (m.spin.G1.n) scatterItem(local, m.spin.G1, vG_);
+        if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatterItem(local, m.spin.KT1, vKT_);
+        if (rotatingFrame_ && !m.spin.f1.empty()) {
+          if (transforms_.count(local)) scatterVector(local, constrained(local, m.spin.f1), vf_);
+          else scatterVector(local, m.spin.f1, vf_);
+        }
       } catch (const std::exception& e) {
         std::ostringstream os;
         os << model_.name << ": ";
@@ -1075,10 +1085,10 @@ class Assembler {
           locate(local);
           // N(x) from the element's equilibrium under its own
           // centrifugal load: quadratic along it (theory §10).
-          scatter(constrained(local, frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin))), vKS);
+          scatterItem(local, frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin)), vKS);
         } else {
           locate(local);
-          scatter(constrained(local, solidGeometricStiffness(solidOf(it), ue.data())), vKS);
+          scatterItem(local, solidGeometricStiffness(solidOf(it), ue.data()), vKS);
         }
       } catch (const std::exception& ex) {
         failureIsInput_ = dynamic_cast<const InputError*>(&ex) != nullptr;
