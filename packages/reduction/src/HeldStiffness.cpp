@@ -19,7 +19,8 @@ HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<Gl
   if (solver_->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "
                          "positive definite: the substructure can still move as a rigid body (check its supports "
-                         "and attachment), or it is singular to working precision (elements much shorter than "
+                         "and attachment) or about a hinge without Stiffness (a reduced basis needs a hinge "
+                         "spring; Basis: Full does not), or it is singular to working precision (elements much shorter than "
                          "their section, stiffness ratios past 1e12) (CHOLMOD: " + solver_->failure() + ")");
 }
 
