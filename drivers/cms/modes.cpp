@@ -147,10 +147,15 @@ void printModes(const analysis::ModalResult& r) {
     }
     std::cout << '\n';
   }
-  // The stability margin of a damped structure (theory §13.3).
+  // The stability margin of a damped structure (theory §13.3). The verdict
+  // is the modes' classification (growth beyond what rounding can make),
+  // not the sign of the least ratio: an undamped mode of a damped structure
+  // (a hinge's flap mode beside a lag damper) has zeta = +-1e-15.
   if (!r.reduced->damping().is_null())
     std::cout << "least damping ratio: " << std::setprecision(4) << result.leastDampingRatio()
-              << (result.leastDampingRatio() < 0.0 ? " (UNSTABLE: a mode grows)" : "") << '\n';
+              << (!result.isStable() ? " (UNSTABLE: a mode grows)"
+                                     : result.leastDampingRatio() < 0.0 ? " (rounding: every mode stable)" : "")
+              << '\n';
 }
 
 }  // namespace
