@@ -17,9 +17,19 @@ Each is solved:
     CENTRIF load (the prestress), then *FREQUENCY with PERTURBATION (stress
     stiffening of the static step; the CENTRIF load of the step adds the
     centrifugal softening), then *COMPLEX FREQUENCY, CORIOLIS (the Coriolis
-    forces, by CalculiX's projection on the *FREQUENCY modes);
+    forces, by CalculiX's projection on the *FREQUENCY modes: --ccx-modes
+    asks for more of them than --modes, one CalculiX run per count; with
+    as many as --modes a slender part's basis may hold no axial shape and
+    the Coriolis coupling of in-plane bending is lost, doc/benchmarks.md);
   * by `cms modes` on the same mesh: the truth (Full basis, sparse Anasazi
-    path) and a Craig-Bampton reduction (--vectors fixed-interface modes).
+    path; --no-truth skips it) and each --reductions entry (default a
+    Craig-Bampton reduction with --vectors fixed-interface modes).
+
+Every frequency is compared with the cms truth of the same mesh and, given
+--reference (the cms truth of a finer bar mesh, 'h:ns') or --reference-csv
+(a cms modes CSV), with that reference. --repeat N runs every solver N
+times, in turn (interleaved, so a change of machine load hits all alike),
+and reports the medians.
 
 Both tools read the same Abaqus/CalculiX mesh deck, mesh.inp: Gmsh meshes the
 .geo once and exports it (its Abaqus export: C3D10 or C3D20 elements, node
@@ -34,6 +44,9 @@ solver and their relative differences.
         --h 0.02,0.01,0.006 --csv doc/bench/calculix-peer.csv
     /usr/bin/python3 drivers/bench/calculix_peer.py --cms build/drivers/cms --model=bar \\
         --element=C3D20 --h=0.02,0.01 --ns=1 --omega=100 --modes=10 --csv=bar-peer.csv
+    /usr/bin/python3 drivers/bench/calculix_peer.py --cms build/drivers/cms --model=bar --element=C3D20 \\
+        --h=0.01 --ns=3 --omega=100 --modes=10 --ccx-modes=10,20 --reductions=Admissible:24,Craig-Bampton:30 \\
+        --reference=0.0025:4 --repeat=3 --csv=bar-equal-accuracy.csv
 """
 import argparse
 import csv
@@ -106,15 +119,18 @@ def write_mesh(a, h, work):
     return element
 
 
-def write_deck(work, omega, modes):
+def write_deck(work, omega, modes, freq_modes, name="blade_ccx"):
+    """The CalculiX deck: prestress, *FREQUENCY with freq_modes modes (the
+    basis CalculiX projects the Coriolis forces on), *COMPLEX FREQUENCY with
+    the lowest `modes` of them."""
     w2 = omega * omega
     load = f"blade, CENTRIF, {w2:.10g}, {AXIS_POINT[0]}, {AXIS_POINT[1]}, {AXIS_POINT[2]}, 0., 0., 1.\n"
-    with open(os.path.join(work, "blade_ccx.inp"), "w") as f:
+    with open(os.path.join(work, name + ".inp"), "w") as f:
         f.write("*INCLUDE, INPUT=mesh.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n"
                 f"{E:.10g}, {NU}\n*DENSITY\n{RHO}\n*SOLID SECTION, ELSET=blade, MATERIAL=STEEL\n"
                 "*BOUNDARY\nroot, 1, 3\n"
                 "*STEP\n*STATIC\n*DLOAD\n" + load + "*END STEP\n"
-                f"*STEP, PERTURBATION\n*FREQUENCY, STORAGE=YES\n{modes}\n*DLOAD\n" + load + "*END STEP\n"
+                f"*STEP, PERTURBATION\n*FREQUENCY, STORAGE=YES\n{max(modes, freq_modes)}\n*DLOAD\n" + load + "*END STEP\n"
                 f"*STEP, PERTURBATION\n*COMPLEX FREQUENCY, CORIOLIS\n{modes}\n*END STEP\n")
 
 
@@ -135,13 +151,14 @@ def read_ccx(dat):
     return rows(blocks[0], 3), rows(blocks[1], 2)
 
 
-def write_scene(work, omega, modes, basis, vectors):
+def write_scene(work, omega, modes, basis, vectors, target=0.0, tag=None):
     reduction = f"      Reduction:\n        Basis: {basis}\n" + (f"        Vectors: {vectors}\n" if vectors else "")
     solver = "Sparse" if basis == "Full" else "Auto"
-    path = os.path.join(work, f"blade-{basis}.yaml")
+    tag = tag or basis
+    path = os.path.join(work, f"blade-{tag}.yaml")
     with open(path, "w") as f:
         f.write(f"""Scene:
-  Name: blade-{basis}
+  Name: blade-{tag}
   Substructures:
     blade:
       Kind: C
@@ -166,13 +183,76 @@ def write_scene(work, omega, modes, basis, vectors):
 {reduction}  Analysis:
     Number of Modes: {modes}
     Solver: {solver}
-""")
+""" + (f"    Target Accuracy: {target}\n" if target else ""))
     return path
 
 
-def read_cms(work, basis):
-    with open(os.path.join(work, f"out-{basis}", f"blade-{basis}-modes.csv")) as f:
-        return [float(r["hz"]) for r in csv.DictReader(f)]
+def read_cms(work, tag):
+    """(frequencies Hz, phase timings s from the JSON)."""
+    out = os.path.join(work, f"out-{tag}")
+    with open(os.path.join(out, f"blade-{tag}-modes.csv")) as f:
+        hz = [float(r["hz"]) for r in csv.DictReader(f)]
+    phases = {}
+    try:
+        import json
+        with open(os.path.join(out, f"blade-{tag}.json")) as f:
+            phases = json.load(f).get("timings_s", {})
+    except (OSError, ValueError):
+        pass
+    return hz, phases
+
+
+def parse_reductions(text, vectors):
+    """'Craig-Bampton:30,Admissible:40,Admissible:ta=1e-3' -> [(basis, vectors, target)]."""
+    out = []
+    for item in filter(None, text.split(",")):
+        basis, _, arg = item.partition(":")
+        if basis not in ("Craig-Bampton", "Admissible", "Modes"):
+            raise ValueError(f"--reductions: unknown basis '{basis}'")
+        if arg.startswith("ta="):
+            out.append((basis, 0, float(arg[3:])))
+        else:
+            out.append((basis, int(arg) if arg else vectors, 0.0))
+    return out
+
+
+def relative_errors(hz, ref):
+    """Each frequency against the nearest reference frequency when the counts
+    differ (CalculiX's complex step may drop one of a near-degenerate pair),
+    else in order. Returns the list of relative differences."""
+    if len(hz) == len(ref) and all(abs(f / r - 1) < 0.1 for f, r in zip(hz, ref)):
+        match = list(range(len(hz)))
+    else:
+        match = [min(range(len(ref)), key=lambda j: abs(ref[j] - f)) for f in hz]
+    return [hz[i] / ref[match[i]] - 1 for i in range(len(hz))]
+
+
+def within(hz, ref):
+    """The frequencies up to 5% above the reference's highest (CalculiX's
+    complex step, missing modes, returns some above the range asked)."""
+    return [f for f in hz if f <= 1.05 * max(ref)] if ref else hz
+
+
+def median(xs):
+    xs = sorted(x for x in xs if x is not None)
+    return xs[len(xs) // 2] if xs else None
+
+
+def free_dofs(work):
+    """3 x (nodes of mesh.inp) - 3 x (nodes of the root set): the free DOFs."""
+    nodes, root, section = 0, set(), None
+    with open(os.path.join(work, "mesh.inp")) as f:
+        for line in f:
+            if line.startswith("*"):
+                u = line.upper().replace(" ", "")
+                section = "node" if u.startswith("*NODE") and "NSET=" not in u.split(",")[0] else \
+                    ("root" if u.startswith("*NSET") and "NSET=ROOT" in u else None)
+                continue
+            if section == "node" and line.strip():
+                nodes += 1
+            elif section == "root":
+                root.update(int(w) for w in line.replace(",", " ").split())
+    return 3 * (nodes - len(root))
 
 
 def main():
@@ -185,6 +265,20 @@ def main():
     ap.add_argument("--omega", type=float, default=200.0, help="spin rate (rad/s)")
     ap.add_argument("--modes", type=int, default=20)
     ap.add_argument("--vectors", type=int, default=30, help="Craig-Bampton fixed-interface modes")
+    ap.add_argument("--ccx-modes", default="",
+                    help="comma-separated counts of CalculiX *FREQUENCY modes, the basis its Coriolis step projects "
+                         "on (one CalculiX run each; default: --modes)")
+    ap.add_argument("--reductions", default="",
+                    help="cms reductions, comma-separated Basis:vectors or Basis:ta=accuracy (Target Accuracy), "
+                         "e.g. Craig-Bampton:30,Admissible:40,Admissible:ta=1e-3 (default: Craig-Bampton:--vectors)")
+    ap.add_argument("--no-truth", action="store_true", help="skip the cms truth (Full basis) on each mesh")
+    ap.add_argument("--reference", default="",
+                    help="--model=bar: 'h:ns' of a finer mesh whose cms truth is the reference every row is compared "
+                         "with (its own error is the difference between successive refinements: say it)")
+    ap.add_argument("--reference-csv", default="", help="a cms modes CSV (column hz) to use as the reference")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="rounds of runs, every solver once per round in turn (interleaved); wall time and peak "
+                         "memory are the medians")
     ap.add_argument("--work", default="calculix-peer", help="scratch directory")
     ap.add_argument("--csv", default="calculix-peer.csv")
     a = ap.parse_args()
@@ -195,6 +289,12 @@ def main():
         except ValueError:
             print(f"calculix_peer: --h: '{w}' is not a number", file=sys.stderr)
             return 2
+    try:
+        reductions = parse_reductions(a.reductions or f"Craig-Bampton:{a.vectors}", a.vectors)
+        ccx_modes = [int(w) for w in a.ccx_modes.split(",") if w] or [a.modes]
+    except ValueError as e:
+        print(f"calculix_peer: {e}", file=sys.stderr)
+        return 2
     a.cms = os.path.abspath(a.cms)
     if not os.access(a.cms, os.X_OK):
         print(f"calculix_peer: --cms {a.cms}: not an executable", file=sys.stderr)
@@ -203,52 +303,97 @@ def main():
     if not ccx:
         print("calculix_peer: ccx not found (apt-get install calculix-ccx): the CalculiX rows are skipped")
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+
+    reference, ref_label = None, ""
+    if a.reference_csv:
+        with open(a.reference_csv) as f:
+            reference = [float(r["hz"]) for r in csv.DictReader(f)]
+        ref_label = a.reference_csv
+    elif a.reference:
+        if a.model != "bar":
+            print("calculix_peer: --reference needs --model=bar", file=sys.stderr)
+            return 2
+        rh, _, rns = a.reference.partition(":")
+        ra = argparse.Namespace(**vars(a))
+        ra.ns = int(rns or a.ns)
+        work = os.path.abspath(os.path.join(a.work, f"reference-{a.element}-h{rh}-ns{ra.ns}"))
+        os.makedirs(work, exist_ok=True)
+        write_mesh(ra, float(rh), work)
+        scene = write_scene(work, a.omega, a.modes, "Full", 0)
+        s, mem, text = timed([a.cms, "modes", scene, f"--output={work}/out-Full"], work, env)
+        reference = read_cms(work, "Full")[0]
+        ref_label = f"cms truth, h = {rh}, ns = {ra.ns} ({free_dofs(work)} DOFs, {s:.1f} s, {mem or 0:.0f} MiB)"
+        print(f"reference: {ref_label}")
+
     rows = []
     for h in sizes:
-        work = os.path.abspath(os.path.join(a.work, f"h{h}" if a.model == "blade" else f"bar-{a.element}-h{h}"))
+        work = os.path.abspath(os.path.join(a.work, f"h{h}" if a.model == "blade" else f"bar-{a.element}-h{h}-ns{a.ns}"))
         os.makedirs(work, exist_ok=True)
         element = write_mesh(a, h, work)
-        dofs = None
-        runs = {}
+        dofs = free_dofs(work)
+        # Every run: (label, command, reader of its frequencies -> [(label, hz, phases)]).
+        runs = []
         if ccx:
-            write_deck(work, a.omega, a.modes)
-            s, mem, _ = timed([ccx, "-i", "blade_ccx"], work, env)
-            real, cplx = read_ccx(os.path.join(work, "blade_ccx.dat"))
-            runs["CalculiX *FREQUENCY (no Coriolis)"] = (s, mem, real)
-            runs["CalculiX *COMPLEX FREQUENCY, CORIOLIS"] = (s, mem, cplx)
-        for basis, vectors in (("Full", 0), ("Craig-Bampton", a.vectors)):
-            scene = write_scene(work, a.omega, a.modes, basis, vectors)
-            s, mem, text = timed([a.cms, "modes", scene, f"--output={work}/out-{basis}"], work, env)
-            m = re.search(r"blade\s+C\s+(\d+)", text)
-            dofs = int(m.group(1)) if m else dofs
-            label = "cms truth (Full, sparse Anasazi)" if basis == "Full" else f"cms Craig-Bampton {vectors}"
-            runs[label] = (s, mem, read_cms(work, basis))
-        ref_key = "cms truth (Full, sparse Anasazi)"
-        ref = runs[ref_key][2]
-        print(f"\n{a.model} {element}, h = {h} m: {dofs} DOFs, spin {a.omega} rad/s, lowest {a.modes} modes")
-        print(f"{'solver':42s} {'wall s':>8s} {'peak MiB':>9s} {'f1 Hz':>10s} {'max |rel. diff| vs cms truth':>30s}")
-        for label, (s, mem, hz) in runs.items():
-            # CalculiX's complex step may return fewer modes than asked (it
-            # drops some of a near-degenerate pair): each of its frequencies is
-            # then compared with the nearest of the truth's, and the count said.
-            if len(hz) == len(ref):
-                match = list(range(len(hz)))
-            else:
-                match = [min(range(len(ref)), key=lambda j: abs(ref[j] - f)) for f in hz]
-            n = len(hz)
-            diff = max(abs(hz[i] / ref[match[i]] - 1) for i in range(n)) if n else float("nan")
-            note = "" if len(hz) == len(ref) else f"  ({len(hz)} modes, each matched to the nearest)"
-            print(f"{label:42s} {s:8.2f} {mem if mem else float('nan'):9.0f} {hz[0]:10.5f} {diff:30.2e}{note}")
-            for i in range(n):
-                rows.append({"model": a.model, "element": element, "h": h, "dofs": dofs, "solver": label, "wall_s": f"{s:.3f}",
+            for n in filter(None, ccx_modes):  # 0: no CalculiX run
+                name = f"blade_ccx{n}"
+                write_deck(work, a.omega, a.modes, n, name)
+                runs.append((f"ccx{n}", [ccx, "-i", name], name))
+        for basis, vectors, target in ([("Full", 0, 0.0)] if not a.no_truth else []) + reductions:
+            tag = basis if basis == "Full" else (f"{basis}-{vectors}" + (f"-ta{target:g}" if target else ""))
+            scene = write_scene(work, a.omega, a.modes, basis, vectors, target, tag)
+            runs.append((tag, [a.cms, "modes", scene, f"--output={work}/out-{tag}"], None))
+        results = {}  # label -> {"s": [...], "mem": [...], "hz": [...], "phases": [...]}
+        for r in range(a.repeat):
+            for tag, cmd, ccx_name in runs:
+                s, mem, text = timed(cmd, work, env)
+                if ccx_name:
+                    real, cplx = read_ccx(os.path.join(work, ccx_name + ".dat"))
+                    n = tag[3:]
+                    outs = [(f"CalculiX *FREQUENCY {n} modes (no Coriolis)", real[:a.modes], {}),
+                            (f"CalculiX *COMPLEX FREQUENCY, CORIOLIS on {n} modes", cplx, {})]
+                else:
+                    hz, phases = read_cms(work, tag)
+                    label = "cms truth (Full, sparse Anasazi)" if tag == "Full" else f"cms {tag}"
+                    outs = [(label, hz, phases)]
+                for label, hz, phases in outs:
+                    e = results.setdefault(label, {"s": [], "mem": [], "hz": hz, "phases": []})
+                    e["s"].append(s)
+                    e["mem"].append(mem)
+                    e["phases"].append(phases)
+        truth = results.get("cms truth (Full, sparse Anasazi)", {}).get("hz")
+        ccx_s = median(next((e["s"] for k, e in results.items() if k.startswith("CalculiX *COMPLEX")), [None]))
+        print(f"\n{a.model} {element}, h = {h} m, ns = {a.ns}: {dofs} DOFs, spin {a.omega} rad/s, lowest {a.modes} modes,"
+              f" median of {a.repeat} interleaved run(s); load {os.getloadavg()[0]:.2f}")
+        if reference:
+            print(f"reference: {ref_label}")
+        print(f"{'solver':52s} {'wall s':>8s} {'peak MiB':>9s} {'f1 Hz':>10s} {'vs truth':>9s} {'vs ref.':>9s}"
+              f" {'s / ccx':>8s}")
+        for label, e in results.items():
+            hz = within(e["hz"][:a.modes], reference or truth)
+            d_truth = max(map(abs, relative_errors(hz, truth))) if truth and hz else float("nan")
+            errs = relative_errors(hz, reference[:a.modes]) if reference and hz else []
+            d_ref = max(map(abs, errs)) if errs else float("nan")
+            s, mem = median(e["s"]), median(e["mem"])
+            note = "" if len(hz) == a.modes else f"  ({len(hz)} of the {a.modes} modes, each matched to the nearest)"
+            ratio = s / ccx_s if ccx_s else float("nan")
+            print(f"{label:52s} {s:8.2f} {mem if mem else float('nan'):9.0f} {hz[0] if hz else float('nan'):10.5f}"
+                  f" {d_truth:9.2e} {d_ref:9.2e} {ratio:8.2f}{note}")
+            phases = {k: median([p.get(k) for p in e["phases"]]) for k in (e["phases"][0] if e["phases"] else {})}
+            for i in range(len(hz)):
+                rows.append({"model": a.model, "element": element, "h": h, "ns": a.ns, "dofs": dofs,
+                             "omega_rad_s": a.omega, "solver": label, "modes_returned": len(hz), "runs": len(e["s"]),
+                             "wall_s": f"{s:.3f}", "wall_s_all": " ".join(f"{x:.3f}" for x in e["s"]),
                              "peak_mib": f"{mem:.1f}" if mem else "", "mode": i + 1, "hz": f"{hz[i]:.9g}",
-                             "rel_diff_vs_cms_truth": f"{hz[i] / ref[match[i]] - 1:.3e}"})
+                             "rel_diff_vs_cms_truth": f"{relative_errors(hz, truth)[i]:.3e}" if truth else "",
+                             "rel_err_vs_reference": f"{errs[i]:.3e}" if errs else "",
+                             "phases_s": " ".join(f"{k}={v:.3f}" for k, v in phases.items() if v is not None)})
         if not ccx:
-            rows.append({"model": a.model, "element": element, "h": h, "dofs": dofs,
+            rows.append({"model": a.model, "element": element, "h": h, "ns": a.ns, "dofs": dofs,
                          "solver": "CalculiX: skipped (ccx not found)"})
     with open(a.csv + ".tmp", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["model", "element", "h", "dofs", "solver", "wall_s", "peak_mib", "mode", "hz",
-                                          "rel_diff_vs_cms_truth"])
+        w = csv.DictWriter(f, fieldnames=["model", "element", "h", "ns", "dofs", "omega_rad_s", "solver", "modes_returned", "runs",
+                                          "wall_s", "wall_s_all", "peak_mib", "mode", "hz", "rel_diff_vs_cms_truth",
+                                          "rel_err_vs_reference", "phases_s"])
         w.writeheader()
         w.writerows(rows)
     os.replace(a.csv + ".tmp", a.csv)
