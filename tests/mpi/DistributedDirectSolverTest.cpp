@@ -245,6 +245,6 @@ TEST(DistributedDirectSolver, AutoChoosesMumpsOnlyWhenDistributedAndLarge) {
   const auto A = laplacian(0.0);
   EXPECT_TRUE(useDistributedSolver("MUMPS", *A));
   EXPECT_FALSE(useDistributedSolver("CHOLMOD", *A));
-  EXPECT_FALSE(useDistributedSolver("Auto", *A));  // 1848 rows: below kDistributedAutoRows
+  EXPECT_FALSE(useDistributedSolver("Auto", *A));  // 12,000 entries: below kDistributedAutoEntries
   EXPECT_THROW(useDistributedSolver("SuperLU", *A), InputError);
 }

@@ -343,7 +343,7 @@ bool useDistributedSolver(const std::string& choice, const CrsMatrix& A) {
   if (choice == "MUMPS") return true;
   if (choice == "CHOLMOD") return false;
   CMS_INPUT_CHECK(choice != "Auto", "\"Direct Solver\" = \"" << choice << "\"; valid: Auto, CHOLMOD, MUMPS");
-  return A.getComm()->getSize() > 1 && static_cast<long long>(A.getGlobalNumRows()) >= kDistributedAutoRows;
+  return A.getComm()->getSize() > 1 && static_cast<long long>(A.getGlobalNumEntries()) >= kDistributedAutoEntries;
 }
 
 }  // namespace cms

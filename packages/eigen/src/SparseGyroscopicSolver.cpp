@@ -16,6 +16,7 @@
 #include "SparseEigenproblem.hpp"
 #include "SparseIterations.hpp"
 #include "SpectralTransform.hpp"
+#include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/eigen/SturmCount.hpp"
@@ -26,6 +27,7 @@ namespace {
 
 struct Config {
   std::string method, eigensolver, linearSolver;
+  bool mumps;  ///< "Direct Solver" resolved for this system: every factorisation by MUMPS across the ranks
   int nModes, blockSize, numBlocks, maxRestarts, verbosity;
   double tol, shift, residualTol, rigidTol, instabTol;
 };
@@ -52,6 +54,13 @@ Teuchos::RCP<const Teuchos::ParameterList> SparseGyroscopicSolver::getValidParam
         "LU (KLU2; Tacho is Cholesky-only and is not offered); K alone is "
         "factored by CHOLMOD when it is positive definite",
         Teuchos::tuple<std::string>("KLU2"), pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
+        "Direct Solver", "Auto",
+        "Who factors K (definiteness test), Q(mu) and the Sturm counts' L D L^T: CHOLMOD (with "
+        "\"Linear Solver\" for Q(mu)), each gathered to rank 0; MUMPS, distributed across the ranks "
+        "(L D L^T for K, LU for Q(mu)); Auto: MUMPS when the system is distributed over more than one "
+        "rank and K has at least 2e6 stored entries (a 3-D solid of ~2e4 DOFs), else CHOLMOD",
+        Teuchos::tuple<std::string>("Auto", "CHOLMOD", "MUMPS"), pl.get());
     pl->set("Number of Modes", 10, "How many modes (one per +/- frequency pair) to return");
     pl->set("Shift", 0.0,
             "s in (H^2 - s)^-1: 0 targets the lowest frequencies; s > 0 the lowest too but "
@@ -93,9 +102,10 @@ struct Attempt {
   bool checkable = false;  ///< symmetric path (K > 0), lowest frequencies targeted (s >= 0)
 };
 
-Config configOf(const Teuchos::ParameterList& params, int nModes) {
+Config configOf(const Teuchos::ParameterList& params, const SparseGyroscopicSystem& sys, int nModes) {
   return Config{params.get<std::string>("Method"), params.get<std::string>("Eigensolver"),
-                params.get<std::string>("Linear Solver"), nModes,
+                params.get<std::string>("Linear Solver"),
+                useDistributedSolver(params.get<std::string>("Direct Solver"), *sys.K), nModes,
                 params.get<int>("Block Size"), params.get<int>("Number of Blocks"),
                 params.get<int>("Maximum Restarts"), params.get<int>("Verbosity"),
                 params.get<double>("Convergence Tolerance"), params.get<double>("Shift"),
@@ -117,14 +127,15 @@ void chooseForm(const Config& c, detail::SparseEigenproblem& p, GyroscopicResult
     result.reason = "damped: D != 0 makes the system non-conservative, Meirovitch's symmetric form does not "
                     "apply: general non-Hermitian iteration on Q(mu) = mu^2 M + mu (G + D) + K";
   } else if (c.method != "General") {
-    p.kFactor = std::make_shared<SparseDirectSolver>(p.system->K, "CHOLMOD");
+    p.kFactor = std::make_shared<SparseDirectSolver>(p.system->K, c.mumps ? "MUMPS-LDLT" : "CHOLMOD");
     const auto out = p.kFactor->factor();
     const bool posdef = out == SparseDirectSolver::Outcome::Factored;
     CMS_INPUT_CHECK(c.method == "Symmetric" && !posdef,
                     "SparseGyroscopicSolver: Method \"Symmetric\" needs K > 0 (I* = diag(M,K) > 0, "
                     "seed eq. (23)), but " << p.kFactor->failure() << "; use \"Auto\" or \"General\"");
     p.symmetric = posdef;
-    result.reason = posdef ? "K positive definite (CHOLMOD): Meirovitch's symmetric form, seed eq. (24)"
+    result.reason = posdef ? "K positive definite (" + p.kFactor->method() +
+                                 "): Meirovitch's symmetric form, seed eq. (24)"
                            : "K is not positive definite (" + p.kFactor->failure() +
                                  "): general non-Hermitian iteration";
     if (!posdef) p.kFactor.reset();
@@ -144,7 +155,9 @@ void chooseForm(const Config& c, detail::SparseEigenproblem& p, GyroscopicResult
 // factorisation failed.
 bool factorTransform(const Config& c, detail::SparseEigenproblem& p, GyroscopicResult& result) {
   const double sign = p.symmetric ? -1.0 : 1.0;  // -R is I*-positive when K > 0, s >= 0
-  p.transform = Teuchos::rcp(new detail::SpectralTransform(*p.system, c.shift, sign, c.linearSolver, "KLU2"));
+  p.transform = Teuchos::rcp(new detail::SpectralTransform(*p.system, c.shift, sign,
+                                                           c.mumps ? "MUMPS" : c.linearSolver,
+                                                           c.mumps ? "MUMPS" : "KLU2"));
   if (p.kFactor && c.shift == 0.0) p.transform->adoptStiffnessFactor(p.kFactor);
   const std::string why = p.transform->factor();
   if (!why.empty()) {
@@ -196,7 +209,7 @@ void selectModes(const Config& c, std::vector<GyroscopicMode> rm, Attempt& attem
 /// and its form, the transform, the iteration, the extraction, the returned
 /// set); the caller (SparseGyroscopicSolver::solve) adds the Sturm check.
 Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopicSystem& sys, int nModes) {
-  const Config c = configOf(params, nModes);
+  const Config c = configOf(params, sys, nModes);
   Attempt attempt;
   GyroscopicResult& result = attempt.result;
   const GlobalOrdinal N = sys.globalSize();
@@ -239,7 +252,8 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   }
 
   // 4. The iteration the parameters name (SparseIterations.hpp).
-  const detail::IterationSettings settings{c.eigensolver, c.blockSize, c.maxRestarts, c.verbosity, c.tol};
+  const detail::IterationSettings settings{c.eigensolver, c.blockSize, c.maxRestarts, c.verbosity, c.tol,
+                                           c.mumps ? "MUMPS-LDLT" : "CHOLMOD"};
   const detail::IterationOutcome it = c.eigensolver == "ARPACK"
                                           ? detail::iterateArpack(problem, settings, nev)
                                           : detail::iterateAnasazi(problem, settings, nev, numBlocks);
@@ -254,7 +268,8 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   if (!it.note.empty()) result.reason += "; " + it.note;
   result.solver = it.solver + ", " + (c.shift == 0.0 ? std::string("unshifted")
                                                      : "shift s = " + std::to_string(c.shift)) +
-                  ", Q(mu) by " + (problem.kFactor && c.shift == 0.0 ? "CHOLMOD" : c.linearSolver);
+                  ", Q(mu) by " + (problem.kFactor && c.shift == 0.0 ? problem.kFactor->method()
+                                                                     : (c.mumps ? "MUMPS" : c.linearSolver));
   result.numOperatorApplies = problem.transform->numApplies();
   if (it.vectors.is_null() || it.converged == 0) {
     result.status = SolveStatus::NotConverged;
@@ -292,11 +307,13 @@ GyroscopicResult SparseGyroscopicSolver::solve(const SparseGyroscopicSystem& sys
   // lowest frequencies wanted) and the iteration claims success; a failure
   // is already reported by its status.
   if (!a.checkable || a.result.status != SolveStatus::Converged) return a.result;
+  // The Sturm counts by the same direct solver as the transform.
+  const bool mumps = useDistributedSolver(params_.get<std::string>("Direct Solver"), *sys.K);
   return checkLowestModes(sys, std::move(a.result), a.known, [&](int asked, std::vector<double>& known) {
     Attempt b = solveAttempt(params_, sys, asked);
     known = b.known;
     return b.result;
-  }, nullptr, params_.get<double>("Residual Tolerance"));
+  }, [&](double w) { return detail::sturmCountBy(sys, w, mumps); }, params_.get<double>("Residual Tolerance"));
 }
 
 GyroscopicResult checkLowestModes(const SparseGyroscopicSystem& sys, GyroscopicResult result,

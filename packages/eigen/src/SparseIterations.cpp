@@ -46,11 +46,11 @@ Teuchos::RCP<Problem> anasaziProblem(SparseEigenproblem& p, const IterationSetti
                                        p.symmetric ? Teuchos::RCP<Operator>(p.innerProduct) : Teuchos::null,
                                        startBlock(state, c.blockSize)));
   } else {
-    auto mFactor = std::make_shared<SparseDirectSolver>(sys.M, "CHOLMOD");
+    auto mFactor = std::make_shared<SparseDirectSolver>(sys.M, c.symmetricMethod);
     CMS_INPUT_CHECK(mFactor->factor() != SparseDirectSolver::Outcome::Factored,
                     "SparseGyroscopicSolver: M is not positive definite (" << mFactor->failure() << ")");
     if (!p.kFactor) {
-      p.kFactor = std::make_shared<SparseDirectSolver>(sys.K, "CHOLMOD");
+      p.kFactor = std::make_shared<SparseDirectSolver>(sys.K, c.symmetricMethod);
       p.kFactor->factor();
     }
     auto Iinv = Teuchos::rcp(new StateInverseInnerProduct(sys, mFactor, p.kFactor));

@@ -19,6 +19,10 @@ struct IterationSettings {
   std::string eigensolver;  ///< "Block Krylov-Schur", "Block Davidson", "LOBPCG" or "ARPACK"
   int blockSize = 2, maxRestarts = 300, verbosity = 0;
   double tol = 1e-10;
+  /// SparseDirectSolver method for the symmetric positive definite M and K
+  /// that Block Davidson and LOBPCG precondition with: "CHOLMOD" (gathered)
+  /// or "MUMPS-LDLT" (across the ranks; "Direct Solver").
+  std::string symmetricMethod = "CHOLMOD";
 };
 
 struct IterationOutcome {

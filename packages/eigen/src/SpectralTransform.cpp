@@ -50,8 +50,8 @@ Teuchos::RCP<CrsMatrix> combine(double a, const CrsMatrix& A, double b, const Cr
   auto AB = Tpetra::MatrixMatrix::add(a, false, A, b, false, B);
   return Tpetra::MatrixMatrix::add(1.0, false, *AB, c, false, C);
 }
+}  // namespace
 
-/// The real form [[A, -B], [B, A]] of the complex matrix A + iB on the state map.
 Teuchos::RCP<CrsMatrix> realFormOfComplex(const CrsMatrix& A, const CrsMatrix& B,
                                           const Teuchos::RCP<const Map>& map2) {
   const auto rowMap = A.getRowMap();
@@ -87,7 +87,6 @@ Teuchos::RCP<CrsMatrix> realFormOfComplex(const CrsMatrix& A, const CrsMatrix& B
   C->fillComplete(map2, map2);
   return C;
 }
-}  // namespace
 
 SpectralTransform::SpectralTransform(const SparseGyroscopicSystem& sys, double s, double sign,
                                      const std::string& method, const std::string& kMethod)

@@ -10,8 +10,20 @@
 
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSystem.hpp"
+#include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen::detail {
+
+/// The real form [[A, -B], [B, A]] of the complex matrix A + iB on `map2`
+/// (stateMap of A's row map): the complex shift's Q(i w), and the real
+/// embedding of the Hermitian Q(omega) whose inertia is a Sturm count.
+Teuchos::RCP<CrsMatrix> realFormOfComplex(const CrsMatrix& A, const CrsMatrix& B,
+                                          const Teuchos::RCP<const Map>& map2);
+
+/// The Sturm count of sturmCount(sys, omega) (cms/eigen/SturmCount.hpp),
+/// its inertia taken by MUMPS across the ranks (distributedInertia) when
+/// `distributed`, else by CHOLMOD gathered to rank 0 (cms::inertia).
+SparseSturmCount sturmCountBy(const SparseGyroscopicSystem& sys, double omega, bool distributed);
 
 /// Map of the 2n state: global ids g (v part) and g + N (q part) for each
 /// row g this rank owns, v rows first.

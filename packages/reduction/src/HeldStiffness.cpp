@@ -3,6 +3,7 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
@@ -12,16 +13,27 @@
 
 namespace cms::reduction::detail {
 
+namespace {
+thread_local std::string currentDirectSolver = "Auto";
+}  // namespace
+
+DirectSolverScope::DirectSolverScope(std::string choice) : previous_(currentDirectSolver) {
+  currentDirectSolver = std::move(choice);
+}
+DirectSolverScope::~DirectSolverScope() { currentDirectSolver = previous_; }
+const std::string& DirectSolverScope::current() { return currentDirectSolver; }
+
 HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held)
     : held_(std::move(held)), name_(s.name()) {
   K_ = holdDofsScaled(*s.K(), held_);
-  solver_ = std::make_unique<SparseDirectSolver>(K_, "CHOLMOD");
+  const bool mumps = useDistributedSolver(DirectSolverScope::current(), *K_);
+  solver_ = std::make_unique<SparseDirectSolver>(K_, mumps ? "MUMPS-LDLT" : "CHOLMOD");
   if (solver_->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "
                          "positive definite: the substructure can still move as a rigid body (check its supports "
                          "and attachment) or about a hinge without Stiffness (a reduced basis needs a hinge "
                          "spring; Basis: Full does not), or it is singular to working precision (elements much shorter than "
-                         "their section, stiffness ratios past 1e12) (CHOLMOD: " + solver_->failure() + ")");
+                         "their section, stiffness ratios past 1e12) (" + solver_->failure() + ")");
 }
 
 void HeldStiffness::solve(const MultiVector& B, MultiVector& X) const {

@@ -1,7 +1,8 @@
 // Internal to the reduction package: K with a set of DOFs held at zero
-// (cms::holdDofs), factored once by CHOLMOD and solved many times: the
-// static solves of admissible vectors and constraint modes and the inverse
-// of the fixed-interface eigenproblem.
+// (cms::holdDofs), factored once and solved many times: the static solves
+// of admissible vectors and constraint modes and the inverse of the
+// fixed-interface eigenproblem. Factored by CHOLMOD gathered to rank 0, or
+// by MUMPS across the ranks ("Reduction" -> "Direct Solver", issue 18).
 #pragma once
 
 #include <memory>
@@ -14,6 +15,25 @@
 
 namespace cms::reduction::detail {
 
+/// The "Reduction" -> "Direct Solver" choice ("Auto", "CHOLMOD", "MUMPS")
+/// in force on this thread while buildRitzBasis runs: the basis functions
+/// (admissibleVectors, craigBamptonBasis, ...) take no solver argument, so
+/// that their public headers, which the synthesis layer includes
+/// everywhere, stay as they are. "Auto" outside any scope (StaticCorrection,
+/// direct calls): MUMPS when the substructure is distributed over several
+/// ranks and large (cms::useDistributedSolver), CHOLMOD otherwise.
+class DirectSolverScope {
+public:
+  explicit DirectSolverScope(std::string choice);
+  ~DirectSolverScope();
+  DirectSolverScope(const DirectSolverScope&) = delete;
+  DirectSolverScope& operator=(const DirectSolverScope&) = delete;
+  static const std::string& current();
+
+private:
+  std::string previous_;
+};
+
 class HeldStiffness {
 public:
   /// Throws cms::NumericalError naming the substructure when K with `held`
@@ -23,6 +43,8 @@ public:
   void solve(const MultiVector& B, MultiVector& X) const;
   const std::vector<GlobalOrdinal>& held() const { return held_; }
   Teuchos::RCP<const CrsMatrix> matrix() const { return K_; }
+  /// The SparseDirectSolver method that factored it: "CHOLMOD" or "MUMPS-LDLT".
+  const std::string& method() const { return solver_->method(); }
 
 private:
   std::vector<GlobalOrdinal> held_;

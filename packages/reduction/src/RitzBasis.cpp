@@ -13,9 +13,11 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "HeldStiffness.hpp"
 #include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
+#include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/SparseInertia.hpp"
 #include <TpetraExt_MatrixMatrix.hpp>
 #include "cms/reduction/AdmissibleVectors.hpp"
@@ -54,6 +56,13 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
             "A candidate whose M-norm after projection on the kept columns falls below this fraction of "
             "its norm is dropped as dependent (reported)");
     pl->set("Eigensolver Tolerance", 1e-10, "Modes, Craig-Bampton: Anasazi convergence tolerance");
+    Teuchos::setStringToIntegralParameter<int>(
+        "Direct Solver", "Auto",
+        "Who factors the stiffness with the attachment held (and the cut-off's Sturm count): CHOLMOD, "
+        "gathered to one rank; MUMPS, across the ranks the substructure is distributed over; Auto: MUMPS "
+        "when it is distributed over more than one rank (ReductionSchedule::Distributed) and K has at "
+        "least 2e6 stored entries, else CHOLMOD",
+        Teuchos::tuple<std::string>("Auto", "CHOLMOD", "MUMPS"), pl.get());
     return pl;
   }();
   return valid;
@@ -115,6 +124,8 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     throw InputError(s.name() + ": \"Reduction\": " + std::string(e.what()));
   }
   const std::string kind = p.get<std::string>("Basis");
+  // Every held-stiffness factorisation below (detail::HeldStiffness) by this choice.
+  const detail::DirectSolverScope directSolver(p.get<std::string>("Direct Solver"));
   int vectors = p.get<int>("Vectors");
   CMS_INPUT_CHECK(vectors < 0, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " must be >= 0");
   const long long freeRows = s.dofs().rows() - static_cast<long long>(boundary.held.size());
@@ -130,7 +141,8 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     const double w = 2.0 * M_PI * cutoffHz;
     const auto A = Tpetra::MatrixMatrix::add(1.0, false, *holdDofsScaled(*s.K(), held), -w * w, false,
                                              *holdDofs(*s.M(), held, 0.0));
-    const auto count = inertia(*A);
+    const auto count = useDistributedSolver(detail::DirectSolverScope::current(), *A) ? distributedInertia(*A)
+                                                                                        : inertia(*A);
     if (!count.reliable())
       throw NumericalError(s.name() + ": the Sturm count at the cut-off " + std::to_string(cutoffHz) +
                            " Hz failed (" + (count.failure.empty() ? "a pivot zero to rounding: the cut-off is one "
