@@ -223,7 +223,8 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
     V = denseModes(s, heldRows, count, omega, constraints);
     report << "LAPACK dsygv on " << nfree << " free DOFs";
   } else {
-    Teuchos::RCP<const CrsMatrix> Mh = holdDofs(*s.M(), heldRows, 0.0);
+    const Teuchos::RCP<const CrsMatrix> Mh =  // nothing held: M itself, no copy
+        heldRows.empty() ? s.M() : Teuchos::RCP<const CrsMatrix>(holdDofs(*s.M(), heldRows, 0.0));
     auto op = Teuchos::rcp(new ShiftInvert(K, Mh, constraints));
     const int bs = 2;
     auto X0 = Teuchos::rcp(new MultiVector(s.map(), bs));

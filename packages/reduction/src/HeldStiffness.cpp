@@ -25,7 +25,9 @@ const std::string& DirectSolverScope::current() { return currentDirectSolver; }
 
 HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held)
     : held_(std::move(held)), name_(s.name()) {
-  K_ = holdDofsScaled(*s.K(), held_);
+  // Nothing held (a substructure clamped by its own supports): K itself,
+  // not a copy (issue 18: one n x n matrix fewer, kept with the factor).
+  K_ = held_.empty() ? s.K() : Teuchos::RCP<const CrsMatrix>(holdDofsScaled(*s.K(), held_));
   const bool mumps = useDistributedSolver(DirectSolverScope::current(), *K_);
   solver_ = std::make_unique<SparseDirectSolver>(K_, mumps ? "MUMPS-LDLT" : "CHOLMOD");
   if (solver_->factor() != SparseDirectSolver::Outcome::Factored)

@@ -1372,8 +1372,10 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
       const auto& ps = *parts[src];
       auto& f = *factorisations_;
       if (f.heldK[src].is_null()) {
-        f.heldK[src] = holdDofsScaled(*ps.sub->K(), ps.held);
-        f.heldM[src] = holdDofs(*ps.sub->M(), ps.held, 0.0);
+        // Nothing held: K and M themselves, not copies kept for the run (issue 18).
+        using ConstMatrix = Teuchos::RCP<const CrsMatrix>;
+        f.heldK[src] = ps.held.empty() ? ps.sub->K() : ConstMatrix(holdDofsScaled(*ps.sub->K(), ps.held));
+        f.heldM[src] = ps.held.empty() ? ps.sub->M() : ConstMatrix(holdDofs(*ps.sub->M(), ps.held, 0.0));
       }
       auto known = f.counts.find({src, omega});
       if (known == f.counts.end()) {
