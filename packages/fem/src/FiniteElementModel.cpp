@@ -4,6 +4,7 @@
 // of the wrong type is reported with its full path. Numbers may be given as
 // integers or reals (YAML writes 7850, not 7850.0).
 #include "cms/fem/FiniteElementModel.hpp"
+#include "cms/fem/LumpedItemParameters.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -182,70 +183,15 @@ Teuchos::RCP<const ParameterList> FiniteElementModel::validParameters() {
   return p;
 }
 
-FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir) {
-  // Teuchos names sublists "Parent->Child"; messages use "Parent/Child".
-  std::string path = params.name();
-  if (path.empty() || path == "ANONYMOUS") path = "Finite Element Model";
-  for (std::size_t at; (at = path.find("->")) != std::string::npos;) path.replace(at, 2, "/");
-  ParameterList top = *validParameters();
-  checkKeys(params, top, path);
+ParameterList lumpedItemKeys() {
+  const auto all = FiniteElementModel::validParameters();
+  ParameterList p("Lumped Items");
+  for (const char* key : {"Point Masses", "Springs", "Dampers", "Hinges", "Structural Damping", "Boundary Conditions"})
+    p.sublist(key) = all->sublist(key);
+  return p;
+}
 
-  FiniteElementModel m;
-  m.name = getString(params, "Name", path, std::string("substructure"));
-  forEachEntry(params, "Materials", path, materialParameters(), [&](const std::string& name, const ParameterList& p,
-                                                                    const std::string& sub) {
-    IsotropicMaterial mat;
-    mat.E = getNumber(p, "Young's Modulus", sub);
-    mat.nu = getNumber(p, "Poisson's Ratio", sub);
-    mat.rho = getNumber(p, "Density", sub);
-    mat.validate(sub.c_str());
-    m.materials[name] = mat;
-  });
-  forEachEntry(params, "Element Sets", path, elementSetParameters(), [&](const std::string& name,
-                                                                         const ParameterList& p,
-                                                                         const std::string& sub) {
-    ElementSet s;
-    s.group = name;
-    const std::string type = getString(p, "Type", sub);
-    CMS_INPUT_CHECK(type != "Solid" && type != "Frame",
-                    sub << "/Type = \"" << type << "\" must be \"Solid\" or \"Frame\"");
-    s.kind = type == "Frame" ? ElementSet::Kind::Frame : ElementSet::Kind::Solid;
-    s.material = getString(p, "Material", sub);
-    if (s.kind == ElementSet::Kind::Frame) {
-      const std::string theory = getString(p, "Theory", sub, std::string("Euler-Bernoulli"));
-      CMS_INPUT_CHECK(theory != "Euler-Bernoulli" && theory != "Timoshenko",
-                      sub << "/Theory = \"" << theory << "\" must be \"Euler-Bernoulli\" or \"Timoshenko\"");
-      s.theory = theory == "Timoshenko" ? BeamTheory::Timoshenko : BeamTheory::EulerBernoulli;
-      s.section.A = getNumber(p, "Area", sub);
-      s.section.Iy = getNumber(p, "Iy", sub);
-      s.section.Iz = getNumber(p, "Iz", sub);
-      s.section.J = getNumber(p, "Torsion Constant", sub);
-      s.section.shearFactorY = getNumber(p, "Shear Factor Y", sub, 5.0 / 6.0);
-      s.section.shearFactorZ = getNumber(p, "Shear Factor Z", sub, 5.0 / 6.0);
-      s.section.orientation = toVec3(getNumbers(p, "Orientation", sub, 3, std::vector<double>{0, 0, 1}));
-      s.section.rotaryInertia = getBool(p, "Rotary Inertia", sub, true);
-      s.section.validate(sub.c_str());
-      for (const char* k : {"Hex8", "Hex20"})
-        CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Solid element sets only");
-    } else {
-      for (const char* k : {"Theory", "Area", "Iy", "Iz", "Torsion Constant", "Shear Factor Y", "Shear Factor Z",
-                            "Orientation", "Rotary Inertia"})
-        CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Frame element sets only");
-      if (p.isParameter("Hex8")) {
-        const std::string f = getString(p, "Hex8", sub);
-        CMS_INPUT_CHECK(f != "Full" && f != "Incompatible",
-                        sub << "/Hex8 = \"" << f << "\" must be \"Full\" or \"Incompatible\"");
-        s.hex8 = f == "Full" ? SolidType::Hex8 : SolidType::Hex8Incompatible;
-      }
-      if (p.isParameter("Hex20")) {
-        const std::string f = getString(p, "Hex20", sub);
-        CMS_INPUT_CHECK(f != "Full" && f != "Reduced",
-                        sub << "/Hex20 = \"" << f << "\" must be \"Full\" or \"Reduced\"");
-        s.hex20 = f == "Full" ? SolidType::Hex20 : SolidType::Hex20Reduced;
-      }
-    }
-    m.elementSets.push_back(s);
-  });
+void readLumpedItems(const ParameterList& params, const std::string& path, FiniteElementModel& m) {
   forEachEntry(params, "Point Masses", path, pointMassParameters(), [&](const std::string& name,
                                                                         const ParameterList& p,
                                                                         const std::string& sub) {
@@ -327,6 +273,73 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     CMS_INPUT_CHECK(!f.all && f.components.empty(), sub << "/Fixed: names no component");
     m.fixed.push_back(f);
   });
+}
+
+FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir) {
+  // Teuchos names sublists "Parent->Child"; messages use "Parent/Child".
+  std::string path = params.name();
+  if (path.empty() || path == "ANONYMOUS") path = "Finite Element Model";
+  for (std::size_t at; (at = path.find("->")) != std::string::npos;) path.replace(at, 2, "/");
+  ParameterList top = *validParameters();
+  checkKeys(params, top, path);
+
+  FiniteElementModel m;
+  m.name = getString(params, "Name", path, std::string("substructure"));
+  forEachEntry(params, "Materials", path, materialParameters(), [&](const std::string& name, const ParameterList& p,
+                                                                    const std::string& sub) {
+    IsotropicMaterial mat;
+    mat.E = getNumber(p, "Young's Modulus", sub);
+    mat.nu = getNumber(p, "Poisson's Ratio", sub);
+    mat.rho = getNumber(p, "Density", sub);
+    mat.validate(sub.c_str());
+    m.materials[name] = mat;
+  });
+  forEachEntry(params, "Element Sets", path, elementSetParameters(), [&](const std::string& name,
+                                                                         const ParameterList& p,
+                                                                         const std::string& sub) {
+    ElementSet s;
+    s.group = name;
+    const std::string type = getString(p, "Type", sub);
+    CMS_INPUT_CHECK(type != "Solid" && type != "Frame",
+                    sub << "/Type = \"" << type << "\" must be \"Solid\" or \"Frame\"");
+    s.kind = type == "Frame" ? ElementSet::Kind::Frame : ElementSet::Kind::Solid;
+    s.material = getString(p, "Material", sub);
+    if (s.kind == ElementSet::Kind::Frame) {
+      const std::string theory = getString(p, "Theory", sub, std::string("Euler-Bernoulli"));
+      CMS_INPUT_CHECK(theory != "Euler-Bernoulli" && theory != "Timoshenko",
+                      sub << "/Theory = \"" << theory << "\" must be \"Euler-Bernoulli\" or \"Timoshenko\"");
+      s.theory = theory == "Timoshenko" ? BeamTheory::Timoshenko : BeamTheory::EulerBernoulli;
+      s.section.A = getNumber(p, "Area", sub);
+      s.section.Iy = getNumber(p, "Iy", sub);
+      s.section.Iz = getNumber(p, "Iz", sub);
+      s.section.J = getNumber(p, "Torsion Constant", sub);
+      s.section.shearFactorY = getNumber(p, "Shear Factor Y", sub, 5.0 / 6.0);
+      s.section.shearFactorZ = getNumber(p, "Shear Factor Z", sub, 5.0 / 6.0);
+      s.section.orientation = toVec3(getNumbers(p, "Orientation", sub, 3, std::vector<double>{0, 0, 1}));
+      s.section.rotaryInertia = getBool(p, "Rotary Inertia", sub, true);
+      s.section.validate(sub.c_str());
+      for (const char* k : {"Hex8", "Hex20"})
+        CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Solid element sets only");
+    } else {
+      for (const char* k : {"Theory", "Area", "Iy", "Iz", "Torsion Constant", "Shear Factor Y", "Shear Factor Z",
+                            "Orientation", "Rotary Inertia"})
+        CMS_INPUT_CHECK(p.isParameter(k), sub << "/" << k << ": applies to Frame element sets only");
+      if (p.isParameter("Hex8")) {
+        const std::string f = getString(p, "Hex8", sub);
+        CMS_INPUT_CHECK(f != "Full" && f != "Incompatible",
+                        sub << "/Hex8 = \"" << f << "\" must be \"Full\" or \"Incompatible\"");
+        s.hex8 = f == "Full" ? SolidType::Hex8 : SolidType::Hex8Incompatible;
+      }
+      if (p.isParameter("Hex20")) {
+        const std::string f = getString(p, "Hex20", sub);
+        CMS_INPUT_CHECK(f != "Full" && f != "Reduced",
+                        sub << "/Hex20 = \"" << f << "\" must be \"Full\" or \"Reduced\"");
+        s.hex20 = f == "Full" ? SolidType::Hex20 : SolidType::Hex20Reduced;
+      }
+    }
+    m.elementSets.push_back(s);
+  });
+  readLumpedItems(params, path, m);
   if (params.isSublist("Spin")) {
     const ParameterList& p = params.sublist("Spin");
     const std::string sub = path + "/Spin";

@@ -19,6 +19,7 @@
 
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
+#include "cms/fem/LumpedItemParameters.hpp"
 #include "cms/fem/RigidPlacement.hpp"
 #include "cms/reduction/RitzBasis.hpp"
 
@@ -81,6 +82,10 @@ ParameterList substructureKeys() {
   beam.set("Tip Mass", 0.0, "point mass at \"end\" (kg)");
   beam.sublist("Hinges", false, "name -> hinge at a station (theory §17): Station, Axis, Stiffness, Damping")
       .disableRecursiveValidation();
+  // The lumped items of a Finite Element Model, on the beam's node sets
+  // (start, end, mid, ends): landing gear, a fuselage's mass, supports.
+  for (const char* key : {"Point Masses", "Springs", "Dampers", "Structural Damping", "Boundary Conditions"})
+    beam.sublist(key, false, "as in a Finite Element Model, on the beam's node sets").disableRecursiveValidation();
   beam.set("Tip Inertia", Teuchos::Array<double>(3, 0.0),
            "principal moments Jxx Jyy Jzz of the tip mass about \"end\" (kg m^2; a disc)");
   p.sublist("Finite Element Model").disableRecursiveValidation();
@@ -236,7 +241,16 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
   for (double v : J) CMS_INPUT_CHECK(v < 0, path << "/Tip Inertia: " << v << " must be >= 0");
   CMS_INPUT_CHECK(tip == 0 && (J[0] > 0 || J[1] > 0 || J[2] > 0), path << "/Tip Inertia needs a \"Tip Mass\"");
   if (tip > 0) m->pointMasses.push_back({"tip mass", "end", tip, {J[0], J[1], J[2], 0, 0, 0}});
+
   addBeamHinges(b, path, elements, length, *mesh, *m);
+  ParameterList lumped(b);  // its Hinges are placed by station (addBeamHinges), not by node sets
+  if (lumped.isSublist("Hinges")) lumped.remove("Hinges");
+  fem::readLumpedItems(lumped, path, *m);
+  try {
+    m->validate();  // the lumped items' node sets
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
   return m;
 }
 

@@ -578,10 +578,18 @@ void resolveAttachmentRows(Part& p, const Part& parent) {
       p.frame.kind == fem::SpinDefinition::Frame::Rotating) {
     bool moves = false;
     for (const auto& h : p.Hrows) moves = moves || !h.empty();
-    CMS_INPUT_CHECK(moves, who(p) << ": spins in its own frame relative to '" << parent.spec.name
-                                  << "', whose attachment moves: the coefficients are periodic. Supported: "
-                                     "an immovable attachment (fixed DOFs), or \"Frame: Stationary\" for an "
-                                     "axisymmetric rotor");
+    // A rotor turning in its own frame on a moving attachment (a hub on an
+    // airframe): its coefficients are periodic in the hub azimuth, which
+    // the multi-blade transform or Floquet analysis handles (theory §16.8).
+    // Its own attachment coordinates b stand between it and the parent.
+    CMS_INPUT_CHECK(moves && (parent.frame.spinning || p.boolean()),
+                    who(p) << ": spins in its own frame relative to '" << parent.spec.name
+                           << "', whose attachment moves" << (p.boolean() ? " through a Boolean interface" : "")
+                           << (parent.frame.spinning ? " in a spinning frame" : "")
+                           << ": not supported. Supported: an immovable attachment, a Node or RigidFit attachment to "
+                              "a parent that does not spin (a hub on an airframe: theory §16.8), or \"Frame: "
+                              "Stationary\" for an axisymmetric rotor");
+    p.movingHub = moves;
   }
 }
 
@@ -644,6 +652,11 @@ int solveFamilyPrestress(const AssembledStructure& out, const std::vector<std::p
 }  // namespace
 
 const SubstructureSpec& AssembledStructure::substructure(std::size_t k) const { return parts_.at(k)->spec; }
+
+std::vector<long long> AssembledStructure::heldRows(std::size_t k) const {
+  const auto& held = parts_.at(k)->held;
+  return {held.begin(), held.end()};
+}
 
 std::size_t AssembledStructure::prototypeOf(std::size_t k) const {
   const auto& copy = parts_.at(k)->spec.copy;

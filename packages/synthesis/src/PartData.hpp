@@ -56,6 +56,11 @@ struct AssembledStructure::Part {
   int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
   fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)
   bool floating = false;     ///< free C: a = the six rigid-body coordinates
+  /// A rotor spinning in its own frame on an attachment that moves (a hub on
+  /// an airframe): a = six coordinates b of its own, the attachment motion in
+  /// the rotor's axes, tied to the parent's by b = R(psi)^T a_parent at hub
+  /// azimuth psi (theory §16.8; SynthesizedStructure::movingHubs).
+  bool movingHub = false;
   /// a_k = sum H[k] over the parent's DOFs, nodal and then as parent rows
   /// (6 rows for a point attachment, one per shared DOF for Boolean).
   std::vector<std::vector<detail::NodalCoefficient>> H;

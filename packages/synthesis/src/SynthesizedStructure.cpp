@@ -454,6 +454,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   out.basesSeconds_ = since(t0);
   // 2. Coordinates q.
   const auto offset = out.layoutCoordinates();
+  out.offsets_.assign(offset.begin(), offset.end());
   // 3. Interface transforms and projections, parents first (a child's
   // attachment motion reads its parent's transform).
   Sums sums;
@@ -637,9 +638,19 @@ std::vector<GlobalOrdinal> SynthesizedStructure::layoutCoordinates() {
   const auto& parts = structure_->parts();
   std::vector<GlobalOrdinal> offset(parts.size(), 0);
   GlobalOrdinal n = structure_->freeFloating() ? 6 : 0;
+  hubs_.clear();
   for (std::size_t k = 0; k < parts.size(); ++k) {
-    offset[k] = n;
     const auto& p = *parts[k];
+    if (p.movingHub) {  // its attachment coordinates b first (theory §16.8)
+      MovingHub hub;
+      hub.part = k;
+      hub.offset = n;
+      hub.speedParameter = p.speedParam;
+      hub.axis = fem::unit(p.spec.spin->axis);
+      hubs_.push_back(hub);
+      n += 6;
+    }
+    offset[k] = n;
     int own = p.spec.kind == SubstructureKind::Rigid && p.spec.rotor.spinCoordinate ? 1 : 0;
     if (p.sub) own = bases_[k].full ? static_cast<int>(p.sub->dofs().rows() - p.held.size()) : bases_[k].size();
     reports_[k].coordinates = own;
@@ -653,7 +664,7 @@ std::vector<GlobalOrdinal> SynthesizedStructure::layoutCoordinates() {
 /// Step 3a: part k's attachment coordinates a_k = H_k T_parent q as rows over
 /// q (rows of T_parent gathered to every rank; a free C's a is its six
 /// rigid-body coordinates); `moves` says whether any is nonzero.
-std::vector<SynthesizedStructure::SparseRow> SynthesizedStructure::attachmentMotion(std::size_t k, bool& moves) const {
+std::vector<SynthesizedStructure::SparseRow> SynthesizedStructure::attachmentMotion(std::size_t k, bool& moves) {
   const auto& p = *structure_->parts()[k];
   std::vector<Row> A(p.floating ? 6 : p.Hrows.size());
   moves = false;
@@ -674,6 +685,23 @@ std::vector<SynthesizedStructure::SparseRow> SynthesizedStructure::attachmentMot
       A[a] = combine(terms);
       moves = moves || !A[a].empty();
     }
+  }
+  if (p.movingHub) {  // the parent's motion kept apart; the rotor moves with its own b (§16.8)
+    auto hub = std::find_if(hubs_.begin(), hubs_.end(), [&](const MovingHub& h) { return h.part == k; });
+    for (const auto& row : A) {
+      hub->parentMotion.emplace_back();
+      for (auto [g, v] : row) {
+        CMS_INPUT_CHECK(std::any_of(hubs_.begin(), hubs_.end(), [&](const MovingHub& h) {
+                          return g >= h.offset && g < h.offset + 6;
+                        }),
+                        "synthesis: the rotor '" << p.spec.name
+                                                 << "' on a moving attachment hangs on another such rotor "
+                                                    "(nested periodic rotors are not supported)");
+        hub->parentMotion.back().push_back({static_cast<long long>(g), v});
+      }
+    }
+    for (int a = 0; a < 6; ++a) A[a] = {{static_cast<GlobalOrdinal>(hub->offset + a), 1.0}};
+    moves = true;
   }
   return A;
 }
@@ -912,6 +940,10 @@ Teuchos::RCP<const Teuchos::ParameterList> SynthesizedStructure::validSolveParam
 
 StructureModes SynthesizedStructure::solve(const std::vector<double>& s, const Teuchos::ParameterList& params) const {
   const auto t0 = Clock::now();
+  CMS_INPUT_CHECK(!hubs_.empty(), "synthesis: the rotor '" << structure_->parts()[hubs_.front().part]->spec.name
+                                      << "' spins on a moving attachment: the structure's coefficients are periodic "
+                                         "in its azimuth (theory §16.8); its modes come from "
+                                         "analysis::PeriodicStructure (cms modes), not from this solve");
   Teuchos::ParameterList p(params);
   try {
     p.validateParametersAndSetDefaults(*validSolveParameters());

@@ -27,6 +27,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include "cms/analysis/Enrichment.hpp"
+#include "cms/analysis/PeriodicStructure.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 namespace cms::analysis {
@@ -54,6 +55,11 @@ struct ModalResult {
   double assemblySeconds = 0.0, reductionSeconds = 0.0;
   double accuracySeconds = 0.0;    ///< error estimates, bounds and coverage (step 5, without the truth)
   double estimateSeconds = 0.0;    ///< of which the estimates and bounds
+  /// A rotor on a moving attachment (theory §16.8): how its fixed-frame
+  /// modes were found (multi-blade or Floquet). Its modes have no error
+  /// estimates (the residual test of §11.8 is for constant coefficients)
+  /// and no whirl labels (their motion is the fixed frame's).
+  std::optional<PeriodicModes> periodic;
 };
 
 class ModalAnalysis {
@@ -82,6 +88,8 @@ public:
   ModalResult run(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) const;
 
 private:
+  /// Steps 4-6 for a rotor on a moving attachment (theory §16.8).
+  ModalResult& runPeriodic(ModalResult& r) const;
   synthesis::StructureDescription description_;
   Teuchos::ParameterList solve_, options_;
   std::function<void(const std::string&)> progress_;

@@ -64,6 +64,9 @@ public:
   /// A copy's prototype (copy 1 of the same item, whose reduction every copy
   /// shares: doc/theory.md §15); k itself for anything else.
   std::size_t prototypeOf(std::size_t k) const;
+  /// Its held rows (attachment, or a free C's reference), sorted: a Full
+  /// basis's coordinates are the other rows, in order.
+  std::vector<long long> heldRows(std::size_t k) const;
   /// The point its frame follows (attachment point; a free C's reference
   /// point; a rigid rotor's centre). For a clamped C: the origin.
   fem::Vec3 attachmentPoint(std::size_t k) const;
@@ -212,6 +215,22 @@ enum class ReductionSchedule {
   Distributed
 };
 
+/// A rotor spinning in its own frame on an attachment that moves (theory
+/// §16.8). Its attachment motion enters the structure's coordinates as six
+/// coordinates b of its own (rotor axes): the synthesised M, G, K, D are
+/// constant in q_e = [..., b, ...]; the physical structure ties
+/// b = R6(psi)^T A q_e, A the parent's attachment motion (fixed axes) and
+/// R6 = blkdiag(R, R), R the turn by the hub azimuth psi = omega t about
+/// `axis`. analysis::PeriodicStructure builds the periodic system from these.
+struct MovingHub {
+  std::size_t part = 0;          ///< the rotor (tree order)
+  long long offset = 0;          ///< its b: coordinates offset .. offset + 5 of q_e
+  int speedParameter = -1;       ///< omega, its spin relative to the parent
+  fem::Vec3 axis{0, 0, 1};       ///< unit spin axis
+  /// A: row a (0..5: u_P, theta_P in the parent's, fixed, axes) as (coordinate, coefficient) of q_e.
+  std::vector<std::vector<std::pair<long long, double>>> parentMotion;
+};
+
 class SynthesizedStructure {
 public:
   /// Every substructure reduced by its own "Reduction" parameters
@@ -228,6 +247,8 @@ public:
                                          const SynthesizedStructure* previous = nullptr);
 
   long long size() const;  ///< n, the number of coordinates q
+  /// The assembled structure it was synthesised from.
+  const AssembledStructure& assembled() const { return *structure_; }
   const std::vector<SubstructureReduction>& reductions() const { return reports_; }
   const std::vector<SpeedParameter>& speeds() const { return structure_->speeds(); }
   double synthesisSeconds() const { return seconds_; }
@@ -253,6 +274,13 @@ public:
   /// its a = (u_P, theta_P), and its spin angle if free).
   const std::vector<Teuchos::RCP<const CrsMatrix>>& transforms() const { return T_; }
   Teuchos::RCP<const Map> coordinateMap() const { return map_; }
+  /// The rotors on moving attachments (theory §16.8); empty for a structure
+  /// with constant coefficients. With any, solve() refuses: the modes come
+  /// from analysis::PeriodicStructure.
+  const std::vector<MovingHub>& movingHubs() const { return hubs_; }
+  /// Per part (tree order), its first own coordinate in q; it owns
+  /// reductions()[k].coordinates of them.
+  const std::vector<long long>& coordinateOffsets() const { return offsets_; }
 
   /// Physical displacements of each substructure (u_s = T_s q, real and
   /// imaginary parts as two columns) of mode `m` of `modes`. Collective.
@@ -292,7 +320,7 @@ private:
   void buildBases(const std::vector<Teuchos::ParameterList>& reductions, ReductionSchedule schedule,
                   const SynthesizedStructure* previous);
   std::vector<GlobalOrdinal> layoutCoordinates();
-  std::vector<SparseRow> attachmentMotion(std::size_t k, bool& moves) const;
+  std::vector<SparseRow> attachmentMotion(std::size_t k, bool& moves);
   void projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset, Sums& sums);
   void projectSubstructure(std::size_t k, const std::vector<SparseRow>& A, bool moves, GlobalOrdinal offset,
                            Sums& sums);
@@ -307,6 +335,8 @@ private:
   bool sharesPrototypeFactorisations(std::size_t k) const;
 
   std::shared_ptr<const AssembledStructure> structure_;
+  std::vector<MovingHub> hubs_;
+  std::vector<long long> offsets_;
   std::vector<reduction::RitzBasis> bases_;  ///< per part (empty for a rigid rotor)
   std::vector<Teuchos::ParameterList> reductionLists_;
   std::shared_ptr<Factorisations> factorisations_;
