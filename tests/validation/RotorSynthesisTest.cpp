@@ -291,13 +291,22 @@ TEST(StationaryRotors, ShaftAndWheelOnAFlexibleSupportMatchEmbeddedMonolithicMod
 TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
   using fixtures::expectInputError;
   auto comm = world();
-  // An A in its own rotating frame on a movable attachment: periodic.
+  // An A in its own rotating frame on a movable attachment: periodic. It is
+  // assembled (theory §16.8: analysis::PeriodicStructure solves it), and the
+  // constant-coefficient solve refuses it with the reason.
   {
     auto d = bladeOnClampedHub("Full", 0);
     auto hub = *d.substructures[0].model;
     hub.fixed = {{"start", "start", {}, true}};
     d.substructures[0].model = std::make_shared<fem::FiniteElementModel>(hub);
-    expectInputError([&] { AssembledStructure::assemble(d, comm); }, "periodic");
+    const auto s = SynthesizedStructure::synthesize(AssembledStructure::assemble(d, comm), true);
+    EXPECT_EQ(s.movingHubs().size(), 1u);
+    Teuchos::ParameterList p;
+    p.set("Number of Modes", 4);
+    expectInputError([&] { s.solve(std::vector<double>(s.speeds().size(), 1.0), p); }, "coefficients are periodic");
+    // In a spinning parent frame it is not supported.
+    d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 1.0};
+    expectInputError([&] { AssembledStructure::assemble(d, comm); }, "in a spinning frame: not supported");
   }
   // A child on a stationary-frame rotor that spins inside a spinning parent.
   {
