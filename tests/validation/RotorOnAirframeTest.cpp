@@ -331,3 +331,47 @@ TEST(RotorOnAirframe, RefusedWhereNotSupported) {
   }
 }
 
+
+TEST(RotorOnAirframe, DeutschsCriterionWithGearAndLagDampers) {
+  // With gear dampers c_h and lag dampers c_zeta, the centre of the band is
+  // stable exactly when c_h c_zeta exceeds Deutsch's product (theory §16.5).
+  // Equal damping ratios on both sides of the coalescence; at 0.8 and 1.25
+  // times the critical product the finite-element rotor's least damping
+  // ratio has the closed form's sign, and both agree within the flexibility
+  // bound of the undamped test.
+  Rotor r;
+  r.rate = r.closedForm().centreSpeed();
+  const auto cf0 = r.closedForm();
+  const double product = cf0.deutschCriticalProduct();
+  const double wh = std::sqrt(1.0 / cf0.totalMass()), nu = r.rate - wh;
+  // c_h / (2 M_t wh) = c_zeta / (2 I nu): the split of the product.
+  const double ratio = (cf0.totalMass() * wh) / (cf0.inertia * nu);
+  for (double factor : {0.8, 1.25}) {
+    const double p = factor * product;
+    r.gearDamper = std::sqrt(p * ratio);
+    r.lagDamper = p / r.gearDamper;
+    const auto m = fixedFrameModes(r);
+    const auto cf = closedFormEigenvalues(r.closedForm());
+    // The closed form's least damped mode and the finite-element mode beside
+    // it (the FE rotor has undamped flap and torsion modes besides, whose
+    // ratios are 0 to rounding: judged by their stability class, not a sign).
+    std::complex<double> cfLeast = cf.front();
+    for (const auto& l : cf)
+      if (-l.real() / std::abs(l) < -cfLeast.real() / std::abs(cfLeast)) cfLeast = l;
+    const eigen::GyroscopicMode* fe = nullptr;
+    bool feUnstable = false;
+    for (const auto& md : m.modes.result.modes) {
+      feUnstable = feUnstable || md.stability == eigen::Stability::Flutter || md.stability == eigen::Stability::Divergence;
+      for (const auto& c : {md.lambda, std::conj(md.lambda)})
+        if (!fe || std::abs(c - cfLeast) < std::abs(fe->lambda - cfLeast) &&
+                       std::abs(c - cfLeast) < std::abs(std::conj(fe->lambda) - cfLeast))
+          fe = &md;
+    }
+    const double zc = -cfLeast.real() / std::abs(cfLeast);
+    std::printf("c_h c_zeta = %.2f x Deutsch: least damping ratio closed form %.6e, finite elements %.6e\n", factor,
+                zc, fe->dampingRatio);
+    EXPECT_EQ(zc < 0, factor < 1.0);
+    EXPECT_EQ(feUnstable, factor < 1.0);
+    EXPECT_NEAR(fe->dampingRatio, zc, 30.0 * std::pow(std::max(r.rate, wh) / bladeBending(r), 2));
+  }
+}
