@@ -1,4 +1,5 @@
 #include "cms/analysis/CampbellStudy.hpp"
+#include "cms/analysis/PeriodicStructure.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -119,6 +120,11 @@ std::string SynthesizedSweepProblem::whirlOf() const {
 }
 
 synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<double>& speeds) const {
+  // A rotor on a moving attachment: its fixed-frame modes (theory §16.8).
+  if (!reduced_.movingHubs().empty())
+    return PeriodicStructure(reduced_, speeds)
+        .solve(solveParams_.isParameter("Number of Modes") ? solveParams_.get<int>("Number of Modes") : 10)
+        .modes;
   return reduced_.solve(speeds, solveParams_);
 }
 
@@ -146,7 +152,10 @@ std::vector<std::vector<double>> SynthesizedSweepProblem::mac(const std::vector<
 
 std::vector<Whirl> SynthesizedSweepProblem::whirl(const synthesis::StructureModes& modes,
                                                   const WhirlClassification& rule) const {
-  if (whirlPart_ < 0) return std::vector<Whirl>(modes.result.modes.size(), Whirl::Neutral);
+  // No whirl label for the fixed-frame modes of a periodic rotor: their
+  // shapes are a snapshot at azimuth 0, not an orbit in the rotor's frame.
+  if (whirlPart_ < 0 || !reduced_.movingHubs().empty())
+    return std::vector<Whirl>(modes.result.modes.size(), Whirl::Neutral);
   const double rate = whirlSpeed_ >= 0 && whirlSpeed_ < static_cast<int>(modes.speeds.size())
                           ? modes.speeds[static_cast<std::size_t>(whirlSpeed_)]
                           : structure_.substructure(static_cast<std::size_t>(whirlPart_)).spin->rate;
