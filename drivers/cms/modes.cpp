@@ -99,7 +99,7 @@ void printSubstructures(const analysis::ModalResult& r) {
   for (const auto& s : reps) {  // copies (theory §15.2)
     if (!s.turnedFrom.empty())
       std::cout << s.name << ": basis of " << s.turnedFrom << " turned (" << std::setprecision(2) << s.seconds
-                << " s; no factorisation or eigensolve of its own)\n";
+                << " s, " << s.basisBytes / 1e6 << " MB of vectors; no factorisation or eigensolve of its own)\n";
     if (!s.notTurned.empty()) std::cout << "FINDING: " << s.name << " reduced on its own: " << s.notTurned << '\n';
   }
   for (const auto& n : structure.notes()) std::cout << "note: " << n << '\n';

@@ -514,6 +514,10 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
     rep.dropped = bases_[k].dropped;
     rep.eigensolverReport = bases_[k].eigensolverReport;
     rep.seconds = bases_[k].seconds;
+    rep.basisBytes = bases_[k].vectors.is_null()
+                         ? 0.0
+                         : 8.0 * static_cast<double>(bases_[k].vectors->getGlobalLength()) *
+                               static_cast<double>(bases_[k].vectors->getNumVectors());
   };
   // The schedule: which rank reduces each substructure whole (-1: all ranks
   // together). Largest first onto the least-loaded rank, the cost taken as

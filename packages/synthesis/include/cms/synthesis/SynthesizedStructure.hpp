@@ -111,6 +111,7 @@ struct SubstructureReduction {
   std::vector<std::string> labels, dropped;
   std::string eigensolverReport;
   double seconds = 0.0;     ///< basis construction
+  double basisBytes = 0.0;  ///< its vectors' storage (rows x columns x 8; 0 for Full and R)
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
   /// held (rad/s): the paper's truncation guide. Empty for Full and R.
   std::vector<double> frequencyEstimates;
