@@ -20,6 +20,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
+#include "cms/scene/Scene.hpp"
 
 using namespace cms;
 using namespace cms::eigen;
@@ -249,5 +250,51 @@ TEST(DistributedFactorisation, DirectSolverOptionIsValidated) {
     ADD_FAILURE() << "an unknown \"Direct Solver\" was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("Direct Solver"), std::string::npos) << e.what();
+  }
+}
+
+// From a scene: Analysis -> Direct Solver reaches the sparse solver (the
+// truth of a clamped beam solved by MUMPS), and a bad value is refused
+// naming the key.
+TEST(DistributedFactorisation, SceneAnalysisDirectSolver) {
+  const std::string scene = R"(Scene:
+  Substructures:
+    beam:
+      Kind: C
+      Beam:
+        From: [0.0, 0.0, 0.0]
+        To: [1.0, 0.0, 0.0]
+        Elements: 40
+        Young's Modulus: 7.0e10
+        Poisson's Ratio: 0.3
+        Density: 2700.0
+        Area: 0.01
+        Iy: 1.0e-5
+        Iz: 2.0e-5
+        Torsion Constant: 2.0e-5
+        Orientation: [0.0, 0.0, 1.0]
+        Clamp: start
+      Reduction: {Basis: Full, Direct Solver: MUMPS}
+  Analysis:
+    Number of Modes: 4
+    Solver: Sparse
+    Direct Solver: DIRECT
+)";
+  auto text = scene;
+  text.replace(text.find("DIRECT"), 6, "MUMPS");
+  const auto sc = scene::Scene::parse(text, "beam.yaml");
+  EXPECT_EQ(sc.solve.sublist("Sparse Solver").get<std::string>("Direct Solver"), "MUMPS");
+  const auto structure = synthesis::AssembledStructure::assemble(sc.structure, world());
+  const auto truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+  const auto m = truth.solve({}, sc.solve);
+  EXPECT_EQ(m.result.status, SolveStatus::Converged) << m.result.reason;
+  EXPECT_NE(m.result.solver.find("MUMPS"), std::string::npos) << m.result.solver;
+  text = scene;
+  text.replace(text.find("DIRECT"), 6, "PARDISO");
+  try {
+    scene::Scene::parse(text, "beam.yaml");
+    ADD_FAILURE() << "Direct Solver: PARDISO accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Analysis/Direct Solver"), std::string::npos) << e.what();
   }
 }

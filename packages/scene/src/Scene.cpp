@@ -42,6 +42,9 @@ ParameterList sceneKeys() {
   a.set("Number of Modes", 10, "lowest modes to compute");
   a.set("Solver", "Auto", "Auto, Dense or Sparse");
   a.set("Dense Limit", 1500, "largest number of coordinates solved densely under Auto");
+  a.set("Direct Solver", "Auto",
+        "who factors on the sparse path (the truth, large reduced models): CHOLMOD, gathered to rank 0; MUMPS, "
+        "across the ranks; Auto: MUMPS on more than one rank for matrices of 2e6 entries or more");
   a.set("Speed Factor", 1.0, "multiplies every nominal spin rate");
   a.set("Target Accuracy", 0.0,
         "> 0: cms modes enriches the reduced substructures until every one of the Number of Modes has an "
@@ -391,6 +394,10 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
     CMS_INPUT_CHECK(!(denseLimit >= 1) || std::floor(denseLimit) != denseLimit || denseLimit > 1e9,
                     ap << "/Dense Limit = " << denseLimit << " must be an integer from 1 to 1e9");
     scene.solve.set("Dense Limit", static_cast<int>(denseLimit));
+    const std::string direct = getString(a, "Direct Solver", ap, std::string("Auto"));
+    CMS_INPUT_CHECK(direct != "Auto" && direct != "CHOLMOD" && direct != "MUMPS",
+                    ap << "/Direct Solver = \"" << direct << "\": must be Auto, CHOLMOD or MUMPS");
+    scene.solve.sublist("Sparse Solver").set("Direct Solver", direct);
     scene.targetAccuracy = getNumber(a, "Target Accuracy", ap, 0.0);
     CMS_INPUT_CHECK(!std::isfinite(scene.targetAccuracy) || scene.targetAccuracy < 0 || scene.targetAccuracy >= 0.1,
                     ap << "/Target Accuracy = " << scene.targetAccuracy

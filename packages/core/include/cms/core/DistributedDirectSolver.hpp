@@ -73,7 +73,11 @@ public:
   long long nullPivots() const { return null_; }
   long long rows() const { return n_; }
 
+  /// Seconds of factor() in all, and of its (sequential) analysis phase.
   double factorSeconds() const { return factorSeconds_; }
+  double analysisSeconds() const { return analysisSeconds_; }
+  /// The ordering the analysis used (INFOG(7): 0 AMD, 2 AMF, 4 PORD, 6 QAMD, ...).
+  int ordering() const { return ordering_; }
   /// Entries of the factors (INFOG(29)) and flops of the elimination (RINFOG(3)).
   double factorEntries() const { return factorEntries_; }
   double factorFlops() const { return factorFlops_; }
@@ -91,7 +95,8 @@ private:
   std::unique_ptr<Impl> impl_;
   std::string name_;
   long long n_ = 0, negative_ = 0, null_ = 0;
-  double factorSeconds_ = 0.0, factorEntries_ = 0.0, factorFlops_ = 0.0;
+  double factorSeconds_ = 0.0, analysisSeconds_ = 0.0, factorEntries_ = 0.0, factorFlops_ = 0.0;
+  int ordering_ = -1;
   double memoryMaxMB_ = 0.0, memoryTotalMB_ = 0.0;
 };
 
