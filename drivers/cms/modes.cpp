@@ -173,6 +173,10 @@ int modes(int argc, char* argv[]) {
   options.flag("truth", &truth, "also solve the truth model and print the true error beside each estimate");
   options.flag("check-count", &checkCount,
                "count the truth's frequencies below the highest one (one factorisation of the assembled model)");
+  std::string periodic = "Auto";
+  options.add("periodic", &periodic,
+              "a rotor on a moving attachment (theory 16.8): Auto, Multi-Blade or Floquet (e.g. to check the "
+              "multi-blade answer)");
   SceneRun run;
   if (const auto exit = run.start(options, argc, argv)) return *exit;
   const auto& sc = run.scene;
@@ -184,6 +188,7 @@ int modes(int argc, char* argv[]) {
   study.set("Target Accuracy", sc.targetAccuracy);
   study.set("Truth", truth);
   study.set("Check Count", checkCount);
+  study.set("Periodic Method", periodic);
   analysis::ModalAnalysis modal(sc.structure, sc.solve, study);
   if (root && sc.estimatedDofs > scene::Scene::kLargeDofs) {  // nobody waits minutes in silence
     std::cout << stamp(seconds()) << std::setprecision(3) << "assembling " << sc.structure.substructures.size()

@@ -27,6 +27,8 @@ Teuchos::RCP<const Teuchos::ParameterList> ModalAnalysis::validParameters() {
   p->set("Truth", false, "also solve the truth model (every basis Full) and report the true error per mode");
   p->set("Check Count", false,
          "count the truth's frequencies below the highest one found (one factorisation of the assembled model)");
+  p->set("Periodic Method", "Auto",
+         "a rotor on a moving attachment (theory 16.8): Auto, Multi-Blade or Floquet (PeriodicStructure's \"Method\")");
   return p;
 }
 
@@ -147,7 +149,9 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
   const int nModes = solve_.get<int>("Number of Modes");
   {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
-    r.periodic = PeriodicStructure(s, r.speeds).solve(nModes);
+    Teuchos::ParameterList method;
+    method.set("Method", options_.get<std::string>("Periodic Method"));
+    r.periodic = PeriodicStructure(s, r.speeds).solve(nModes, method);
   }
   r.modes = r.periodic->modes;
   r.character = s.characterise(r.modes);
@@ -161,7 +165,9 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
     // The same periodic analysis of the truth (every basis Full); modes
     // paired in order of frequency.
     const auto truth = synthesis::SynthesizedStructure::synthesize(*r.structure, true);
-    const auto t = PeriodicStructure(truth, r.speeds).solve(nModes);
+    Teuchos::ParameterList method;
+    method.set("Method", options_.get<std::string>("Periodic Method"));
+    const auto t = PeriodicStructure(truth, r.speeds).solve(nModes, method);
     for (std::size_t m = 0; m < r.modes.result.modes.size() && m < t.modes.result.modes.size(); ++m) {
       const auto a = r.modes.result.modes[m].lambda, b = t.modes.result.modes[m].lambda;
       r.trueErrors.push_back(std::abs(b) > 0 ? std::abs(a - b) / std::abs(b) : std::abs(a - b));

@@ -422,9 +422,10 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
     if (!useMultiBlade) {
       out.method = "Floquet";
       std::ostringstream why;
-      why << (mbc ? "the multi-blade transform varies by " + std::to_string(out.constancyDefect) + " over the azimuth"
-                  : blades_ > 0 ? std::string("fewer than 3 blades") : std::string("no copied blades below the hub"))
-          << (method == "Floquet" ? " (Floquet asked)" : "") << ": monodromy over one revolution, " << fl.steps
+      if (method == "Floquet") why << "Floquet asked (the multi-blade transform " << (mbc ? "applies" : "does not") << ")";
+      else if (mbc) why << "the multi-blade transform varies by " << out.constancyDefect << " over the azimuth";
+      else why << (blades_ > 0 ? "fewer than 3 blades" : "no copied blades below the hub");
+      why << ": monodromy over one revolution, " << fl.steps
           << " Gauss-Legendre steps, error " << fl.monodromyError << (fl.converged ? "" : " (NOT CONVERGED)");
       out.reason = why.str();
       result.solver = "Floquet (" + fl.integrator + ")";
