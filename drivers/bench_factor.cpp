@@ -12,7 +12,10 @@
 // right-hand sides (time, normwise backward error); with --truth, solve the
 // truth for the lowest --modes by the sparse path with "Direct Solver" =
 // CHOLMOD and MUMPS and report the time and the largest relative difference
-// of the frequencies.
+// of the frequencies. With --reduce=Basis:vectors, every substructure
+// reduced so on the Distributed schedule (each over every rank) with
+// "Reduction" -> "Direct Solver" CHOLMOD and MUMPS: the bases' time, peak
+// memory and the largest relative difference of the reduced frequencies.
 //
 //   bench_factor --h=0.009
 //   mpiexec -n 2 bench_factor --h=0.009 --truth
@@ -64,6 +67,7 @@ int main(int argc, char* argv[]) {
     std::string scenePath, sizes = "0.009", methods = "CHOLMOD,MUMPS-LDLT";
     int rhs = 20, modes = 20;
     bool truth = false;
+    std::string reduce;
     Teuchos::CommandLineProcessor clp(false, true);
     clp.setDocString("One factorisation of the rotor's K(Omega): gathered CHOLMOD against distributed MUMPS.");
     clp.setOption("scene", &scenePath, "scene with \"Mesh Parameters/h\" (default: the rotor of bench_rotor)");
@@ -72,6 +76,8 @@ int main(int argc, char* argv[]) {
     clp.setOption("rhs", &rhs, "right-hand sides solved as one block after each factorisation");
     clp.setOption("truth", "no-truth", &truth, "also solve the truth with Direct Solver CHOLMOD and MUMPS");
     clp.setOption("modes", &modes, "lowest modes of the truth solve");
+    clp.setOption("reduce", &reduce, "Basis:vectors (e.g. Craig-Bampton:12): reduce on the Distributed schedule with "
+                                     "Direct Solver CHOLMOD and MUMPS");
     if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
     if (scenePath.empty()) scenePath = drivers::dataFile("bench/rotor/rotor.yaml").string();
     CMS_INPUT_CHECK(rhs < 1, "--rhs = " << rhs << " must be at least 1");
@@ -133,6 +139,37 @@ int main(int argc, char* argv[]) {
                     << entries << std::setw(14) << std::setprecision(2) << err << std::setw(12)
                     << std::setprecision(5) << peak.max << " (" << peak.sum << ")" << std::setw(10) << peak.base
                     << note << '\n';
+      }
+      if (!reduce.empty()) {
+        const auto colon = reduce.find(':');
+        CMS_INPUT_CHECK(colon == std::string::npos, "--reduce = \"" << reduce << "\": expected Basis:vectors");
+        const std::string basis = reduce.substr(0, colon);
+        const int vectors = drivers::positiveIntegers(reduce.substr(colon + 1), "--reduce")[0];
+        std::vector<double> reference;
+        for (const char* direct : {"CHOLMOD", "MUMPS"}) {
+          auto lists = synthesis::sameReduction(structure, basis, vectors);
+          for (auto& l : lists) l.set("Direct Solver", std::string(direct));
+          memory.open();
+          const Stopwatch t;
+          const auto model = synthesis::SynthesizedStructure::synthesize(structure, lists,
+                                                                         synthesis::ReductionSchedule::Distributed);
+          const double seconds = t.seconds();
+          const auto peak = memory.peak();
+          Teuchos::ParameterList p = sc.solve;
+          p.set("Number of Modes", modes);
+          const auto result = model.solve(speeds, p);
+          std::vector<double> hz;
+          for (const auto& mode : result.result.modes) hz.push_back(mode.hz);
+          if (reference.empty()) reference = hz;
+          double worst = 0.0;
+          for (std::size_t k = 0; k < std::min(hz.size(), reference.size()); ++k)
+            worst = std::max(worst, std::abs(hz[k] - reference[k]) / reference[k]);
+          if (root)
+            std::cout << "  " << basis << " " << vectors << ", Distributed schedule, Direct Solver " << std::left
+                      << std::setw(8) << direct << std::right << ": synthesis " << seconds << " s (bases "
+                      << model.basesSeconds() << " s), " << model.size() << " coordinates, peak MiB " << peak.max
+                      << " (" << peak.sum << "), max |f - f_CHOLMOD| / f = " << worst << '\n';
+        }
       }
       if (!truth) continue;
       std::vector<double> reference;

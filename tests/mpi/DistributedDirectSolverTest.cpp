@@ -247,4 +247,7 @@ TEST(DistributedDirectSolver, AutoChoosesMumpsOnlyWhenDistributedAndLarge) {
   EXPECT_FALSE(useDistributedSolver("CHOLMOD", *A));
   EXPECT_FALSE(useDistributedSolver("Auto", *A));  // 12,000 entries: below kDistributedAutoEntries
   EXPECT_THROW(useDistributedSolver("SuperLU", *A), InputError);
+  // At a threshold of one entry, Auto is MUMPS exactly when the matrix is
+  // spread over more than one rank.
+  EXPECT_EQ(useDistributedSolver("Auto", *A, 1), A->getComm()->getSize() > 1);
 }

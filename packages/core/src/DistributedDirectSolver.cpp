@@ -344,11 +344,11 @@ SparseInertia distributedInertia(const CrsMatrix& A) {
   return out;
 }
 
-bool useDistributedSolver(const std::string& choice, const CrsMatrix& A) {
+bool useDistributedSolver(const std::string& choice, const CrsMatrix& A, long long autoEntries) {
   if (choice == "MUMPS") return true;
   if (choice == "CHOLMOD") return false;
   CMS_INPUT_CHECK(choice != "Auto", "\"Direct Solver\" = \"" << choice << "\"; valid: Auto, CHOLMOD, MUMPS");
-  return A.getComm()->getSize() > 1 && static_cast<long long>(A.getGlobalNumEntries()) >= kDistributedAutoEntries;
+  return A.getComm()->getSize() > 1 && static_cast<long long>(A.getGlobalNumEntries()) >= autoEntries;
 }
 
 }  // namespace cms

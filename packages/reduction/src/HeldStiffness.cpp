@@ -28,7 +28,7 @@ HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<Gl
   // Nothing held (a substructure clamped by its own supports): K itself,
   // not a copy (issue 18: one n x n matrix fewer, kept with the factor).
   K_ = held_.empty() ? s.K() : Teuchos::RCP<const CrsMatrix>(holdDofsScaled(*s.K(), held_));
-  const bool mumps = useDistributedSolver(DirectSolverScope::current(), *K_);
+  const bool mumps = useDistributedSolver(DirectSolverScope::current(), *K_, kDistributedAutoEntriesReduction);
   solver_ = std::make_unique<SparseDirectSolver>(K_, mumps ? "MUMPS-LDLT" : "CHOLMOD");
   if (solver_->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "

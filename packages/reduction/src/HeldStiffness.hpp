@@ -21,7 +21,8 @@ namespace cms::reduction::detail {
 /// that their public headers, which the synthesis layer includes
 /// everywhere, stay as they are. "Auto" outside any scope (StaticCorrection,
 /// direct calls): MUMPS when the substructure is distributed over several
-/// ranks and large (cms::useDistributedSolver), CHOLMOD otherwise.
+/// ranks and has at least kDistributedAutoEntriesReduction entries
+/// (cms::useDistributedSolver), CHOLMOD otherwise.
 class DirectSolverScope {
 public:
   explicit DirectSolverScope(std::string choice);

@@ -61,7 +61,7 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
         "Who factors the stiffness with the attachment held (and the cut-off's Sturm count): CHOLMOD, "
         "gathered to one rank; MUMPS, across the ranks the substructure is distributed over; Auto: MUMPS "
         "when it is distributed over more than one rank (ReductionSchedule::Distributed) and K has at "
-        "least 2e6 stored entries, else CHOLMOD",
+        "least 3e7 stored entries (below that the gathered CHOLMOD measured faster), else CHOLMOD",
         Teuchos::tuple<std::string>("Auto", "CHOLMOD", "MUMPS"), pl.get());
     return pl;
   }();
@@ -141,8 +141,9 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     const double w = 2.0 * M_PI * cutoffHz;
     const auto A = Tpetra::MatrixMatrix::add(1.0, false, *holdDofsScaled(*s.K(), held), -w * w, false,
                                              *holdDofs(*s.M(), held, 0.0));
-    const auto count = useDistributedSolver(detail::DirectSolverScope::current(), *A) ? distributedInertia(*A)
-                                                                                        : inertia(*A);
+    const auto count = useDistributedSolver(detail::DirectSolverScope::current(), *A, kDistributedAutoEntriesReduction)
+                           ? distributedInertia(*A)
+                           : inertia(*A);
     if (!count.reliable())
       throw NumericalError(s.name() + ": the Sturm count at the cut-off " + std::to_string(cutoffHz) +
                            " Hz failed (" + (count.failure.empty() ? "a pivot zero to rounding: the cut-off is one "

@@ -116,9 +116,20 @@ SparseInertia distributedInertia(const CrsMatrix& A);
 /// solves latency-bound across ranks (MUMPS's distributed triangular
 /// solves: the 1e5-DOF chain's eigensolve test took 300 s on 2 ranks by
 /// MUMPS, the whole test file 109 s on one by CHOLMOD), while a 3-D solid
-/// reaches 2e6 entries at ~2e4 DOFs. Returns true for MUMPS. Throws cms::InputError for
-/// any other choice.
-bool useDistributedSolver(const std::string& choice, const CrsMatrix& A);
+/// reaches 2e6 entries at ~2e4 DOFs. `autoEntries` replaces that size for a
+/// caller whose measurements say otherwise (the reduction's held stiffness:
+/// kDistributedAutoEntriesReduction). Returns true for MUMPS. Throws
+/// cms::InputError for any other choice.
 inline constexpr long long kDistributedAutoEntries = 2000000;
+/// Auto's size for a substructure's held stiffness: its many short solves
+/// (Krylov sequences, constraint modes, shift-invert) pay MUMPS's
+/// distributed triangular solves and its sequential analysis, and measured
+/// slower than the gathered CHOLMOD at 1.3e5 DOFs on 2 ranks (Admissible 32:
+/// 10.5 s against 5.9 s; Craig-Bampton 12: 21.6 s against 20.9 s,
+/// doc/benchmarks.md); above 3e7 entries (~2.5e5 solid DOFs, a factor of
+/// several GB on rank 0) memory decides for MUMPS.
+inline constexpr long long kDistributedAutoEntriesReduction = 30000000;
+bool useDistributedSolver(const std::string& choice, const CrsMatrix& A,
+                          long long autoEntries = kDistributedAutoEntries);
 
 }  // namespace cms
