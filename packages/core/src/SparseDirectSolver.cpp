@@ -85,7 +85,10 @@ struct SparseDirectSolver::Impl {
     const bool ldlt = method == "MUMPS-LDLT";
     mumps = std::make_unique<DistributedDirectSolver>(
         A, ldlt ? DistributedDirectSolver::Kind::Symmetric : DistributedDirectSolver::Kind::General,
-        "a matrix of " + std::to_string(A->getGlobalNumRows()) + " rows");
+        "a matrix of " + std::to_string(A->getGlobalNumRows()) + " rows",
+        // Null only below CHOLMOD's definiteness test (pivot ratio 1e-14),
+        // so that both methods call the same matrices singular.
+        kDefinitenessTolerance);
     try {
       mumps->factor(/*allowNullPivots*/ true);  // told apart below
     } catch (const NumericalError& e) {
