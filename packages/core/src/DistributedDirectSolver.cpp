@@ -147,7 +147,7 @@ struct DistributedDirectSolver::Impl {
   }
 
   /// The owned rows as coordinate triplets (upper triangle for SYM != 0).
-  double triplets() {
+  void triplets() {
     const size_t nloc = A->getRowMap()->getNodeNumElements();
     irn.clear();
     jcn.clear();
@@ -155,7 +155,6 @@ struct DistributedDirectSolver::Impl {
     irn.reserve(A->getNodeNumEntries());
     jcn.reserve(A->getNodeNumEntries());
     values.reserve(A->getNodeNumEntries());
-    double maxDiag = 0.0;
     CrsMatrix::local_inds_host_view_type cols;
     CrsMatrix::values_host_view_type vals;
     for (size_t i = 0; i < nloc; ++i) {
@@ -163,14 +162,12 @@ struct DistributedDirectSolver::Impl {
       const MUMPS_INT r = rowIndex[i];
       for (size_t e = 0; e < cols.extent(0); ++e) {
         const MUMPS_INT c = colIndex[cols(e)];
-        if (c == r) maxDiag = std::max(maxDiag, std::abs(vals(e)));
         if (kind != Kind::General && c < r) continue;
         irn.push_back(r);
         jcn.push_back(c);
         values.push_back(vals(e));
       }
     }
-    return maxDiag;
   }
 };
 

@@ -46,13 +46,14 @@ public:
   };
 
   /// `name` is how errors refer to the matrix ("K of blade", "Q(tau)").
-  /// `nullPivotThreshold` > 0: a pivot whose row/column infinity norm is at
-  /// or below it is null (counted in nullPivots(), replaced by MUMPS); 0:
-  /// kTinyPivot times the largest |a_jj|, the same "zero to rounding" as
-  /// cms::inertia. Throws cms::InputError for a matrix that is not square,
-  /// not fill-complete, or has different row and domain/range maps.
+  /// `nullPivotTolerance` > 0: a pivot is null (counted in nullPivots(),
+  /// replaced by MUMPS) when MUMPS finds its row's norm at or below this
+  /// times the norm of the matrix as MUMPS scaled it (CNTL(3)); 0 (the
+  /// default): kTinyPivot, the "zero to rounding" of cms::inertia. Throws
+  /// cms::InputError for a matrix that is not square, not fill-complete, or
+  /// has different row and domain/range maps.
   DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A, Kind kind, std::string name,
-                          double nullPivotThreshold = 0.0);
+                          double nullPivotTolerance = 0.0);
   ~DistributedDirectSolver();
   DistributedDirectSolver(const DistributedDirectSolver&) = delete;
   DistributedDirectSolver& operator=(const DistributedDirectSolver&) = delete;
