@@ -11,6 +11,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "cms/reduction/StaticCorrection.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
@@ -170,7 +171,10 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   loadPatterns(s, boundary, patterns, F, labels);
   CMS_INPUT_CHECK(F.is_null(), s.name() << ": \"Reduction\" -> \"Load Patterns\" gives no load on this "
                                         "substructure (no children, not spinning?): add \"uniform\" or \"tip\"");
-  detail::HeldStiffness K(s, boundary.held);
+  // The factorisation of K with the attachment held: kept with the basis,
+  // the error estimates' flexibility is the same matrix (theory §11.8).
+  auto factored = std::make_unique<detail::HeldStiffness>(s, boundary.held);
+  const detail::HeldStiffness& K = *factored;
   MultiVector X(F->getMap(), F->getNumVectors());
   K.solve(*F, X);
 
@@ -339,6 +343,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     for (std::size_t k = 0; k < kept.size(); ++k) V->getVectorNonConst(k)->assign(*kept[k]);
     basis.vectors = V;
   }
+  basis.flexibility = std::make_shared<const StaticCorrection>(std::move(factored));
   return basis;
 }
 

@@ -14,6 +14,8 @@ StaticCorrection::StaticCorrection(const substructure::Substructure& s, const Su
   K_ = std::make_unique<detail::HeldStiffness>(s, std::move(held));
 }
 
+StaticCorrection::StaticCorrection(std::unique_ptr<detail::HeldStiffness> factored) : K_(std::move(factored)) {}
+
 StaticCorrection::~StaticCorrection() = default;
 
 void StaticCorrection::solve(const MultiVector& R, MultiVector& X) const { K_->solve(R, X); }

@@ -144,6 +144,7 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
   }
   reduction::RitzBasis out = basis;
   out.vectors = Vc;
+  out.flexibility.reset();  // the prototype's factor, not the copy's (shared turned, §15.2)
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -561,6 +561,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       if (owner[k] != rank) continue;
       try {
         bases_[k] = reduction::buildRitzBasis(*local[k], boundaryOf(k), reductions[k]);
+        bases_[k].flexibility.reset();  // on this rank's gathered copy: not the distributed matrix
         if (!bases_[k].full && bases_[k].size() > 0) estimates[k] = reduction::estimateFrequencies(*local[k], bases_[k]);
       } catch (const InputError& e) {
         failure[k] = 1, message[k] = e.what();
@@ -1098,6 +1099,7 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
 
 const reduction::StaticCorrection& SynthesizedStructure::flexibility(std::size_t k) const {
   auto& f = factorisations_->flexibility[k];
+  if (!f) f = bases_[k].flexibility;  // the reduction's own factor of the same matrix
   if (!f) {
     reduction::SubstructureBoundary own;
     own.held = structure_->parts()[k]->held;  // its attachment only: the interfaces move with f

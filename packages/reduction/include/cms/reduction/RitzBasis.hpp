@@ -20,6 +20,7 @@
 //   Full            every non-held DOF: no truncation (the truth model)
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,8 @@
 #include "cms/substructure/Substructure.hpp"
 
 namespace cms::reduction {
+
+class StaticCorrection;
 
 /// Where a substructure meets the rest of the structure, as global rows of
 /// its map (identical on every rank).
@@ -57,6 +60,10 @@ struct RitzBasis {
   double seconds = 0.0;
   /// Anasazi's outcome for eigenvector bases ("" otherwise).
   std::string eigensolverReport;
+  /// K with the attachment held, factored while the basis was built
+  /// (admissible vectors), for the error estimates' flexibility (theory
+  /// §11.8) instead of a second factorisation; null otherwise.
+  std::shared_ptr<const StaticCorrection> flexibility;
 
   int size() const;  ///< columns (full: the non-held DOF count)
 };

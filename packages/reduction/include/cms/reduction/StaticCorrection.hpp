@@ -26,6 +26,8 @@ public:
   /// Throws cms::NumericalError naming the substructure if K with the
   /// boundary held is not positive definite.
   StaticCorrection(const substructure::Substructure& s, const SubstructureBoundary& boundary);
+  /// One already factored (a basis's own: RitzBasis::flexibility).
+  explicit StaticCorrection(std::unique_ptr<detail::HeldStiffness> factored);
   ~StaticCorrection();
   StaticCorrection(const StaticCorrection&) = delete;
   StaticCorrection& operator=(const StaticCorrection&) = delete;
