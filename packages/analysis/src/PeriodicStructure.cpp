@@ -184,6 +184,36 @@ PeriodicStructure::PeriodicStructure(const synthesis::SynthesizedStructure& stru
       order_.push_back(i);
   if (blades_ > 0) order_.insert(order_.end(), bladeCoords.begin(), bladeCoords.end());
   CMS_INPUT_CHECK(static_cast<int>(order_.size()) != n_, "periodic structure: coordinate bookkeeping failed");
+  // A Full hub's own coordinates are its nodes' components in the rotating
+  // axes: written as fixed-axis components, u_rot = R^T u_fixed node by
+  // node (a time-dependent change like b's), an axisymmetric hub has
+  // constant coefficients (theory §16.8). Reduced hubs keep their Ritz
+  // coordinates (rotating: periodic, Floquet).
+  if (a[hub_.part].basis == "Full") {
+    const auto* sub = structure.assembled().assembled(hub_.part);
+    const auto held = structure.assembled().heldRows(hub_.part);
+    std::vector<long long> free;
+    for (long long row = 0; row < sub->dofs().rows(); ++row)
+      if (!std::binary_search(held.begin(), held.end(), row)) free.push_back(row);
+    const auto nodeOf = sub->dofs().rowNodes();
+    std::vector<int> position(static_cast<std::size_t>(ne_), -1);
+    for (int i = 0; i < n_; ++i) position[static_cast<std::size_t>(order_[i])] = i;
+    std::map<std::pair<long long, int>, int> where;  // (node, component) -> permuted index
+    for (int i = 0; i < a[hub_.part].coordinates; ++i) {
+      const auto row = static_cast<std::size_t>(free[static_cast<std::size_t>(i)]);
+      const int c = static_cast<int>(sub->dofs().components[row]);
+      const int p = position[static_cast<std::size_t>(offsets[hub_.part] + i)];
+      hubRows_.push_back({p, static_cast<int>(nodeOf[row]), c});
+      where[{nodeOf[row], c}] = p;
+    }
+    for (auto& h : hubRows_) {
+      const int base = h[2] < 3 ? 0 : 3;
+      for (int e = 0; e < 3; ++e) {
+        const auto it = where.find({h[1], base + e});
+        hubPartner_.push_back(it == where.end() ? -1 : it->second);
+      }
+    }
+  }
   // q = L xi: a Full copy's rows are its nodes' components in the structure's
   // axes; turned back by the copy's angle they are the first copy's, so the
   // blades' coordinates transform alike (what the multi-blade transform needs).
@@ -230,6 +260,13 @@ DenseMatrix PeriodicStructure::embedding(double psi, int r) const {
           if (col >= 0) Z(static_cast<int>(hub_.offset) + 3 * blk + i, col) += rt * v;
         }
       }
+  // A Full hub's rows: u_rot(node, c) = sum_e (R^T)_ce u_fixed(node, e).
+  for (std::size_t h = 0; h < hubRows_.size(); ++h) {
+    const int p = hubRows_[h][0], c = hubRows_[h][2] % 3, row = order_[p];
+    for (int j = 0; j < n_; ++j) Z(row, j) = 0.0;
+    for (int e = 0; e < 3; ++e)
+      if (const int col = hubPartner_[3 * h + static_cast<std::size_t>(e)]; col >= 0) Z(row, col) = R[e][c];
+  }
   return Z;
 }
 

@@ -18,6 +18,7 @@
 // serve them).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,11 @@ private:
   /// every blade's are alike. Identity for turned Ritz bases (theory §15.2);
   /// for Full copies, each node's rows turned back by the copy's angle.
   DenseMatrix local_;
+  /// A Full hub's own coordinates (permuted index, node, component) and,
+  /// per row, the permuted indices of its node's triple (-1: held or absent):
+  /// written in fixed axes through R(psi) (theory §16.8).
+  std::vector<std::array<int, 3>> hubRows_;
+  std::vector<int> hubPartner_;
 };
 
 }  // namespace cms::analysis
