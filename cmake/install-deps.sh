@@ -17,6 +17,7 @@ packages=(
   python3-matplotlib                                # plots of the cms driver (--plot)
   python3-vtk9                                      # reading the mode-shape files back in a test
   nlohmann-json3-dev                                # JSON results (packages/io)
+  libyaml-cpp-dev                                   # YAML scenes (packages/scene)
   liblapack-dev libblas-dev libopenblas0-pthread   # optimised BLAS/LAPACK through Debian's alternatives
 )
 

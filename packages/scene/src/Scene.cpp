@@ -17,6 +17,7 @@
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
 
+#include "YamlScene.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
 #include "cms/fem/LumpedItemParameters.hpp"
@@ -641,12 +642,9 @@ std::string parserFailure(const std::string& what, const std::string& path) {
 /// The YAML text of a scene as a ParameterList named "Scene".
 Teuchos::RCP<ParameterList> yamlScene(const std::string& text, const std::string& path) {
   checkDuplicateKeys(text, path);
-  Teuchos::RCP<ParameterList> p;
-  try {
-    p = Teuchos::getParametersFromYamlString(text);
-  } catch (const std::exception& e) {
-    throw InputError(parserFailure(e.what(), path));
-  }
+  // yaml-cpp, a complete YAML parser (issue 17: Teuchos' rejected block
+  // sequences and multi-line flow mappings); its messages name line and column.
+  auto p = detail::parseYaml(text, path);
   CMS_INPUT_CHECK(p->name() != "Scene", path << ": the top-level key must be \"Scene\" (got \"" << p->name() << "\")");
   return p;
 }

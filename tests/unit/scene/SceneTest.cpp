@@ -139,9 +139,28 @@ TEST(Scene, UnreadableFilesAreInputErrors) {
   const std::string dir = CMS_TEST_DATA_DIR "/scenes/";
   expectInputError([&] { scene::Scene::read(dir + "no-such-scene.yaml"); }, "cannot open the scene file");
   // The parser's line and column, without its echo, caret and throw trace.
-  expectInputError([&] { scene::Scene::read(dir + "malformed.yaml"); }, "malformed.yaml:4:7: not a valid scene file");
+  expectInputError([&] { scene::Scene::read(dir + "malformed.yaml"); }, "malformed.yaml:4:11: not a valid scene file (end of sequence flow not found)");
   expectInputError([&] { scene::Scene::read(dir + "misspelt-key.yaml"); }, "unknown key \"Youngs Modulus\"");
   expectInputError([&] { scene::Scene::read(dir + "missing-mesh.yaml"); }, "no-such-mesh.msh");
+}
+
+TEST(Scene, OrdinaryYamlReads) {
+  // What most YAML tools write and Teuchos 13.2's own reader refused (issue
+  // 17): block sequences (one "- value" per line, indented or not) and a
+  // flow mapping over several lines; yaml-cpp reads them into the same list.
+  const std::string block = edit("        From: [0.0, 0.0, 0.0]\n", "        From:\n          - 0.0\n          - 0.0\n          - 0.0\n");
+  const std::string flush = edit("        From: [0.0, 0.0, 0.0]\n", "        From:\n        - 0.0\n        - 0.0\n        - 0.0\n");
+  const auto a = scene::Scene::parse(kGood, "a.yaml"), b = scene::Scene::parse(block, "b.yaml"),
+             c = scene::Scene::parse(flush, "c.yaml");
+  const auto x = [](const scene::Scene& sc) { return sc.structure.substructures[0].model->mesh->coordinates[0]; };
+  EXPECT_EQ(x(b), x(a));
+  EXPECT_EQ(x(c), x(a));
+  const auto d = scene::Scene::parse(
+      edit("      Reduction:\n        Basis: Modes\n        Vectors: 4\n", "      Reduction: {Basis: Modes,\n                  Vectors: 4}\n"),
+      "d.yaml");  // a flow mapping over two lines
+  const auto& r = d.structure.substructures.back().reduction;
+  EXPECT_EQ(r.get<std::string>("Basis"), "Modes");
+  EXPECT_EQ(r.get<int>("Vectors"), 4);
 }
 
 TEST(SceneRegression, ExampleScenesReproduceTheirFrequencies) {

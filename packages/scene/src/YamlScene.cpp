@@ -1,0 +1,129 @@
+// A scene's YAML read by yaml-cpp (a complete YAML 1.2 parser: block and
+// flow sequences, multi-line flow mappings, anchors) into the Teuchos
+// ParameterList that Scene::fromParameters checks key by key (issue 17).
+// Types as Teuchos' own YAML reader gives them, so that the checks and their
+// messages are unchanged: a plain integer is an int, another number a
+// double, true/false a bool, anything else (and every quoted scalar) a
+// string; a sequence of numbers an Array<int> (all integers) or
+// Array<double>, of other scalars an Array<string>; a mapping a sublist.
+#include "YamlScene.hpp"
+
+#include <cerrno>
+#include <cstdlib>
+#include <limits>
+#include <regex>
+
+#include <Teuchos_Array.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "cms/core/Error.hpp"
+
+namespace cms::scene::detail {
+
+namespace {
+
+const std::regex kInteger(R"([-+]?[0-9]+)");
+const std::regex kReal(R"([-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?|[-+]?\.(inf|Inf|INF)|\.(nan|NaN|NAN))");
+
+std::string where(const std::string& path, const YAML::Node& n) {
+  const auto m = n.Mark();
+  return path + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+}
+
+bool plain(const YAML::Node& n) { return n.Tag() != "!"; }  // quoted scalars carry the "!" tag
+
+bool isInteger(const YAML::Node& n) {
+  if (!plain(n) || !std::regex_match(n.Scalar(), kInteger)) return false;
+  errno = 0;
+  const long long v = std::strtoll(n.Scalar().c_str(), nullptr, 10);
+  return errno == 0 && v >= std::numeric_limits<int>::min() && v <= std::numeric_limits<int>::max();
+}
+
+bool isReal(const YAML::Node& n) { return plain(n) && std::regex_match(n.Scalar(), kReal); }
+
+double real(const YAML::Node& n) {
+  const std::string& s = n.Scalar();
+  if (s.find("inf") != std::string::npos || s.find("Inf") != std::string::npos || s.find("INF") != std::string::npos)
+    return s[0] == '-' ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+  if (s.find("nan") != std::string::npos || s.find("NaN") != std::string::npos || s.find("NAN") != std::string::npos)
+    return std::numeric_limits<double>::quiet_NaN();
+  return std::strtod(s.c_str(), nullptr);
+}
+
+void fill(Teuchos::ParameterList& list, const YAML::Node& map, const std::string& path);
+
+void setValue(Teuchos::ParameterList& list, const std::string& key, const YAML::Node& v, const std::string& path) {
+  switch (v.Type()) {
+    case YAML::NodeType::Map:
+      fill(list.sublist(key), v, path);
+      return;
+    case YAML::NodeType::Null:
+      list.set(key, std::string());
+      return;
+    case YAML::NodeType::Scalar: {
+      const std::string& s = v.Scalar();
+      if (isInteger(v)) list.set(key, std::atoi(s.c_str()));
+      else if (isReal(v)) list.set(key, real(v));
+      else if (plain(v) && (s == "true" || s == "True" || s == "TRUE")) list.set(key, true);
+      else if (plain(v) && (s == "false" || s == "False" || s == "FALSE")) list.set(key, false);
+      else list.set(key, s);
+      return;
+    }
+    case YAML::NodeType::Sequence: {
+      bool ints = true, reals = true;
+      for (const auto& item : v) {
+        CMS_INPUT_CHECK(!item.IsScalar(), where(path, item) << ": not a valid scene file (key '" << key
+                                                            << "': a list holds numbers or names, not lists or mappings)");
+        ints = ints && isInteger(item);
+        reals = reals && (isInteger(item) || isReal(item));
+      }
+      if (v.size() > 0 && ints) {
+        Teuchos::Array<int> a;
+        for (const auto& item : v) a.push_back(std::atoi(item.Scalar().c_str()));
+        list.set(key, a);
+      } else if (v.size() > 0 && reals) {
+        Teuchos::Array<double> a;
+        for (const auto& item : v) a.push_back(real(item));
+        list.set(key, a);
+      } else {
+        Teuchos::Array<std::string> a;
+        for (const auto& item : v) a.push_back(item.Scalar());
+        list.set(key, a);
+      }
+      return;
+    }
+    default:
+      CMS_INPUT_CHECK(true, where(path, v) << ": not a valid scene file (key '" << key << "' has no value)");
+  }
+}
+
+void fill(Teuchos::ParameterList& list, const YAML::Node& map, const std::string& path) {
+  for (const auto& kv : map) {
+    CMS_INPUT_CHECK(!kv.first.IsScalar(), where(path, kv.first) << ": not a valid scene file (a key must be a name)");
+    setValue(list, kv.first.Scalar(), kv.second, path);
+  }
+}
+
+}  // namespace
+
+Teuchos::RCP<Teuchos::ParameterList> parseYaml(const std::string& text, const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                     ": not a valid scene file (" + e.msg + ")");
+  }
+  CMS_INPUT_CHECK(!root.IsMap() || root.size() != 1,
+                  path << ": not a valid scene file (one top-level key, \"Scene\", holding the scene)");
+  const auto top = root.begin();
+  CMS_INPUT_CHECK(!top->first.IsScalar(), path << ": not a valid scene file (the top-level key must be a name)");
+  auto p = Teuchos::rcp(new Teuchos::ParameterList(top->first.Scalar()));
+  CMS_INPUT_CHECK(!top->second.IsMap(), where(path, top->second)
+                                            << ": not a valid scene file (\"" << top->first.Scalar()
+                                            << "\" must hold a mapping of keys)");
+  fill(*p, top->second, path);
+  return p;
+}
+
+}  // namespace cms::scene::detail
