@@ -51,28 +51,10 @@ analysis::SecondOrderMatrices multiBladeOf(const models::GroundResonanceRotor& r
   return mbt.toMultiBlade({ib.M, ib.D, ib.K}, 0.0, r.Omega, 2);
 }
 
-/// M q'' + Dt q' + Kt q = 0 as the eigen layer's system: the symmetric parts
-/// of Dt, Kt are D, K; their skew parts G (Coriolis) and N (circulatory).
-eigen::GyroscopicSystem gyroscopicOf(const analysis::SecondOrderMatrices& m) {
-  const int n = m.M.numRows();
-  eigen::GyroscopicSystem s;
-  s.M = m.M;
-  s.G.shape(n, n), s.D.shape(n, n), s.K.shape(n, n), s.N.shape(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      s.M(i, j) = 0.5 * (m.M(i, j) + m.M(j, i));
-      s.D(i, j) = 0.5 * (m.D(i, j) + m.D(j, i));
-      s.G(i, j) = 0.5 * (m.D(i, j) - m.D(j, i));
-      s.K(i, j) = 0.5 * (m.K(i, j) + m.K(j, i));
-      s.N(i, j) = 0.5 * (m.K(i, j) - m.K(j, i));
-    }
-  return s;
-}
-
 eigen::GyroscopicResult multiBladeModes(const models::GroundResonanceRotor& r) {
   Teuchos::ParameterList p;
   p.set("Method", "General");
-  return eigen::DenseGyroscopicSolver(p).solve(gyroscopicOf(multiBladeOf(r)));
+  return eigen::DenseGyroscopicSolver(p).solve(analysis::gyroscopicSystem(multiBladeOf(r)));
 }
 
 analysis::FloquetResult floquetOfIndividualBlades(const models::GroundResonanceRotor& r, double tolerance = 1e-12) {

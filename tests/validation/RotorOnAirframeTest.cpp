@@ -114,21 +114,6 @@ synthesis::SynthesizedStructure synthesised(const Rotor& r) {
 }
 
 
-eigen::GyroscopicSystem gyroscopicOf(const analysis::SecondOrderMatrices& m) {
-  const int n = m.M.numRows();
-  eigen::GyroscopicSystem s;
-  s.M = m.M;
-  s.G.shape(n, n), s.D.shape(n, n), s.K.shape(n, n), s.N.shape(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      s.D(i, j) = 0.5 * (m.D(i, j) + m.D(j, i));
-      s.G(i, j) = 0.5 * (m.D(i, j) - m.D(j, i));
-      s.K(i, j) = 0.5 * (m.K(i, j) + m.K(j, i));
-      s.N(i, j) = 0.5 * (m.K(i, j) - m.K(j, i));
-    }
-  return s.symmetrised();
-}
-
 /// Coleman & Feingold's eigenvalues: the 4-DOF multi-blade system (hub x,
 /// y and the cyclic lag pair) and the uncoupled collective/differential lag.
 std::vector<std::complex<double>> closedFormEigenvalues(const models::GroundResonanceRotor& cf) {
@@ -136,7 +121,7 @@ std::vector<std::complex<double>> closedFormEigenvalues(const models::GroundReso
   Teuchos::ParameterList p;
   p.set("Method", "General");
   std::vector<std::complex<double>> out;
-  for (const auto& m : eigen::DenseGyroscopicSolver(p).solve(gyroscopicOf({mb.M, mb.D, mb.K})).modes)
+  for (const auto& m : eigen::DenseGyroscopicSolver(p).solve(analysis::gyroscopicSystem({mb.M, mb.D, mb.K})).modes)
     out.push_back(m.lambda);
   return out;
 }

@@ -13,6 +13,22 @@
 
 namespace cms::analysis {
 
+eigen::GyroscopicSystem gyroscopicSystem(const SecondOrderMatrices& m) {
+  const int n = m.M.numRows();
+  eigen::GyroscopicSystem s;
+  s.M = m.M;
+  s.G.shape(n, n), s.D.shape(n, n), s.K.shape(n, n), s.N.shape(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      s.G(i, j) = 0.5 * (m.D(i, j) - m.D(j, i));
+      s.D(i, j) = 0.5 * (m.D(i, j) + m.D(j, i));
+      s.K(i, j) = 0.5 * (m.K(i, j) + m.K(j, i));
+      s.N(i, j) = 0.5 * (m.K(i, j) - m.K(j, i));
+    }
+  return s.symmetrised();
+}
+
+
 namespace {
 
 using cplx = std::complex<double>;

@@ -390,17 +390,8 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
           << " (rounding allows " << out.constancyTolerance << "); eigenvalues in the fixed frame";
     }
     out.reason = why.str();
-    eigen::GyroscopicSystem sys;
-    sys.M = constant.M;
+    eigen::GyroscopicSystem sys = gyroscopicSystem(constant);
     const int n = n_;
-    sys.G.shape(n, n), sys.D.shape(n, n), sys.K.shape(n, n), sys.N.shape(n, n);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        sys.G(i, j) = 0.5 * (constant.D(i, j) - constant.D(j, i));
-        sys.D(i, j) = 0.5 * (constant.D(i, j) + constant.D(j, i));
-        sys.K(i, j) = 0.5 * (constant.K(i, j) + constant.K(j, i));
-        sys.N(i, j) = 0.5 * (constant.K(i, j) - constant.K(j, i));
-      }
     // A damping or circulatory part at the rounding of the products (an
     // undamped rotor: B^T K B is symmetric in exact arithmetic) is dropped,
     // so that the conservative paths, accurate for stiff models, apply; a

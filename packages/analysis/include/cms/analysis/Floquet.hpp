@@ -31,6 +31,7 @@
 #include <Teuchos_RCP.hpp>
 
 #include "cms/core/DenseMatrix.hpp"
+#include "cms/eigen/GyroscopicSystem.hpp"
 
 namespace cms::analysis {
 
@@ -40,6 +41,10 @@ struct SecondOrderMatrices {
   DenseMatrix M, D, K;
 };
 
+/// The same constant system for the eigen layer: M and the symmetric parts
+/// of D and K (damping D, stiffness K), their skew parts G (Coriolis) and N
+/// (circulatory), exactly symmetric / skew.
+eigen::GyroscopicSystem gyroscopicSystem(const SecondOrderMatrices& m);
 /// A linear T-periodic system x' = A(t) x of dimension n.
 struct PeriodicSystem {
   double period = 0.0;  ///< T > 0 (s)
