@@ -15,7 +15,6 @@
 #include <sys/resource.h>
 
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
-#include <Teuchos_YamlParameterListCoreHelpers.hpp>
 
 #include "YamlScene.hpp"
 #include "cms/core/Error.hpp"
@@ -590,53 +589,6 @@ void checkDuplicateKeys(const std::string& text, const std::string& path) {
       if (flowDepth < 0) return;
     }
   }
-}
-
-/// Teuchos' parser failure in one line: "file:line:column: what", without
-/// the echoed source, the caret and the throw trace.
-std::string parserFailure(const std::string& what, const std::string& path) {
-  std::vector<std::string> lines;
-  {
-    std::istringstream in(what);
-    for (std::string l; std::getline(in, l);) lines.push_back(l);
-  }
-  std::string where, detail;
-  bool lexerText = false;  // its quoted text spans lines up to "Parser was in state"
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    std::string l = lines[i];
-    if (l.rfind("Lexer text:", 0) == 0) lexerText = true;
-    if (lexerText) {
-      lexerText = l.rfind("Parser was in state", 0) != 0;
-      continue;
-    }
-    // The source line the caret under it points into.
-    if (i + 1 < lines.size() && lines[i + 1].find('^') != std::string::npos &&
-        lines[i + 1].find_first_not_of(" ^") == std::string::npos)
-      continue;
-    if (l.find('^') != std::string::npos && l.find_first_not_of(" ^") == std::string::npos) continue;
-    // "Parser failure at line L column C of parseYamlStream", "Unexpected
-    // character code 0 at line L column C ...": the place, then the rest.
-    const auto at = l.find(" at line ");
-    int line = 0, column = 0;
-    if (where.empty() && at != std::string::npos && std::sscanf(l.c_str() + at, " at line %d column %d", &line, &column) == 2) {
-      where = std::to_string(line) + ":" + std::to_string(column) + ":";
-      l = l.substr(0, at);
-      if (l.rfind("error: ", 0) == 0) l.erase(0, 7);
-      if (l == "Parser failure") continue;
-    }
-    if (l.empty() || l.find("Throw") == 0 || l.find(".cpp:") != std::string::npos ||
-        l.find("Parser was in state") == 0 || l.find_first_not_of(" ^") == std::string::npos)
-      continue;
-    if (l.find("already exists in list") != std::string::npos) {  // what the scan did not see (a flow mapping)
-      const auto q = l.find('"'), r = l.find('"', q + 1);
-      if (q != std::string::npos && r != std::string::npos) l = "duplicate key '" + l.substr(q + 1, r - q - 1) + "'";
-    }
-    if (l.size() > 200) l = l.substr(0, 200) + "...";
-    detail += (detail.empty() ? "" : "; ") + l;
-    if (detail.size() > 600) break;
-  }
-  if (where.empty()) return path + ": not a valid scene file (" + detail + ")";
-  return path + ":" + where + " not a valid scene file (" + detail + ")";
 }
 
 /// The YAML text of a scene as a ParameterList named "Scene".
