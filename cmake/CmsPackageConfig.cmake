@@ -38,6 +38,6 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/cmake/cmsConfigVersion.cm
 install(EXPORT cmsTargets NAMESPACE cms:: DESTINATION ${CMS_INSTALL_CMAKEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/cmake/cmsConfig.cmake ${PROJECT_BINARY_DIR}/cmake/cmsConfigVersion.cmake
               ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake ${PROJECT_SOURCE_DIR}/cmake/FindMUMPS.cmake
-              ${PROJECT_SOURCE_DIR}/cmake/FindARPACK.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/FindARPACK.cmake ${PROJECT_SOURCE_DIR}/cmake/FindSCOTCH.cmake
               ${PROJECT_SOURCE_DIR}/cmake/FindGmsh.cmake
         DESTINATION ${CMS_INSTALL_CMAKEDIR})

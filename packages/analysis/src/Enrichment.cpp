@@ -19,7 +19,8 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
   for (std::size_t k = 0; k < ns; ++k) {
     const std::string basis = reductions[k].get<std::string>("Basis", "Admissible");
     // Copies follow their prototype (theory §15.2): it alone is grown.
-    tunable[k] = structure.assembled(k) && basis != "Full" && basis != "Guyan" && structure.prototypeOf(k) == k;
+    tunable[k] = structure.assembled(k) && basis != "Full" && basis != "Guyan" && basis != "Partitioned" &&
+                structure.prototypeOf(k) == k;
   }
   auto mirrorCopies = [&] {
     for (std::size_t k = 0; k < ns; ++k)

@@ -65,7 +65,8 @@ TruncationResult TruncationStudy::run(
     red[q] = structure.substructure(q).reduction;
     red[q].setName("Reduction");
     const std::string basis = red[q].get<std::string>("Basis", "Admissible");
-    result.reducible[q] = structure.assembled(q) && basis != "Full" && basis != "Guyan";
+    result.reducible[q] = structure.assembled(q) && basis != "Full" && basis != "Guyan" &&
+                           basis != "Partitioned";  // its size follows the cut-off, not "Vectors"
     if (result.reducible[q]) {
       limit[q] = structure.assembled(q)->dofs().rows() - 6;
       count[q] = static_cast<int>(std::min<long long>(start, limit[q]));

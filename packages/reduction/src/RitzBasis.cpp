@@ -23,6 +23,7 @@
 #include "cms/reduction/AdmissibleVectors.hpp"
 #include "cms/reduction/CraigBamptonBasis.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
+#include "cms/reduction/PartitionedBasis.hpp"
 
 namespace cms::reduction {
 
@@ -35,8 +36,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Reduction"));
     Teuchos::setStringToIntegralParameter<int>(
         "Basis", "Admissible",
-        "Admissible, Polynomial, Modes, Craig-Bampton, Guyan or Full (doc/theory.md §11.3)",
-        Teuchos::tuple<std::string>("Admissible", "Polynomial", "Modes", "Craig-Bampton", "Guyan", "Full"), pl.get());
+        "Admissible, Polynomial, Modes, Craig-Bampton, Guyan, Partitioned or Full (doc/theory.md §11.3, §18)",
+        Teuchos::tuple<std::string>("Admissible", "Polynomial", "Modes", "Craig-Bampton", "Guyan", "Partitioned", "Full"),
+        pl.get());
     pl->set("Vectors", 6,
             "Admissible: static and Krylov vectors; Polynomial: polynomial functions; Modes, Craig-Bampton: eigenvectors (Craig-Bampton adds "
             "one constraint mode per interface DOF); ignored by Guyan and Full");
@@ -52,6 +54,20 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
             "Modes and Craig-Bampton take every fixed-interface mode below it; Admissible grows until "
             "its Rayleigh-Ritz estimates below it are as many (doc/theory.md §11.10); \"Vectors\" is "
             "then ignored. 0: use \"Vectors\"");
+    {
+      Teuchos::ParameterList& part = pl->sublist("Partition", false,
+                                                 "Partitioned: how the substructure is cut (Scotch) into parts, "
+                                                 "each reduced to its modes below \"Cutoff Frequency\" with the "
+                                                 "separator held, the separator to its own modes below it "
+                                                 "(doc/theory.md §18)");
+      part.set("Parts", 0, "> 0: this many parts; 0: as many as \"Max DOFs\" asks");
+      part.set("Max DOFs", 20000, "parts of at most about this many free DOFs (when \"Parts\" is 0)");
+      part.set("Interface Cutoff Factor", 2.0,
+               "the interface keeps its modes below this multiple of \"Cutoff Frequency\" (>= 1)");
+      part.set("Residual Vectors", true,
+               "per interface mode, the parts' static response to its inertia load (one load-dependent "
+               "Ritz step; measured: 20x smaller errors for 1.7x the vectors)");
+    }
     pl->set("Dependence Tolerance", 1e-8,
             "A candidate whose M-norm after projection on the kept columns falls below this fraction of "
             "its norm is dropped as dependent (reported)");
@@ -134,7 +150,9 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                   "Scene/Substructures/" << s.name() << "/Reduction/Cutoff Frequency = " << cutoffHz
                                          << " must be finite and >= 0 (Hz)");
   int below = -1;  // the substructure's own modes below the cut-off (held as the basis holds them)
-  if (cutoffHz > 0.0 && kind != "Full" && kind != "Guyan") {
+  // (Partitioned applies the cut-off per part and to the interface: no
+  // count over the whole substructure, whose factorisation it avoids.)
+  if (cutoffHz > 0.0 && kind != "Full" && kind != "Guyan" && kind != "Partitioned") {
     std::vector<GlobalOrdinal> held(boundary.held);
     if (kind == "Craig-Bampton")  // fixed-interface modes: the children's interfaces held too
       for (const auto& rows : boundary.interfaces) held.insert(held.end(), rows.begin(), rows.end());
@@ -174,6 +192,17 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
         if (represented >= below || k >= freeRows || basis.size() < k) break;
       }
     }
+  } else if (kind == "Partitioned") {
+    const auto& part = p.sublist("Partition");
+    PartitionOptions options;
+    options.parts = part.get<int>("Parts");
+    options.maxDofs = part.get<int>("Max DOFs");
+    options.interfaceCutoffFactor = part.get<double>("Interface Cutoff Factor");
+    options.residualVectors = part.get<bool>("Residual Vectors");
+    options.cutoffHz = cutoffHz;
+    options.eigensolverTolerance = p.get<double>("Eigensolver Tolerance");
+    options.dependenceTolerance = p.get<double>("Dependence Tolerance");
+    basis = partitionedBasis(s, boundary, options);
   } else if (kind == "Polynomial") {
     CMS_INPUT_CHECK(vectors > freeRows, "Scene/Substructures/" << s.name() << "/Reduction/Vectors = " << vectors
                                                  << " but substructure \"" << s.name() << "\" has only " << freeRows

@@ -529,7 +529,8 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
     for (std::size_t k = 0; k < parts.size(); ++k)
       if (parts[k]->sub && !reused[k] && !turned[k] &&
           !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
-            reductions[k].get<std::string>("Basis") == "Full"))
+            (reductions[k].get<std::string>("Basis") == "Full" ||
+             reductions[k].get<std::string>("Basis") == "Partitioned")))  // spreads its own parts over the ranks
         work.push_back({std::pow(static_cast<double>(parts[k]->sub->dofs().rows()), 1.5), k});
     std::sort(work.begin(), work.end(), [](const auto& a, const auto& b) {
       return a.first > b.first || (a.first == b.first && a.second < b.second);

@@ -1,0 +1,48 @@
+// A large substructure reduced by substructuring it once more, automatically
+// (doc/theory.md §18): its nodes are partitioned by Scotch into parts, the
+// nodes on the cuts form the separator B, and
+//
+//   u_I^p = X_p u_B + Phi_p eta_p,   X_p = -K_pp^-1 K_pB   (static extension)
+//   u_B   = Psi xi
+//
+// where Phi_p are part p's fixed-interface modes (B held) below the cut-off
+// and Psi the modes of the interface's own problem (S, M^) below it: S the
+// Schur complement K_BB - sum_p K_Bp K_pp^-1 K_pB, M^ the mass of the
+// static extensions (Craig & Chang's characteristic constraint modes; the
+// first level of Bennighof & Lehoucq's AMLS). Each part is factored and
+// solved on its own, the parts spread over the ranks, so nothing of the
+// size of the whole substructure is ever factored. The basis is a Ritz
+// basis like the others: M-orthonormalised in order, zero on the held rows;
+// the synthesis projects the substructure's full matrices on it.
+#pragma once
+
+#include "cms/reduction/RitzBasis.hpp"
+
+namespace cms::reduction {
+
+struct PartitionOptions {
+  int parts = 0;                 ///< > 0: this many parts; 0: from maxDofs
+  long long maxDofs = 20000;     ///< parts of at most about this many free DOFs (parts = 0)
+  double cutoffHz = 0.0;         ///< part modes kept below this (Hz), > 0
+  /// Interface modes kept below this multiple of cutoffHz: the interface's
+  /// statically condensed (S, M^) is stiffer than the structure it stands
+  /// for, so its modes need a higher cut-off than the parts' (§18.3).
+  double interfaceCutoffFactor = 2.0;
+  /// Per interface mode, the interiors' static response (separator held)
+  /// to its inertia load: one load-dependent Ritz step (§18.2).
+  bool residualVectors = true;
+  double eigensolverTolerance = 1e-10;
+  double dependenceTolerance = 1e-8;
+};
+
+/// Collective over the substructure's communicator. The children's
+/// interface rows join the separator (their motion is an interface
+/// coordinate, as in Craig-Bampton). The partition is made on rank 0 from
+/// the whole graph, so the basis does not depend on the rank count beyond
+/// rounding. Throws NumericalError naming the part when its stiffness
+/// with the separator held is not positive definite, or when an
+/// eigensolve fails; InputError for options out of range.
+RitzBasis partitionedBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary,
+                           const PartitionOptions& options);
+
+}  // namespace cms::reduction
