@@ -152,7 +152,12 @@ def read_ccx(dat):
 
 
 def write_scene(work, omega, modes, basis, vectors, target=0.0, tag=None):
-    reduction = f"      Reduction:\n        Basis: {basis}\n" + (f"        Vectors: {vectors}\n" if vectors else "")
+    if basis == "Partitioned":  # vectors is "CUTOFF" or "CUTOFFxPARTS" (theory 18)
+        cutoff, _, parts = str(vectors).partition("x")
+        reduction = (f"      Reduction:\n        Basis: Partitioned\n        Cutoff Frequency: {float(cutoff)}\n" +
+                     (f"        Partition: {{Parts: {int(parts)}}}\n" if parts else ""))
+    else:
+        reduction = f"      Reduction:\n        Basis: {basis}\n" + (f"        Vectors: {vectors}\n" if vectors else "")
     solver = "Sparse" if basis == "Full" else "Auto"
     tag = tag or basis
     path = os.path.join(work, f"blade-{tag}.yaml")
@@ -203,13 +208,18 @@ def read_cms(work, tag):
 
 
 def parse_reductions(text, vectors):
-    """'Craig-Bampton:30,Admissible:40,Admissible:ta=1e-3' -> [(basis, vectors, target)]."""
+    """'Craig-Bampton:30,Admissible:40,Admissible:ta=1e-3,Partitioned:2000x8' -> [(basis, vectors, target)]
+    (Partitioned: its cut-off in Hz, optionally x the number of parts, kept as text)."""
     out = []
     for item in filter(None, text.split(",")):
         basis, _, arg = item.partition(":")
-        if basis not in ("Craig-Bampton", "Admissible", "Modes"):
+        if basis not in ("Craig-Bampton", "Admissible", "Modes", "Partitioned"):
             raise ValueError(f"--reductions: unknown basis '{basis}'")
-        if arg.startswith("ta="):
+        if basis == "Partitioned":
+            if not re.fullmatch(r"[0-9.]+(x[0-9]+)?", arg):
+                raise ValueError(f"--reductions: Partitioned needs CUTOFF or CUTOFFxPARTS, not '{arg}'")
+            out.append((basis, arg, 0.0))
+        elif arg.startswith("ta="):
             out.append((basis, 0, float(arg[3:])))
         else:
             out.append((basis, int(arg) if arg else vectors, 0.0))
@@ -269,7 +279,8 @@ def main():
                     help="comma-separated counts of CalculiX *FREQUENCY modes, the basis its Coriolis step projects "
                          "on (one CalculiX run each; default: --modes)")
     ap.add_argument("--reductions", default="",
-                    help="cms reductions, comma-separated Basis:vectors or Basis:ta=accuracy (Target Accuracy), "
+                    help="cms reductions, comma-separated Basis:vectors or Basis:ta=accuracy (Target Accuracy) or "
+                         "Partitioned:CUTOFF_HZ[xPARTS], "
                          "e.g. Craig-Bampton:30,Admissible:40,Admissible:ta=1e-3 (default: Craig-Bampton:--vectors)")
     ap.add_argument("--no-truth", action="store_true", help="skip the cms truth (Full basis) on each mesh")
     ap.add_argument("--reference", default="",

@@ -96,6 +96,9 @@ void printSubstructures(const analysis::ModalResult& r) {
   }
   for (std::size_t k = 0; k < reps.size(); ++k)
     if (const auto n = droppedNote(reps[k], structure.substructure(k).reduction); !n.empty()) std::cout << n << '\n';
+  for (const auto& s : reps)  // how a Partitioned basis was made, and where its time went (theory §18)
+    if (s.basis == "Partitioned" && s.turnedFrom.empty())
+      std::cout << s.name << ": " << s.eigensolverReport << " (" << std::setprecision(3) << s.seconds << " s)\n";
   for (const auto& s : reps) {  // copies (theory §15.2)
     if (!s.turnedFrom.empty())
       std::cout << s.name << ": basis of " << s.turnedFrom << " turned (" << std::setprecision(2) << s.seconds

@@ -11,7 +11,7 @@ namespace cms::analysis {
 
 Teuchos::RCP<const Teuchos::ParameterList> StrategyComparison::validParameters() {
   auto p = Teuchos::rcp(new Teuchos::ParameterList("Strategy Comparison"));
-  p->set("Counts", Teuchos::Array<int>(std::vector<int>{2, 4, 8}), "vectors per substructure for each basis but Guyan (each >= 1)");
+  p->set("Counts", Teuchos::Array<int>(std::vector<int>{2, 4, 8}), "vectors per substructure for each basis but Guyan (each >= 1); for Partitioned, its cut-off in Hz");
   p->set("Strategies", Teuchos::Array<std::string>(std::vector<std::string>{"Guyan", "Admissible", "Modes", "Craig-Bampton"}),
          "the bases compared (reduction::validParameters' \"Basis\" values)");
   p->set("Speed Factor", 1.0, "every nominal spin rate is multiplied by this (>= 0)");

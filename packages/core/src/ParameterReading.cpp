@@ -42,6 +42,18 @@ void validateOptions(ParameterList& p, const ParameterList& valid, const std::st
   }
 }
 
+void promoteIntegers(ParameterList& p, const ParameterList& valid) {
+  for (auto it = p.begin(); it != p.end(); ++it) {
+    const std::string& key = p.name(it);
+    if (!valid.isParameter(key)) continue;  // unknown keys are the validation's to name
+    if (p.isSublist(key) && valid.isSublist(key)) {
+      promoteIntegers(p.sublist(key), valid.sublist(key));
+    } else if (p.isType<int>(key) && valid.isType<double>(key)) {
+      p.set(key, static_cast<double>(p.get<int>(key)));
+    }
+  }
+}
+
 double getNumber(const ParameterList& p, const std::string& key, const std::string& path,
                  std::optional<double> fallback) {
   if (!p.isParameter(key)) {

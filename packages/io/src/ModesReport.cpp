@@ -47,6 +47,7 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
                                   {"coordinates", s.coordinates},
                                   {"attachment_dofs", s.attachmentDofs},
                                   {"basis_seconds", s.seconds},
+                                  {"basis_report", s.eigensolverReport},
                                   {"basis_bytes", s.basisBytes},
                                   {"frequency_estimates_hz", hz},
                                   {"dropped", s.dropped}});

@@ -11,6 +11,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "LoadPatterns.hpp"
 #include "cms/reduction/StaticCorrection.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -52,7 +53,10 @@ std::array<double, 3> supportCentroid(const substructure::Substructure& s, const
   return c;
 }
 
-/// The load patterns as columns of F, with a label each.
+}  // namespace
+
+namespace detail {
+
 void loadPatterns(const substructure::Substructure& s, const SubstructureBoundary& b,
                   const std::vector<std::string>& patterns, Teuchos::RCP<MultiVector>& F,
                   std::vector<std::string>& labels) {
@@ -159,7 +163,9 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
   if (cols.empty()) F = Teuchos::null;
 }
 
-}  // namespace
+}  // namespace detail
+
+using detail::loadPatterns;
 
 RitzBasis admissibleVectors(const substructure::Substructure& s, const SubstructureBoundary& boundary,
                             const std::vector<std::string>& patterns, int count, double tol) {

@@ -39,6 +39,7 @@
 #include <Tpetra_MultiVector.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 
+#include "LoadPatterns.hpp"
 #include "SymmetricEigen.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/Redistribution.hpp"
@@ -221,6 +222,7 @@ struct PartWork {
   Teuchos::RCP<CrsMatrix> Mpp;       ///< the part's interior mass
   std::shared_ptr<SparseDirectSolver> factor;  ///< K_pp, kept for the residual vectors
   std::vector<std::tuple<int, int, double>> MpB;  ///< mass coupling to the separator (i, separator index)
+  std::vector<double> Yf;            ///< n_p x n_f: K_pp^-1 f_p for the static load patterns
   double seconds = 0.0;
 };
 
@@ -273,7 +275,10 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         const auto a = rowNode[r];
         for (std::size_t e = 0; e < cols.extent(0); ++e) {
           const auto b = rowNode[colMap->getGlobalElement(cols(e))];
-          if (b != a) adjacent[a].push_back(static_cast<SCOTCH_Num>(b));
+          if (b != a) {  // both arcs: Scotch needs a symmetric graph, whatever K's stored pattern
+            adjacent[a].push_back(static_cast<SCOTCH_Num>(b));
+            adjacent[b].push_back(static_cast<SCOTCH_Num>(a));
+          }
         }
       }
       std::vector<SCOTCH_Num> vert(nodes + 1, 0), edge;
@@ -293,18 +298,23 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         SCOTCH_Graph graph, bound;
         SCOTCH_Strat strategy;
         std::vector<SCOTCH_Num> partOf(nodes, 0);
-        int status = SCOTCH_contextInit(&context);
+        // Every object initialised before anything can fail, and each exited
+        // once (exiting one never initialised corrupted the heap).
+        int status = SCOTCH_contextInit(&context) | SCOTCH_graphInit(&graph) | SCOTCH_graphInit(&bound) |
+                     SCOTCH_stratInit(&strategy);
+        // One thread: Scotch's own threads hung in its thread launch (3
+        // parts of the benchmark hub), and the partition is a small part of
+        // the time.
+        if (status == 0) status = SCOTCH_contextThreadSpawn(&context, 1, nullptr);
         if (status == 0) status = SCOTCH_contextOptionSetNum(&context, SCOTCH_OPTIONNUMDETERMINISTIC, 1);
         if (status == 0) status = SCOTCH_contextOptionSetNum(&context, SCOTCH_OPTIONNUMRANDOMFIXEDSEED, 1);
         if (status == 0) status = SCOTCH_contextRandomClone(&context);
         if (status == 0) SCOTCH_contextRandomSeed(&context, 1);
-        if (status == 0) status = SCOTCH_graphInit(&graph);
-        if (status == 0) status = SCOTCH_graphInit(&bound);
         if (status == 0)
           status = SCOTCH_graphBuild(&graph, 0, static_cast<SCOTCH_Num>(nodes), vert.data(), nullptr, nullptr,
                                      nullptr, static_cast<SCOTCH_Num>(edge.size()), edge.data(), nullptr);
+        if (status == 0 && SCOTCH_graphCheck(&graph) != 0) status = -1;
         if (status == 0) status = SCOTCH_contextBindGraph(&context, &graph, &bound);
-        if (status == 0) status = SCOTCH_stratInit(&strategy);
         if (status == 0) status = SCOTCH_stratGraphMapBuild(&strategy, SCOTCH_STRATQUALITY, parts, 0.05);
         if (status == 0) status = SCOTCH_graphPart(&bound, parts, &strategy, partOf.data());
         SCOTCH_stratExit(&strategy);
@@ -358,6 +368,15 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   const Tpetra::Import<> toLayout(s.map(), layout);
   const auto K = Tpetra::importAndFillCompleteCrsMatrix<CrsMatrix>(s.K(), toLayout);
   const auto M = Tpetra::importAndFillCompleteCrsMatrix<CrsMatrix>(s.M(), toLayout);
+  // The static load patterns (as the Admissible basis's, §11.3), on the layout.
+  Teuchos::RCP<MultiVector> loads;
+  std::vector<std::string> loadLabels;
+  detail::loadPatterns(s, boundary, options.loadPatterns, loads, loadLabels);
+  const int nf = loads.is_null() ? 0 : static_cast<int>(loads->getNumVectors());
+  MultiVector F(layout, std::max(nf, 1));
+  if (nf > 0) F.doImport(*loads, toLayout, Tpetra::INSERT);
+  loads = Teuchos::null;
+  std::vector<double> cB(static_cast<std::size_t>(nB) * nf, 0.0);  // sum_p K_Bp K_pp^-1 f_p, this rank's parts
 
   // 3. The parts, each on its rank alone.
   const auto tParts = Clock::now();
@@ -457,6 +476,18 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
           }
       }
       w.modes = modesBelow(*Kt, *Mt, Kc, Mc, lambdaCut, factor, options.eigensolverTolerance, what);
+      if (nf > 0) {  // the loads' particular part, separator held, and its reaction on the separator
+        MultiVector Fp(Kt->getRowMap(), nf), Y(Kt->getRowMap(), nf);
+        for (int k = 0; k < nf; ++k) {
+          const auto from = F.getData(k);
+          for (int i = 0; i < n; ++i) Fp.replaceLocalValue(i, k, from[layout->getLocalElement(w.rows[i])]);
+        }
+        factor.solve(Fp, Y);
+        w.Yf.resize(static_cast<std::size_t>(n) * nf);
+        Y.get1dCopy(Teuchos::ArrayView<double>(w.Yf), n);
+        for (const auto& [i, b, v] : KpB)
+          for (int k = 0; k < nf; ++k) cB[b + static_cast<std::size_t>(k) * nB] += v * w.Yf[i + static_cast<std::size_t>(k) * n];
+      }
       w.seconds = since(tp);
       work.push_back(std::move(w));
     }
@@ -506,6 +537,9 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   };
   gatherTriplets(Sk);
   gatherTriplets(Sm);
+  std::vector<double> uB(cB.size(), 0.0);  // the static shapes on the separator: S^-1 (f_B - sum_p K_Bp K_pp^-1 f_p)
+  if (!cB.empty())
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(cB.size()), cB.data(), uB.data());
   Modes interface;
   if (rank == 0 && nB > 0 && failure.empty()) {
     try {
@@ -517,8 +551,18 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       if (factor.factor() != SparseDirectSolver::Outcome::Factored)
         throw NumericalError(s.name() + ": the interface's Schur complement (" + std::to_string(nB) +
                              " separator DOFs) is not positive definite (" + factor.failure() + ")");
-      interface = modesBelow(*St, *Mt, S, Mh, lambdaCut * std::pow(options.interfaceCutoffFactor, 2), factor, options.eigensolverTolerance,
-                             s.name() + ": interface (" + std::to_string(nB) + " separator DOFs)");
+      interface = modesBelow(*St, *Mt, S, Mh, lambdaCut * std::pow(options.interfaceCutoffFactor, 2), factor,
+                             options.eigensolverTolerance, s.name() + ": interface (" + std::to_string(nB) + " separator DOFs)");
+      if (nf > 0) {
+        MultiVector g(St->getRowMap(), nf), u(St->getRowMap(), nf);
+        for (int k = 0; k < nf; ++k) {
+          const auto from = F.getData(k);
+          for (int b = 0; b < nB; ++b)
+            g.replaceLocalValue(b, k, from[layout->getLocalElement(separatorRows[b])] - uB[b + static_cast<std::size_t>(k) * nB]);
+        }
+        factor.solve(g, u);
+        u.get1dCopy(Teuchos::ArrayView<double>(uB), nB);
+      }
     } catch (const std::exception& e) {
       failure = e.what();
     }
@@ -528,6 +572,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   interface.vectors.resize(static_cast<std::size_t>(nB) * interface.m);
   if (!interface.vectors.empty())
     Teuchos::broadcast(*comm, 0, static_cast<int>(interface.vectors.size()), interface.vectors.data());
+  if (!uB.empty()) Teuchos::broadcast(*comm, 0, static_cast<int>(uB.size()), uB.data());
   const double interfaceSeconds = since(tInterface);
 
   // 5. The columns on the substructure's map: each part's modes, then the
@@ -535,12 +580,12 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   std::vector<int> counts(parts, 0), allCounts(parts, 0);
   for (const auto& w : work) counts[w.part] = w.modes.m;
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, parts, counts.data(), allCounts.data());
-  std::vector<int> offset(parts + 1, 0);
+  std::vector<int> offset(parts + 1, nf);  // the static shapes first: they carry the coupling
   for (int p = 0; p < parts; ++p) offset[p + 1] = offset[p] + allCounts[p];
   const int residuals = options.residualVectors ? interface.m : 0;
   const int columns = offset[parts] + interface.m + residuals;
   RitzBasis basis;
-  std::vector<std::string> labels;
+  std::vector<std::string> labels(loadLabels);
   for (int p = 0; p < parts; ++p)
     for (int k = 0; k < allCounts[p]; ++k) labels.push_back("part " + std::to_string(p) + " mode " + std::to_string(k + 1));
   for (int k = 0; k < interface.m; ++k) labels.push_back("interface mode " + std::to_string(k + 1));
@@ -549,6 +594,17 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
     MultiVector C(layout, columns);
     for (const auto& w : work) {
       const int n = static_cast<int>(w.rows.size()), nb = static_cast<int>(w.boundary.size());
+      if (nf > 0) {  // u_p = K_pp^-1 f_p + X_p u_B
+        std::vector<double> uBp(static_cast<std::size_t>(nb) * nf), u(w.Yf);
+        for (int k = 0; k < nf; ++k)
+          for (int b = 0; b < nb; ++b) uBp[b + static_cast<std::size_t>(k) * nb] = uB[w.boundary[b] + static_cast<std::size_t>(k) * nB];
+        if (nb > 0)
+          Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, nf, nb, 1.0, w.X.data(), n,
+                                            uBp.data(), nb, 1.0, u.data(), n);
+        for (int k = 0; k < nf; ++k)
+          for (int i = 0; i < n; ++i)
+            C.replaceLocalValue(layout->getLocalElement(w.rows[i]), k, u[i + static_cast<std::size_t>(k) * n]);
+      }
       for (int k = 0; k < w.modes.m; ++k)
         for (int i = 0; i < n; ++i)
           C.replaceLocalValue(layout->getLocalElement(w.rows[i]), offset[w.part] + k,
@@ -584,11 +640,15 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         }
       }
     }
-    if (rank == 0)
+    if (rank == 0) {
+      for (int k = 0; k < nf; ++k)
+        for (int b = 0; b < nB; ++b)
+          C.replaceLocalValue(layout->getLocalElement(separatorRows[b]), k, uB[b + static_cast<std::size_t>(k) * nB]);
       for (int k = 0; k < interface.m; ++k)
         for (int b = 0; b < nB; ++b)
           C.replaceLocalValue(layout->getLocalElement(separatorRows[b]), offset[parts] + k,
                               interface.vectors[b + static_cast<std::size_t>(k) * nB]);
+    }
     MultiVector candidates(s.map(), columns);
     candidates.doImport(C, Tpetra::Import<>(layout, s.map()), Tpetra::INSERT);
     appendOrthonormal(*s.M(), candidates, labels, options.dependenceTolerance, INT_MAX, basis);
@@ -600,12 +660,17 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
     if (rowClass[r] >= 0) ++partSizes[rowClass[r]];
   const long long smallest = *std::min_element(partSizes.begin(), partSizes.end());
   const long long largest = *std::max_element(partSizes.begin(), partSizes.end());
+  // Which eigensolver found the part modes (LAPACK below 600 DOFs, else ARPACK).
+  int usedArpack = 0, anyArpack = 0;
+  for (const auto& w : work) usedArpack |= w.modes.method == "ARPACK";
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, usedArpack, Teuchos::outArg(anyArpack));
   double slowest = 0.0, local = 0.0;
   for (const auto& w : work) local = std::max(local, w.seconds);
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, local, Teuchos::outArg(slowest));
   std::ostringstream os;
   os << "partitioned by Scotch into " << parts << " parts of " << smallest << "-" << largest << " interior DOFs, "
-     << nB << " separator DOFs; " << offset[parts] << " part modes below " << options.cutoffHz << " Hz, "
+     << nB << " separator DOFs; " << nf << " static shapes, " << offset[parts] - nf << " part modes ("
+     << (anyArpack ? "ARPACK" : "LAPACK") << ") below " << options.cutoffHz << " Hz, "
      << interface.m << " interface modes below " << options.interfaceCutoffFactor * options.cutoffHz << " Hz" << (residuals > 0 ? " and their residual vectors" : "") << "; partition " << partitionSeconds << " s, parts " << partsSeconds
      << " s (slowest part " << slowest << " s), interface " << interfaceSeconds << " s";
   basis.eigensolverReport = os.str();

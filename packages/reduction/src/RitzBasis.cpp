@@ -199,6 +199,8 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     options.maxDofs = part.get<int>("Max DOFs");
     options.interfaceCutoffFactor = part.get<double>("Interface Cutoff Factor");
     options.residualVectors = part.get<bool>("Residual Vectors");
+    const auto patterns = p.get<Teuchos::Array<std::string>>("Load Patterns");
+    options.loadPatterns.assign(patterns.begin(), patterns.end());
     options.cutoffHz = cutoffHz;
     options.eigensolverTolerance = p.get<double>("Eigensolver Tolerance");
     options.dependenceTolerance = p.get<double>("Dependence Tolerance");

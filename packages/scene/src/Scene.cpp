@@ -347,6 +347,7 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
                           "their parent's spin axis");
   if (p.isSublist("Reduction")) {
     s.reduction = p.sublist("Reduction");
+    promoteIntegers(s.reduction, *reduction::validParameters());
     try {
       Teuchos::ParameterList check(s.reduction);
       check.validateParametersAndSetDefaults(*reduction::validParameters());

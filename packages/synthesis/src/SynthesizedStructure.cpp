@@ -314,6 +314,11 @@ std::vector<Teuchos::ParameterList> sameReduction(const AssembledStructure& stru
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q) {
     Teuchos::ParameterList r("Reduction");
     r.set("Basis", basis);
+    if (basis == "Partitioned") {  // its size follows a cut-off: the count is that cut-off in Hz (theory §18)
+      r.set("Cutoff Frequency", static_cast<double>(vectors));
+      red.push_back(r);
+      continue;
+    }
     // Never more than the substructure's free DOFs (a small hub beside a
     // large blade): the same count elsewhere.
     long long count = vectors;

@@ -26,6 +26,11 @@ void checkKeys(const Teuchos::ParameterList& p, const Teuchos::ParameterList& va
 void validateOptions(Teuchos::ParameterList& p, const Teuchos::ParameterList& valid, const std::string& owner);
 
 /// A finite number (int or double), or `fallback` when absent (required when none).
+/// Every integer of `p` whose key `valid` declares a double becomes that
+/// double, through nested lists: a scene's "Cutoff Frequency: 1500" is a
+/// frequency, not a type error (YAML reads 1500 as an integer).
+void promoteIntegers(Teuchos::ParameterList& p, const Teuchos::ParameterList& valid);
+
 double getNumber(const Teuchos::ParameterList& p, const std::string& key, const std::string& path,
                  std::optional<double> fallback = std::nullopt);
 std::string getString(const Teuchos::ParameterList& p, const std::string& key, const std::string& path,

@@ -16,6 +16,9 @@
 // the synthesis projects the substructure's full matrices on it.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "cms/reduction/RitzBasis.hpp"
 
 namespace cms::reduction {
@@ -31,6 +34,10 @@ struct PartitionOptions {
   /// Per interface mode, the interiors' static response (separator held)
   /// to its inertia load: one load-dependent Ritz step (§18.2).
   bool residualVectors = true;
+  /// Static shapes under these load patterns (the Admissible basis's,
+  /// RitzBasis.hpp), solved exactly through the partition: K_pp^-1 f_p and
+  /// the Schur complement's factor on the separator (§18.2).
+  std::vector<std::string> loadPatterns{"interfaces", "uniform", "rotation", "centrifugal"};
   double eigensolverTolerance = 1e-10;
   double dependenceTolerance = 1e-8;
 };

@@ -97,7 +97,8 @@ private:
 
 /// One "Reduction" list per substructure, all with the same basis kind and
 /// vector count, capped at each substructure's free DOFs (for strategy
-/// comparisons).
+/// comparisons). For "Partitioned", whose size follows a cut-off, `vectors`
+/// is that cut-off in Hz (theory §18).
 std::vector<Teuchos::ParameterList> sameReduction(const AssembledStructure& structure, const std::string& basis,
                                                   int vectors);
 
