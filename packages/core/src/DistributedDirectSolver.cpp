@@ -1,5 +1,6 @@
 #include "cms/core/DistributedDirectSolver.hpp"
 
+#include <cholmod.h>
 #include <dmumps_c.h>
 #include <mpi.h>
 
@@ -40,6 +41,52 @@ MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
 
 bool isWorkspaceShortfall(int code) {
   return code == -8 || code == -9 || code == -14 || code == -17 || code == -20;
+}
+
+/// METIS's nested-dissection ordering (through CHOLMOD's cholmod_metis) of
+/// the symmetric pattern whose upper-triangle entries (1-based, any rank's
+/// share) are (irn, jcn), as MUMPS's PERM_IN: the host gets perm[i - 1] =
+/// the position of variable i in the pivot order, 1-based; the other ranks
+/// an empty vector. Empty on the host too if CHOLMOD failed (MUMPS then
+/// orders by itself). Collective.
+std::vector<MUMPS_INT> nestedDissection(const Teuchos::Comm<int>& comm, MUMPS_INT n,
+                                        const std::vector<MUMPS_INT>& irn, const std::vector<MUMPS_INT>& jcn) {
+  const MPI_Comm c = rawComm(comm);
+  const int ranks = comm.getSize(), rank = comm.getRank();
+  int mine = static_cast<int>(irn.size());
+  std::vector<int> counts(ranks), offsets(ranks, 0);
+  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, c);
+  long long total = 0;
+  if (rank == 0)
+    for (int r = 0; r < ranks; ++r) offsets[r] = static_cast<int>(total), total += counts[r];
+  std::vector<MUMPS_INT> I(rank == 0 ? total : 0), J(rank == 0 ? total : 0);
+  MPI_Gatherv(irn.data(), mine, MPI_INT, I.data(), counts.data(), offsets.data(), MPI_INT, 0, c);
+  MPI_Gatherv(jcn.data(), mine, MPI_INT, J.data(), counts.data(), offsets.data(), MPI_INT, 0, c);
+  std::vector<MUMPS_INT> perm;
+  if (rank != 0) return perm;
+  // The pattern by columns, upper triangle (stype 1), duplicates allowed.
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  cholmod_sparse* A = cholmod_allocate_sparse(n, n, total, /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1,
+                                              CHOLMOD_PATTERN, &common);
+  if (A) {
+    auto* Ap = static_cast<int*>(A->p);
+    auto* Ai = static_cast<int*>(A->i);
+    std::fill(Ap, Ap + n + 1, 0);
+    for (long long e = 0; e < total; ++e) ++Ap[std::max(I[e], J[e])];  // column: the larger index (1-based)
+    for (MUMPS_INT j = 0; j < n; ++j) Ap[j + 1] += Ap[j];
+    std::vector<int> next(Ap, Ap + n);
+    for (long long e = 0; e < total; ++e) Ai[next[std::max(I[e], J[e]) - 1]++] = std::min(I[e], J[e]) - 1;
+    std::vector<int> order(n);
+    if (cholmod_metis(A, nullptr, 0, /*postorder*/ 1, order.data(), &common) && common.status == CHOLMOD_OK) {
+      perm.assign(n, 0);
+      for (MUMPS_INT k = 0; k < n; ++k) perm[order[k]] = k + 1;
+    }
+    cholmod_free_sparse(&A, &common);
+  }
+  cholmod_finish(&common);
+  return perm;
 }
 
 }  // namespace
@@ -226,8 +273,8 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   icntl(id, 5) = 0;   // assembled matrix
   icntl(id, 18) = 3;  // distributed by the user: each rank its own rows
   icntl(id, 28) = 1;  // sequential analysis (no PT-Scotch/ParMETIS in libmumps-dev)
-  icntl(id, 7) = 7;   // ordering: MUMPS's automatic choice (PORD on the rotor; measured against AMD, AMF, QAMD:
-                      // the fewest factor entries, within the noise in time)
+  icntl(id, 7) = 7;   // ordering: MUMPS's automatic choice (PORD on the rotor's K; measured against AMD, AMF, QAMD:
+                      // the fewest factor entries, within the noise in time), unless METIS's is given (below)
   icntl(id, 20) = 10; // distributed right-hand side
   icntl(id, 21) = 1;  // distributed solution
   icntl(id, 24) = 1;  // null-pivot detection: counted in INFOG(28), never silently divided by
@@ -242,10 +289,21 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   id.irn_loc = m.irn.data();
   id.jcn_loc = m.jcn.data();
   id.a_loc = m.values.data();
+  std::vector<MUMPS_INT> perm;
+  if (ordering_ == Ordering::NestedDissection && m.kind != Kind::General) {
+    perm = nestedDissection(*comm, id.n, m.irn, m.jcn);
+    int given = comm->getRank() == 0 ? !perm.empty() : 0;
+    MPI_Bcast(&given, 1, MPI_INT, 0, rawComm(*comm));
+    if (given) {
+      icntl(id, 7) = 1;  // the ordering in PERM_IN (host)
+      id.perm_in = perm.empty() ? nullptr : perm.data();
+    }
+  }
   m.call(1);
+  id.perm_in = nullptr;
   check("analysis");
   analysisSeconds_ = timer.totalElapsedTime(true);
-  ordering_ = infog(id, 7);
+  orderingUsed_ = infog(id, 7);
   for (int attempt = 0;; ++attempt) {
     m.call(2);
     if (!(isWorkspaceShortfall(infog(id, 1)) && attempt < 4)) break;
@@ -328,7 +386,9 @@ void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const 
 
 SparseInertia distributedInertia(const CrsMatrix& A) {
   SparseInertia out;
+  out.method = "MUMPS multifrontal L D L^T";
   DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
+  f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
   try {
     f.factor(/*allowNullPivots*/ true);
   } catch (const NumericalError& e) {

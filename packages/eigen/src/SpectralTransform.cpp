@@ -8,20 +8,9 @@
 #include <TpetraExt_MatrixMatrix.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/SparseInertia.hpp"  // realEmbedding, stateMap
 
 namespace cms::eigen::detail {
-
-Teuchos::RCP<const Map> stateMap(const Map& rowMap) {
-  const GlobalOrdinal N = static_cast<GlobalOrdinal>(rowMap.getGlobalNumElements());
-  const auto mine = rowMap.getNodeElementList();
-  Teuchos::Array<GlobalOrdinal> gids(2 * mine.size());
-  for (std::size_t i = 0; i < static_cast<std::size_t>(mine.size()); ++i) {
-    gids[i] = mine[i];
-    gids[mine.size() + i] = mine[i] + N;
-  }
-  return Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(2 * N), gids(),
-                              rowMap.getIndexBase(), rowMap.getComm()));
-}
 
 Teuchos::RCP<const MultiVector> packed(const MultiVector& X) {
   return X.isConstantStride() ? Teuchos::rcpFromRef(X)
@@ -51,49 +40,6 @@ Teuchos::RCP<CrsMatrix> combine(double a, const CrsMatrix& A, double b, const Cr
   return Tpetra::MatrixMatrix::add(1.0, false, *AB, c, false, C);
 }
 }  // namespace
-
-Teuchos::RCP<CrsMatrix> realFormOfComplex(const CrsMatrix& A, const CrsMatrix& B,
-                                          const Teuchos::RCP<const Map>& map2) {
-  const auto rowMap = A.getRowMap();
-  const GlobalOrdinal N = static_cast<GlobalOrdinal>(rowMap->getGlobalNumElements());
-  const size_t nloc = rowMap->getNodeNumElements();
-  // Exactly the entries each row needs (row g and row g + N both hold A's
-  // and B's row): a bound by the longest row allocated 2n times that
-  // (measured: 5.8 GB for the 1e5-row embedding of the 5e4-DOF rotor's Sturm
-  // count, whose MUMPS factor took 0.58 GB).
-  Teuchos::Array<size_t> perRow(2 * nloc);
-  for (size_t i = 0; i < nloc; ++i)
-    perRow[i] = perRow[nloc + i] = A.getNumEntriesInLocalRow(i) + B.getNumEntriesInLocalRow(i);
-  auto C = Teuchos::rcp(new CrsMatrix(map2, perRow()));
-  for (size_t i = 0; i < nloc; ++i) {
-    const GlobalOrdinal g = rowMap->getGlobalElement(static_cast<LocalOrdinal>(i));
-    for (int which = 0; which < 2; ++which) {
-      const CrsMatrix& X = which == 0 ? A : B;
-      CrsMatrix::local_inds_host_view_type cols;
-      CrsMatrix::values_host_view_type vals;
-      X.getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
-      const auto colMap = X.getColMap();
-      Teuchos::Array<GlobalOrdinal> gc(cols.extent(0));
-      Teuchos::Array<double> v(cols.extent(0)), mv(cols.extent(0));
-      for (size_t e = 0; e < cols.extent(0); ++e) {
-        gc[e] = colMap->getGlobalElement(cols(e));
-        v[e] = vals(e);
-        mv[e] = -vals(e);
-      }
-      Teuchos::Array<GlobalOrdinal> gcN(gc);
-      for (auto& c : gcN) c += N;
-      if (which == 0) {  // A on both diagonal blocks
-        C->insertGlobalValues(g, gc(), v());
-        C->insertGlobalValues(g + N, gcN(), v());
-      } else {  // -B upper right, B lower left
-        C->insertGlobalValues(g, gcN(), mv());
-        C->insertGlobalValues(g + N, gc(), v());
-      }
-    }
-  }
-  C->fillComplete(map2, map2);
-  return C;
-}
 
 SpectralTransform::SpectralTransform(const SparseGyroscopicSystem& sys, double s, double sign,
                                      const std::string& method, const std::string& kMethod)
@@ -134,7 +80,7 @@ std::string SpectralTransform::factor() {
   B.resumeFill();
   B.scale(w);
   B.fillComplete(sys_.G->getDomainMap(), sys_.G->getRangeMap());
-  return run(qComplex_, realFormOfComplex(*A, B, map_), method_,
+  return run(qComplex_, realEmbedding(*A, B, map_), method_,
              "Q(i w) = K - w^2 M + i w G (real 2n form)");
 }
 

@@ -9,25 +9,17 @@
 #include <Tpetra_Operator.hpp>
 
 #include "cms/core/SparseDirectSolver.hpp"
+#include "cms/core/SparseInertia.hpp"
 #include "cms/eigen/SparseGyroscopicSystem.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen::detail {
 
-/// The real form [[A, -B], [B, A]] of the complex matrix A + iB on `map2`
-/// (stateMap of A's row map): the complex shift's Q(i w), and the real
-/// embedding of the Hermitian Q(omega) whose inertia is a Sturm count.
-Teuchos::RCP<CrsMatrix> realFormOfComplex(const CrsMatrix& A, const CrsMatrix& B,
-                                          const Teuchos::RCP<const Map>& map2);
-
 /// The Sturm count of sturmCount(sys, omega) (cms/eigen/SturmCount.hpp),
-/// its inertia taken by MUMPS across the ranks (distributedInertia) when
-/// `distributed`, else by CHOLMOD gathered to rank 0 (cms::inertia).
-SparseSturmCount sturmCountBy(const SparseGyroscopicSystem& sys, double omega, bool distributed);
+/// its inertia taken by `method` (cms::inertia).
+SparseSturmCount sturmCountBy(const SparseGyroscopicSystem& sys, double omega, InertiaMethod method);
 
-/// Map of the 2n state: global ids g (v part) and g + N (q part) for each
-/// row g this rank owns, v rows first.
-Teuchos::RCP<const Map> stateMap(const Map& rowMap);
+using cms::stateMap;  // the 2n state map (cms/core/SparseInertia.hpp)
 
 /// An operator from the 2n state space to itself: the map every operator
 /// below shares.

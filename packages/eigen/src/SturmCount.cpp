@@ -58,29 +58,10 @@ int sturmCount(const GyroscopicSystem& sys, double omega) {
 }
 
 SparseSturmCount sturmCount(const SparseGyroscopicSystem& sys, double omega) {
-  return detail::sturmCountBy(sys, omega, false);
+  return detail::sturmCountBy(sys, omega, InertiaMethod::Auto);
 }
 
-namespace {
-/// MUMPS's inertia of A + iB through the real embedding [[A, -B], [B, A]],
-/// built distributed (each rank its own rows, twice): every eigenvalue of
-/// the Hermitian matrix appears twice, so the counts are halved, and an odd
-/// negative count (impossible in exact arithmetic) makes the count fail.
-SparseInertia distributedInertia(const CrsMatrix& A, const CrsMatrix& B) {
-  const auto E = detail::realFormOfComplex(A, B, detail::stateMap(*A.getRowMap()));
-  SparseInertia in = cms::distributedInertia(*E);
-  if (!in.failure.empty()) return in;
-  if (in.negative % 2 != 0)
-    in.failure = "MUMPS's L D L^T of the real embedding has an odd number (" + std::to_string(in.negative) +
-                 ") of negative pivots";
-  in.negative /= 2;
-  in.positive /= 2;
-  in.tinyPivots = (in.tinyPivots + 1) / 2;
-  return in;
-}
-}  // namespace
-
-SparseSturmCount detail::sturmCountBy(const SparseGyroscopicSystem& sys, double omega, bool distributed) {
+SparseSturmCount detail::sturmCountBy(const SparseGyroscopicSystem& sys, double omega, InertiaMethod method) {
   CMS_INPUT_CHECK(!(std::isfinite(omega) && omega > 0.0),
                   "sturmCount: frequency " << omega << " must be positive and finite");
   const bool gyroscopic = sys.G->getFrobeniusNorm() > 0.0;
@@ -95,9 +76,9 @@ SparseSturmCount detail::sturmCountBy(const SparseGyroscopicSystem& sys, double 
     SparseInertia in;
     if (gyroscopic) {
       const auto B = Tpetra::MatrixMatrix::add(w, false, *sys.G, 0.0, false, *sys.G);
-      in = distributed ? distributedInertia(*A, *B) : inertia(*A, *B);
+      in = inertia(*A, *B, method);
     } else {
-      in = distributed ? cms::distributedInertia(*A) : inertia(*A);
+      in = inertia(*A, method);
     }
     out.omega = w;
     out.count = in.negative;

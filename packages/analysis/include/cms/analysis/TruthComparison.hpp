@@ -78,9 +78,10 @@ std::vector<double> frequencies(const synthesis::StructureModes& modes);
 /// The truth model's frequencies below omega (rad/s) at `speeds`, counted
 /// by a Sturm sequence: the inertia of the Hermitian K - omega^2 M +
 /// i omega G of the structure with every basis Full (one sparse LDL^T of
-/// the assembled model; doc/theory.md §11.9). Valid when K >= 0 (a
-/// gyroscopically stable structure); -1 when the count is not reliable (a
-/// pivot zero to rounding: omega is a frequency). Collective.
+/// the assembled model, eigen::sturmCount; doc/theory.md §11.9). Valid when
+/// K >= 0 (a gyroscopically stable structure); a pivot zero to rounding
+/// (omega is a frequency) retakes it 1e-8 off omega, and -1 comes back when
+/// that fails too. Collective.
 long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
                                 double omega);
 /// The same count on a truth already synthesised (every basis Full).

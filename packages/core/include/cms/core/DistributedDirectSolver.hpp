@@ -58,6 +58,19 @@ public:
   DistributedDirectSolver(const DistributedDirectSolver&) = delete;
   DistributedDirectSolver& operator=(const DistributedDirectSolver&) = delete;
 
+  /// The fill-reducing ordering of the (sequential) analysis: MUMPS's
+  /// automatic choice (ICNTL(7) = 7: PORD, the only nested dissection
+  /// Debian's MUMPS has), or METIS's nested dissection computed by CHOLMOD
+  /// (cholmod_metis) on the host and given to MUMPS (ICNTL(7) = 1,
+  /// PERM_IN). distributedInertia takes METIS: on the real 2n embedding of
+  /// the 5e4-DOF rotor's Sturm count (doc/benchmarks.md, "Sturm counts")
+  /// PORD's analysis alone was a third of a 13 s count, and the minimum
+  /// degree orderings (AMD: 8.6 s) give a chain an elimination tree as deep
+  /// as the chain, which overflowed MUMPS's stack on two ranks at 1e5 rows.
+  /// Before factor().
+  enum class Ordering { Automatic, NestedDissection };
+  void setOrdering(Ordering o) { ordering_ = o; }
+
   /// Analysis and numeric factorisation. Throws cms::NumericalError (the
   /// matrix's name, MUMPS's INFOG(1), INFOG(2) and meaning) if MUMPS fails,
   /// and, unless `allowNullPivots`, when MUMPS found null pivots (the matrix
@@ -77,8 +90,8 @@ public:
   /// Seconds of factor() in all, and of its (sequential) analysis phase.
   double factorSeconds() const { return factorSeconds_; }
   double analysisSeconds() const { return analysisSeconds_; }
-  /// The ordering the analysis used (INFOG(7): 0 AMD, 2 AMF, 4 PORD, 6 QAMD, ...).
-  int ordering() const { return ordering_; }
+  /// The ordering the analysis used (INFOG(7): 0 AMD, 1 given (METIS here), 2 AMF, 4 PORD, 6 QAMD, ...).
+  int ordering() const { return orderingUsed_; }
   /// Entries of the factors (INFOG(29)) and flops of the elimination (RINFOG(3)).
   double factorEntries() const { return factorEntries_; }
   double factorFlops() const { return factorFlops_; }
@@ -97,7 +110,8 @@ private:
   std::string name_;
   long long n_ = 0, negative_ = 0, null_ = 0;
   double factorSeconds_ = 0.0, analysisSeconds_ = 0.0, factorEntries_ = 0.0, factorFlops_ = 0.0;
-  int ordering_ = -1;
+  Ordering ordering_ = Ordering::Automatic;
+  int orderingUsed_ = -1;  ///< INFOG(7) after factor()
   double memoryMaxMB_ = 0.0, memoryTotalMB_ = 0.0;
 };
 
@@ -132,5 +146,6 @@ inline constexpr long long kDistributedAutoEntries = 2000000;
 inline constexpr long long kDistributedAutoEntriesReduction = 30000000;
 bool useDistributedSolver(const std::string& choice, const CrsMatrix& A,
                           long long autoEntries = kDistributedAutoEntries);
+
 
 }  // namespace cms

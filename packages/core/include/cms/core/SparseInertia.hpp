@@ -5,10 +5,20 @@
 // Nastran and ANSYS. Used by the eigen layer to count the eigenfrequencies
 // below a frequency (doc/theory.md §5, "Sturm count on the sparse path").
 //
-// CHOLMOD's simplicial L D L^T (fill-reducing symmetric permutation P, no
-// numerical pivoting): P A P^T = L D L^T, so the signs of D are those of A's
-// eigenvalues. The matrix is gathered to rank 0, as SparseDirectSolver does;
-// every call is collective and returns the same result on every rank.
+// Two factorisations give the count:
+//   Simplicial     CHOLMOD's simplicial L D L^T (fill-reducing symmetric
+//                  permutation P, no numerical pivoting): P A P^T = L D L^T,
+//                  so the signs of D are those of A's eigenvalues. Gathered to
+//                  rank 0, as SparseDirectSolver does. Column by column, no
+//                  dense kernels: milliseconds for a chain, minutes for a 3-D
+//                  solid (46 s for the 1e5-row embedding of the 5e4-DOF rotor).
+//   Multifrontal   MUMPS's L D L^T with 1x1/2x2 pivots, METIS-ordered, across
+//                  the ranks (cms::distributedInertia): dense kernels on the
+//                  fronts (8-10 s for the same count), but a fixed cost per
+//                  front that makes a chain of 1e5 rows take a minute.
+//   Auto           CHOLMOD's symbolic analysis predicts the simplicial flops;
+//                  above kSimplicialInertiaFlops the count goes to MUMPS.
+// Every call is collective and returns the same result on every rank.
 #pragma once
 
 #include <string>
@@ -32,6 +42,9 @@ struct SparseInertia {
   /// embedding of A + iB had an odd number of negative pivots, which exact
   /// arithmetic excludes), saying why.
   std::string failure;
+  /// Which factorisation counted: "CHOLMOD simplicial L D L^T" or "MUMPS
+  /// multifrontal L D L^T".
+  std::string method;
 
   /// A count that can be used: factored, no pivot zero to rounding.
   bool reliable() const { return failure.empty() && tinyPivots == 0; }
@@ -41,14 +54,30 @@ struct SparseInertia {
 /// (about 5e3 eps: the pivot a cut within ~1e-12 of an eigenvalue leaves).
 inline constexpr double kTinyPivot = 1e-12;
 
+enum class InertiaMethod { Auto, Simplicial, Multifrontal };
+
+/// Auto's limit: a simplicial L D L^T CHOLMOD's analysis predicts above this
+/// many flops goes to MUMPS instead (about a second of CHOLMOD's column
+/// kernels; MUMPS's own start-up is a few hundredths).
+inline constexpr double kSimplicialInertiaFlops = 3e8;
+
 /// The inertia of the symmetric A (fill-complete; square, same row, range and
 /// domain maps). Collective.
-SparseInertia inertia(const CrsMatrix& A);
+SparseInertia inertia(const CrsMatrix& A, InertiaMethod method = InertiaMethod::Auto);
 
 /// The inertia of the Hermitian H = A + iB (A symmetric, B skew, on the same
 /// maps) through its real symmetric embedding [[A, -B], [B, A]] of order 2n,
-/// whose eigenvalues are H's, each twice: the returned counts are halved.
-/// Collective.
-SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B);
+/// whose eigenvalues are H's, each twice: the returned counts are halved
+/// (an odd count, impossible in exact arithmetic, is a failure). Collective.
+SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod method = InertiaMethod::Auto);
+
+/// Map of a 2n state or embedding: global ids g and g + N for each row g
+/// this rank owns, the first n rows first.
+Teuchos::RCP<const Map> stateMap(const Map& rowMap);
+
+/// The real form [[A, -B], [B, A]] of the complex matrix A + iB on `map2`
+/// (stateMap of A's row map): a complex shift's Q(i w), and the real
+/// embedding of a Hermitian Q(omega) whose inertia is a Sturm count.
+Teuchos::RCP<CrsMatrix> realEmbedding(const CrsMatrix& A, const CrsMatrix& B, const Teuchos::RCP<const Map>& map2);
 
 }  // namespace cms

@@ -34,7 +34,9 @@ struct SparseSturmCount {
 /// The same count for a distributed system (doc/theory.md §5, "Sturm count on
 /// the sparse path"): the inertia of Q(omega) = A + iB, A = K - omega^2 M,
 /// B = omega G, through its real embedding [[A, -B], [B, A]] (or of A alone
-/// when G = 0), by CHOLMOD's L D L^T without pivoting (cms::inertia). A pivot
+/// when G = 0), by CHOLMOD's simplicial L D L^T without pivoting or, when
+/// CHOLMOD's analysis predicts that costly, MUMPS's multifrontal one
+/// (cms::inertia, InertiaMethod::Auto). A pivot
 /// zero to rounding (omega on an eigenfrequency) moves omega by a relative
 /// +1e-8, then -1e-8; if both fail too, the count is returned unreliable.
 /// Collective; the same result on every rank. Valid for M > 0, K > 0.
