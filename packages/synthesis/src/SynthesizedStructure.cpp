@@ -24,6 +24,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "CopiedBasis.hpp"
+#include "MonolithicSum.hpp"
 #include "PartData.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -418,6 +419,11 @@ struct SynthesizedStructure::Sums {
   Teuchos::RCP<const CrsMatrix> D;  ///< damping (null until a damped part is met)
   std::vector<Teuchos::RCP<const CrsMatrix>> G;  ///< per speed parameter
   std::map<std::pair<int, int>, Teuchos::RCP<const CrsMatrix>> K2;
+  /// The same sums' Full substructures, assembled monolithically
+  /// (MonolithicSum.hpp): added to the above in finishMatrices.
+  detail::MonolithicSum fullM, fullK0, fullD;
+  std::vector<detail::MonolithicSum> fullG;
+  std::map<std::pair<int, int>, detail::MonolithicSum> fullK2;
 };
 
 /// What depends on a substructure's matrices and held rows but not on its
@@ -464,6 +470,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   // attachment motion reads its parent's transform).
   Sums sums;
   sums.G.resize(structure.speeds().size());
+  sums.fullG.assign(structure.speeds().size(), detail::MonolithicSum(-1.0));
   out.T_.resize(parts.size());
   for (std::size_t k = 0; k < parts.size(); ++k) {
     bool moves = false;
@@ -837,40 +844,56 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   }
   T_[k] = fromRows(smap, rows, map_, smap);
   bcol.clear();  // release the host views before B is read
+  // c T^T A T added to a sum: a Full basis's by the monolithic assembly
+  // (MonolithicSum.hpp), a reduced one's through its factors T = B C.
   const Projection project = B.is_null() ? Projection(*T_[k]) : Projection(*T_[k], B, C);
-  sums.M = addScaled(sums.M, 1.0, project(*sub.M()));
-  sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
+  const bool full = basis.full;
+  const auto addTo = [&](Teuchos::RCP<const CrsMatrix>& sum, detail::MonolithicSum& fullSum, const CrsMatrix& A,
+                         double c) {
+    if (full) fullSum.add(*T_[k], A, c);
+    else sum = addScaled(sum, c, project(A));
+  };
+  addTo(sums.M, sums.fullM, *sub.M(), 1.0);
+  if (full) sums.fullK0.add(*T_[k], *sub.K(), 1.0);
+  else sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
   // Damping (theory §13.1): the dampers' and Rayleigh D_s projected like
   // M; a modal ratio in the substructure's own coordinates.
-  if (!sub.D().is_null()) sums.D = addScaled(sums.D, 1.0, project(*sub.D()));
+  if (!sub.D().is_null()) addTo(sums.D, sums.fullD, *sub.D(), 1.0);
   if (sub.modalDampingRatio() > 0.0) {
     CMS_INPUT_CHECK(basis.full, "synthesis: substructure '"
                                     << sub.name() << "': a Modal Damping Ratio needs a reduced basis (its modes' "
                                     << "coordinates); a Full substructure has none: give it Rayleigh Alpha / Beta");
     sums.D = addScaled(sums.D, 1.0, modalDamping(sub, basis, offset, sub.modalDampingRatio(), map_));
   }
+  const auto K2Sum = [&](std::pair<int, int> ij) -> detail::MonolithicSum& { return sums.fullK2[ij]; };
   if (p.compound) {
     // Its own spin inside the spinning parent frame (theory §11.5).
     const auto& st = *p.stationary;
-    sums.G[p.speedParam] = addScaled(sums.G[p.speedParam], 1.0, project(*st.G1()));
+    addTo(sums.G[p.speedParam], sums.fullG[p.speedParam], *st.G1(), 1.0);
     if (!st.KX1().is_null()) {
-      const auto PX = project(*st.KX1());
+      const auto PX = full ? Teuchos::null : project(*st.KX1());
       for (auto [i, ci] : p.frame.coefficients) {
         const std::pair<int, int> ij{std::min(i, p.speedParam), std::max(i, p.speedParam)};
-        sums.K2[ij] = addScaled(sums.K2[ij], ci, PX);
+        if (full) K2Sum(ij).add(*T_[k], *st.KX1(), ci);
+        else sums.K2[ij] = addScaled(sums.K2[ij], ci, PX);
       }
     }
   }
   if (p.frame.spinning) {
     Teuchos::RCP<const CrsMatrix> PG, PK;
-    if (!sub.G1().is_null()) PG = project(*sub.G1());
-    if (!sub.K2().is_null()) PK = project(*sub.K2());
+    if (!full && !sub.G1().is_null()) PG = project(*sub.G1());
+    if (!full && !sub.K2().is_null()) PK = project(*sub.K2());
     for (auto [i, ci] : p.frame.coefficients) {
-      if (!PG.is_null()) sums.G[i] = addScaled(sums.G[i], ci, PG);
-      if (PK.is_null()) continue;
+      if (!sub.G1().is_null()) {
+        if (full) sums.fullG[i].add(*T_[k], *sub.G1(), ci);
+        else sums.G[i] = addScaled(sums.G[i], ci, PG);
+      }
+      if (sub.K2().is_null()) continue;
       for (auto [j, cj] : p.frame.coefficients) {
         if (j < i) continue;
-        sums.K2[{i, j}] = addScaled(sums.K2[{i, j}], i == j ? ci * cj : 2.0 * ci * cj, PK);
+        const double cij = i == j ? ci * cj : 2.0 * ci * cj;
+        if (full) K2Sum({i, j}).add(*T_[k], *sub.K2(), cij);
+        else sums.K2[{i, j}] = addScaled(sums.K2[{i, j}], cij, PK);
       }
     }
   }
@@ -888,10 +911,25 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
     if (A.is_null()) return A;
     return Tpetra::MatrixMatrix::add(0.5, false, *A, 0.5 * sign, true, *A);
   };
-  M_ = symmetric(sums.M, 1.0);
-  const auto K0 = symmetric(sums.K0, 1.0);
-  for (auto& Gi : sums.G) Gi = symmetric(Gi, -1.0);
-  for (auto& [ij, Kij] : sums.K2) Kij = symmetric(Kij, 1.0);
+  // The Full substructures' monolithic sum is exactly symmetric (skew) on
+  // one rank by construction (its lower triangle mirrors its upper); the
+  // export that adds the ranks' shares may round an entry and its mirror
+  // differently, so on several ranks, as for any sum with reduced parts,
+  // the symmetric part is taken.
+  const auto comm = map_->getComm();
+  const bool oneRank = comm->getSize() == 1;
+  auto total = [&](const Teuchos::RCP<const CrsMatrix>& sum, detail::MonolithicSum& full,
+                   double sign) -> Teuchos::RCP<const CrsMatrix> {
+    const Teuchos::RCP<const CrsMatrix> F = full.empty(*comm) ? Teuchos::null : full.matrix(map_);
+    if (sum.is_null()) return F.is_null() || oneRank ? F : symmetric(F, sign);
+    if (F.is_null()) return symmetric(sum, sign);
+    return symmetric(Tpetra::MatrixMatrix::add(1.0, false, *sum, 1.0, false, *F), sign);
+  };
+  M_ = total(sums.M, sums.fullM, 1.0);
+  const auto K0 = total(sums.K0, sums.fullK0, 1.0);
+  for (std::size_t i = 0; i < sums.G.size(); ++i) sums.G[i] = total(sums.G[i], sums.fullG[i], -1.0);
+  for (auto& [ij, F] : sums.fullK2) sums.K2[ij];  // every key, in the same order on every rank
+  for (auto& [ij, Kij] : sums.K2) Kij = total(Kij, sums.fullK2[ij], 1.0);
   K0_ = K0.is_null() ? zeroMatrix(map_) : K0;
   if (structure_->freeFloating()) {
     // The elastic stiffness does no work on the rigid-body coordinates of a
@@ -902,7 +940,7 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
     K0_ = holdDofs(*K0_, {0, 1, 2, 3, 4, 5}, 0.0);
   }
   G_ = sums.G;
-  D_ = symmetric(sums.D, 1.0);
+  D_ = total(sums.D, sums.fullD, 1.0);
   for (auto& [ij, Kij] : sums.K2) K2_.push_back({ij.first, ij.second, Kij});
 }
 
