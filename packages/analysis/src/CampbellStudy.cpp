@@ -2,6 +2,7 @@
 #include "cms/analysis/PeriodicStructure.hpp"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -128,6 +129,12 @@ synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<doubl
   return reduced_.solve(speeds, solveParams_);
 }
 
+std::vector<synthesis::StructureModes> SynthesizedSweepProblem::solveAll(const std::vector<std::vector<double>>& speeds,
+                                                                         int threads) const {
+  if (!reduced_.movingHubs().empty()) return SpeedSweepProblem::solveAll(speeds, threads);
+  return reduced_.solveMany(speeds, solveParams_, threads);
+}
+
 std::vector<std::string> SynthesizedSweepProblem::dominant(const synthesis::StructureModes& modes) const {
   // Parts whose shares agree with the largest to three digits are named
   // together: identical parts in a symmetric mode ("boom+ & boom-"), where
@@ -235,6 +242,8 @@ Teuchos::RCP<const Teuchos::ParameterList> CampbellStudy::getValidParameters() {
            "relative difference within which a track's frequency equals a spin rate (frame-rate rigid motion)",
            rcp(new Teuchos::EnhancedNumberValidator<double>(0.0, 1.0)));
     p->set("Whirl", *WhirlClassification::getValidParameters(), "the whirl rule's parameters");
+    p->set("Threads", 0, "threads for the sweep's solves on each rank (0: the cores left to it)",
+           rcp(new Teuchos::EnhancedNumberValidator<int>(0, 1024)));
   }
   return p;
 }
@@ -301,13 +310,15 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   };
   auto refAt = [&](double f) { return refNominal * f; };
 
-  // Crossings found on the way (merged and filtered at the end).
+  // Crossings found on the way (merged and filtered at the end); for an
+  // unrefined one, the grid step and mode its dominant part is named from.
   std::vector<EngineOrderCrossing> found;
+  std::map<std::size_t, std::pair<std::size_t, int>> dominantAt;
   std::vector<eigen::GyroscopicMode> last;  // each track's mode at the previous speed
   auto rateLike = [&](const CampbellTrack& tr) {  // equals a spin rate at every step so far
     for (std::size_t p = 0; p < r.parameters.size(); ++p) {
-      double top = 0.0;
-      for (const auto& s : r.speeds) top = std::max(top, std::abs(s[p]));
+      double top = 0.0;  // over the speeds tracked so far (the grid is solved ahead)
+      for (std::size_t k = 0; k < tr.omega.size() && k < r.speeds.size(); ++k) top = std::max(top, std::abs(r.speeds[k][p]));
       if (top == 0.0) continue;
       bool all = true;
       for (std::size_t k = 0; k < tr.omega.size() && all; ++k) {
@@ -320,11 +331,16 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     return -1;
   };
 
+  // The grid's solves first (independent: on threads where the problem
+  // can), then the tracking in speed order.
   for (int k = 0; k < steps; ++k) {
-    const double f = maxFactor * k / (steps - 1);
-    r.factors.push_back(f);
-    r.speeds.push_back(speedsAt(f));
-    const auto sol = problem.solve(r.speeds.back());
+    r.factors.push_back(maxFactor * k / (steps - 1));
+    r.speeds.push_back(speedsAt(r.factors.back()));
+  }
+  const auto grid = problem.solveAll(r.speeds, params_.get<int>("Threads"));
+  for (int k = 0; k < steps; ++k) {
+    const double f = r.factors[k];
+    const auto& sol = grid[static_cast<std::size_t>(k)];
     worsen(r, sol.result);
     r.solver = sol.result.solver;
     r.maxResidual = std::max(r.maxResidual, sol.result.maxResidual());
@@ -400,7 +416,12 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
           }
           if (atIndex >= 0) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
         }
-        c.dominant = {atIndex >= 0 ? problem.dominant(at)[atIndex] : problem.dominant(sol)[j]};
+        // The part that dominates it: at the bisection's last solve now; at
+        // the grid's f_k once the crossing is known to be reported (below):
+        // most unrefined ones are a frame-rate track's rounding about a line,
+        // counted and dropped, and each name costs a characterise.
+        if (atIndex >= 0) c.dominant = {problem.dominant(at)[atIndex]};
+        else dominantAt.emplace(found.size(), std::make_pair(static_cast<std::size_t>(k), j));
         c.factor = lo + gLo / (gLo - gHi) * (hi - lo);
         c.speed = refAt(c.factor);
         c.omega = order * c.speed;
@@ -413,11 +434,23 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
   for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
   std::vector<EngineOrderCrossing> kept;
-  for (const auto& c : found) {
+  std::map<std::size_t, std::vector<std::string>> namesAt;  // per grid step, computed once
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    auto& c = found[i];
     const auto& tr = r.tracks[c.tracks.front()];
-    if (!tr.frameRate) kept.push_back(c);
-    else if (r.scaled[static_cast<std::size_t>(tr.frameRateOf)]) ++r.frameRateOnLine;
-    else r.frameRateCrossings.push_back(c);
+    const bool onLine = tr.frameRate && r.scaled[static_cast<std::size_t>(tr.frameRateOf)];
+    if (onLine) {
+      ++r.frameRateOnLine;
+      continue;
+    }
+    const auto pending = dominantAt.find(i);
+    if (pending != dominantAt.end()) {
+      const auto [k, j] = pending->second;
+      auto names = namesAt.find(k);
+      if (names == namesAt.end()) names = namesAt.emplace(k, problem.dominant(grid[k])).first;
+      c.dominant = {names->second[static_cast<std::size_t>(j)]};
+    }
+    (tr.frameRate ? r.frameRateCrossings : kept).push_back(c);
   }
   // Identical parts (or a repeated mode): the same order, whirl and speed to
   // the cluster tolerance: one entry naming every track.

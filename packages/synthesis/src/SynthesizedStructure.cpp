@@ -12,6 +12,11 @@
 #include <stdexcept>
 #include <set>
 #include <sstream>
+#include <atomic>
+#include <memory>
+#include <exception>
+#include <thread>
+#include <tuple>
 
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_Comm.hpp>
@@ -962,14 +967,46 @@ eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<dou
   return sys;
 }
 
+/// The structure's matrices gathered to every rank once, per speed piece.
+struct SynthesizedStructure::DensePieces {
+  DenseMatrix M, K0, D;
+  std::vector<DenseMatrix> G;  ///< per speed parameter (0 x 0: none)
+  std::vector<std::tuple<int, int, DenseMatrix>> K2;
+};
+
 eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<double>& s) const {
-  const auto sys = system(s);
-  eigen::GyroscopicSystem d;
-  d.M = toDense(*sys.M);
-  d.G = toDense(*sys.G);
-  d.K = toDense(*sys.K);
-  if (!sys.D.is_null()) d.D = toDense(*sys.D);
-  return d;
+  CMS_INPUT_CHECK(s.size() != structure_->speeds().size(),
+                  "synthesis: " << s.size() << " speeds given, the structure has " << structure_->speeds().size());
+  auto& pieces = const_cast<std::shared_ptr<DensePieces>&>(dense_);
+  if (!pieces) {  // collective: every rank calls solve at the same speeds
+    auto d = std::make_shared<DensePieces>();
+    d->M = toDense(*M_);
+    d->K0 = toDense(*K0_);
+    if (!D_.is_null()) d->D = toDense(*D_);
+    for (const auto& Gi : G_) d->G.push_back(Gi.is_null() ? DenseMatrix() : toDense(*Gi));
+    for (const auto& t : K2_) d->K2.emplace_back(t.i, t.j, toDense(*t.K));
+    pieces = d;
+  }
+  // G(s) = sum_i s_i G_i, K(s) = K0 + sum s_i s_j K_ij, entry by entry in
+  // the order system() adds them.
+  const DensePieces& d = *pieces;
+  const int n = d.M.numRows();
+  eigen::GyroscopicSystem out;
+  out.M = d.M;
+  out.G = DenseMatrix(n, n);
+  out.K = d.K0;
+  for (std::size_t i = 0; i < d.G.size(); ++i)
+    if (d.G[i].numRows() == n && s[i] != 0.0)
+      for (int c = 0; c < n; ++c)
+        for (int r = 0; r < n; ++r) out.G(r, c) += s[i] * d.G[i](r, c);
+  for (const auto& [i, j, Kij] : d.K2) {
+    const double c = s[static_cast<std::size_t>(i)] * s[static_cast<std::size_t>(j)];
+    if (c == 0.0) continue;
+    for (int col = 0; col < n; ++col)
+      for (int r = 0; r < n; ++r) out.K(r, col) += c * Kij(r, col);
+  }
+  if (d.D.numRows() == n) out.D = d.D;
+  return out;
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> SynthesizedStructure::validSolveParameters() {
@@ -1030,6 +1067,69 @@ StructureModes SynthesizedStructure::solve(const std::vector<double>& s, const T
   }
   out.path = why.str();
   out.seconds = since(t0);
+  return out;
+}
+
+std::vector<StructureModes> SynthesizedStructure::solveMany(const std::vector<std::vector<double>>& speeds,
+                                                            const Teuchos::ParameterList& params, int threads) const {
+  std::vector<StructureModes> out(speeds.size());
+  Teuchos::ParameterList p(params);
+  try {
+    p.validateParametersAndSetDefaults(*validSolveParameters());
+  } catch (const std::exception& e) {
+    throw InputError(std::string("synthesis solve parameters: ") + e.what());
+  }
+  const std::string solver = p.get<std::string>("Solver");
+  const long long n = size();
+  const bool dense = solver == "Dense" || (solver == "Auto" && n <= p.get<int>("Dense Limit"));
+  if (threads <= 0) {
+    const int ranks = structure_->comm()->getSize();
+    threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / std::max(1, ranks));
+  }
+  threads = std::min<int>(threads, static_cast<int>(speeds.size()));
+  if (!dense || !hubs_.empty() || threads <= 1) {
+    for (std::size_t k = 0; k < speeds.size(); ++k) out[k] = solve(speeds[k], params);
+    return out;
+  }
+  // Everything Teuchos is done here, before any thread starts (its RCPs
+  // count references without atomics in Debian's build): the collective
+  // gathers of denseSystem and one solver, with its own parameters, per
+  // thread. A thread only combines the gathered pieces and runs LAPACK.
+  const int nev = p.get<int>("Number of Modes");
+  CMS_INPUT_CHECK(nev < 1, "synthesis solve parameters: \"Number of Modes\" = " << nev << " must be >= 1");
+  Teuchos::ParameterList dp = p.sublist("Dense Solver");
+  dp.set("Number of Modes", static_cast<int>(std::min<long long>(nev, n)));
+  std::vector<std::unique_ptr<eigen::DenseGyroscopicSolver>> solvers;
+  for (int w = 0; w < threads; ++w) solvers.push_back(std::make_unique<eigen::DenseGyroscopicSolver>(dp));
+  for (auto& s : speeds)
+    CMS_INPUT_CHECK(s.size() != structure_->speeds().size(), "synthesis: " << s.size() << " speeds given, the structure has "
+                                                                           << structure_->speeds().size());
+  denseSystem(speeds.front());
+  std::ostringstream why;
+  why << "dense (n = " << n << (solver == "Dense" ? ", requested)" : " <= Dense Limit)");
+  const std::string path = why.str();
+  std::atomic<std::size_t> next{0};
+  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(threads));
+  auto work = [&](int w) {
+    try {
+      for (std::size_t k = next++; k < speeds.size(); k = next++) {
+        const auto t0 = Clock::now();
+        out[k].speeds = speeds[k];
+        out[k].result = solvers[static_cast<std::size_t>(w)]->solve(denseSystem(speeds[k]));
+        out[k].path = path;
+        out[k].seconds = since(t0);
+      }
+    } catch (...) {
+      failed[static_cast<std::size_t>(w)] = std::current_exception();
+      next = speeds.size();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (const auto& e : failed)
+    if (e) std::rethrow_exception(e);
   return out;
 }
 

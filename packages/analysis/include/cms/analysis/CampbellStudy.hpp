@@ -60,6 +60,16 @@ public:
   virtual std::vector<synthesis::SpeedParameter> parameters() const = 0;
   /// The modes at one set of speeds (rad/s, one per parameter).
   virtual synthesis::StructureModes solve(const std::vector<double>& speeds) const = 0;
+  /// The modes at every set of speeds, in order: solve() one after
+  /// another, unless a problem can do better (`threads` as
+  /// SynthesizedStructure::solveMany: 0 for the cores left to this rank).
+  virtual std::vector<synthesis::StructureModes> solveAll(const std::vector<std::vector<double>>& speeds,
+                                                          int threads) const {
+    (void)threads;
+    std::vector<synthesis::StructureModes> out;
+    for (const auto& s : speeds) out.push_back(solve(s));
+    return out;
+  }
   /// M-weighted MAC of every pair (a[t], b[j]), rows t.
   virtual std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
                                                const std::vector<eigen::GyroscopicMode>& b) const = 0;
@@ -104,6 +114,9 @@ public:
                           const Teuchos::ParameterList& solveParams, const std::string& whirlOf = "");
   std::vector<synthesis::SpeedParameter> parameters() const override { return reduced_.speeds(); }
   synthesis::StructureModes solve(const std::vector<double>& speeds) const override;
+  /// SynthesizedStructure::solveMany: the dense solves on threads.
+  std::vector<synthesis::StructureModes> solveAll(const std::vector<std::vector<double>>& speeds,
+                                                  int threads) const override;
   std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
@@ -222,7 +235,9 @@ public:
   /// "Crossing Tolerance" (double, 1e-6): relative bracket width that ends a bisection;
   /// "Frame Rate Tolerance" (double, 1e-3): relative difference within
   ///   which a track's frequency equals a spin rate;
-  /// "Whirl" (sublist): WhirlClassification's parameters.
+  /// "Whirl" (sublist): WhirlClassification's parameters;
+  /// "Threads" (int, 0): threads for the sweep's solves on each rank (0: the
+  ///   cores left to it; the speeds are independent until tracked).
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
   explicit CampbellStudy(const Teuchos::ParameterList& params = Teuchos::ParameterList());
 

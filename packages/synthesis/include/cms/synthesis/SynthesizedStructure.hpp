@@ -263,7 +263,9 @@ public:
   /// D = sum_s T_s^T D_s T_s plus the modal damping of reduced substructures
   /// (theory §13.1); null when no substructure is damped.
   Teuchos::RCP<const CrsMatrix> damping() const { return D_; }
-  /// The same, gathered to every rank (n up to a few thousand).
+  /// The same, gathered to every rank (n up to a few thousand): M, D and
+  /// each speed's piece of G and K are gathered once (collective, on first
+  /// use) and combined per call.
   eigen::GyroscopicSystem denseSystem(const std::vector<double>& speeds) const;
 
   /// "Solver": Auto (dense when n <= "Dense Limit", else sparse), Dense or
@@ -271,6 +273,14 @@ public:
   /// passed to eigen::DenseGyroscopicSolver / SparseGyroscopicSolver.
   static Teuchos::RCP<const Teuchos::ParameterList> validSolveParameters();
   StructureModes solve(const std::vector<double>& speeds, const Teuchos::ParameterList& params) const;
+  /// solve() at every set of `speeds`, in order. On the dense path the
+  /// solves run on `threads` threads of this rank (0: the cores left to
+  /// this rank, std::thread::hardware_concurrency() / ranks), each on its
+  /// own copy of the parameters: the same results as one solve() after
+  /// another (each is the same computation on the same matrices).
+  /// Collective.
+  std::vector<StructureModes> solveMany(const std::vector<std::vector<double>>& speeds,
+                                        const Teuchos::ParameterList& params, int threads = 0) const;
 
   /// u_s = T_s q for each substructure, tree order (a rigid rotor's rows are
   /// its a = (u_P, theta_P), and its spin angle if free).
@@ -339,6 +349,8 @@ private:
   std::shared_ptr<const AssembledStructure> structure_;
   std::vector<MovingHub> hubs_;
   std::vector<long long> offsets_;
+  struct DensePieces;  ///< M, D, G_i, K0, K_ij gathered (denseSystem)
+  std::shared_ptr<DensePieces> dense_;
   std::vector<reduction::RitzBasis> bases_;  ///< per part (empty for a rigid rotor)
   std::vector<Teuchos::ParameterList> reductionLists_;
   std::shared_ptr<Factorisations> factorisations_;
