@@ -34,9 +34,11 @@
 #include "cms/core/PeakMemory.hpp"
 #include "cms/core/ProgramBoundary.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
+#include "cms/core/Program.hpp"
 
 int main(int argc, char* argv[]) {
   using namespace cms;
+  cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;

@@ -33,6 +33,7 @@
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SparseGyroscopicSolver.hpp"
 #include "cms/models/RotatingChain.hpp"
+#include "cms/core/Program.hpp"
 
 namespace {
 
@@ -48,6 +49,7 @@ struct Row {
 int main(int argc, char* argv[]) {
   using namespace cms;
   using cms::peakRssMiB;
+  cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;

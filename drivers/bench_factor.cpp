@@ -39,6 +39,7 @@
 #include "cms/core/Stopwatch.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
+#include "cms/core/Program.hpp"
 
 namespace {
 
@@ -60,6 +61,7 @@ double backwardError(const CrsMatrix& A, const MultiVector& B, const MultiVector
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;

@@ -40,6 +40,7 @@
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/core/Stopwatch.hpp"
 #include "cms/scene/Scene.hpp"
+#include "cms/core/Program.hpp"
 
 namespace {
 
@@ -256,6 +257,7 @@ private:
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;

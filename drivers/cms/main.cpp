@@ -32,6 +32,7 @@
 
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
+#include "cms/core/Program.hpp"
 
 namespace cms::drivers {
 int modes(int argc, char* argv[]);
@@ -42,6 +43,7 @@ int truncate(int argc, char* argv[]);
 
 int main(int argc, char* argv[]) {
   using namespace cms;
+  cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Teuchos::GlobalMPISession mpi(&argc, &argv, nullptr);
   const bool root = Teuchos::DefaultComm<int>::getComm()->getRank() == 0;
   const std::map<std::string, int (*)(int, char*[])> subcommands{

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include <Tpetra_Core.hpp>
+#include "cms/core/Program.hpp"
 
 namespace {
 class RankFailurePrinter : public ::testing::EmptyTestEventListener {
@@ -24,6 +25,7 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
+  cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   ::testing::InitGoogleTest(&argc, argv);
   int rank = 0;

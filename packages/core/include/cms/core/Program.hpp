@@ -6,6 +6,7 @@
 // (examples/ex*.cpp), built against the installed library, start this way.
 #pragma once
 
+#include <cstdlib>
 #include <functional>
 #include <iostream>
 #include <optional>
@@ -22,12 +23,29 @@ namespace cms {
 
 using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 
-/// Runs `body(comm, root)` between MPI's start and end (Tpetra::ScopeGuard)
+/// Before MPI starts: a program started without a launcher (no mpiexec,
+/// srun: a "singleton") gets Open MPI's defaults for a lone process unless
+/// the environment already sets them: no helper daemon
+/// (ess_singleton_isolated) and the ob1 messaging layer instead of probing
+/// UCX and libfabric, which a single process never uses. MPI_Init alone
+/// took 0.45 s by default and 0.05 s so (doc/benchmarks.md, "Process
+/// start"), a fifth of a small scene's whole run. A launched run is left
+/// alone: a cluster's launcher and its fabric choose there.
+inline void singletonMpiDefaults() {
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "SLURM_PROCID"})
+    if (std::getenv(launched) != nullptr) return;
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
+  setenv("OMPI_MCA_pml", "ob1", 0);
+}
+
+/// Runs `body(comm, root)` between MPI's start (singletonMpiDefaults, then
+/// Tpetra::ScopeGuard) and end
 /// inside reportErrors(program, ...): returns body's exit code, or the code
 /// of the exception it threw, with its message printed on rank 0. `argc`
 /// and `argv` are those of main, as MPI leaves them.
 template <class Body>
 int runProgram(const char* program, int& argc, char**& argv, Body&& body) {
+  singletonMpiDefaults();
   Tpetra::ScopeGuard mpi(&argc, &argv);
   const CommPtr comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
