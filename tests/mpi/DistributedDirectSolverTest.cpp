@@ -251,3 +251,30 @@ TEST(DistributedDirectSolver, AutoChoosesMumpsOnlyWhenDistributedAndLarge) {
   // spread over more than one rank.
   EXPECT_EQ(useDistributedSolver("Auto", *A, 1), A->getComm()->getSize() > 1);
 }
+
+// Issue 18: a factorisation that cannot fit is refused before it starts,
+// naming the matrix and MUMPS's estimate, instead of the out-of-memory
+// killer ending the run; a Sturm count refused so comes back unreliable
+// with that reason (the sparse path then says its set is not confirmed).
+// The budget is CMS_MEMORY_LIMIT (a documented setting for shared
+// machines), here 1 MB: below any factorisation's estimate.
+TEST(DistributedDirectSolver, AFactorisationThatCannotFitIsRefusedByName) {
+  const auto A = laplacian(0.0);
+  setenv("CMS_MEMORY_LIMIT", "1e6", 1);
+  DistributedDirectSolver f(A, Kind::Symmetric, "K of the big block");
+  std::string what;
+  try {
+    f.factor();
+  } catch (const NumericalError& e) {
+    what = e.what();
+  }
+  const auto count = distributedInertia(*A);
+  unsetenv("CMS_MEMORY_LIMIT");
+  EXPECT_NE(what.find("K of the big block"), std::string::npos) << what;
+  EXPECT_NE(what.find("needs about"), std::string::npos) << what;
+  EXPECT_FALSE(count.reliable());
+  EXPECT_NE(count.failure.find("needs about"), std::string::npos) << count.failure;
+  // Within the budget again: the same matrix factors.
+  DistributedDirectSolver g(A, Kind::Symmetric, "K of the big block");
+  EXPECT_NO_THROW(g.factor());
+}

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -20,6 +21,7 @@
 #include <Tpetra_Vector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/PeakMemory.hpp"
 
 namespace cms {
 
@@ -241,6 +243,32 @@ DistributedDirectSolver::DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A
 
 DistributedDirectSolver::~DistributedDirectSolver() = default;
 
+/// After the analysis: the in-core factorisation MUMPS estimates for this
+/// rank (INFO(17), MB) against what this rank may use (its share of the
+/// memory available on its node), on every rank. A factorisation that
+/// cannot fit is refused with a NumericalError naming both figures,
+/// instead of the machine's out-of-memory killer ending the run (the
+/// embedding of a 5.7e5-DOF truth's Sturm count would need ~13 GB).
+void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm) const {
+  MPI_Comm node;
+  MPI_Comm_split_type(rawComm(comm), MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  int onNode = 1;
+  MPI_Comm_size(node, &onNode);
+  MPI_Comm_free(&node);
+  const double needMB = countOf(info(m.id, 17)), availableMB = availableMemoryBytes() / (1024.0 * 1024.0) / onNode;
+  double worst[2] = {needMB > 0.9 * availableMB ? needMB : 0.0, availableMB};
+  double all[2] = {0.0, 0.0};
+  MPI_Allreduce(worst, all, 1, MPI_DOUBLE, MPI_MAX, rawComm(comm));
+  if (all[0] == 0.0) return;
+  std::ostringstream os;
+  os << name_ << ": the factorisation of " << n_ << " rows needs about " << std::fixed << std::setprecision(0)
+     << all[0] << " MB on one rank (MUMPS's estimate, INFO(17)), more than the 90% of the " << availableMB
+     << " MB its rank may use (available memory shared by the node's ranks); run on more nodes or a coarser model";
+  m.call(-2);
+  m.started = false;
+  throw NumericalError(os.str());
+}
+
 void DistributedDirectSolver::factor(bool allowNullPivots) {
   Teuchos::Time timer("factor", true);
   Impl& m = *impl_;
@@ -303,6 +331,7 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   id.perm_in = nullptr;
   check("analysis");
   analysisSeconds_ = timer.totalElapsedTime(true);
+  refuseWhatCannotFit(m, *comm);
   orderingUsed_ = infog(id, 7);
   for (int attempt = 0;; ++attempt) {
     m.call(2);

@@ -18,6 +18,7 @@
 
 #include "YamlScene.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/PeakMemory.hpp"
 #include "cms/core/ParameterReading.hpp"
 #include "cms/fem/LumpedItemParameters.hpp"
 #include "cms/fem/RigidPlacement.hpp"
@@ -461,22 +462,7 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   return scene;
 }
 
-double availableMemoryBytes() {
-  double bytes = std::numeric_limits<double>::infinity();
-  std::ifstream meminfo("/proc/meminfo");
-  for (std::string key; meminfo >> key;) {
-    double kib = 0;
-    if (key == "MemAvailable:" && meminfo >> kib) bytes = std::min(bytes, 1024.0 * kib);
-    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-  }
-  rlimit as{};
-  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
-    bytes = std::min(bytes, static_cast<double>(as.rlim_cur));
-  std::ifstream cgroup("/sys/fs/cgroup/memory.max");
-  double max = 0;
-  if (cgroup >> max && max > 0) bytes = std::min(bytes, max);  // "max" (no limit) does not read as a number
-  return bytes;
-}
+double availableMemoryBytes() { return cms::availableMemoryBytes(); }
 
 Scene Scene::read(const std::string& path) { return read(path, {}); }
 

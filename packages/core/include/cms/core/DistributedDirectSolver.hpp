@@ -32,6 +32,8 @@
 #include <memory>
 #include <string>
 
+#include <Teuchos_Comm.hpp>
+
 #include "cms/core/SparseInertia.hpp"
 #include "cms/core/TpetraTypes.hpp"
 
@@ -106,6 +108,7 @@ public:
 
 private:
   struct Impl;
+  void refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm) const;
   std::unique_ptr<Impl> impl_;
   std::string name_;
   long long n_ = 0, negative_ = 0, null_ = 0;

@@ -1,15 +1,47 @@
-// The process's peak memory, for the drivers' and studies' reports (Linux).
+// The process's peak memory, for the drivers' and studies' reports, and the
+// memory it may still use, for the checks that refuse a run that cannot fit
+// (Linux).
 #pragma once
 
+#include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include <sys/resource.h>
+
+#include <algorithm>
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
 
 namespace cms {
+
+/// Memory this process may still use (bytes): the least of MemAvailable in
+/// /proc/meminfo, the address-space limit (ulimit -v), the cgroup's
+/// memory.max and the environment's CMS_MEMORY_LIMIT (bytes, e.g. 8e9: a
+/// budget on a shared machine); infinity when none is known.
+inline double availableMemoryBytes() {
+  double bytes = std::numeric_limits<double>::infinity();
+  if (const char* limit = std::getenv("CMS_MEMORY_LIMIT")) {
+    char* end = nullptr;
+    const double v = std::strtod(limit, &end);
+    if (end != limit && v > 0) bytes = v;
+  }
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    double kib = 0;
+    if (key == "MemAvailable:" && meminfo >> kib) bytes = std::min(bytes, 1024.0 * kib);
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+    bytes = std::min(bytes, static_cast<double>(as.rlim_cur));
+  std::ifstream cgroup("/sys/fs/cgroup/memory.max");
+  double max = 0;
+  if (cgroup >> max && max > 0) bytes = std::min(bytes, max);  // "max" (no limit) does not read as a number
+  return bytes;
+}
 
 /// Maximum resident set size of this process so far, in MiB (Linux reports KiB).
 inline double peakRssMiB() {

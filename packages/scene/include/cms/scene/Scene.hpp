@@ -60,9 +60,8 @@ struct Scene {
   static Scene fromParameters(const Teuchos::ParameterList& scene, const std::string& path);
 };
 
-/// Memory this process may still use (bytes): the least of MemAvailable in
-/// /proc/meminfo, the address-space limit (ulimit -v) and the cgroup's
-/// memory.max; infinity when none is known.
+/// Memory this process may still use (bytes): cms::availableMemoryBytes
+/// (cms/core/PeakMemory.hpp).
 double availableMemoryBytes();
 
 }  // namespace cms::scene
