@@ -368,10 +368,15 @@ TEST(RotorOnAirframe, AFullAxisymmetricHubIsWrittenInFixedAxes) {
   // fixed axes (u_rot = R^T u_fixed node by node, theory 16.8) an
   // axisymmetric hub keeps the coefficients constant; against the rigid hub
   // (Vectors: 0) its eigenvalues differ by the hub's flexibility, falling
-  // as 1/E (measured 6.6e-4 at E = 1e9, 6.6e-5 at 1e10; past 1e11 the
-  // eigensolver's eps (omega_max / omega)^2 takes over).
+  // as 1/E: measured 6.6e-3 at E = 1e8, 6.6e-4 at 1e9. At 1e10 the
+  // flexibility (6.6e-5) meets the dense solver's floor, eps (omega_max /
+  // omega)^2 with omega_max^2 ~ ||K|| / ||M|| growing with E (~1e-4 here):
+  // measured 6.6e-5, 7.4e-5 and 2.2e-4 with OpenBLAS's kernels on two
+  // threads, Nehalem's and one thread (issue 18: the monolithic truth's
+  // summation order moved it), so the rate is checked at 1e8 and 1e9, a
+  // hundred times above that floor.
   std::vector<double> mismatch;
-  for (double E : {1e9, 1e10}) {
+  for (double E : {1e8, 1e9}) {
     Rotor rigid, full;
     rigid.rate = full.rate = 1.47;
     rigid.mastE = full.mastE = E;
@@ -386,5 +391,5 @@ TEST(RotorOnAirframe, AFullAxisymmetricHubIsWrittenInFixedAxes) {
   }
   EXPECT_GT(mismatch[0] / mismatch[1], 7.0);
   EXPECT_LT(mismatch[0] / mismatch[1], 13.0);
-  EXPECT_LE(mismatch[1], 2e-4);
+  EXPECT_LE(mismatch[1], 2e-3);
 }

@@ -71,7 +71,8 @@ private:
 
 }  // namespace
 
-void MonolithicSum::add(const CrsMatrix& T, const CrsMatrix& A, double c) {
+void MonolithicSum::add(const CrsMatrix& T, const CrsMatrix& A, double c, GlobalOrdinal n,
+                        const std::vector<Row>& motion) {
   const auto& colMap = *A.getColMap();
   const auto& rowMap = *A.getRowMap();
   const RowsOnColumns t = rowsOnColumns(T, colMap);
@@ -130,7 +131,83 @@ void MonolithicSum::add(const CrsMatrix& T, const CrsMatrix& A, double c) {
     }
     acc.clear();
   }
+  if (!motion.empty()) expandMotion(start, n, motion);
   added_ = true;
+}
+
+void MonolithicSum::expandMotion(std::size_t start, GlobalOrdinal n, const std::vector<Row>& motion) {
+  // The coordinates the motion reaches, and H (row v: motion[v] over them).
+  std::vector<GlobalOrdinal> reach;
+  for (const auto& row : motion)
+    for (const auto& [q, h] : row) reach.push_back(q);
+  std::sort(reach.begin(), reach.end());
+  reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
+  const std::size_t nv = motion.size(), m = reach.size();
+  std::vector<double> H(nv * m, 0.0);
+  for (std::size_t v = 0; v < nv; ++v)
+    for (const auto& [q, h] : motion[v])
+      H[v * m + static_cast<std::size_t>(std::lower_bound(reach.begin(), reach.end(), q) - reach.begin())] += h;
+  // The block's entries with a virtual column: (p, v) with p real, or (v, w)
+  // both virtual (virtual ids are the largest, so never (v, p)); they come
+  // by row. In the full product (p, v) = x and (v, p) = sign x, so with
+  // v = H_v q, row p's r = sum_v x_v H_v adds r_c to (p, c) and sign r_c to
+  // (c, p): in the upper triangle, (p, c) if p < c, (c, p) times sign if
+  // p > c, and both on the diagonal if p = c. One pass over a row's (at
+  // most six) virtual entries, then one entry per reached coordinate.
+  std::vector<double> B(nv * nv, 0.0), r(m);
+  std::vector<Entry> expanded;
+  std::size_t kept = start;
+  for (std::size_t e = start; e < entries_.size();) {
+    const Entry x = entries_[e];
+    if (x.col < n) {
+      entries_[kept++] = x;
+      ++e;
+      continue;
+    }
+    if (x.row >= n) {
+      B[static_cast<std::size_t>(x.row - n) * nv + static_cast<std::size_t>(x.col - n)] += x.value;
+      ++e;
+      continue;
+    }
+    std::fill(r.begin(), r.end(), 0.0);
+    for (; e < entries_.size() && entries_[e].row == x.row && entries_[e].col >= n; ++e) {
+      const double* h = &H[static_cast<std::size_t>(entries_[e].col - n) * m];
+      for (std::size_t j = 0; j < m; ++j) r[j] += entries_[e].value * h[j];
+    }
+    for (std::size_t j = 0; j < m; ++j) {
+      if (r[j] == 0.0) continue;
+      const GlobalOrdinal q = reach[j];
+      if (x.row < q) expanded.push_back({x.row, q, r[j]});
+      else if (x.row > q) expanded.push_back({q, x.row, sign_ * r[j]});
+      else if (sign_ > 0.0) expanded.push_back({q, q, 2.0 * r[j]});
+    }
+  }
+  entries_.resize(kept);
+  entries_.insert(entries_.end(), expanded.begin(), expanded.end());
+  // D = H^T B H with B made whole (B_wv = sign B_vw): its upper triangle.
+  bool any = false;
+  for (double b : B) any = any || b != 0.0;
+  if (!any || m == 0) return;
+  std::vector<double> full(nv * nv, 0.0);
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::size_t w = v; w < nv; ++w) {
+      full[v * nv + w] += B[v * nv + w];
+      if (w != v) full[w * nv + v] += sign_ * B[v * nv + w];
+    }
+  std::vector<double> W(nv * m, 0.0);  // B H
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::size_t w = 0; w < nv; ++w) {
+      const double b = full[v * nv + w];
+      if (b == 0.0) continue;
+      for (std::size_t j = 0; j < m; ++j) W[v * m + j] += b * H[w * m + j];
+    }
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t j = i; j < m; ++j) {
+      if (j == i && sign_ < 0.0) continue;
+      double d = 0.0;
+      for (std::size_t v = 0; v < nv; ++v) d += H[v * m + i] * W[v * m + j];
+      if (d != 0.0) entries_.push_back({reach[i], reach[j], d});
+    }
 }
 
 bool MonolithicSum::empty(const Teuchos::Comm<int>& comm) const {
@@ -157,24 +234,25 @@ Teuchos::RCP<const CrsMatrix> MonolithicSum::matrix(const Teuchos::RCP<const Map
     }
   }
   std::vector<Entry>().swap(entries_);
-  std::vector<std::size_t> order;
+  std::vector<std::pair<GlobalOrdinal, double>> row;
   std::size_t kept = 0;
   std::vector<std::size_t> rowStart(n + 1, 0);
   for (std::size_t p = 0; p < n; ++p) {
     const std::size_t b = upperPtr[p], e = upperPtr[p + 1];
     rowStart[p] = kept;
     if (e == b) continue;
-    order.resize(e - b);
-    std::iota(order.begin(), order.end(), b);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return ucol[x] < ucol[y]; });
-    // The row merged into a copy, then written back at `kept` <= b.
-    std::vector<std::pair<GlobalOrdinal, double>> row;
-    row.reserve(order.size());
-    for (std::size_t k : order) {
-      if (!row.empty() && row.back().first == ucol[k]) row.back().second += uval[k];
-      else row.push_back({ucol[k], uval[k]});
+    // The row sorted by column in a copy, duplicates summed, then written
+    // back at `kept` <= b. (An entry and its mirror are written from the
+    // same sum: the symmetry stays exact.)
+    row.clear();
+    for (std::size_t k = b; k < e; ++k) row.push_back({ucol[k], uval[k]});
+    std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t w = kept;
+    for (const auto& [q, v] : row) {
+      if (w > kept && ucol[w - 1] == q) uval[w - 1] += v;
+      else ucol[w] = q, uval[w++] = v;
     }
-    for (const auto& [q, v] : row) ucol[kept] = q, uval[kept++] = v;
+    kept = w;
   }
   rowStart[n] = kept;
   ucol.resize(kept), uval.resize(kept);

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include <Teuchos_Comm.hpp>
@@ -31,10 +32,15 @@ public:
   /// `sign` +1: A symmetric (M, K, D); -1: A skew (G), whose diagonal is 0.
   explicit MonolithicSum(double sign = 1.0) : sign_(sign) {}
 
+  using Row = std::vector<std::pair<GlobalOrdinal, double>>;
   /// Adds c T^T A T. T: u = T q (rows: A's row map, columns: the structure's
-  /// coordinates, global ids); A square on T's row map, fill-complete.
+  /// n coordinates, global ids, then the virtual ones n + v: a
+  /// substructure's attachment motion, v = 0 .. motion.size() - 1, whose
+  /// value over q is motion[v]); A square on T's row map, fill-complete.
+  /// The product is formed with the virtual coordinates, then expanded
+  /// through `motion` (a RigidFit's face block as H^T B H, B 6 x 6).
   /// Collective (T's rows for A's off-rank columns are imported).
-  void add(const CrsMatrix& T, const CrsMatrix& A, double c);
+  void add(const CrsMatrix& T, const CrsMatrix& A, double c, GlobalOrdinal n, const std::vector<Row>& motion);
   /// Whether add was ever called on any rank (collective).
   bool empty(const Teuchos::Comm<int>& comm) const;
   /// The sum on `map` (the coordinates' map; domain and range too).
@@ -46,6 +52,8 @@ private:
     GlobalOrdinal row, col;
     double value;
   };
+  /// The entries added since `start` with a virtual column, expanded (add).
+  void expandMotion(std::size_t start, GlobalOrdinal n, const std::vector<Row>& motion);
   double sign_;
   std::vector<Entry> entries_;  ///< upper triangle (row <= col); each add's sorted, rows may repeat across adds
   bool added_ = false;

@@ -808,10 +808,19 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
     for (int a = 0; a < na; ++a) C.push_back(A[a]);
     for (int j = 0; j < basis.size(); ++j) C.push_back(Row{{offset + static_cast<GlobalOrdinal>(j), 1.0}});
   }
+  // For the monolithic sum of a Full basis (MonolithicSum.hpp): the same
+  // rows with its attachment motion a = A q kept as six virtual
+  // coordinates n + a, expanded through A after the product. A RigidFit's
+  // held rows are rank 6 (X_h A); written out, each carries every face
+  // coordinate of the parent, and the face block T_h^T K_hh T_h costs
+  // n_held n_face^2 instead of 36 n_face^2.
+  const bool virtualMotion = basis.full && hasA && !p.boolean();
+  const GlobalOrdinal nq = static_cast<GlobalOrdinal>(map_->getGlobalNumElements());
+  std::vector<Row> rowsV(virtualMotion ? nloc : 0);
   for (std::size_t l = 0; l < nloc; ++l) {
     const auto g = smap->getGlobalElement(static_cast<LocalOrdinal>(l));
     std::vector<std::pair<double, const Row*>> terms;
-    Row own;
+    Row own, virt;
     if (hasA && p.boolean()) {
       if (basis.full) {
         const auto it = injected.find(g);
@@ -829,6 +838,7 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
       const auto x = detail::rigidRow(r, static_cast<int>(t.components[g]));
       for (int a = 0; a < 6; ++a) {
         if (x[a] != 0.0 && !A[a].empty()) terms.push_back({x[a], &A[a]});
+        if (x[a] != 0.0 && !A[a].empty() && virtualMotion) virt.push_back({nq + a, x[a]});
         if (na > 0) bcol[a][l] = x[a];
       }
     }
@@ -844,10 +854,21 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
         bcol[na + j][l] = cols[j][l];
       }
     }
+    if (virtualMotion) {
+      rowsV[l] = own;
+      rowsV[l].insert(rowsV[l].end(), virt.begin(), virt.end());
+    }
     terms.push_back({1.0, &own});
     rows[l] = combine(terms);
   }
   T_[k] = fromRows(smap, rows, map_, smap);
+  Teuchos::RCP<const CrsMatrix> Tv = T_[k];
+  std::vector<Row> motion;  // the virtual coordinates' rows over q
+  if (virtualMotion) {
+    auto wide = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(nq + 6), 0, map_->getComm()));
+    Tv = fromRows(smap, rowsV, wide, smap);
+    motion.assign(A.begin(), A.end());
+  }
   bcol.clear();  // release the host views before B is read
   // c T^T A T added to a sum: a Full basis's by the monolithic assembly
   // (MonolithicSum.hpp), a reduced one's through its factors T = B C.
@@ -855,11 +876,11 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   const bool full = basis.full;
   const auto addTo = [&](Teuchos::RCP<const CrsMatrix>& sum, detail::MonolithicSum& fullSum, const CrsMatrix& A,
                          double c) {
-    if (full) fullSum.add(*T_[k], A, c);
+    if (full) fullSum.add(*Tv, A, c, nq, motion);
     else sum = addScaled(sum, c, project(A));
   };
   addTo(sums.M, sums.fullM, *sub.M(), 1.0);
-  if (full) sums.fullK0.add(*T_[k], *sub.K(), 1.0);
+  if (full) sums.fullK0.add(*Tv, *sub.K(), 1.0, nq, motion);
   else sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
   // Damping (theory §13.1): the dampers' and Rayleigh D_s projected like
   // M; a modal ratio in the substructure's own coordinates.
@@ -879,7 +900,7 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
       const auto PX = full ? Teuchos::null : project(*st.KX1());
       for (auto [i, ci] : p.frame.coefficients) {
         const std::pair<int, int> ij{std::min(i, p.speedParam), std::max(i, p.speedParam)};
-        if (full) K2Sum(ij).add(*T_[k], *st.KX1(), ci);
+        if (full) K2Sum(ij).add(*Tv, *st.KX1(), ci, nq, motion);
         else sums.K2[ij] = addScaled(sums.K2[ij], ci, PX);
       }
     }
@@ -890,14 +911,14 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
     if (!full && !sub.K2().is_null()) PK = project(*sub.K2());
     for (auto [i, ci] : p.frame.coefficients) {
       if (!sub.G1().is_null()) {
-        if (full) sums.fullG[i].add(*T_[k], *sub.G1(), ci);
+        if (full) sums.fullG[i].add(*Tv, *sub.G1(), ci, nq, motion);
         else sums.G[i] = addScaled(sums.G[i], ci, PG);
       }
       if (sub.K2().is_null()) continue;
       for (auto [j, cj] : p.frame.coefficients) {
         if (j < i) continue;
         const double cij = i == j ? ci * cj : 2.0 * ci * cj;
-        if (full) K2Sum({i, j}).add(*T_[k], *sub.K2(), cij);
+        if (full) K2Sum({i, j}).add(*Tv, *sub.K2(), cij, nq, motion);
         else sums.K2[{i, j}] = addScaled(sums.K2[{i, j}], cij, PK);
       }
     }
