@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <Teuchos_DefaultComm.hpp>
@@ -277,4 +278,30 @@ TEST(DistributedDirectSolver, AFactorisationThatCannotFitIsRefusedByName) {
   // Within the budget again: the same matrix factors.
   DistributedDirectSolver g(A, Kind::Symmetric, "K of the big block");
   EXPECT_NO_THROW(g.factor());
+}
+
+// The budget is held against the in-core estimate, not the out-of-core one
+// (INFO(17), a third of the in-core figure on the rotor, let a 5.7e5-DOF
+// Sturm count through that the machine's out-of-memory killer then ended):
+// with a budget whose 90% share is 95% of what the same factorisation was
+// measured to use (INFOG(21), the busiest rank), it is refused.
+TEST(DistributedDirectSolver, TheBudgetHoldsAgainstTheInCoreEstimate) {
+  const auto A = laplacian(0.0);
+  DistributedDirectSolver measured(A, Kind::Symmetric, "K measured");
+  measured.factor();
+  const double usedMB = measured.factorMemoryMaxMB();
+  ASSERT_GT(usedMB, 0.0);
+  const int ranksOnNode = A->getComm()->getSize();  // the tests run on one node
+  const double budget = usedMB * 1e6 * ranksOnNode * 0.95 / 0.9;
+  setenv("CMS_MEMORY_LIMIT", std::to_string(budget).c_str(), 1);
+  DistributedDirectSolver f(A, Kind::Symmetric, "K at 95% of its need");
+  std::string what;
+  try {
+    f.factor();
+  } catch (const NumericalError& e) {
+    what = e.what();
+  }
+  unsetenv("CMS_MEMORY_LIMIT");
+  EXPECT_NE(what.find("K at 95% of its need"), std::string::npos) << "measured " << usedMB << " MB; " << what;
+  EXPECT_NE(what.find("INFO(15)"), std::string::npos) << what;
 }

@@ -243,26 +243,31 @@ DistributedDirectSolver::DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A
 
 DistributedDirectSolver::~DistributedDirectSolver() = default;
 
-/// After the analysis: the in-core factorisation MUMPS estimates for this
-/// rank (INFO(17), MB) against what this rank may use (its share of the
-/// memory available on its node), on every rank. A factorisation that
-/// cannot fit is refused with a NumericalError naming both figures,
-/// instead of the machine's out-of-memory killer ending the run (the
-/// embedding of a 5.7e5-DOF truth's Sturm count would need ~13 GB).
-void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm) const {
+/// After the analysis, and before each retry with more workspace: the
+/// in-core factorisation MUMPS estimates for this rank (INFO(15), MB, times
+/// `growth` for the workspace added since) against what this rank may use
+/// (its share of the memory available on its node), on every rank. A
+/// factorisation that cannot fit is refused with a NumericalError naming
+/// both figures, instead of the machine's out-of-memory killer ending the
+/// run.
+void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm, double growth) const {
   MPI_Comm node;
   MPI_Comm_split_type(rawComm(comm), MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   int onNode = 1;
   MPI_Comm_size(node, &onNode);
   MPI_Comm_free(&node);
-  const double needMB = countOf(info(m.id, 17)), availableMB = availableMemoryBytes() / (1024.0 * 1024.0) / onNode;
+  // INFO(15): the analysis's estimate of this rank's memory for an in-core
+  // factorisation, in MUMPS's megabytes (1e6 bytes). (INFO(17) is the
+  // out-of-core estimate: a third of it on the rotor, and it let a count
+  // through that then could not fit.)
+  const double needMB = growth * countOf(info(m.id, 15)), availableMB = availableMemoryBytes() / 1e6 / onNode;
   double worst[2] = {needMB > 0.9 * availableMB ? needMB : 0.0, availableMB};
   double all[2] = {0.0, 0.0};
   MPI_Allreduce(worst, all, 1, MPI_DOUBLE, MPI_MAX, rawComm(comm));
   if (all[0] == 0.0) return;
   std::ostringstream os;
   os << name_ << ": the factorisation of " << n_ << " rows needs about " << std::fixed << std::setprecision(0)
-     << all[0] << " MB on one rank (MUMPS's estimate, INFO(17)), more than the 90% of the " << availableMB
+     << all[0] << " MB on one rank (MUMPS's in-core estimate, INFO(15)" << (growth > 1.0 ? ", with the workspace its delayed pivots asked for" : "") << "), more than the 90% of the " << availableMB
      << " MB its rank may use (available memory shared by the node's ranks); run on more nodes or a coarser model";
   m.call(-2);
   m.started = false;
@@ -331,12 +336,21 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   id.perm_in = nullptr;
   check("analysis");
   analysisSeconds_ = timer.totalElapsedTime(true);
-  refuseWhatCannotFit(m, *comm);
+  refuseWhatCannotFit(m, *comm, 1.0);
   orderingUsed_ = infog(id, 7);
+  // An indefinite L D L^T can delay pivots beyond the analysis's workspace
+  // (INFOG(1) = -8/-9): the factorisation is retried with the relaxation
+  // ICNTL(14) doubled, the in-core estimate grown by the same ratio and
+  // checked against the budget again before each retry (unchecked, the
+  // retries of a 5.7e5-DOF Sturm count ran a 24 GiB machine out of memory).
+  double growth = 1.0;
   for (int attempt = 0;; ++attempt) {
     m.call(2);
     if (!(isWorkspaceShortfall(infog(id, 1)) && attempt < 4)) break;
-    icntl(id, 14) = 2 * std::max<MUMPS_INT>(icntl(id, 14), 20);
+    const MUMPS_INT before = icntl(id, 14);
+    icntl(id, 14) = 2 * std::max<MUMPS_INT>(before, 20);
+    growth *= (100.0 + icntl(id, 14)) / (100.0 + std::max<MUMPS_INT>(before, 0));
+    refuseWhatCannotFit(m, *comm, growth);
   }
   check("factorisation");
   negative_ = m.kind == Kind::General ? 0 : countOf(infog(id, 12));

@@ -108,7 +108,7 @@ public:
 
 private:
   struct Impl;
-  void refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm) const;
+  void refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm, double growth) const;
   std::unique_ptr<Impl> impl_;
   std::string name_;
   long long n_ = 0, negative_ = 0, null_ = 0;
