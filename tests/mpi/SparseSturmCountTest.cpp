@@ -107,6 +107,28 @@ void expectOnEveryRank(bool ok, const std::string& what) {
   Teuchos::reduceAll(*world(), Teuchos::REDUCE_MIN, mine, Teuchos::outArg(all));
   EXPECT_EQ(all, 1) << what;
 }
+/// triu(K) - tril(K), scaled: a skew matrix on K's pattern.
+Teuchos::RCP<CrsMatrix> skewOf(const CrsMatrix& K, double scale) {
+  auto B = Teuchos::rcp(new CrsMatrix(K, Teuchos::Copy));
+  B->resumeFill();
+  Teuchos::Array<LocalOrdinal> cols;
+  Teuchos::Array<double> vals;
+  for (LocalOrdinal l = 0; l < static_cast<LocalOrdinal>(K.getNodeNumRows()); ++l) {
+    const GlobalOrdinal i = K.getRowMap()->getGlobalElement(l);
+    const std::size_t k = K.getNumEntriesInLocalRow(l);
+    cols.resize(k), vals.resize(k);
+    std::size_t got = 0;
+    K.getLocalRowCopy(l, cols(), vals(), got);
+    for (std::size_t e = 0; e < got; ++e) {
+      const GlobalOrdinal j = K.getColMap()->getGlobalElement(cols[e]);
+      vals[e] = i == j ? 0.0 : (j > i ? scale : -scale) * vals[e];
+    }
+    B->replaceLocalValues(l, cols(0, got), vals(0, got));
+  }
+  B->fillComplete(K.getDomainMap(), K.getRangeMap());
+  return B;
+}
+
 }  // namespace
 
 // (a) The sparse count (CHOLMOD L D L^T of the real 2n embedding, or of
@@ -269,26 +291,6 @@ TEST(SparseSturmCount, AMissingModeIsDetectedOrRecovered) {
 // at multiples of a reference frequency; a count either method finds on a
 // pivot zero to rounding is skipped (not reliable), never compared.
 TEST(SparseSturmCount, AutoChoosesTheFactorisationByItsCostAndBothCountAlike) {
-  auto skewOf = [](const CrsMatrix& K, double scale) {  // triu(K) - tril(K): skew on K's pattern
-    auto B = Teuchos::rcp(new CrsMatrix(K, Teuchos::Copy));
-    B->resumeFill();
-    Teuchos::Array<LocalOrdinal> cols;
-    Teuchos::Array<double> vals;
-    for (LocalOrdinal l = 0; l < static_cast<LocalOrdinal>(K.getNodeNumRows()); ++l) {
-      const GlobalOrdinal i = K.getRowMap()->getGlobalElement(l);
-      const std::size_t k = K.getNumEntriesInLocalRow(l);
-      cols.resize(k), vals.resize(k);
-      std::size_t got = 0;
-      K.getLocalRowCopy(l, cols(), vals(), got);
-      for (std::size_t e = 0; e < got; ++e) {
-        const GlobalOrdinal j = K.getColMap()->getGlobalElement(cols[e]);
-        vals[e] = i == j ? 0.0 : (j > i ? scale : -scale) * vals[e];
-      }
-      B->replaceLocalValues(l, cols(0, got), vals(0, got));
-    }
-    B->fillComplete(K.getDomainMap(), K.getRangeMap());
-    return B;
-  };
   struct Case {
     const char* what;
     fem::AssembledMatrices a;
@@ -348,4 +350,32 @@ TEST(SparseSturmCount, AutoChoosesTheFactorisationByItsCostAndBothCountAlike) {
     expectOnEveryRank(compared >= 3, std::string(c.what) + ": too few reliable counts to compare");
     EXPECT_GT(most, 10) << c.what << ": the cuts must reach into the spectrum";
   }
+}
+
+// A count Auto sends to MUMPS is not started when even a lower bound of its
+// memory (CHOLMOD's analysis: its factor's entries by AMD, and the
+// preparation of the embedding, triplets and METIS graph on rank 0) exceeds
+// the rank's budget: the 5.7e5-DOF rotor's truth count built ~8 GB of that
+// before MUMPS's own estimate could refuse it, and the out-of-memory killer
+// ended the run. It comes back unreliable, with the reason; within the
+// budget the same count runs.
+TEST(SparseSturmCount, AMultifrontalCountThatCannotFitIsNotStarted) {
+  fem::FiniteElementModel m;
+  m.mesh = fixtures::barMesh(fem::SolidType::Hex8, 1.0, 0.06, 0.06, 40, 6, 6);
+  m.materials["steel"] = fem::IsotropicMaterial{2.1e11, 0.3, 7850.0};
+  m.elementSets.push_back(fixtures::elementSet(fem::SolidType::Hex8, "steel"));
+  m.fixed.push_back({"root", "root", {}, true});
+  const auto a = fem::assemble(m, world());
+  const auto B = skewOf(*a.K, 1e-2);
+  setenv("CMS_MEMORY_LIMIT", "1e6", 1);  // 1 MB: below the preparation of a 1.2e4-row embedding
+  const SparseInertia refused = inertia(*a.K, *B);
+  unsetenv("CMS_MEMORY_LIMIT");
+  EXPECT_FALSE(refused.reliable());
+  EXPECT_EQ(refused.method, "MUMPS multifrontal L D L^T");
+  EXPECT_NE(refused.failure.find("was not started"), std::string::npos) << refused.failure;
+  EXPECT_NE(refused.failure.find("CMS_MEMORY_LIMIT"), std::string::npos) << refused.failure;
+  const SparseInertia counted = inertia(*a.K, *B);
+  EXPECT_TRUE(counted.reliable()) << counted.failure;
+  EXPECT_EQ(counted.method, "MUMPS multifrontal L D L^T");
+  EXPECT_EQ(counted.negative, inertia(*a.K, *B, InertiaMethod::Simplicial).negative);  // integers: no tolerance
 }

@@ -251,11 +251,7 @@ DistributedDirectSolver::~DistributedDirectSolver() = default;
 /// both figures, instead of the machine's out-of-memory killer ending the
 /// run.
 void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm, double growth) const {
-  MPI_Comm node;
-  MPI_Comm_split_type(rawComm(comm), MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-  int onNode = 1;
-  MPI_Comm_size(node, &onNode);
-  MPI_Comm_free(&node);
+  const int onNode = ranksOnNode(comm);
   // INFO(15): the analysis's estimate of this rank's memory for an in-core
   // factorisation, in MUMPS's megabytes (1e6 bytes). (INFO(17) is the
   // out-of-core estimate: a third of it on the rotor, and it let a count
@@ -425,6 +421,15 @@ void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const 
   auto to = X.getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t j = 0; j < nv; ++j)
     for (size_t i = 0; i < nloc; ++i) to(i, j) = from(i, j);
+}
+
+int ranksOnNode(const Teuchos::Comm<int>& comm) {
+  MPI_Comm node;
+  MPI_Comm_split_type(rawComm(comm), MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  int onNode = 1;
+  MPI_Comm_size(node, &onNode);
+  MPI_Comm_free(&node);
+  return onNode;
 }
 
 SparseInertia distributedInertia(const CrsMatrix& A) {

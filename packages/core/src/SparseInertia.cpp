@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <Teuchos_CommHelpers.hpp>
@@ -13,6 +16,7 @@
 
 #include "cms/core/DistributedDirectSolver.hpp"  // distributedInertia
 #include "cms/core/Error.hpp"
+#include "cms/core/PeakMemory.hpp"  // availableMemoryBytes
 
 namespace cms {
 
@@ -88,7 +92,7 @@ private:
 /// columns and the inertia of its D; rank 0 only. With `flopLimit` > 0, a
 /// factorisation CHOLMOD's analysis predicts above that many flops is not
 /// done: `tooCostly` is set and nothing else.
-SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& tooCostly) {
+SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& tooCostly, double* factorEntries = nullptr) {
   tooCostly = false;
   SparseInertia out;
   out.method = "CHOLMOD simplicial L D L^T";
@@ -121,6 +125,7 @@ SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& too
   cholmod_factor* L = cholmod_analyze(S, &common);
   if (L && flopLimit > 0.0 && common.fl > flopLimit) {
     tooCostly = true;
+    if (factorEntries != nullptr) *factorEntries = common.lnz;
     cholmod_free_factor(&L, &common);
     cholmod_free_sparse(&S, &common);
     cholmod_finish(&common);
@@ -240,24 +245,71 @@ Teuchos::RCP<CrsMatrix> realEmbedding(const CrsMatrix& A, const CrsMatrix& B, co
   return C;
 }
 
+namespace {
+/// Before the multifrontal count of an n-row matrix whose upper triangle
+/// has `upperEntries` entries (known on rank 0): "" if it may fit, else why
+/// not, on every rank. The solver's own guard (DistributedDirectSolver:
+/// MUMPS's in-core estimate) comes only after the embedding, the triplets,
+/// METIS's graph and MUMPS's analysis are built on rank 0, which for the
+/// 5.7e5-DOF rotor's truth took the 24 GiB machine from 13 GiB (the truth's
+/// own factor and vectors) to its out-of-memory killer. So first a lower
+/// bound, from what CHOLMOD's analysis already knows: the factor's entries
+/// by AMD (`amdEntries`) times kMetisOverAmd, 8 bytes each, spread over the
+/// ranks, plus rank 0's preparation, ~100 bytes an upper entry (the
+/// embedding both triangles at 12 bytes an entry, the triplets 16, METIS's
+/// graph both triangles at 8 bytes an index with its copies, MUMPS's
+/// analysis graph).
+std::string multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries,
+                                  double amdEntries) {
+  // MUMPS's factor entries with METIS against AMD's prediction, measured on
+  // the rotor's embeddings: 1.33 (2.9e4 rows), 0.99 (1.0e5), 0.83 (2.7e5);
+  // halved from the smallest, as nested dissection gains with size.
+  constexpr double kMetisOverAmd = 0.4;
+  const int onNode = ranksOnNode(comm);
+  double figures[2] = {8.0 * kMetisOverAmd * amdEntries / comm.getSize() + 100.0 * upperEntries,
+                       availableMemoryBytes() / onNode};
+  Teuchos::broadcast(comm, 0, 2, figures);
+  if (!(figures[0] > 0.9 * figures[1])) return "";
+  std::ostringstream os;
+  os << std::setprecision(3) << "the multifrontal L D L^T of the " << n
+     << "-row matrix was not started: rank 0 would need at least " << figures[0] / 1e9
+     << " GB (its share of the factor, from CHOLMOD's analysis, and the preparation), more than 90% of the "
+     << figures[1] / 1e9 << " GB it may use (CMS_MEMORY_LIMIT or the node's available memory)";
+  return os.str();
+}
+}  // namespace
+
 SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
   checkSquare(A, "A");
   if (method == InertiaMethod::Multifrontal) return distributedInertia(A);
-  const RootRows a = gatherRows(A);
   SparseInertia r;
   bool tooCostly = false;
-  if (A.getComm()->getRank() == 0) {
-    // Symmetric: row j is column j; keep its upper part (i <= j).
-    UpperColumns cols(a.n, a.col.size() / 2 + a.n);
-    for (std::size_t j = 0; j < a.n; ++j) {
-      cols.begin(j);
-      for (std::size_t e = a.ptr[j]; e < a.ptr[j + 1]; ++e)
-        if (static_cast<std::size_t>(a.col[e]) <= j) cols.add(a.col[e], a.val[e]);
+  double amdEntries = 0.0, upperEntries = 0.0;
+  {  // the gathered copy released before the multifrontal path
+    const RootRows a = gatherRows(A);
+    if (A.getComm()->getRank() == 0) {
+      // Symmetric: row j is column j; keep its upper part (i <= j).
+      UpperColumns cols(a.n, a.col.size() / 2 + a.n);
+      for (std::size_t j = 0; j < a.n; ++j) {
+        cols.begin(j);
+        for (std::size_t e = a.ptr[j]; e < a.ptr[j + 1]; ++e)
+          if (static_cast<std::size_t>(a.col[e]) <= j) cols.add(a.col[e], a.val[e]);
+      }
+      cols.finish();
+      upperEntries = static_cast<double>(cols.i().size());
+      r = ldltInertia(cols, flopLimitOf(method), tooCostly, &amdEntries);
     }
-    cols.finish();
-    r = ldltInertia(cols, flopLimitOf(method), tooCostly);
   }
-  if (agreeTooCostly(*A.getComm(), tooCostly)) return distributedInertia(A);
+  if (agreeTooCostly(*A.getComm(), tooCostly)) {
+    const std::string refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries, amdEntries);
+    if (!refused.empty()) {
+      SparseInertia out;
+      out.method = "MUMPS multifrontal L D L^T";
+      out.failure = refused;
+      return out;
+    }
+    return distributedInertia(A);
+  }
   return broadcast(*A.getComm(), r);
 }
 
@@ -281,9 +333,11 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
     return halved(distributedInertia(*realEmbedding(A, B, stateMap(*A.getRowMap()))), "MUMPS");
   };
   if (method == InertiaMethod::Multifrontal) return multifrontal();
-  const RootRows a = gatherRows(A), b = gatherRows(B);
   SparseInertia r;
   bool tooCostly = false;
+  double amdEntries = 0.0, upperEntries = 0.0;
+  {  // the gathered copies released before the multifrontal path
+  const RootRows a = gatherRows(A), b = gatherRows(B);
   if (A.getComm()->getRank() == 0) {
     // Upper triangle of E = [[A, -B], [B, A]] by columns. Column j < n: A's
     // (i, j), i <= j. Column n + j: the block -B, whose column j is row j of
@@ -302,10 +356,21 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
       for (std::size_t e = b.ptr[j]; e < b.ptr[j + 1]; ++e) cols.add(b.col[e], b.val[e]);
     }
     cols.finish();
-    r = ldltInertia(cols, flopLimitOf(method), tooCostly);
+    upperEntries = static_cast<double>(cols.i().size());
+    r = ldltInertia(cols, flopLimitOf(method), tooCostly, &amdEntries);
     if (!tooCostly) r = halved(r, "CHOLMOD");
   }
-  if (agreeTooCostly(*A.getComm(), tooCostly)) return multifrontal();
+  }
+  if (agreeTooCostly(*A.getComm(), tooCostly)) {
+    const std::string refused = multifrontalCannotFit(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries, amdEntries);
+    if (!refused.empty()) {
+      SparseInertia out;
+      out.method = "MUMPS multifrontal L D L^T";
+      out.failure = refused;
+      return out;
+    }
+    return multifrontal();
+  }
   return broadcast(*A.getComm(), r);
 }
 

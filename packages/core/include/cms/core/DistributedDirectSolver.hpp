@@ -118,6 +118,9 @@ private:
   double memoryMaxMB_ = 0.0, memoryTotalMB_ = 0.0;
 };
 
+/// How many ranks of `comm` share this rank's node (its memory). Collective.
+int ranksOnNode(const Teuchos::Comm<int>& comm);
+
 /// The inertia of the symmetric A from MUMPS's distributed L D L^T (SYM = 2):
 /// the same contract as cms::inertia (SparseInertia.hpp), pivots zero to
 /// rounding counted in tinyPivots by MUMPS's null-pivot detection at
