@@ -138,6 +138,12 @@ private:
     Row r = row("truth", "Full");
     r.reducedDofs = base_.truthDofs, r.synth = synth, r.solve = truthModes_.seconds, r.pipeline = base_.truth;
     r.note = truthModes_.path + "; " + eigen::toString(truthModes_.result.status);
+    // Whether its Sturm count confirmed the set, or why not (the CSV's note
+    // column takes no commas).
+    std::string reason = truthModes_.result.reason;
+    std::replace(reason.begin(), reason.end(), ',', ';');
+    std::replace(reason.begin(), reason.end(), '\n', ' ');
+    if (!reason.empty()) r.note += "; " + reason;
     for (const auto& m : truthModes_.result.modes) r.hz.push_back(m.hz);
     add(r);
     CMS_INPUT_CHECK(static_cast<int>(truthModes_.result.modes.size()) < o_.modes,

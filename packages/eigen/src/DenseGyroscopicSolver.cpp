@@ -472,6 +472,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // than its spread (a free body's frame-rate triple at i Omega, split by
     // 1e-4 Omega) is a cluster at that centre, not a split zero.
     const bool zeroCentred = radiusOrder <= 2 || !completeShapes || centredAtZero(splitCluster(modes, m, radius));
+    m.splitRadius = radius;
     // A growing mode of a conservative system has a partner -conj(lambda)
     // (a real one, +/- sigma, is kept as +sigma alone). An eigenvalue near
     // the imaginary axis without one is simple and isolated, and Hamiltonian

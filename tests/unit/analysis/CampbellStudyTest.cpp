@@ -246,6 +246,48 @@ TEST(CampbellStudy, FrameRateTracksGiveNoCriticalSpeeds) {
   EXPECT_EQ(r.crossings[1].whirl, analysis::Whirl::Forward);
 }
 
+// A free body's frame-rate modes are a split defective cluster: the solver
+// returns them spread about the spin rate by rounding, ~1e-4 rad/s on the
+// spacecraft whatever the rate, and says how far (GyroscopicMode::
+// splitRadius). Judged by the relative "Frame Rate Tolerance" alone, those
+// tracks passed or failed at the lowest rates by the BLAS kernel's rounding
+// (AVX-512 kernels: 91 of the spacecraft's backward 1X crossings reported
+// as critical speeds, and a 7 s sweep instead of 0.5 s). Here a track at
+// Omega +/- 1e-3 rad/s (above 1e-3 Omega below Omega = 1) with a reported
+// split radius of 2e-3 rad/s is a frame-rate track and none of its
+// crossings is a critical speed; without the radius it is not.
+TEST(CampbellStudy, AFrameRateTrackIsJudgedWithinItsSplitRadius) {
+  class SplitFrameProblem : public TwoRateProblem {
+  public:
+    explicit SplitFrameProblem(double radius) : radius_(radius) {}
+    std::vector<synthesis::SpeedParameter> parameters() const override { return {{"bus", 1.0}}; }
+    synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+      synthesis::StructureModes out;
+      out.speeds = speeds;
+      // The rounding's side alternates with the speed: the track crosses 1X.
+      const double side = std::fmod(std::floor(speeds[0] * 10.0 + 0.5), 2.0) == 0.0 ? 1.0 : -1.0;  // steps of 0.1
+      for (const double w : {speeds[0] + side * 1e-3, kStiff}) {
+        eigen::GyroscopicMode m;
+        m.omega = w, m.hz = w / (2 * M_PI), m.lambda = {0.0, w};
+        m.q = {w == kStiff ? 0.0 : 1.0, w == kStiff ? 1.0 : 0.0};
+        m.splitRadius = w == kStiff ? 0.0 : radius_;
+        out.result.modes.push_back(m);
+      }
+      return out;
+    }
+
+  private:
+    double radius_;
+  };
+  const auto withRadius = analysis::CampbellStudy(sweep(21, 2.0)).run(SplitFrameProblem(2e-3));
+  ASSERT_EQ(withRadius.tracks.size(), 2u);
+  EXPECT_TRUE(withRadius.tracks[0].frameRate);
+  EXPECT_TRUE(withRadius.crossings.empty()) << withRadius.crossings.size() << " frame-rate crossings listed";
+  const auto without = analysis::CampbellStudy(sweep(21, 2.0)).run(SplitFrameProblem(0.0));
+  EXPECT_FALSE(without.tracks[0].frameRate);
+  EXPECT_FALSE(without.crossings.empty());
+}
+
 TEST(CampbellStudy, RefusesBadParameters) {
   const analysis::DenseSweepProblem problem(twoDof(4.0, 1.0, 1.0, 0.0), "spin", 3.0);
   Teuchos::ParameterList p;

@@ -148,10 +148,14 @@ struct CampbellTrack {
   std::vector<Whirl> whirl;                   ///< per step
   std::vector<bool> lost;                     ///< no mode matched at this step
   std::vector<double> dampingRatio;           ///< per step, zeta = -Re lambda / |lambda| (NaN where lost)
+  /// Per step, how far rounding can have moved the frequency (the mode's
+  /// GyroscopicMode::splitRadius, rad/s; 0 where lost).
+  std::vector<double> splitRadius;
   double minMac = 1.0;                        ///< worst MAC of a step-to-step match
   /// Its frequency equals a spin rate (of parameter frameRateOf) at every
-  /// step: a rigid motion seen from a frame spinning at that rate, not a
-  /// vibration; its engine-order crossings are no critical speeds.
+  /// step, within "Frame Rate Tolerance" times the rate plus the step's
+  /// splitRadius: a rigid motion seen from a frame spinning at that rate,
+  /// not a vibration; its engine-order crossings are no critical speeds.
   bool frameRate = false;
   int frameRateOf = -1;
 };

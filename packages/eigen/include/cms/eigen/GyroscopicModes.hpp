@@ -64,6 +64,12 @@ struct GyroscopicMode {
   /// does not hide the mode's own frequency (theory §4.3). 0: not computed
   /// (the system-wide scale is used).
   double scale = 0.0;
+  /// How far rounding can have moved this eigenvalue, rad/s: the radius of
+  /// the split (defective) cluster the stability verdict found it in,
+  /// 10 eta^(1/k) s for multiplicity k (theory §4.3), 10 eta s for a simple
+  /// one; 0 where no verdict was made. A free body's frame-rate triple is
+  /// split this far about the spin rate (1e-4 rad/s on the spacecraft).
+  double splitRadius = 0.0;
 };
 
 struct GyroscopicResult {
