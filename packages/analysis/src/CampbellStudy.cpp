@@ -239,7 +239,8 @@ Teuchos::RCP<const Teuchos::ParameterList> CampbellStudy::getValidParameters() {
     p->set("Crossing Tolerance", 1e-6, "relative width of the speed bracket that ends a bisection",
            rcp(new Teuchos::EnhancedNumberValidator<double>(1e-14, 1.0)));
     p->set("Frame Rate Tolerance", 1e-3,
-           "relative difference within which a track's frequency equals a spin rate (frame-rate rigid motion)",
+           "relative difference within which a track's frequency equals a spin rate (frame-rate rigid motion), "
+           "added to the mode's split radius (the rounding the solver reports for it)",
            rcp(new Teuchos::EnhancedNumberValidator<double>(0.0, 1.0)));
     p->set("Whirl", *WhirlClassification::getValidParameters(), "the whirl rule's parameters");
     p->set("Threads", 0, "threads for the sweep's solves on each rank (0: the cores left to it)",
