@@ -275,6 +275,14 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
 /// A = [[0, I], [-(K + N), -(G + D)]], B = [[I, 0], [0, M]], solved by LAPACK
 /// dggev after scaling time so that M, G, K have comparable norms
 /// (doc/theory.md, "General"; the damped pencil, §13).
+/// dggev's QZ returned beta = 0 exactly: an infinite eigenvalue, which a
+/// positive definite M does not have (it happened at a mass ratio of 1e6,
+/// with OpenBLAS's Nehalem kernels, on 2 ranks' sums).
+class InfiniteEigenvalue : public NumericalError {
+public:
+  using NumericalError::NumericalError;
+};
+
 std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
@@ -315,8 +323,7 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   std::vector<Cand> upper, real;
   const double imagTol = 1e-9;  // relative to the scaled frequency 1
   for (int j = 0; j < N; ++j) {
-    TEUCHOS_TEST_FOR_EXCEPTION(be[j] == 0.0, NumericalError,
-                               "DenseGyroscopicSolver: infinite eigenvalue (M singular?)");
+    if (be[j] == 0.0) throw InfiniteEigenvalue("DenseGyroscopicSolver: dggev returned an infinite eigenvalue (beta = 0)");
     cplx lam(ar[j] / be[j], ai[j] / be[j]);
     std::vector<cplx> q(n);
     if (ai[j] != 0.0) {  // complex pair stored in columns j, j+1
@@ -666,10 +673,37 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     // "Number of Modes" = -1 asks for every mode; a damped system can have
     // more than n (each overdamped DOF gives two real eigenvalues).
     const bool every = params_.get<int>("Number of Modes") == -1 && sys.damped();
-    result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
-    if (every) result.numRequested = static_cast<int>(result.modes.size());
     result.solver = "dense general (LAPACK dggev, 2n first-order pencil)";
     result.reason = method == "General" && !sys.damped() ? "requested" : whyNotSymmetric;
+    try {
+      result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
+    } catch (const InfiniteEigenvalue&) {
+      // M = Lm Lm^T > 0 (checked above): the congruent system with M = I,
+      // q = Lm^-T p, has B = I in its pencil and no infinite eigenvalue;
+      // the same eigenvalues, its shapes mapped back.
+      GyroscopicSystem c = sys;
+      const auto congruent = [&](DenseMatrix& X) {
+        if (X.numRows() != n) return;
+        lowerSolveLeft(Lm, X);
+        lowerTransSolveRight(Lm, X);
+      };
+      c.M.shape(n, n);
+      for (int i = 0; i < n; ++i) c.M(i, i) = 1.0;
+      congruent(c.G), congruent(c.K), congruent(c.D), congruent(c.N);
+      result.modes = generalModes(c, every ? 2 * n : nModes, scale);
+      std::vector<double> re(n), im(n);
+      for (auto& m : result.modes) {
+        for (int i = 0; i < n; ++i) re[i] = m.q[i].real(), im[i] = m.q[i].imag();
+        lowerTransSolveVector(Lm, re.data());
+        lowerTransSolveVector(Lm, im.data());
+        for (int i = 0; i < n; ++i) m.q[i] = cplx(re[i], im[i]);
+      }
+      result.solver = "dense general (LAPACK dggev, 2n first-order pencil, congruent to M = I)";
+      result.reason += std::string(result.reason.empty() ? "" : "; ") +
+                       "dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
+                       "solved again with M = I by the congruence q = L^-T p";
+    }
+    if (every) result.numRequested = static_cast<int>(result.modes.size());
   }
   // Residuals of the user's matrices. The Meirovitch path resolves each
   // eigenvalue to its own componentwise scale (a Cholesky factor of K and
