@@ -328,9 +328,9 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         // eigenvalue: a free body's frame-rate modes are a split defective
         // cluster, ~1e-4 rad/s wide whatever the rate, so at low rates a
         // relative test alone passed or failed by the BLAS kernel's rounding.
-        const double slack = frameTol * rate + tr.splitRadius[k];
-        all = !tr.lost[k] && (rate > 0.0 ? std::abs(tr.omega[k] - rate) <= slack
-                                         : zeroFrequency(tr.stability[k]) || tr.omega[k] <= frameTol * top + tr.splitRadius[k]);
+        const double split = tr.splitRadius[k];
+        all = !tr.lost[k] && (rate > 0.0 ? std::abs(tr.omega[k] - rate) <= frameTol * rate + split
+                                         : zeroFrequency(tr.stability[k]) || tr.omega[k] <= frameTol * top + split);
       }
       if (all) return static_cast<int>(p);
     }

@@ -247,8 +247,8 @@ Teuchos::RCP<CrsMatrix> realEmbedding(const CrsMatrix& A, const CrsMatrix& B, co
 
 namespace {
 /// Before the multifrontal count of an n-row matrix whose upper triangle
-/// has `upperEntries` entries (known on rank 0): "" if it may fit, else why
-/// not, on every rank. The solver's own guard (DistributedDirectSolver:
+/// has `upperEntries` entries (known on rank 0): a count with an empty
+/// `failure` if it may fit, else one that says why not, on every rank. The solver's own guard (DistributedDirectSolver:
 /// MUMPS's in-core estimate) comes only after the embedding, the triplets,
 /// METIS's graph and MUMPS's analysis are built on rank 0, which for the
 /// 5.7e5-DOF rotor's truth took the 24 GiB machine from 13 GiB (the truth's
@@ -259,8 +259,8 @@ namespace {
 /// embedding both triangles at 12 bytes an entry, the triplets 16, METIS's
 /// graph both triangles at 8 bytes an index with its copies, MUMPS's
 /// analysis graph).
-std::string multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries,
-                                  double amdEntries) {
+SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries,
+                                    double amdEntries) {
   // MUMPS's factor entries with METIS against AMD's prediction, measured on
   // the rotor's embeddings: 1.33 (2.9e4 rows), 0.99 (1.0e5), 0.83 (2.7e5);
   // halved from the smallest, as nested dissection gains with size.
@@ -269,13 +269,16 @@ std::string multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global
   double figures[2] = {8.0 * kMetisOverAmd * amdEntries / comm.getSize() + 100.0 * upperEntries,
                        availableMemoryBytes() / onNode};
   Teuchos::broadcast(comm, 0, 2, figures);
-  if (!(figures[0] > 0.9 * figures[1])) return "";
+  SparseInertia refused;
+  refused.method = "MUMPS multifrontal L D L^T";
+  if (!(figures[0] > 0.9 * figures[1])) return refused;
   std::ostringstream os;
   os << std::setprecision(3) << "the multifrontal L D L^T of the " << n
      << "-row matrix was not started: rank 0 would need at least " << figures[0] / 1e9
      << " GB (its share of the factor, from CHOLMOD's analysis, and the preparation), more than 90% of the "
      << figures[1] / 1e9 << " GB it may use (CMS_MEMORY_LIMIT or the node's available memory)";
-  return os.str();
+  refused.failure = os.str();
+  return refused;
 }
 }  // namespace
 
@@ -301,14 +304,8 @@ SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
     }
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
-    const std::string refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries, amdEntries);
-    if (!refused.empty()) {
-      SparseInertia out;
-      out.method = "MUMPS multifrontal L D L^T";
-      out.failure = refused;
-      return out;
-    }
-    return distributedInertia(A);
+    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries, amdEntries);
+    return refused.failure.empty() ? distributedInertia(A) : refused;
   }
   return broadcast(*A.getComm(), r);
 }
@@ -362,14 +359,8 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
   }
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
-    const std::string refused = multifrontalCannotFit(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries, amdEntries);
-    if (!refused.empty()) {
-      SparseInertia out;
-      out.method = "MUMPS multifrontal L D L^T";
-      out.failure = refused;
-      return out;
-    }
-    return multifrontal();
+    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries, amdEntries);
+    return refused.failure.empty() ? multifrontal() : refused;
   }
   return broadcast(*A.getComm(), r);
 }

@@ -271,10 +271,6 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
   return modes;
 }
 
-/// The 2n first-order pencil A x = lambda B x with x = [q; q'],
-/// A = [[0, I], [-(K + N), -(G + D)]], B = [[I, 0], [0, M]], solved by LAPACK
-/// dggev after scaling time so that M, G, K have comparable norms
-/// (doc/theory.md, "General"; the damped pencil, §13).
 /// dggev's QZ returned beta = 0 exactly: an infinite eigenvalue, which a
 /// positive definite M does not have (it happened at a mass ratio of 1e6,
 /// with OpenBLAS's Nehalem kernels, on 2 ranks' sums).
@@ -283,6 +279,10 @@ public:
   using NumericalError::NumericalError;
 };
 
+/// The 2n first-order pencil A x = lambda B x with x = [q; q'],
+/// A = [[0, I], [-(K + N), -(G + D)]], B = [[I, 0], [0, M]], solved by LAPACK
+/// dggev after scaling time so that M, G, K have comparable norms
+/// (doc/theory.md, "General"; the damped pencil, §13).
 std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;

@@ -1,7 +1,6 @@
 #include "MonolithicSum.hpp"
 
 #include <algorithm>
-#include <numeric>
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
