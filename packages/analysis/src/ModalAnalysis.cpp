@@ -107,6 +107,9 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     for (const auto& a : r.accuracy) r.estimates.push_back(a.estimate);
     r.estimateSeconds = t5.seconds();
     for (const auto& md : r.modes.result.modes) r.cutoff = std::max(r.cutoff, md.omega);
+    // The estimates' factors are not needed again: freed before the counts'
+    // factorisations, they no longer add to the run's peak memory.
+    r.reduced->releaseFlexibilities();
     r.coverage = s.coverage(r.cutoff);
   }
   r.accuracySeconds = t5.seconds();

@@ -201,11 +201,21 @@ struct DistributedDirectSolver::Impl {
     irn.clear();
     jcn.clear();
     values.clear();
-    irn.reserve(A->getNodeNumEntries());
-    jcn.reserve(A->getNodeNumEntries());
-    values.reserve(A->getNodeNumEntries());
     CrsMatrix::local_inds_host_view_type cols;
     CrsMatrix::values_host_view_type vals;
+    // Exactly the entries handed over (the upper triangle of a symmetric
+    // matrix is half of them): the triplets live through the factorisation.
+    size_t count = A->getNodeNumEntries();
+    if (kind != Kind::General) {
+      count = 0;
+      for (size_t i = 0; i < nloc; ++i) {
+        A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+        for (size_t e = 0; e < cols.extent(0); ++e) count += colIndex[cols(e)] >= rowIndex[i];
+      }
+    }
+    irn.reserve(count);
+    jcn.reserve(count);
+    values.reserve(count);
     for (size_t i = 0; i < nloc; ++i) {
       A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
       const MUMPS_INT r = rowIndex[i];
@@ -244,7 +254,8 @@ DistributedDirectSolver::DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A
 DistributedDirectSolver::~DistributedDirectSolver() = default;
 
 /// After the analysis, and before each retry with more workspace: the
-/// in-core factorisation MUMPS estimates for this rank (INFO(15), MB, times
+/// factorisation's memory MUMPS estimates for this rank (INFO(15) in core,
+/// INFO(17) when only the pivots are counted; MB, times
 /// `growth` for the workspace added since) against what this rank may use
 /// (its share of the memory available on its node), on every rank. A
 /// factorisation that cannot fit is refused with a NumericalError naming
@@ -253,17 +264,21 @@ DistributedDirectSolver::~DistributedDirectSolver() = default;
 void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<int>& comm, double growth) const {
   const int onNode = ranksOnNode(comm);
   // INFO(15): the analysis's estimate of this rank's memory for an in-core
-  // factorisation, in MUMPS's megabytes (1e6 bytes). (INFO(17) is the
-  // out-of-core estimate: a third of it on the rotor, and it let a count
-  // through that then could not fit.)
-  const double needMB = growth * countOf(info(m.id, 15)), availableMB = availableMemoryBytes() / 1e6 / onNode;
+  // factorisation, in MUMPS's megabytes (1e6 bytes). INFO(17), the
+  // out-of-core estimate (a third of it on the rotor), holds only when the
+  // factors are not kept (ICNTL(31) = 1, MUMPS 5.5 guide): read for a
+  // factorisation that keeps them, it let a 5.7e5-DOF count through that
+  // then could not fit.
+  const int estimate = pivotsOnly_ ? 17 : 15;
+  const double needMB = growth * countOf(info(m.id, estimate)), availableMB = availableMemoryBytes() / 1e6 / onNode;
   double worst[2] = {needMB > 0.9 * availableMB ? needMB : 0.0, availableMB};
   double all[2] = {0.0, 0.0};
   MPI_Allreduce(worst, all, 1, MPI_DOUBLE, MPI_MAX, rawComm(comm));
   if (all[0] == 0.0) return;
   std::ostringstream os;
   os << name_ << ": the factorisation of " << n_ << " rows needs about " << std::fixed << std::setprecision(0)
-     << all[0] << " MB on one rank (MUMPS's in-core estimate, INFO(15)" << (growth > 1.0 ? ", with the workspace its delayed pivots asked for" : "") << "), more than the 90% of the " << availableMB
+     << all[0] << " MB on one rank (MUMPS's "
+     << (pivotsOnly_ ? "estimate with its factors discarded, INFO(17)" : "in-core estimate, INFO(15)") << (growth > 1.0 ? ", with the workspace its delayed pivots asked for" : "") << "), more than the 90% of the " << availableMB
      << " MB its rank may use (available memory shared by the node's ranks); run on more nodes or a coarser model";
   m.call(-2);
   m.started = false;
@@ -313,6 +328,10 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   // counts every negative pivot (the price: the root front is not split
   // over the ranks).
   if (m.kind != Kind::General) icntl(id, 13) = 1;
+  // Counting only: each front's factor is dropped once eliminated, so the
+  // factorisation holds its working fronts, not the factors (ICNTL(31) = 1;
+  // INFOG(12), (28), (29) are still returned).
+  icntl(id, 31) = pivotsOnly_ ? 1 : 0;
   id.n = static_cast<MUMPS_INT>(n_);
   id.nnz_loc = static_cast<MUMPS_INT8>(m.irn.size());
   id.irn_loc = m.irn.data();
@@ -376,6 +395,9 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
 void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const {
   Impl& m = *impl_;
   CMS_INPUT_CHECK(!m.started || m.idMap.is_null(), "DistributedDirectSolver (" << name_ << "): solve before factor");
+  CMS_INPUT_CHECK(pivotsOnly_, "DistributedDirectSolver (" << name_
+                                    << "): solve after a factorisation that counted pivots only (its factors were "
+                                       "discarded, setPivotsOnly)");
   DMUMPS_STRUC_C& id = m.id;
   const size_t nv = B.getNumVectors();
   const size_t nloc = m.rowIndex.size();
@@ -437,6 +459,7 @@ SparseInertia distributedInertia(const CrsMatrix& A) {
   out.method = "MUMPS multifrontal L D L^T";
   DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
   f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
+  f.setPivotsOnly(true);  // the signs of the pivots are the count: no factor is kept
   try {
     f.factor(/*allowNullPivots*/ true);
   } catch (const NumericalError& e) {

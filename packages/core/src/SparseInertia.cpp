@@ -22,45 +22,49 @@ namespace cms {
 
 namespace {
 
-/// Rows of a symmetric (or skew) matrix gathered on rank 0 in CSR form,
-/// column indices renumbered to positions 0..n-1 there (empty elsewhere).
-/// Flat arrays and, on one rank, no copy of the matrix: a vector per row
-/// and an imported copy made ~2.6e5 allocations and a sixth of the peak
-/// memory of a 1.7e4-DOF run (issue 18).
+/// Rows of a symmetric (or skew) matrix on rank 0, read in place: the
+/// matrix itself on one rank, an imported copy on rank 0 otherwise, with
+/// each column renumbered to its row's position there (empty elsewhere).
+/// Copying the rows into flat arrays first was 85 of the 217 MiB the 54,000-
+/// DOF bar's Sturm count held at its peak; a vector per row before that made
+/// ~2.6e5 allocations (issue 18).
 struct RootRows {
   std::size_t n = 0;
-  std::vector<std::size_t> ptr;  ///< row j: entries ptr[j] .. ptr[j+1]-1
-  std::vector<int> col;
-  std::vector<double> val;
+  std::size_t entries = 0;
+  Teuchos::RCP<const CrsMatrix> A;
+  std::vector<int> position;  ///< A's column-map index -> row position on rank 0
+
+  /// f(i, a_ji) for every stored entry of row j.
+  template <class F>
+  void forEach(std::size_t j, F&& f) const {
+    CrsMatrix::local_inds_host_view_type cols;
+    CrsMatrix::values_host_view_type vals;
+    A->getLocalRowView(static_cast<LocalOrdinal>(j), cols, vals);
+    for (std::size_t e = 0; e < cols.extent(0); ++e) f(position[cols(e)], vals(e));
+  }
 };
 
 RootRows gatherRows(const CrsMatrix& A) {
   const auto rootMap = Tpetra::Details::computeGatherMap(A.getRowMap(), Teuchos::null);
-  Teuchos::RCP<const CrsMatrix> rootA = Teuchos::rcpFromRef(A);
+  RootRows r;
+  r.A = Teuchos::rcpFromRef(A);
   if (!(A.getComm()->getSize() == 1 && rootMap->isSameAs(*A.getRowMap()))) {
     Tpetra::Import<> toRoot(A.getRowMap(), rootMap);
     auto imported = Teuchos::rcp(new CrsMatrix(rootMap, 0));
     imported->doImport(A, toRoot, Tpetra::INSERT);
     imported->fillComplete(rootMap, rootMap);
-    rootA = imported;
+    r.A = imported;
   }
-  RootRows r;
-  if (A.getComm()->getRank() != 0) return r;
+  if (A.getComm()->getRank() != 0) {
+    r.A = Teuchos::null;
+    return r;
+  }
   r.n = rootMap->getNodeNumElements();
-  r.ptr.assign(r.n + 1, 0);
-  for (std::size_t i = 0; i < r.n; ++i) r.ptr[i + 1] = r.ptr[i] + rootA->getNumEntriesInLocalRow(i);
-  r.col.resize(r.ptr[r.n]);
-  r.val.resize(r.ptr[r.n]);
-  const auto colMap = rootA->getColMap();
-  CrsMatrix::local_inds_host_view_type cols;
-  CrsMatrix::values_host_view_type vals;
-  for (std::size_t i = 0; i < r.n; ++i) {
-    rootA->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
-    for (std::size_t e = 0; e < cols.extent(0); ++e) {
-      r.col[r.ptr[i] + e] = static_cast<int>(rootMap->getLocalElement(colMap->getGlobalElement(cols(e))));
-      r.val[r.ptr[i] + e] = vals(e);
-    }
-  }
+  r.entries = r.A->getNodeNumEntries();
+  const auto colMap = r.A->getColMap();
+  r.position.resize(colMap->getNodeNumElements());
+  for (std::size_t c = 0; c < r.position.size(); ++c)
+    r.position[c] = static_cast<int>(rootMap->getLocalElement(colMap->getGlobalElement(static_cast<LocalOrdinal>(c))));
   return r;
 }
 
@@ -92,7 +96,7 @@ private:
 /// columns and the inertia of its D; rank 0 only. With `flopLimit` > 0, a
 /// factorisation CHOLMOD's analysis predicts above that many flops is not
 /// done: `tooCostly` is set and nothing else.
-SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& tooCostly, double* factorEntries = nullptr) {
+SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& tooCostly) {
   tooCostly = false;
   SparseInertia out;
   out.method = "CHOLMOD simplicial L D L^T";
@@ -113,11 +117,21 @@ SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& too
   // count to MUMPS (which orders by METIS itself).
   common.nmethods = 1;
   common.method[0].ordering = CHOLMOD_AMD;
-  cholmod_sparse* S = cholmod_allocate_sparse(n, n, nnz, /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1,
-                                              CHOLMOD_REAL, &common);
-  std::copy(upper.p().begin(), upper.p().end(), static_cast<int*>(S->p));
-  std::copy(upper.i().begin(), upper.i().end(), static_cast<int*>(S->i));
-  std::copy(upper.x().begin(), upper.x().end(), static_cast<double*>(S->x));
+  // CHOLMOD reads the columns where they are (a copy was 43 of the 217 MiB
+  // the 54,000-DOF bar's count held at its peak); never freed by CHOLMOD.
+  cholmod_sparse view{};
+  view.nrow = view.ncol = n;
+  view.nzmax = nnz;
+  view.p = const_cast<int*>(upper.p().data());
+  view.i = const_cast<int*>(upper.i().data());
+  view.x = const_cast<double*>(upper.x().data());
+  view.stype = 1;  // the upper triangle
+  view.itype = CHOLMOD_INT;
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 0;
+  view.packed = 1;
+  cholmod_sparse* S = &view;
   std::vector<double> diag(n, 0.0);
   for (std::size_t j = 0; j < n; ++j)
     for (int k = upper.p()[j]; k < upper.p()[j + 1]; ++k)
@@ -125,14 +139,11 @@ SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& too
   cholmod_factor* L = cholmod_analyze(S, &common);
   if (L && flopLimit > 0.0 && common.fl > flopLimit) {
     tooCostly = true;
-    if (factorEntries != nullptr) *factorEntries = common.lnz;
     cholmod_free_factor(&L, &common);
-    cholmod_free_sparse(&S, &common);
     cholmod_finish(&common);
     return out;
   }
   if (L) cholmod_factorize(S, L, &common);
-  cholmod_free_sparse(&S, &common);
   if (!L || common.status < CHOLMOD_OK || L->is_ll || L->is_super) {
     out.failure = "CHOLMOD's L D L^T failed (status " + std::to_string(common.status) + ")";
   } else {
@@ -248,26 +259,21 @@ Teuchos::RCP<CrsMatrix> realEmbedding(const CrsMatrix& A, const CrsMatrix& B, co
 namespace {
 /// Before the multifrontal count of an n-row matrix whose upper triangle
 /// has `upperEntries` entries (known on rank 0): a count with an empty
-/// `failure` if it may fit, else one that says why not, on every rank. The solver's own guard (DistributedDirectSolver:
-/// MUMPS's in-core estimate) comes only after the embedding, the triplets,
-/// METIS's graph and MUMPS's analysis are built on rank 0, which for the
-/// 5.7e5-DOF rotor's truth took the 24 GiB machine from 13 GiB (the truth's
-/// own factor and vectors) to its out-of-memory killer. So first a lower
-/// bound, from what CHOLMOD's analysis already knows: the factor's entries
-/// by AMD (`amdEntries`) times kMetisOverAmd, 8 bytes each, spread over the
-/// ranks, plus rank 0's preparation, ~100 bytes an upper entry (the
-/// embedding both triangles at 12 bytes an entry, the triplets 16, METIS's
-/// graph both triangles at 8 bytes an index with its copies, MUMPS's
-/// analysis graph).
-SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries,
-                                    double amdEntries) {
-  // MUMPS's factor entries with METIS against AMD's prediction, measured on
-  // the rotor's embeddings: 1.33 (2.9e4 rows), 0.99 (1.0e5), 0.83 (2.7e5);
-  // halved from the smallest, as nested dissection gains with size.
-  constexpr double kMetisOverAmd = 0.4;
+/// `failure` if it may fit, else one that says why not, on every rank. The
+/// solver's own guard (DistributedDirectSolver: MUMPS's estimate INFO(17),
+/// the count keeping no factor) comes only after the embedding, the
+/// triplets, METIS's graph and MUMPS's analysis are built on rank 0, which
+/// for the 5.7e5-DOF rotor's truth took the 24 GiB machine from 13 GiB (the
+/// truth's own factor and vectors) to its out-of-memory killer. So first a
+/// lower bound of that preparation: ~100 bytes an upper entry (the embedding
+/// both triangles at 12 bytes an entry, the triplets 16, METIS's graph both
+/// triangles at 8 bytes an index with its copies, MUMPS's analysis graph).
+/// (It held the factor's entries by CHOLMOD's AMD analysis too, scaled to
+/// METIS's by a measured 0.4, while the count kept its factor; it keeps none
+/// now, and MUMPS's working fronts have no bound from AMD's analysis.)
+SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries) {
   const int onNode = ranksOnNode(comm);
-  double figures[2] = {8.0 * kMetisOverAmd * amdEntries / comm.getSize() + 100.0 * upperEntries,
-                       availableMemoryBytes() / onNode};
+  double figures[2] = {100.0 * upperEntries, availableMemoryBytes() / onNode};
   Teuchos::broadcast(comm, 0, 2, figures);
   SparseInertia refused;
   refused.method = "MUMPS multifrontal L D L^T";
@@ -275,7 +281,7 @@ SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::glob
   std::ostringstream os;
   os << std::setprecision(3) << "the multifrontal L D L^T of the " << n
      << "-row matrix was not started: rank 0 would need at least " << figures[0] / 1e9
-     << " GB (its share of the factor, from CHOLMOD's analysis, and the preparation), more than 90% of the "
+     << " GB to prepare it (the embedding, MUMPS's triplets and METIS's graph), more than 90% of the "
      << figures[1] / 1e9 << " GB it may use (CMS_MEMORY_LIMIT or the node's available memory)";
   refused.failure = os.str();
   return refused;
@@ -287,24 +293,25 @@ SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
   if (method == InertiaMethod::Multifrontal) return distributedInertia(A);
   SparseInertia r;
   bool tooCostly = false;
-  double amdEntries = 0.0, upperEntries = 0.0;
+  double upperEntries = 0.0;
   {  // the gathered copy released before the multifrontal path
     const RootRows a = gatherRows(A);
     if (A.getComm()->getRank() == 0) {
       // Symmetric: row j is column j; keep its upper part (i <= j).
-      UpperColumns cols(a.n, a.col.size() / 2 + a.n);
+      UpperColumns cols(a.n, a.entries / 2 + a.n);
       for (std::size_t j = 0; j < a.n; ++j) {
         cols.begin(j);
-        for (std::size_t e = a.ptr[j]; e < a.ptr[j + 1]; ++e)
-          if (static_cast<std::size_t>(a.col[e]) <= j) cols.add(a.col[e], a.val[e]);
+        a.forEach(j, [&](int i, double v) {
+          if (static_cast<std::size_t>(i) <= j) cols.add(i, v);
+        });
       }
       cols.finish();
       upperEntries = static_cast<double>(cols.i().size());
-      r = ldltInertia(cols, flopLimitOf(method), tooCostly, &amdEntries);
+      r = ldltInertia(cols, flopLimitOf(method), tooCostly);
     }
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
-    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries, amdEntries);
+    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries);
     return refused.failure.empty() ? distributedInertia(A) : refused;
   }
   return broadcast(*A.getComm(), r);
@@ -332,7 +339,7 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
   if (method == InertiaMethod::Multifrontal) return multifrontal();
   SparseInertia r;
   bool tooCostly = false;
-  double amdEntries = 0.0, upperEntries = 0.0;
+  double upperEntries = 0.0;
   {  // the gathered copies released before the multifrontal path
   const RootRows a = gatherRows(A), b = gatherRows(B);
   if (A.getComm()->getRank() == 0) {
@@ -340,26 +347,28 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
     // (i, j), i <= j. Column n + j: the block -B, whose column j is row j of
     // B (B^T = -B), then A's (i, j), i <= j, at rows n + i.
     const std::size_t n = a.n;
-    UpperColumns cols(2 * n, a.col.size() + b.col.size() + 2 * n);
+    UpperColumns cols(2 * n, a.entries + b.entries + 2 * n);
     for (std::size_t j = 0; j < n; ++j) {
       cols.begin(j);
-      for (std::size_t e = a.ptr[j]; e < a.ptr[j + 1]; ++e)
-        if (static_cast<std::size_t>(a.col[e]) <= j) cols.add(a.col[e], a.val[e]);
+      a.forEach(j, [&](int i, double v) {
+        if (static_cast<std::size_t>(i) <= j) cols.add(i, v);
+      });
     }
     for (std::size_t j = 0; j < n; ++j) {
       cols.begin(n + j);
-      for (std::size_t e = a.ptr[j]; e < a.ptr[j + 1]; ++e)
-        if (static_cast<std::size_t>(a.col[e]) <= j) cols.add(static_cast<int>(n) + a.col[e], a.val[e]);
-      for (std::size_t e = b.ptr[j]; e < b.ptr[j + 1]; ++e) cols.add(b.col[e], b.val[e]);
+      a.forEach(j, [&](int i, double v) {
+        if (static_cast<std::size_t>(i) <= j) cols.add(static_cast<int>(n) + i, v);
+      });
+      b.forEach(j, [&](int i, double v) { cols.add(i, v); });
     }
     cols.finish();
     upperEntries = static_cast<double>(cols.i().size());
-    r = ldltInertia(cols, flopLimitOf(method), tooCostly, &amdEntries);
+    r = ldltInertia(cols, flopLimitOf(method), tooCostly);
     if (!tooCostly) r = halved(r, "CHOLMOD");
   }
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
-    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries, amdEntries);
+    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries);
     return refused.failure.empty() ? multifrontal() : refused;
   }
   return broadcast(*A.getComm(), r);

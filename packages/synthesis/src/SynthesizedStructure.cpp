@@ -1273,6 +1273,11 @@ const reduction::StaticCorrection& SynthesizedStructure::flexibility(std::size_t
   return *f;
 }
 
+void SynthesizedStructure::releaseFlexibilities() {
+  for (auto& f : factorisations_->flexibility) f.reset();
+  for (auto& b : bases_) b.flexibility.reset();
+}
+
 std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const StructureModes& modes) const {
   const auto& parts = structure_->parts();
   const int nm = static_cast<int>(modes.result.modes.size()), nc = 2 * nm;  // real, imaginary per mode

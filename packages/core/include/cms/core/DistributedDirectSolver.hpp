@@ -73,6 +73,14 @@ public:
   enum class Ordering { Automatic, NestedDissection };
   void setOrdering(Ordering o) { ordering_ = o; }
 
+  /// Count pivots only (a Sturm count, a definiteness test): MUMPS discards
+  /// each front's factor as soon as it is eliminated (ICNTL(31) = 1), so the
+  /// factorisation needs only its working memory, MUMPS's out-of-core
+  /// estimate INFO(17) (a third of the in-core INFO(15) on the rotor's K),
+  /// and the memory guard holds that estimate against the budget. solve()
+  /// is then refused. Before factor().
+  void setPivotsOnly(bool only) { pivotsOnly_ = only; }
+
   /// Analysis and numeric factorisation. Throws cms::NumericalError (the
   /// matrix's name, MUMPS's INFOG(1), INFOG(2) and meaning) if MUMPS fails,
   /// and, unless `allowNullPivots`, when MUMPS found null pivots (the matrix
@@ -114,6 +122,7 @@ private:
   long long n_ = 0, negative_ = 0, null_ = 0;
   double factorSeconds_ = 0.0, analysisSeconds_ = 0.0, factorEntries_ = 0.0, factorFlops_ = 0.0;
   Ordering ordering_ = Ordering::Automatic;
+  bool pivotsOnly_ = false;
   int orderingUsed_ = -1;  ///< INFOG(7) after factor()
   double memoryMaxMB_ = 0.0, memoryTotalMB_ = 0.0;
 };

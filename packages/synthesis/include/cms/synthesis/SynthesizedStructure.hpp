@@ -323,6 +323,12 @@ public:
   /// its attachment held (one sparse LDL^T inertia, never of the assembled
   /// structure) against those its basis represents. Collective.
   std::vector<SubstructureCoverage> coverage(double omega) const;
+  /// Frees the factored held stiffnesses kept for the error estimates (the
+  /// reduction's own factors, theory §11.8), here and in every synthesis
+  /// sharing them: a caller done with estimates releases them before the
+  /// coverage counts, whose factorisation was the run's peak memory with
+  /// them held. Estimates asked for afterwards factor again.
+  void releaseFlexibilities();
 
 private:
   using SparseRow = std::vector<std::pair<GlobalOrdinal, double>>;
