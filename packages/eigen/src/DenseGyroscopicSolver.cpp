@@ -605,6 +605,12 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
         "on the first-order pencil; Auto: Meirovitch if K > 0, else General",
         Teuchos::tuple<std::string>("Auto", "Meirovitch", "General"), pl.get());
     pl->set("Number of Modes", -1, "How many of the lowest modes to return; -1 for all n");
+    Teuchos::setStringToIntegralParameter<int>(
+        "General Coordinates", "Given",
+        "the general path's coordinates: Given (the pencil with M; the coordinates congruent to M = I only "
+        "when dggev returns an infinite eigenvalue for the positive definite M), or Mass Congruent (always "
+        "M = I by q = L^-T p, M = L L^T)",
+        Teuchos::tuple<std::string>("Given", "Mass Congruent"), pl.get());
     pl->set("Structure Tolerance", 1e-10,
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
     addStabilityTolerances(*pl);
@@ -675,12 +681,10 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     const bool every = params_.get<int>("Number of Modes") == -1 && sys.damped();
     result.solver = "dense general (LAPACK dggev, 2n first-order pencil)";
     result.reason = method == "General" && !sys.damped() ? "requested" : whyNotSymmetric;
-    try {
-      result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
-    } catch (const InfiniteEigenvalue&) {
-      // M = Lm Lm^T > 0 (checked above): the congruent system with M = I,
-      // q = Lm^-T p, has B = I in its pencil and no infinite eigenvalue;
-      // the same eigenvalues, its shapes mapped back.
+    // M = Lm Lm^T > 0 (checked above): the congruent system with M = I,
+    // q = Lm^-T p, has B = I in its pencil and no infinite eigenvalue; the
+    // same eigenvalues, its shapes mapped back.
+    const auto solveCongruent = [&] {
       GyroscopicSystem c = sys;
       const auto congruent = [&](DenseMatrix& X) {
         if (X.numRows() != n) return;
@@ -699,9 +703,19 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
         for (int i = 0; i < n; ++i) m.q[i] = cplx(re[i], im[i]);
       }
       result.solver = "dense general (LAPACK dggev, 2n first-order pencil, congruent to M = I)";
-      result.reason += std::string(result.reason.empty() ? "" : "; ") +
-                       "dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
-                       "solved again with M = I by the congruence q = L^-T p";
+    };
+    if (params_.get<std::string>("General Coordinates") == "Mass Congruent") {
+      solveCongruent();
+      result.reason += std::string(result.reason.empty() ? "" : "; ") + "requested in the coordinates with M = I";
+    } else {
+      try {
+        result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
+      } catch (const InfiniteEigenvalue&) {
+        solveCongruent();
+        result.reason += std::string(result.reason.empty() ? "" : "; ") +
+                         "dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
+                         "solved again with M = I by the congruence q = L^-T p";
+      }
     }
     if (every) result.numRequested = static_cast<int>(result.modes.size());
   }
