@@ -352,9 +352,9 @@ TEST(SparseSturmCount, AutoChoosesTheFactorisationByItsCostAndBothCountAlike) {
   }
 }
 
-// A count Auto sends to MUMPS is not started when even a lower bound of its
-// memory (the preparation of the embedding, triplets and METIS graph on
-// rank 0, ~100 bytes an upper entry) exceeds
+// A count Auto sends to MUMPS is not started when an estimate of its
+// preparation's memory (MUMPS's triplets and METIS's ordering on rank 0,
+// 60 bytes an upper entry as measured) exceeds
 // the rank's budget: the 5.7e5-DOF rotor's truth count built ~8 GB of that
 // before MUMPS's own estimate could refuse it, and the out-of-memory killer
 // ended the run. It comes back unreliable, with the reason; within the

@@ -139,6 +139,11 @@ struct DistributedDirectSolver::Impl {
   // MUMPS's 1-based index of each owned row (the caller's local order) and
   // of each column of A's column map.
   std::vector<MUMPS_INT> rowIndex, colIndex;
+  // The skew part of a Hermitian A + iB whose real embedding
+  // [[A, -B], [B, A]] is factored (null: A itself), on A's row map, and
+  // MUMPS's index of each column of B's column map.
+  Teuchos::RCP<const CrsMatrix> B;
+  std::vector<MUMPS_INT> colIndexB;
   // idMap: the same rows, in the same local order, with global id = MUMPS
   // index - 1: the space the distributed solution is imported into.
   Teuchos::RCP<const Map> idMap;
@@ -170,11 +175,14 @@ struct DistributedDirectSolver::Impl {
     const size_t nloc = rowMap->getNodeNumElements();
     rowIndex.resize(nloc);
     colIndex.resize(colMap->getNodeNumElements());
+    if (!B.is_null()) colIndexB.resize(B->getColMap()->getNodeNumElements());
     Teuchos::Array<GlobalOrdinal> ids(nloc);
     if (hi - lo + 1 == N) {
       for (size_t i = 0; i < nloc; ++i) rowIndex[i] = static_cast<MUMPS_INT>(rowMap->getGlobalElement(i) - lo + 1);
       for (size_t c = 0; c < colIndex.size(); ++c)
         colIndex[c] = static_cast<MUMPS_INT>(colMap->getGlobalElement(c) - lo + 1);
+      for (size_t c = 0; c < colIndexB.size(); ++c)
+        colIndexB[c] = static_cast<MUMPS_INT>(B->getColMap()->getGlobalElement(c) - lo + 1);
     } else {
       long long offset = 0, mine = static_cast<long long>(nloc);
       Teuchos::scan(*comm, Teuchos::REDUCE_SUM, mine, Teuchos::outArg(offset));
@@ -190,13 +198,57 @@ struct DistributedDirectSolver::Impl {
       cols.doImport(own, Tpetra::Import<>(rowMap, colMap), Tpetra::INSERT);
       auto c = cols.getLocalViewHost(Tpetra::Access::ReadOnly);
       for (size_t k = 0; k < colIndex.size(); ++k) colIndex[k] = static_cast<MUMPS_INT>(std::lround(c(k, 0)));
+      if (!B.is_null()) {
+        Vector colsB(B->getColMap());
+        colsB.doImport(own, Tpetra::Import<>(rowMap, B->getColMap()), Tpetra::INSERT);
+        auto cb = colsB.getLocalViewHost(Tpetra::Access::ReadOnly);
+        for (size_t k = 0; k < colIndexB.size(); ++k) colIndexB[k] = static_cast<MUMPS_INT>(std::lround(cb(k, 0)));
+      }
     }
     for (size_t i = 0; i < nloc; ++i) ids[i] = rowIndex[i] - 1;
     idMap = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(N), ids(), 0, comm));
   }
 
+  /// The upper triangle of the real embedding E = [[A, -B], [B, A]] of
+  /// order 2N (B^T = -B makes E symmetric): A's row r gives E's rows r and
+  /// N + r; their upper entries are A's upper entries at (r, c) and
+  /// (N + r, N + c), and -B's row at (r, N + c). (B's row at (N + r, c)
+  /// lies below the diagonal.) Straight from A and B: no 2N-row matrix.
+  void embeddingTriplets() {
+    const size_t nloc = A->getRowMap()->getNodeNumElements();
+    const MUMPS_INT N = static_cast<MUMPS_INT>(A->getGlobalNumRows());
+    CrsMatrix::local_inds_host_view_type cols;
+    CrsMatrix::values_host_view_type vals;
+    size_t upperA = 0;
+    for (size_t i = 0; i < nloc; ++i) {
+      A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+      for (size_t e = 0; e < cols.extent(0); ++e) upperA += colIndex[cols(e)] >= rowIndex[i];
+    }
+    const size_t count = 2 * upperA + B->getNodeNumEntries();
+    irn.clear(), jcn.clear(), values.clear();
+    irn.reserve(count), jcn.reserve(count), values.reserve(count);
+    auto add = [&](MUMPS_INT r, MUMPS_INT c, double v) {
+      irn.push_back(r);
+      jcn.push_back(c);
+      values.push_back(v);
+    };
+    for (size_t i = 0; i < nloc; ++i) {
+      const MUMPS_INT r = rowIndex[i];
+      A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+      for (size_t e = 0; e < cols.extent(0); ++e) {
+        const MUMPS_INT c = colIndex[cols(e)];
+        if (c < r) continue;
+        add(r, c, vals(e));
+        add(N + r, N + c, vals(e));
+      }
+      B->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+      for (size_t e = 0; e < cols.extent(0); ++e) add(r, N + colIndexB[cols(e)], -vals(e));
+    }
+  }
+
   /// The owned rows as coordinate triplets (upper triangle for SYM != 0).
   void triplets() {
+    if (!B.is_null()) return embeddingTriplets();
     const size_t nloc = A->getRowMap()->getNodeNumElements();
     irn.clear();
     jcn.clear();
@@ -249,6 +301,19 @@ DistributedDirectSolver::DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A
   impl_->kind = kind;
   if (nullPivotTolerance > 0.0) impl_->nullTolerance = nullPivotTolerance;
   n_ = static_cast<long long>(A->getGlobalNumRows());
+}
+
+DistributedDirectSolver::DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A, Teuchos::RCP<const CrsMatrix> B,
+                                                 std::string name)
+    : DistributedDirectSolver(A, Kind::Symmetric, std::move(name)) {
+  CMS_INPUT_CHECK(B.is_null() || !B->isFillComplete() || !B->getRowMap()->isSameAs(*A->getRowMap()),
+                  "DistributedDirectSolver (" << name_ << "): the skew part must be fill-complete on A's row map");
+  CMS_INPUT_CHECK(2 * A->getGlobalNumRows() > static_cast<Tpetra::global_size_t>(std::numeric_limits<MUMPS_INT>::max()),
+                  "DistributedDirectSolver (" << name_ << "): the embedding's " << 2 * A->getGlobalNumRows()
+                                              << " rows exceed MUMPS's 32-bit indices");
+  impl_->B = B;
+  n_ = 2 * static_cast<long long>(A->getGlobalNumRows());
+  pivotsOnly_ = true;  // no 2N-row map to solve on: counts only
 }
 
 DistributedDirectSolver::~DistributedDirectSolver() = default;
@@ -460,6 +525,23 @@ SparseInertia distributedInertia(const CrsMatrix& A) {
   DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
   f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
   f.setPivotsOnly(true);  // the signs of the pivots are the count: no factor is kept
+  try {
+    f.factor(/*allowNullPivots*/ true);
+  } catch (const NumericalError& e) {
+    out.failure = e.what();
+    return out;
+  }
+  out.negative = f.negativePivots();
+  out.tinyPivots = f.nullPivots();
+  out.positive = f.rows() - out.negative - out.tinyPivots;
+  return out;
+}
+
+SparseInertia distributedInertia(const CrsMatrix& A, const CrsMatrix& B) {
+  SparseInertia out;
+  out.method = "MUMPS multifrontal L D L^T";
+  DistributedDirectSolver f(Teuchos::rcpFromRef(A), Teuchos::rcpFromRef(B), "inertia of the real embedding");
+  f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
   try {
     f.factor(/*allowNullPivots*/ true);
   } catch (const NumericalError& e) {

@@ -261,27 +261,27 @@ namespace {
 /// has `upperEntries` entries (known on rank 0): a count with an empty
 /// `failure` if it may fit, else one that says why not, on every rank. The
 /// solver's own guard (DistributedDirectSolver: MUMPS's estimate INFO(17),
-/// the count keeping no factor) comes only after the embedding, the
-/// triplets, METIS's graph and MUMPS's analysis are built on rank 0, which
-/// for the 5.7e5-DOF rotor's truth took the 24 GiB machine from 13 GiB (the
-/// truth's own factor and vectors) to its out-of-memory killer. So first a
-/// lower bound of that preparation: ~100 bytes an upper entry (the embedding
-/// both triangles at 12 bytes an entry, the triplets 16, METIS's graph both
-/// triangles at 8 bytes an index with its copies, MUMPS's analysis graph).
-/// (It held the factor's entries by CHOLMOD's AMD analysis too, scaled to
-/// METIS's by a measured 0.4, while the count kept its factor; it keeps none
-/// now, and MUMPS's working fronts have no bound from AMD's analysis.)
+/// the count keeping no factor) comes only after MUMPS's triplets, METIS's
+/// ordering and MUMPS's analysis are built on rank 0, which for the
+/// 5.7e5-DOF rotor's truth took the 24 GiB machine from 13 GiB (the truth's
+/// own factor and vectors) to its out-of-memory killer. So first an
+/// estimate of that preparation's peak: kPreparationBytes an upper entry,
+/// measured at METIS's ordering on the 16,800-DOF bar's truth count
+/// (heaptrack, 2.63e6 upper entries of the embedding: MUMPS's triplets 16
+/// bytes, CHOLMOD's symmetric copy for METIS 12, METIS's own graphs 23,
+/// the rest 7; 58 in all).
+constexpr double kPreparationBytes = 60.0;
 SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries) {
   const int onNode = ranksOnNode(comm);
-  double figures[2] = {100.0 * upperEntries, availableMemoryBytes() / onNode};
+  double figures[2] = {kPreparationBytes * upperEntries, availableMemoryBytes() / onNode};
   Teuchos::broadcast(comm, 0, 2, figures);
   SparseInertia refused;
   refused.method = "MUMPS multifrontal L D L^T";
   if (!(figures[0] > 0.9 * figures[1])) return refused;
   std::ostringstream os;
   os << std::setprecision(3) << "the multifrontal L D L^T of the " << n
-     << "-row matrix was not started: rank 0 would need at least " << figures[0] / 1e9
-     << " GB to prepare it (the embedding, MUMPS's triplets and METIS's graph), more than 90% of the "
+     << "-row matrix was not started: rank 0 would need about " << figures[0] / 1e9
+     << " GB to prepare it (MUMPS's triplets and METIS's ordering), more than 90% of the "
      << figures[1] / 1e9 << " GB it may use (CMS_MEMORY_LIMIT or the node's available memory)";
   refused.failure = os.str();
   return refused;
@@ -334,7 +334,7 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
   checkSquare(B, "B");
   CMS_INPUT_CHECK(!A.getRowMap()->isSameAs(*B.getRowMap()), "inertia: A and B must share their row map");
   const auto multifrontal = [&] {
-    return halved(distributedInertia(*realEmbedding(A, B, stateMap(*A.getRowMap()))), "MUMPS");
+    return halved(distributedInertia(A, B), "MUMPS");  // from A's and B's rows: no 2n-row matrix
   };
   if (method == InertiaMethod::Multifrontal) return multifrontal();
   SparseInertia r;

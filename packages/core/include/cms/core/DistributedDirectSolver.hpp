@@ -56,6 +56,14 @@ public:
   /// has different row and domain/range maps.
   DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A, Kind kind, std::string name,
                           double nullPivotTolerance = 0.0);
+  /// The real symmetric embedding [[A, -B], [B, A]] (order 2N) of the
+  /// Hermitian A + iB (A symmetric, B skew, both on A's row map), whose
+  /// inertia counts A + iB's eigenvalues twice (SparseInertia.hpp): MUMPS
+  /// is given its upper triangle straight from A's and B's rows, no 2N-row
+  /// matrix is built, and the factorisation counts pivots only (solve()
+  /// refused). Kind::Symmetric. Throws cms::InputError for a B that is not
+  /// fill-complete on A's row map.
+  DistributedDirectSolver(Teuchos::RCP<const CrsMatrix> A, Teuchos::RCP<const CrsMatrix> B, std::string name);
   ~DistributedDirectSolver();
   DistributedDirectSolver(const DistributedDirectSolver&) = delete;
   DistributedDirectSolver& operator=(const DistributedDirectSolver&) = delete;
@@ -136,6 +144,11 @@ int ranksOnNode(const Teuchos::Comm<int>& comm);
 /// kTinyPivot max |a_jj|; maxPivotRatio is not available from MUMPS (0).
 /// A MUMPS failure is returned in `failure`, not thrown. Collective.
 SparseInertia distributedInertia(const CrsMatrix& A);
+/// The same for the real embedding [[A, -B], [B, A]] of the Hermitian
+/// A + iB, its triplets built straight from A and B (no 2N-row matrix):
+/// counts of the embedding, each eigenvalue of A + iB twice (the caller
+/// halves them). Collective.
+SparseInertia distributedInertia(const CrsMatrix& A, const CrsMatrix& B);
 
 /// The "Direct Solver" choice for a factorisation of A: "CHOLMOD" (the
 /// gathered SparseDirectSolver methods), "MUMPS", or "Auto": MUMPS when A is
