@@ -460,6 +460,9 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
 void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const {
   Impl& m = *impl_;
   CMS_INPUT_CHECK(!m.started || m.idMap.is_null(), "DistributedDirectSolver (" << name_ << "): solve before factor");
+  CMS_INPUT_CHECK(!m.B.is_null(), "DistributedDirectSolver (" << name_
+                                     << "): a real embedding of A + iB is factored for its inertia only; "
+                                        "it has no 2N-row map to solve on");
   CMS_INPUT_CHECK(pivotsOnly_, "DistributedDirectSolver (" << name_
                                     << "): solve after a factorisation that counted pivots only (its factors were "
                                        "discarded, setPivotsOnly)");
