@@ -209,6 +209,18 @@ struct DistributedDirectSolver::Impl {
     idMap = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(N), ids(), 0, comm));
   }
 
+  /// The owned rows' entries on or above the diagonal (MUMPS's numbering).
+  size_t upperEntries() const {
+    CrsMatrix::local_inds_host_view_type cols;
+    CrsMatrix::values_host_view_type vals;
+    size_t count = 0;
+    for (size_t i = 0; i < rowIndex.size(); ++i) {
+      A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+      for (size_t e = 0; e < cols.extent(0); ++e) count += colIndex[cols(e)] >= rowIndex[i];
+    }
+    return count;
+  }
+
   /// The upper triangle of the real embedding E = [[A, -B], [B, A]] of
   /// order 2N (B^T = -B makes E symmetric): A's row r gives E's rows r and
   /// N + r; their upper entries are A's upper entries at (r, c) and
@@ -219,12 +231,7 @@ struct DistributedDirectSolver::Impl {
     const MUMPS_INT N = static_cast<MUMPS_INT>(A->getGlobalNumRows());
     CrsMatrix::local_inds_host_view_type cols;
     CrsMatrix::values_host_view_type vals;
-    size_t upperA = 0;
-    for (size_t i = 0; i < nloc; ++i) {
-      A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
-      for (size_t e = 0; e < cols.extent(0); ++e) upperA += colIndex[cols(e)] >= rowIndex[i];
-    }
-    const size_t count = 2 * upperA + B->getNodeNumEntries();
+    const size_t count = 2 * upperEntries() + B->getNodeNumEntries();
     irn.clear(), jcn.clear(), values.clear();
     irn.reserve(count), jcn.reserve(count), values.reserve(count);
     auto add = [&](MUMPS_INT r, MUMPS_INT c, double v) {
@@ -257,14 +264,7 @@ struct DistributedDirectSolver::Impl {
     CrsMatrix::values_host_view_type vals;
     // Exactly the entries handed over (the upper triangle of a symmetric
     // matrix is half of them): the triplets live through the factorisation.
-    size_t count = A->getNodeNumEntries();
-    if (kind != Kind::General) {
-      count = 0;
-      for (size_t i = 0; i < nloc; ++i) {
-        A->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
-        for (size_t e = 0; e < cols.extent(0); ++e) count += colIndex[cols(e)] >= rowIndex[i];
-      }
-    }
+    const size_t count = kind == Kind::General ? A->getNodeNumEntries() : upperEntries();
     irn.reserve(count);
     jcn.reserve(count);
     values.reserve(count);
@@ -420,7 +420,7 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   orderingUsed_ = infog(id, 7);
   // An indefinite L D L^T can delay pivots beyond the analysis's workspace
   // (INFOG(1) = -8/-9): the factorisation is retried with the relaxation
-  // ICNTL(14) doubled, the in-core estimate grown by the same ratio and
+  // ICNTL(14) doubled, the memory estimate grown by the same ratio and
   // checked against the budget again before each retry (unchecked, the
   // retries of a 5.7e5-DOF Sturm count ran a 24 GiB machine out of memory).
   double growth = 1.0;
@@ -522,10 +522,12 @@ int ranksOnNode(const Teuchos::Comm<int>& comm) {
   return onNode;
 }
 
-SparseInertia distributedInertia(const CrsMatrix& A) {
+namespace {
+/// The inertia from a count-only factorisation `f` (distributedInertia):
+/// METIS's nested dissection, MUMPS's failure returned, not thrown.
+SparseInertia countPivots(DistributedDirectSolver& f) {
   SparseInertia out;
   out.method = "MUMPS multifrontal L D L^T";
-  DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
   f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
   f.setPivotsOnly(true);  // the signs of the pivots are the count: no factor is kept
   try {
@@ -540,21 +542,16 @@ SparseInertia distributedInertia(const CrsMatrix& A) {
   return out;
 }
 
+}  // namespace
+
+SparseInertia distributedInertia(const CrsMatrix& A) {
+  DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
+  return countPivots(f);
+}
+
 SparseInertia distributedInertia(const CrsMatrix& A, const CrsMatrix& B) {
-  SparseInertia out;
-  out.method = "MUMPS multifrontal L D L^T";
   DistributedDirectSolver f(Teuchos::rcpFromRef(A), Teuchos::rcpFromRef(B), "inertia of the real embedding");
-  f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
-  try {
-    f.factor(/*allowNullPivots*/ true);
-  } catch (const NumericalError& e) {
-    out.failure = e.what();
-    return out;
-  }
-  out.negative = f.negativePivots();
-  out.tinyPivots = f.nullPivots();
-  out.positive = f.rows() - out.negative - out.tinyPivots;
-  return out;
+  return countPivots(f);
 }
 
 bool useDistributedSolver(const std::string& choice, const CrsMatrix& A, long long autoEntries) {
