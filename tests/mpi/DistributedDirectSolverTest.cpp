@@ -259,22 +259,31 @@ TEST(DistributedDirectSolver, AutoChoosesMumpsOnlyWhenDistributedAndLarge) {
 // with that reason (the sparse path then says its set is not confirmed).
 // The budget is CMS_MEMORY_LIMIT (a documented setting for shared
 // machines), here 1 MB: below any factorisation's estimate.
+namespace {
+/// What factor() refused with ("" if it factored).
+std::string refusalOf(DistributedDirectSolver& f) {
+  try {
+    f.factor();
+  } catch (const NumericalError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
 TEST(DistributedDirectSolver, AFactorisationThatCannotFitIsRefusedByName) {
   const auto A = laplacian(0.0);
   setenv("CMS_MEMORY_LIMIT", "1e6", 1);
   DistributedDirectSolver f(A, Kind::Symmetric, "K of the big block");
-  std::string what;
-  try {
-    f.factor();
-  } catch (const NumericalError& e) {
-    what = e.what();
-  }
+  const std::string what = refusalOf(f);
   const auto count = distributedInertia(*A);
   unsetenv("CMS_MEMORY_LIMIT");
   EXPECT_NE(what.find("K of the big block"), std::string::npos) << what;
   EXPECT_NE(what.find("needs about"), std::string::npos) << what;
   EXPECT_FALSE(count.reliable());
   EXPECT_NE(count.failure.find("needs about"), std::string::npos) << count.failure;
+  // A count keeps no factor: refused on the estimate for that, INFO(17).
+  EXPECT_NE(count.failure.find("INFO(17)"), std::string::npos) << count.failure;
   // Within the budget again: the same matrix factors.
   DistributedDirectSolver g(A, Kind::Symmetric, "K of the big block");
   EXPECT_NO_THROW(g.factor());
@@ -295,12 +304,7 @@ TEST(DistributedDirectSolver, TheBudgetHoldsAgainstTheInCoreEstimate) {
   const double budget = usedMB * 1e6 * ranksOnNode * 0.95 / 0.9;
   setenv("CMS_MEMORY_LIMIT", std::to_string(budget).c_str(), 1);
   DistributedDirectSolver f(A, Kind::Symmetric, "K at 95% of its need");
-  std::string what;
-  try {
-    f.factor();
-  } catch (const NumericalError& e) {
-    what = e.what();
-  }
+  const std::string what = refusalOf(f);
   unsetenv("CMS_MEMORY_LIMIT");
   EXPECT_NE(what.find("K at 95% of its need"), std::string::npos) << "measured " << usedMB << " MB; " << what;
   EXPECT_NE(what.find("INFO(15)"), std::string::npos) << what;
@@ -400,6 +404,11 @@ TEST(DistributedDirectSolver, TheEmbeddingOfAHermitianMatrixIsCountedFromItsPart
     const auto Ag = laplacian(sigma, 0.0, /*gaps*/ true);
     const SparseInertia gapped = distributedInertia(*Ag, *skewAlongX(*Ag, gamma, true));
     EXPECT_EQ(gapped.negative, parts.negative) << "sigma " << sigma;
+  }
+  // A skew part on another map is refused by name.
+  {
+    const auto A = laplacian(0.0), Ag = laplacian(0.0, 0.0, /*gaps*/ true);
+    EXPECT_THROW(DistributedDirectSolver(A, skewAlongX(*Ag, gamma, true), "H"), InputError);
   }
   // Solving with it is refused (there is no 2N-row map to solve on).
   const auto A = laplacian(0.0);
