@@ -457,9 +457,16 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     int radiusOrder = 1;  // the multiplicity k that radius assumes
     // A defective eigenvalue of multiplicity k splits into k computed values,
     // up to 2k with their mirrors; more within r_k means r_k reaches other
-    // eigenvalues, not a cluster of one.
+    // eigenvalues, not a cluster of one. Except for k <= 2: r_2 = 10
+    // sqrt(eta) s (1.5e-7 s) is closer than a normwise solver tells two
+    // eigenvalues apart, and a defective pair can coalesce with simple
+    // eigenvalues there (a free body's frame-rate triple: a pair and a simple
+    // one at i Omega, five values with mirrors): up to 8 values (multiplicity
+    // 4, the loop's cap) are one cluster. For k >= 3 the radius (6e-5 s,
+    // 1.2e-3 s) reaches distinct eigenvalues, and the count must be k's own.
     for (int k = 1; k <= (structured ? 1 : 4); ++k) {
       const double r = 10.0 * std::pow(eta, 1.0 / k) * scale;
+      const int most = k <= 2 ? 8 : 2 * k;
       int near = 0;
       for (cplx l : spectrum) near += std::abs(l - m.lambda) <= r;
       // The k >= 3 values of a split defective eigenvalue approximate one
@@ -470,7 +477,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       // shapes and are not one split cluster: without this, which of them
       // were taken for a split zero (and called rigid) depended on how
       // rounding placed the mirrors, i.e. on the rank count (issue #11).
-      if (near >= k && near <= 2 * k && (k <= 2 || !completeShapes || splitCluster(modes, m, r).size() > 1))
+      if (near >= k && near <= most && (k <= 2 || !completeShapes || splitCluster(modes, m, r).size() > 1))
         radius = r, radiusOrder = k;
     }
     // Rigid through the radius only for a cluster that can be centred at

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
@@ -120,4 +121,40 @@ TEST(StabilityVerdict, DistinctModesWithinASplittingRadiusAreNotASplitZero) {
                                     syntheticMode({delta * c, delta * sn}, 1, 1e-3)};
   classifyModes(split, s, 1e-6, 1e-6, true, /*completeShapes=*/true);
   for (const auto& m : split) EXPECT_EQ(m.stability, Stability::RigidBody) << m.lambda;
+}
+
+// `cms campbell --steps=401` on the shipped spacecraft (issue 18): at its
+// lowest rate, Omega = 0.005 rad/s, dggev returns the free bus's frame-rate
+// eigenvalue i Omega (a defective pair and a simple eigenvalue, algebraic
+// multiplicity 3) as i Omega itself and a pair +/-(6.7e-6 - 8.2e-6 i) about
+// it, 1.05e-5 rad/s away: the sqrt(eta) s splitting of a defective pair at
+// the system's scale s = 696. With their mirrors these are five values within
+// r_2 = 10 sqrt(eta) s = 1.04e-4, more than the 2k = 4 of a pair alone, so
+// the pair's radius was refused and each mode reported a split radius of
+// 10 eta s = 1.5e-12: the Campbell study took the tracks for elastic ones and
+// listed 366 of their rounding sign changes as critical speeds (30 s of
+// bisections instead of 1 s). A defective pair with a coalescing simple
+// eigenvalue is still split within r_2: each of the three values must report
+// a radius that covers its distance from i Omega, and no instability.
+TEST(StabilityVerdict, ADefectivePairWithACoalescingSimpleEigenvalueIsSplitWithinR2) {
+  const double s = 695.981, eta = std::numeric_limits<double>::epsilon(), Omega = 0.005;
+  const std::complex<double> centre(0.0, Omega), off(6.67788e-6, -8.25e-6);
+  // A rigid zero, the frame-rate triple, and the bus's stable mode at 1.52 Omega.
+  std::vector<GyroscopicMode> modes{syntheticMode(0.0, 0, 0.0), syntheticMode(centre + off, 1, 0.0),
+                                    syntheticMode(centre - off, 2, 0.0), syntheticMode(centre, 3, 0.0),
+                                    syntheticMode({0.0, 1.52 * Omega}, 4, 0.0)};
+  for (auto& m : modes) m.residual = eta;
+  ASSERT_GT(10.0 * std::sqrt(eta) * s, std::abs(off));  // r_2 covers the split
+  classifyModes(modes, s, 1e-6, 1e-6, true, /*completeShapes=*/true);
+  for (int j : {1, 2, 3}) {
+    EXPECT_GE(modes[j].splitRadius, std::abs(modes[j].lambda - centre)) << "mode " << j;
+    EXPECT_LE(modes[j].splitRadius, 10.0 * std::sqrt(eta) * s * (1 + 1e-12)) << "mode " << j;
+    EXPECT_NE(modes[j].stability, Stability::Flutter) << "mode " << j;
+    EXPECT_NE(modes[j].stability, Stability::Divergence) << "mode " << j;
+    EXPECT_NE(modes[j].stability, Stability::RigidBody) << "mode " << j;
+  }
+  EXPECT_EQ(modes[0].stability, Stability::RigidBody);
+  EXPECT_NE(modes[4].stability, Stability::Flutter);
+  EXPECT_NE(modes[4].stability, Stability::RigidBody);
+  EXPECT_LT(modes[4].splitRadius, 1e-9 * Omega) << "a simple, isolated mode keeps the first-order radius";
 }
