@@ -32,6 +32,7 @@
 
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
+#include "cms/core/BlasThreads.hpp"
 #include "cms/core/Program.hpp"
 
 namespace cms::drivers {
@@ -45,6 +46,7 @@ int main(int argc, char* argv[]) {
   using namespace cms;
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Teuchos::GlobalMPISession mpi(&argc, &argv, nullptr);
+  cms::shareCoresWithBlas(MPI_COMM_WORLD);  // each rank's BLAS on its share of the cores
   const bool root = Teuchos::DefaultComm<int>::getComm()->getRank() == 0;
   const std::map<std::string, int (*)(int, char*[])> subcommands{
       {"modes", drivers::modes}, {"campbell", drivers::campbell}, {"compare", drivers::compare},

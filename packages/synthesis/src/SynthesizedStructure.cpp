@@ -31,6 +31,7 @@
 #include "CopiedBasis.hpp"
 #include "MonolithicSum.hpp"
 #include "PartData.hpp"
+#include "cms/core/BlasThreads.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/core/Redistribution.hpp"
@@ -1129,6 +1130,9 @@ std::vector<StructureModes> SynthesizedStructure::solveMany(const std::vector<st
   std::ostringstream why;
   why << "dense (n = " << n << (solver == "Dense" ? ", requested)" : " <= Dense Limit)");
   const std::string path = why.str();
+  // Each worker's LAPACK calls run on the worker alone: OpenBLAS's own pool
+  // under these threads spun for 63% of the CPU (cms/core/BlasThreads.hpp).
+  const BlasThreadScope oneEach(1);
   std::atomic<std::size_t> next{0};
   std::vector<std::exception_ptr> failed(static_cast<std::size_t>(threads));
   auto work = [&](int w) {

@@ -17,6 +17,7 @@
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_Core.hpp>
 
+#include "cms/core/BlasThreads.hpp"
 #include "cms/core/ProgramBoundary.hpp"
 
 namespace cms {
@@ -39,7 +40,7 @@ inline void singletonMpiDefaults() {
 }
 
 /// Runs `body(comm, root)` between MPI's start (singletonMpiDefaults, then
-/// Tpetra::ScopeGuard) and end
+/// Tpetra::ScopeGuard, then shareCoresWithBlas) and end
 /// inside reportErrors(program, ...): returns body's exit code, or the code
 /// of the exception it threw, with its message printed on rank 0. `argc`
 /// and `argv` are those of main, as MPI leaves them.
@@ -47,6 +48,7 @@ template <class Body>
 int runProgram(const char* program, int& argc, char**& argv, Body&& body) {
   singletonMpiDefaults();
   Tpetra::ScopeGuard mpi(&argc, &argv);
+  shareCoresWithBlas(MPI_COMM_WORLD);  // each rank's BLAS on its share of the cores
   const CommPtr comm = Teuchos::DefaultComm<int>::getComm();
   const bool root = comm->getRank() == 0;
   return reportErrors(program, root, [&]() -> int { return body(comm, root); });

@@ -1,0 +1,73 @@
+// The BLAS's own threads (cms/core/BlasThreads.hpp): a scope sets and
+// restores them, and each rank gets its share of the node's cores unless the
+// environment chose. Where the BLAS has no threads of its own (the reference
+// BLAS), only the no-op behaviour is checked.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <thread>
+
+#include "cms/core/BlasThreads.hpp"
+
+using namespace cms;
+
+namespace {
+bool controllable() {
+  const int before = blasThreads();
+  const bool ok = setBlasThreads(before);
+  return ok && blasThreads() == before;
+}
+}  // namespace
+
+TEST(BlasThreads, AScopeSetsAndRestoresTheCount) {
+  if (!controllable()) {
+    EXPECT_EQ(blasThreads(), 1);
+    EXPECT_FALSE(setBlasThreads(2));
+    GTEST_SKIP() << "this BLAS has no threads of its own";
+  }
+  ASSERT_TRUE(setBlasThreads(3));
+  ASSERT_EQ(blasThreads(), 3);
+  {
+    const BlasThreadScope one(1);
+    EXPECT_EQ(blasThreads(), 1);
+    {
+      const BlasThreadScope two(2);
+      EXPECT_EQ(blasThreads(), 2);
+    }
+    EXPECT_EQ(blasThreads(), 1);
+  }
+  EXPECT_EQ(blasThreads(), 3);
+  EXPECT_FALSE(setBlasThreads(0)) << "0 threads is refused, not passed on";
+  EXPECT_EQ(blasThreads(), 3);
+}
+
+// Each rank's share: the hardware threads over the ranks on the node (all
+// ranks of this test are on one machine), at least 1; left alone when the
+// environment names a count (the test environment sets
+// OPENBLAS_NUM_THREADS=1, which is put back after).
+TEST(BlasThreads, EachRankGetsItsShareOfTheNodesCores) {
+  if (!controllable()) GTEST_SKIP() << "this BLAS has no threads of its own";
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const char* saved = std::getenv("OPENBLAS_NUM_THREADS");
+  const std::string value = saved ? saved : "";
+  unsetenv("OPENBLAS_NUM_THREADS");
+  unsetenv("GOTO_NUM_THREADS");
+  const char* omp = std::getenv("OMP_NUM_THREADS");
+  const std::string ompValue = omp ? omp : "";
+  unsetenv("OMP_NUM_THREADS");
+  setBlasThreads(7);
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  EXPECT_EQ(shareCoresWithBlas(MPI_COMM_WORLD), std::max(1, cores / ranks));
+  EXPECT_EQ(blasThreads(), std::max(1, cores / ranks));
+
+  setenv("OPENBLAS_NUM_THREADS", "1", 1);
+  setBlasThreads(5);
+  EXPECT_EQ(shareCoresWithBlas(MPI_COMM_WORLD), 5) << "the environment's choice is left alone";
+  if (saved) setenv("OPENBLAS_NUM_THREADS", value.c_str(), 1);
+  else unsetenv("OPENBLAS_NUM_THREADS");
+  if (omp) setenv("OMP_NUM_THREADS", ompValue.c_str(), 1);
+  setBlasThreads(1);
+}
