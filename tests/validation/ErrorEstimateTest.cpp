@@ -391,3 +391,32 @@ TEST(ErrorEstimate, TheSameAfterTheFactorsAreReleased) {
     }
   }
 }
+
+// Each substructure's share of a mode's estimate (errorEstimateShares,
+// theory §11.8: the terms r_s^H K_s^-1 r_s of its sum), which `cms truncate`
+// grows at a stall: every share in [0, 1], the shares of a mode summing to
+// 1 (to the rounding of a sum of a few terms: 1e-12), and none for the
+// substructure kept whole (a Full basis satisfies its own equations).
+TEST(ErrorEstimate, EachSubstructuresShareOfTheEstimate) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto hub = AssembledStructure::assemble(hb.structure(false, "Full", 0), comm);
+  auto reductions = sameReduction(hub, "Admissible", 4);
+  reductions.at(0).set("Basis", "Full");
+  const auto r = SynthesizedStructure::synthesize(hub, reductions);
+  const auto m = solve(r, 6);
+  const auto e = r.errorEstimates(m);
+  const auto shares = r.errorEstimateShares(m);
+  ASSERT_EQ(shares.size(), m.result.modes.size());
+  for (std::size_t j = 0; j < shares.size(); ++j) {
+    ASSERT_EQ(shares[j].size(), reductions.size());
+    ASSERT_GT(e[j], 0.0) << "mode " << j + 1;
+    double sum = 0.0;
+    for (double x : shares[j]) {
+      EXPECT_GE(x, 0.0) << "mode " << j + 1;
+      EXPECT_LE(x, 1.0 + 1e-12) << "mode " << j + 1;
+      sum += x;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12) << "mode " << j + 1;
+    EXPECT_EQ(shares[j][0], 0.0) << "the Full substructure, mode " << j + 1;
+  }
+}

@@ -92,7 +92,7 @@ Triplets singularTriplets(const DenseMatrix& A, int count) {
 }
 
 /// Every singular triplet of A by LAPACK dgesvd (QR iteration on the whole
-/// bidiagonal): the fallback when a Sturm count shows dgesvdx missed values.
+/// bidiagonal): the fallback when a Sturm count shows the selected set missed values.
 Triplets allSingularTriplets(const DenseMatrix& A) {
   const int N = A.numRows();
   DenseMatrix Ac(A);
@@ -115,15 +115,122 @@ Triplets allSingularTriplets(const DenseMatrix& A) {
   return t;
 }
 
+extern "C" {
+void dgebrd_(const int* m, const int* n, double* a, const int* lda, double* d, double* e, double* tauq,
+             double* taup, double* work, const int* lwork, int* info);
+void dbdsqr_(const char* uplo, const int* n, const int* ncvt, const int* nru, const int* ncc, double* d,
+             double* e, double* vt, const int* ldvt, double* u, const int* ldu, double* c, const int* ldc,
+             double* work, int* info, std::size_t);
+void dstein_(const int* n, const double* d, const double* e, const int* m, const double* w, const int* iblock,
+             const int* isplit, double* z, const int* ldz, double* work, int* iwork, int* ifail, int* info);
+void dormbr_(const char* vect, const char* side, const char* trans, const int* m, const int* n, const int* k,
+             const double* a, const int* lda, const double* tau, double* c, const int* ldc, double* work,
+             const int* lwork, int* info, std::size_t, std::size_t, std::size_t);
+}
+
+/// A = Q B P^T (LAPACK dgebrd: B upper bidiagonal, the reflectors of Q and
+/// P kept in `reflectors`) and every singular value of B, descending (dbdsqr
+/// without vectors: the dqds algorithm, O(N^2), to high relative accuracy).
+struct Bidiagonal {
+  DenseMatrix reflectors;
+  std::vector<double> d, e, tauq, taup;
+  std::vector<double> s;  ///< all N singular values, descending
+};
+
+Bidiagonal bidiagonalise(const DenseMatrix& A) {
+  const int N = A.numRows();
+  Bidiagonal b;
+  b.reflectors = A;
+  b.d.assign(N, 0.0), b.e.assign(std::max(1, N - 1), 0.0), b.tauq.assign(N, 0.0), b.taup.assign(N, 0.0);
+  int info = 0, lwork = -1;
+  double wq = 0.0;
+  dgebrd_(&N, &N, b.reflectors.values(), &N, b.d.data(), b.e.data(), b.tauq.data(), b.taup.data(), &wq, &lwork,
+          &info);
+  lwork = std::max(1, static_cast<int>(wq));
+  std::vector<double> work(lwork);
+  dgebrd_(&N, &N, b.reflectors.values(), &N, b.d.data(), b.e.data(), b.tauq.data(), b.taup.data(), work.data(),
+          &lwork, &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError, "DenseGyroscopicSolver: LAPACK dgebrd failed, info = " << info);
+  b.s = b.d;
+  std::vector<double> e(b.e), w(4 * N);
+  const int zero = 0, one = 1;
+  double dummy = 0.0;
+  dbdsqr_("U", &N, &zero, &zero, &zero, b.s.data(), e.data(), &dummy, &one, &dummy, &one, &dummy, &one, w.data(),
+          &info, 1);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError, "DenseGyroscopicSolver: LAPACK dbdsqr failed, info = " << info);
+  return b;
+}
+
+/// The `count` smallest singular triplets of A from its bidiagonal form:
+/// the values from b.s, the right vectors by inverse iteration for just
+/// those values on B's Golub-Kahan tridiagonal (LAPACK dstein; the
+/// tridiagonal of zero diagonal and off-diagonal d1, e1, d2, e2, ... has
+/// eigenvector (v1, u1, v2, u2, ...) / sqrt 2 for +sigma, B v = sigma u),
+/// mapped to A's by P (dormbr). This is dgesvdx's own method less its
+/// bisection, which, selecting values by index, took longer than the
+/// bidiagonalisation (doc/theory.md §2). False when dstein does not converge.
+bool tripletsFromBidiagonal(const Bidiagonal& b, int count, Triplets& t) {
+  const int N = static_cast<int>(b.d.size()), T = 2 * N;
+  std::vector<double> diag(T, 0.0), off(T, 0.0);
+  for (int i = 0; i < N; ++i) {
+    off[2 * i] = b.d[i];
+    if (i + 1 < N) off[2 * i + 1] = b.e[i];
+  }
+  // The wanted values ascending (dstein's order within its one block).
+  std::vector<double> w(count);
+  for (int k = 0; k < count; ++k) w[k] = b.s[N - 1 - k];
+  std::vector<int> iblock(count, 1), isplit(1, T), iwork(T), ifail(count);
+  std::vector<double> Z(static_cast<std::size_t>(T) * count), work(5 * T);
+  int info = 0;
+  dstein_(&T, diag.data(), off.data(), &count, w.data(), iblock.data(), isplit.data(), Z.data(), &T, work.data(),
+          iwork.data(), ifail.data(), &info);
+  if (info != 0) return false;
+  // v = sqrt 2 (z_1, z_3, ...), normalised; then P v.
+  DenseMatrix V(N, count);
+  for (int k = 0; k < count; ++k) {
+    double nv = 0.0;
+    for (int i = 0; i < N; ++i) nv += Z[static_cast<std::size_t>(k) * T + 2 * i] * Z[static_cast<std::size_t>(k) * T + 2 * i];
+    nv = std::sqrt(nv);
+    if (!(nv > 0.0)) return false;
+    for (int i = 0; i < N; ++i) V(i, k) = Z[static_cast<std::size_t>(k) * T + 2 * i] / nv;
+  }
+  int lwork = -1;
+  double wq = 0.0;
+  dormbr_("P", "L", "N", &N, &count, &N, b.reflectors.values(), &N, b.taup.data(), V.values(), &N, &wq, &lwork,
+          &info, 1, 1, 1);
+  lwork = std::max(1, static_cast<int>(wq));
+  std::vector<double> mwork(lwork);
+  dormbr_("P", "L", "N", &N, &count, &N, b.reflectors.values(), &N, b.taup.data(), V.values(), &N, mwork.data(),
+          &lwork, &info, 1, 1, 1);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError, "DenseGyroscopicSolver: LAPACK dormbr failed, info = " << info);
+  // As dgesvdx returns them: values descending, right vectors as rows.
+  t.s.resize(count);
+  t.VT.shape(count, N);
+  t.all = count == N;
+  for (int k = 0; k < count; ++k) {
+    const int j = count - 1 - k;  // descending
+    t.s[k] = w[j];
+    for (int i = 0; i < N; ++i) t.VT(k, i) = V(i, j);
+  }
+  return true;
+}
+
 /// The smallest singular triplets of A, at least 2 nModes of them, widened
 /// until the cluster holding the (2 nModes)-th smallest value is complete (a
-/// larger returned value lies beyond the cluster tolerance from it).
+/// larger returned value lies beyond the cluster tolerance from it). Every
+/// value is known after the bidiagonalisation, so the widening costs no
+/// recomputation; dgesvdx is the fallback if inverse iteration fails.
 Triplets smallestTriplets(const DenseMatrix& A, int nModes, double clusterTol) {
   const int N = A.numRows();
+  const Bidiagonal b = bidiagonalise(A);
   int want = std::min(N, 2 * nModes + 4);
+  while (want < N && b.s[N - want] - b.s[N - 2 * nModes] <= clusterTol) want = std::min(N, 2 * want);
+  Triplets t;
+  if (tripletsFromBidiagonal(b, want, t)) return t;
+  want = std::min(N, 2 * nModes + 4);
   while (true) {
-    Triplets t = singularTriplets(A, want);  // s descending, s.size() == want
-    const int edge = want - 2 * nModes;      // index of the (2 nModes)-th smallest
+    t = singularTriplets(A, want);       // s descending, s.size() == want
+    const int edge = want - 2 * nModes;  // index of the (2 nModes)-th smallest
     if (want == N || t.s[0] - t.s[edge] > clusterTol) return t;
     want = std::min(N, 2 * want);
   }
@@ -178,15 +285,17 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
     }
 
   // The smallest singular triplets of A: omega_r are the singular values,
-  // each (nearly) double. dgesvdx selects them by index, and on the clusters
-  // of repeated frequencies it can return a wrong set (a member of a repeated
-  // pair missing, a higher value in its place): a Sturm count, independent of
-  // any eigensolver, checks the set, and the full SVD replaces it if wrong.
+  // each (nearly) double. They are selected from every value of the
+  // bidiagonal form; dgesvdx, which selected them by index (and is now the
+  // fallback), returned wrong sets on clusters of repeated frequencies (a
+  // member of a repeated pair missing, a higher value in its place): a Sturm
+  // count, independent of any eigensolver, checks the set, and the full SVD
+  // replaces it if wrong.
   const double clusterTol = 1e-10 * A.normFrobenius();
   Triplets t = smallestTriplets(A, nModes, clusterTol);
   const SetConfirmation checked = confirmLowestSet(
       [&](std::string& confirmation) { return sturmDisagreement(sys, t, nModes, clusterTol, confirmation); },
-      "dgesvdx's set", [&] {
+      "the selected set", [&] {
         t = allSingularTriplets(A);
         return std::string("recomputed by the full SVD (dgesvd)");
       });
@@ -203,6 +312,13 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
   // frequencies of symmetric rotors instead of returning one mode twice.
   std::vector<GyroscopicMode> modes;
   Teuchos::BLAS<int, double> blas;
+  // Every returned right singular vector as a column, and W = A V for all of
+  // them in one product (per cluster, 22 thin products took a tenth of a
+  // sweep's solve).
+  DenseMatrix Vall(N, ns), Wall;
+  for (int k = 0; k < ns; ++k)
+    for (int i = 0; i < N; ++i) Vall(i, k) = VT(k, i);  // rows of V^T
+  gemm(false, false, 1.0, A, Vall, 0.0, Wall);
   int hi = ns;  // clusters are [lo, hi) in descending-s index
   while (hi > 0 && static_cast<int>(modes.size()) < nModes) {
     int lo = hi - 1;
@@ -220,10 +336,7 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
     double sigma = 0.0;
     for (int k = lo; k < hi; ++k) sigma += s[k] / c;
     // V (N x c): right singular vectors of the cluster; W = A V.
-    DenseMatrix V(N, c), W(N, c);
-    for (int k = 0; k < c; ++k)
-      for (int i = 0; i < N; ++i) V(i, k) = VT(lo + k, i);  // rows of V^T
-    gemm(false, false, 1.0, A, V, 0.0, W);
+    const DenseMatrix V(Teuchos::View, Vall, N, c, 0, lo), W(Teuchos::View, Wall, N, c, 0, lo);
     DenseMatrix J(c, c);
     gemm(true, false, 1.0 / std::max(sigma, std::numeric_limits<double>::min()), V, W, 0.0, J);
     std::vector<std::vector<double>> basis;  // orthonormal, closed under J

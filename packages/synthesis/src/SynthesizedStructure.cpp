@@ -1282,10 +1282,12 @@ void SynthesizedStructure::releaseFlexibilities() {
   for (auto& b : bases_) b.flexibility.reset();
 }
 
-std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const StructureModes& modes) const {
+std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const StructureModes& modes,
+                                                                   std::vector<std::vector<double>>* byPart) const {
   const auto& parts = structure_->parts();
   const int nm = static_cast<int>(modes.result.modes.size()), nc = 2 * nm;  // real, imaginary per mode
   std::vector<double> correction(nm, 0.0);  // sum over substructures of Re(f^H K_a^-1 f)
+  if (byPart) byPart->assign(static_cast<std::size_t>(nm), std::vector<double>(parts.size(), 0.0));
   // The expanded modes, per substructure (collective).
   std::vector<std::vector<Teuchos::RCP<MultiVector>>> u(nm);
   for (int m = 0; m < nm; ++m) u[m] = expand(modes, m);
@@ -1412,8 +1414,18 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
       R.dot(X, d());
     }
     for (int m = 0; m < nm; ++m) correction[m] += d[2 * m] + d[2 * m + 1];
+    if (byPart)
+      for (int m = 0; m < nm; ++m) (*byPart)[static_cast<std::size_t>(m)][k] = d[2 * m] + d[2 * m + 1];
   }
   return correction;
+}
+
+std::vector<std::vector<double>> SynthesizedStructure::errorEstimateShares(const StructureModes& modes) const {
+  std::vector<std::vector<double>> byPart;
+  const auto total = residualFlexibilityNorms(modes, &byPart);
+  for (std::size_t m = 0; m < byPart.size(); ++m)
+    for (double& x : byPart[m]) x = total[m] > 0.0 ? x / total[m] : 0.0;
+  return byPart;
 }
 
 std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& modes) const {

@@ -55,6 +55,45 @@ TEST(DenseGyroscopic, MeirovitchAndGeneralMatchCompanionEigenvalues) {
   }
 }
 
+// The lowest modes alone (the sweep's and every reduced solve's request):
+// the values come from all singular values of the bidiagonal form (dqds),
+// the vectors by inverse iteration for just those values (doc/theory.md §2).
+// Two decoupled identical copies of a random system beside a third make
+// every frequency of the copies exactly double and the bidiagonal split
+// between the blocks. Against the companion eigenvalues (dgeev, independent
+// code), the same 1e-10 relative as above; the two members of each repeated
+// frequency are independent modes; backward errors 100 n eps.
+TEST(DenseGyroscopic, TheLowestModesAloneMatchTheCompanionEigenvalues) {
+  std::mt19937 rng(2026);
+  const int h = 30, n = 3 * h;
+  const GyroscopicSystem a = fixtures::randomGyroscopic(h, rng), b = fixtures::randomGyroscopic(h, rng);
+  GyroscopicSystem s{DenseMatrix(n, n), DenseMatrix(n, n), DenseMatrix(n, n)};
+  for (int blk = 0; blk < 3; ++blk) {
+    const GyroscopicSystem& part = blk < 2 ? a : b;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < h; ++i) {
+        s.M(blk * h + i, blk * h + j) = part.M(i, j);
+        s.G(blk * h + i, blk * h + j) = part.G(i, j);
+        s.K(blk * h + i, blk * h + j) = part.K(i, j);
+      }
+  }
+  const std::vector<double> ref = fixtures::companionFrequencies(s);
+  for (int nModes : {1, 7, 20, 45}) {
+    const GyroscopicResult r = solveWith(s, "Meirovitch", nModes);
+    ASSERT_EQ(static_cast<int>(r.modes.size()), nModes);
+    EXPECT_EQ(r.status, SolveStatus::Converged) << r.reason;
+    for (int k = 0; k < nModes; ++k) EXPECT_NEAR(r.modes[k].omega, ref[k], 1e-10 * ref[k]) << "nModes " << nModes << " k=" << k;
+    for (int k = 0; k + 1 < nModes; ++k) {
+      if (std::abs(r.modes[k].omega - r.modes[k + 1].omega) > 1e-9 * r.modes[k].omega) continue;
+      std::complex<double> ip = 0;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) ip += std::conj(r.modes[k].q[i]) * s.M(i, j) * r.modes[k + 1].q[j];
+      EXPECT_LT(std::abs(ip), 0.99) << "repeated modes " << k << " and " << k + 1 << " coincide";
+    }
+    EXPECT_LT(r.maxResidual(), 100 * n * kEps) << "nModes " << nModes;
+  }
+}
+
 TEST(DenseGyroscopic, AutoPicksMeirovitchForPositiveDefiniteK) {
   std::mt19937 rng(7);
   const GyroscopicResult r = solveWith(fixtures::randomGyroscopic(10, rng), "Auto");

@@ -313,6 +313,12 @@ public:
   /// to the next distinct Ritz value's Krylov-Bogoliubov interval, else
   /// Krylov-Bogoliubov (doc/theory.md §11.8). Collective.
   std::vector<ModeAccuracy> accuracy(const StructureModes& modes) const;
+  /// Per mode, each substructure's share of its error estimate: of the sum
+  /// sum_s r_s^H K_b,s^-1 r_s (§11.8), the term of substructure s over the
+  /// sum (each term >= 0; 0 for a Full basis or a rigid part, and where the
+  /// sum is 0). Where a reduction should grow to lower that mode's error
+  /// (TruncationStudy's stalls). Collective.
+  std::vector<std::vector<double>> errorEstimateShares(const StructureModes& modes) const;
   /// Empty when the truth at these speeds is symmetric positive definite
   /// with a block-diagonal stiffness in the floating-frame coordinates (at
   /// rest, clamped, point attachments, no grounded child, no free spin
@@ -345,7 +351,9 @@ private:
   void finishMatrices(Sums& sums);
   // The residual of every mode in each substructure's full equations
   // (errorEstimates, accuracy): per mode sum_s f_s^H K_a,s^-1 f_s.
-  std::vector<double> residualFlexibilityNorms(const StructureModes& modes) const;
+  // byPart: each substructure's term, per mode.
+  std::vector<double> residualFlexibilityNorms(const StructureModes& modes,
+                                               std::vector<std::vector<double>>* byPart = nullptr) const;
   const reduction::StaticCorrection& flexibility(std::size_t k) const;
   bool carriedRigidly(std::size_t k) const;
   /// A copy whose basis was turned and whose K and M are its prototype's
