@@ -179,8 +179,8 @@ TruncationResult TruncationStudy::run(
         for (std::size_t q = 0; q < ns; ++q)
           if (trials[q] && (energetic < 0 || share[q] > share[energetic])) energetic = static_cast<int>(q);
         if (energetic >= 0) {
+          if (energetic != best) chosen = std::move(trials[energetic]);  // trials[best] is in `chosen` already
           best = energetic;
-          chosen = std::move(trials[best]);
           changed = structure.substructure(best).name + " (stall)";
         }
       }

@@ -130,7 +130,8 @@ void dormbr_(const char* vect, const char* side, const char* trans, const int* m
 
 /// A = Q B P^T (LAPACK dgebrd: B upper bidiagonal, the reflectors of Q and
 /// P kept in `reflectors`) and every singular value of B, descending (dbdsqr
-/// without vectors: the dqds algorithm, O(N^2), to high relative accuracy).
+/// without vectors: the dqds algorithm, O(N^2), to high relative accuracy;
+/// none if it did not converge).
 struct Bidiagonal {
   DenseMatrix reflectors;
   std::vector<double> d, e, tauq, taup;
@@ -140,7 +141,7 @@ struct Bidiagonal {
 Bidiagonal bidiagonalise(const DenseMatrix& A) {
   const int N = A.numRows();
   Bidiagonal b;
-  b.reflectors = A;
+  b.reflectors = DenseMatrix(Teuchos::Copy, A);
   b.d.assign(N, 0.0), b.e.assign(std::max(1, N - 1), 0.0), b.tauq.assign(N, 0.0), b.taup.assign(N, 0.0);
   int info = 0, lwork = -1;
   double wq = 0.0;
@@ -157,7 +158,7 @@ Bidiagonal bidiagonalise(const DenseMatrix& A) {
   double dummy = 0.0;
   dbdsqr_("U", &N, &zero, &zero, &zero, b.s.data(), e.data(), &dummy, &one, &dummy, &one, &dummy, &one, w.data(),
           &info, 1);
-  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError, "DenseGyroscopicSolver: LAPACK dbdsqr failed, info = " << info);
+  if (info != 0) b.s.clear();  // dqds did not converge: the caller falls back to dgesvdx
   return b;
 }
 
@@ -224,10 +225,12 @@ Triplets smallestTriplets(const DenseMatrix& A, int nModes, double clusterTol) {
   const int N = A.numRows();
   const Bidiagonal b = bidiagonalise(A);
   int want = std::min(N, 2 * nModes + 4);
-  while (want < N && b.s[N - want] - b.s[N - 2 * nModes] <= clusterTol) want = std::min(N, 2 * want);
   Triplets t;
-  if (tripletsFromBidiagonal(b, want, t)) return t;
-  want = std::min(N, 2 * nModes + 4);
+  if (!b.s.empty()) {
+    while (want < N && b.s[N - want] - b.s[N - 2 * nModes] <= clusterTol) want = std::min(N, 2 * want);
+    if (tripletsFromBidiagonal(b, want, t)) return t;
+    want = std::min(N, 2 * nModes + 4);
+  }
   while (true) {
     t = singularTriplets(A, want);       // s descending, s.size() == want
     const int edge = want - 2 * nModes;  // index of the (2 nModes)-th smallest
