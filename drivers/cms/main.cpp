@@ -46,8 +46,8 @@ int main(int argc, char* argv[]) {
   using namespace cms;
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Teuchos::GlobalMPISession mpi(&argc, &argv, nullptr);
-  cms::shareCoresWithBlas(MPI_COMM_WORLD);  // each rank's BLAS on its share of the cores
   const bool root = Teuchos::DefaultComm<int>::getComm()->getRank() == 0;
+  cms::shareCoresWithBlas(*Teuchos::DefaultComm<int>::getComm());  // each rank's BLAS on its share of the cores
   const std::map<std::string, int (*)(int, char*[])> subcommands{
       {"modes", drivers::modes}, {"campbell", drivers::campbell}, {"compare", drivers::compare},
       {"truncate", drivers::truncate}};

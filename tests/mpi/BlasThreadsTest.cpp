@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <thread>
 
+#include <Teuchos_DefaultComm.hpp>
+
 #include "cms/core/BlasThreads.hpp"
 
 using namespace cms;
@@ -60,12 +62,12 @@ TEST(BlasThreads, EachRankGetsItsShareOfTheNodesCores) {
   unsetenv("OMP_NUM_THREADS");
   setBlasThreads(7);
   const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  EXPECT_EQ(shareCoresWithBlas(MPI_COMM_WORLD), std::max(1, cores / ranks));
+  EXPECT_EQ(shareCoresWithBlas(*Teuchos::DefaultComm<int>::getComm()), std::max(1, cores / ranks));
   EXPECT_EQ(blasThreads(), std::max(1, cores / ranks));
 
   setenv("OPENBLAS_NUM_THREADS", "1", 1);
   setBlasThreads(5);
-  EXPECT_EQ(shareCoresWithBlas(MPI_COMM_WORLD), 5) << "the environment's choice is left alone";
+  EXPECT_EQ(shareCoresWithBlas(*Teuchos::DefaultComm<int>::getComm()), 5) << "the environment's choice is left alone";
   if (saved) setenv("OPENBLAS_NUM_THREADS", value.c_str(), 1);
   else unsetenv("OPENBLAS_NUM_THREADS");
   if (omp) setenv("OMP_NUM_THREADS", ompValue.c_str(), 1);

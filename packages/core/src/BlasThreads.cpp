@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <thread>
 
+#include "cms/core/DistributedDirectSolver.hpp"
+
 namespace cms {
 
 namespace {
@@ -38,12 +40,8 @@ BlasThreadScope::BlasThreadScope(int n) : previous_(blasThreads()) { setBlasThre
 
 BlasThreadScope::~BlasThreadScope() { setBlasThreads(previous_); }
 
-int shareCoresWithBlas(MPI_Comm comm) {
-  MPI_Comm node;
-  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-  int onNode = 1;
-  MPI_Comm_size(node, &onNode);
-  MPI_Comm_free(&node);
+int shareCoresWithBlas(const Teuchos::Comm<int>& comm) {
+  const int onNode = ranksOnNode(comm);  // collective: before any rank returns
   for (const char* chosen : {"OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"})
     if (std::getenv(chosen) != nullptr) return blasThreads();
   const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));

@@ -11,7 +11,10 @@
 // call here is a no-op.
 #pragma once
 
-#include <mpi.h>
+namespace Teuchos {
+template <class Ordinal>
+class Comm;
+}
 
 namespace cms {
 
@@ -36,11 +39,11 @@ private:
 };
 
 /// Gives the BLAS this rank's share of its node's cores: the hardware
-/// threads divided by the ranks on the node (MPI_Comm_split_type, shared
-/// memory), at least 1, unless the environment already chose
+/// threads divided by the ranks on the node (ranksOnNode,
+/// DistributedDirectSolver.hpp), at least 1, unless the environment already chose
 /// (OPENBLAS_NUM_THREADS, GOTO_NUM_THREADS or OMP_NUM_THREADS set: left as
 /// they are). Two ranks on two cores each had two OpenBLAS threads before.
 /// Collective over `comm`. Returns the BLAS's threads afterwards.
-int shareCoresWithBlas(MPI_Comm comm);
+int shareCoresWithBlas(const Teuchos::Comm<int>& comm);
 
 }  // namespace cms

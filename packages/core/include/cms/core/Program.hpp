@@ -48,8 +48,8 @@ template <class Body>
 int runProgram(const char* program, int& argc, char**& argv, Body&& body) {
   singletonMpiDefaults();
   Tpetra::ScopeGuard mpi(&argc, &argv);
-  shareCoresWithBlas(MPI_COMM_WORLD);  // each rank's BLAS on its share of the cores
   const CommPtr comm = Teuchos::DefaultComm<int>::getComm();
+  shareCoresWithBlas(*comm);  // each rank's BLAS on its share of the cores
   const bool root = comm->getRank() == 0;
   return reportErrors(program, root, [&]() -> int { return body(comm, root); });
 }
