@@ -58,7 +58,8 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
       continue;
     }
     const auto m = s.solve(speeds, solveParams);
-    const auto e = s.errorEstimates(m);
+    std::vector<std::vector<double>> shares;  // of each estimate, per substructure
+    const auto e = s.errorEstimates(m, &shares);
     int worst = -1;
     for (int j = 0; j < nModes && j < static_cast<int>(e.size()); ++j)
       if (worst < 0 || e[j] > e[worst]) worst = j;
@@ -79,9 +80,8 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
     // error comes from); if it is complete, the next one. By the worst
     // mode's kinetic energy instead, rotor-chain to 1e-6 grew the blade five
     // times without gain while the tip's truncation made the error.
-    const auto own = s.errorEstimateShares(m)[static_cast<std::size_t>(worst)];
     std::vector<double> share(ns, 0.0);  // a prototype's share is its copies' together
-    for (std::size_t k = 0; k < ns; ++k) share[structure.prototypeOf(k)] += own.at(k);
+    for (std::size_t k = 0; k < ns; ++k) share[structure.prototypeOf(k)] += shares.at(static_cast<std::size_t>(worst)).at(k);
     std::vector<std::pair<double, std::size_t>> order;
     for (std::size_t k = 0; k < ns; ++k)
       if (tunable[k]) order.push_back({-share[k], k});

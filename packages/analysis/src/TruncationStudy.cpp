@@ -85,6 +85,7 @@ TruncationResult TruncationStudy::run(
     long long dofs = 0;
     synthesis::StructureModes modes;
     int worst = -1;  ///< the wanted mode with the largest estimate
+    std::vector<double> worstShares;  ///< each substructure's share of that estimate
     /// Kept so that a trial reuses the other substructures' bases and every
     /// factorisation (synthesize's `previous`), and for the energy shares.
     std::shared_ptr<const synthesis::SynthesizedStructure> synthesis;
@@ -99,10 +100,12 @@ TruncationResult TruncationStudy::run(
     model.modes = s.solve(speeds, solve_);
     if (static_cast<int>(model.modes.result.modes.size()) < nModes) return model;
     if (truth) model.trueError = compareWithTruth(s, model.modes, *truth, truthModes, nModes).maxRelativeError;
-    const auto e = s.errorEstimates(model.modes);
+    std::vector<std::vector<double>> shares;
+    const auto e = s.errorEstimates(model.modes, &shares);
     model.estimate = 0.0;
     for (int j = 0; j < nModes; ++j)  // -1 (zero frequency): none
       if (e[j] > model.estimate || model.worst < 0) model.estimate = std::max(model.estimate, e[j]), model.worst = j;
+    if (model.worst >= 0) model.worstShares = shares.at(static_cast<std::size_t>(model.worst));
     result.definite = model.modes.result.solver.find("Meirovitch") != std::string::npos;
     return model;
   };
@@ -169,18 +172,17 @@ TruncationResult TruncationStudy::run(
       if (pair >= 0) {
         best = pair, added = 2 * step;
         changed = structure.substructure(best).name + " (pair)";
-      } else if (current.worst >= 0 && current.synthesis) {
+      } else if (!current.worstShares.empty()) {
         // Not even two: grow the one whose truncation makes most of the
         // worst mode's estimate (its term of sum_s r_s^H K_s^-1 r_s, §11.8).
-        const auto own = current.synthesis->errorEstimateShares(current.modes)[current.worst];
         std::vector<double> share(ns, 0.0);  // a prototype's share is its copies' together
-        for (std::size_t q = 0; q < ns; ++q) share[prototype(q)] += own.at(q);
-        int energetic = -1;
+        for (std::size_t q = 0; q < ns; ++q) share[prototype(q)] += current.worstShares.at(q);
+        int largest = -1;
         for (std::size_t q = 0; q < ns; ++q)
-          if (trials[q] && (energetic < 0 || share[q] > share[energetic])) energetic = static_cast<int>(q);
-        if (energetic >= 0) {
-          if (energetic != best) chosen = std::move(trials[energetic]);  // trials[best] is in `chosen` already
-          best = energetic;
+          if (trials[q] && (largest < 0 || share[q] > share[largest])) largest = static_cast<int>(q);
+        if (largest >= 0) {
+          if (largest != best) chosen = std::move(trials[largest]);  // trials[best] is in `chosen` already
+          best = largest;
           changed = structure.substructure(best).name + " (stall)";
         }
       }

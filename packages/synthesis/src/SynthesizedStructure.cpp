@@ -1420,23 +1420,20 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
   return correction;
 }
 
-std::vector<std::vector<double>> SynthesizedStructure::errorEstimateShares(const StructureModes& modes) const {
-  std::vector<std::vector<double>> byPart;
-  const auto total = residualFlexibilityNorms(modes, &byPart);
-  for (std::size_t m = 0; m < byPart.size(); ++m)
-    for (double& x : byPart[m]) x = total[m] > 0.0 ? x / total[m] : 0.0;
-  return byPart;
-}
-
-std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& modes) const {
+std::vector<double> SynthesizedStructure::errorEstimates(const StructureModes& modes,
+                                                         std::vector<std::vector<double>>* shares) const {
   std::vector<double> out;
-  for (const auto& a : accuracy(modes)) out.push_back(a.estimate);
+  for (const auto& a : accuracy(modes, shares)) out.push_back(a.estimate);
   return out;
 }
 
-std::vector<ModeAccuracy> SynthesizedStructure::accuracy(const StructureModes& modes) const {
+std::vector<ModeAccuracy> SynthesizedStructure::accuracy(const StructureModes& modes,
+                                                         std::vector<std::vector<double>>* shares) const {
   const int nm = static_cast<int>(modes.result.modes.size());
-  const auto correction = residualFlexibilityNorms(modes);
+  const auto correction = residualFlexibilityNorms(modes, shares);
+  if (shares)  // each substructure's term over the sum
+    for (std::size_t m = 0; m < shares->size(); ++m)
+      for (double& x : (*shares)[m]) x = correction[m] > 0.0 ? x / correction[m] : 0.0;
   // d omega = -sum r^H K_b^-1 r / (2 omega q^H M q + g), q^H G q = i g (§11.8).
   std::vector<ModeAccuracy> out(nm);
   const auto sys = system(modes.speeds);

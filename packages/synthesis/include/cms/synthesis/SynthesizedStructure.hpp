@@ -306,19 +306,21 @@ public:
   /// + K_s) u_s, corrected statically, d omega = -sum_s r_s^H K_b,s^-1 r_s /
   /// (2 omega q^H M q + Im q^H G q) (doc/theory.md §11.8). -1 for a zero
   /// frequency (rigid or critical). One factorisation per reduced
-  /// substructure. Collective.
-  std::vector<double> errorEstimates(const StructureModes& modes) const;
+  /// substructure. Collective. `shares`, if given, gets per mode each
+  /// substructure's share of that estimate: its term r_s^H K_b,s^-1 r_s
+  /// over their sum (each term >= 0; 0 for a Full basis or a rigid part,
+  /// and where the sum is 0): where a reduction should grow to lower that
+  /// mode's error (TruncationStudy's stalls, enrichToAccuracy), from the
+  /// same solves.
+  std::vector<double> errorEstimates(const StructureModes& modes,
+                                     std::vector<std::vector<double>>* shares = nullptr) const;
   /// The same estimates with, where boundsUnavailable(modes.speeds) is empty,
   /// a rigorous bound per mode: Kato-Temple in the K^-1 norm with the gap
   /// to the next distinct Ritz value's Krylov-Bogoliubov interval, else
-  /// Krylov-Bogoliubov (doc/theory.md §11.8). Collective.
-  std::vector<ModeAccuracy> accuracy(const StructureModes& modes) const;
-  /// Per mode, each substructure's share of its error estimate: of the sum
-  /// sum_s r_s^H K_b,s^-1 r_s (§11.8), the term of substructure s over the
-  /// sum (each term >= 0; 0 for a Full basis or a rigid part, and where the
-  /// sum is 0). Where a reduction should grow to lower that mode's error
-  /// (TruncationStudy's stalls). Collective.
-  std::vector<std::vector<double>> errorEstimateShares(const StructureModes& modes) const;
+  /// Krylov-Bogoliubov (doc/theory.md §11.8). Collective. `shares` as
+  /// for errorEstimates.
+  std::vector<ModeAccuracy> accuracy(const StructureModes& modes,
+                                     std::vector<std::vector<double>>* shares = nullptr) const;
   /// Empty when the truth at these speeds is symmetric positive definite
   /// with a block-diagonal stiffness in the floating-frame coordinates (at
   /// rest, clamped, point attachments, no grounded child, no free spin
