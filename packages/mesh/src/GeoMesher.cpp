@@ -47,6 +47,7 @@
 #include <gmsh.h>
 
 #include "GmshSession.hpp"
+#include "MesherSocket.hpp"
 
 namespace {
 

@@ -1,30 +1,13 @@
-// Gmsh SDK session and its first error, and the one write of the .geo
-// mesher's socket protocol: shared by the in-process .msh reader and the
-// mesher's client (Mesh.cpp) and the .geo mesher helper (GeoMesher.cpp).
+// Gmsh SDK session and its first error: shared by the Gmsh reader module
+// (GmshReader.cpp) and the .geo mesher helper (GeoMesher.cpp).
 #pragma once
 
-#include <sys/socket.h>
-#include <sys/types.h>
-
-#include <cerrno>
 #include <string>
 #include <vector>
 
 #include <gmsh.h>
 
 namespace cms::mesh::detail {
-
-/// Writes all of `s` to the socket `fd` (retrying after signals, never
-/// raising SIGPIPE); false when the other end has gone.
-inline bool sendAll(int fd, const std::string& s) {
-  for (std::size_t done = 0; done < s.size();) {
-    const ssize_t n = ::send(fd, s.data() + done, s.size() - done, MSG_NOSIGNAL);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    done += static_cast<std::size_t>(n);
-  }
-  return true;
-}
 
 /// Gmsh's SDK is one global state: initialise it for one read (which resets
 /// every option a previous read set) and always finalise it, also when the

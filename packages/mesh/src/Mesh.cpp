@@ -15,6 +15,7 @@
 #include <iomanip>
 #include <iterator>
 #include <map>
+#include <mutex>
 #include <new>
 #include <regex>
 #include <set>
@@ -33,11 +34,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <gmsh.h>
-
 #include "cms/core/Error.hpp"
 #include "cms/mesh/InpReader.hpp"
-#include "GmshSession.hpp"
+#include "GmshReader.hpp"
+#include "MesherSocket.hpp"
 #include "MshStructureCheck.hpp"
 
 extern char** environ;
@@ -133,75 +133,10 @@ bool endsWith(const std::string& s, const char* suffix) {
 }
 
 // ---------------------------------------------------------------------------
-// The mesh read through a Gmsh session (GmshSession.hpp).
+// The mesh read through Gmsh: its SDK in a module of its own (GmshReader.cpp),
+// loaded on the first .msh or .geo read.
 // ---------------------------------------------------------------------------
 
-using detail::GmshSession;
-using detail::firstError;
-
-CellType cellType(int gmshType) {
-  switch (gmshType) {
-    case 15: return CellType::Point1;
-    case 1: return CellType::Line2;
-    case 8: return CellType::Line3;
-    case 2: return CellType::Tri3;
-    case 9: return CellType::Tri6;
-    case 3: return CellType::Quad4;
-    case 4: return CellType::Tet4;
-    case 11: return CellType::Tet10;
-    case 5: return CellType::Hex8;
-    case 17: return CellType::Hex20;
-    case 18: return CellType::Wedge15;
-    default: return CellType::Other;
-  }
-}
-
-/// Node tag -> index: a table when tags are dense enough, else a search.
-class NodeIndex {
-public:
-  explicit NodeIndex(const std::vector<std::size_t>& sortedTags) : tags_(sortedTags) {
-    if (!tags_.empty() && tags_.back() <= 4 * tags_.size() + 1024) {
-      table_.assign(tags_.back() + 1, -1);
-      for (std::size_t i = 0; i < tags_.size(); ++i) table_[tags_[i]] = static_cast<std::int64_t>(i);
-    }
-  }
-  std::int64_t operator()(std::size_t tag) const {
-    if (!table_.empty()) return tag < table_.size() ? table_[tag] : -1;
-    auto it = std::lower_bound(tags_.begin(), tags_.end(), tag);
-    return it != tags_.end() && *it == tag ? static_cast<std::int64_t>(it - tags_.begin()) : -1;
-  }
-
-private:
-  const std::vector<std::size_t>& tags_;
-  std::vector<std::int64_t> table_;
-};
-
-void readNodes(Mesh& mesh) {
-  std::vector<std::size_t> tags;
-  std::vector<double> coord, parametric;
-  gmsh::model::mesh::getNodes(tags, coord, parametric, -1, -1, false, false);
-  CMS_INPUT_CHECK(tags.empty(), mesh.source << ": empty mesh (no nodes)");
-  CMS_INPUT_CHECK(coord.size() != 3 * tags.size(),
-                  mesh.source << ": Gmsh returned " << coord.size() << " coordinates for " << tags.size()
-                              << " nodes");
-  std::vector<std::size_t> order(tags.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tags[a] < tags[b]; });
-  mesh.nodeTags.resize(tags.size());
-  mesh.coordinates.resize(coord.size());
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    mesh.nodeTags[i] = tags[order[i]];
-    for (int c = 0; c < 3; ++c) mesh.coordinates[3 * i + c] = coord[3 * order[i] + c];
-    if (i > 0)
-      CMS_INPUT_CHECK(mesh.nodeTags[i] == mesh.nodeTags[i - 1],
-                      mesh.source << ": node tag " << mesh.nodeTags[i] << " is used by two nodes");
-  }
-  for (std::size_t i = 0; i < mesh.nodeTags.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      CMS_INPUT_CHECK(!std::isfinite(mesh.coordinates[3 * i + c]),
-                      mesh.source << ": node " << mesh.nodeTags[i] << " has a non-finite coordinate "
-                                  << "xyz"[c] << " = " << mesh.coordinates[3 * i + c]);
-}
 
 /// Two distinct nodes closer than 1e-9 of the bounding-box diagonal are an
 /// unmerged geometry (coincident faces meshed twice), which would leave the
@@ -284,111 +219,20 @@ void checkDistinctNodes(const Mesh& mesh) {
   }
 }
 
-void readGroups(Mesh& mesh) {
-  gmsh::vectorpair dimTags;
-  gmsh::model::getPhysicalGroups(dimTags);
-  CMS_INPUT_CHECK(dimTags.empty(), mesh.source << ": no physical groups (name the parts and boundaries "
-                                                  "with Physical Volume/Surface/Curve/Point)");
-  const NodeIndex index(mesh.nodeTags);
-  std::map<std::pair<int, std::string>, int> named;
-  for (const auto& [dim, tag] : dimTags) {
-    PhysicalGroup g;
-    g.dim = dim;
-    g.tag = tag;
-    gmsh::model::getPhysicalName(dim, tag, g.name);
-    if (g.name.empty()) g.name = std::to_string(dim) + ":" + std::to_string(tag);
-    auto [it, fresh] = named.emplace(std::make_pair(dim, g.name), tag);
-    CMS_INPUT_CHECK(!fresh, mesh.source << ": physical name \"" << g.name << "\" of dimension " << dim
-                                        << " is used by two groups (tags " << it->second << " and " << tag
-                                        << ")");
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-    std::map<int, std::size_t> blockOf;
-    for (int entity : entities) {
-      std::vector<int> types;
-      std::vector<std::vector<std::size_t>> elementTags, nodeTags;
-      gmsh::model::mesh::getElements(types, elementTags, nodeTags, dim, entity);
-      for (std::size_t t = 0; t < types.size(); ++t) {
-        if (elementTags[t].empty()) continue;
-        auto [b, added] = blockOf.emplace(types[t], g.blocks.size());
-        if (added) {
-          CellBlock block;
-          block.gmshType = types[t];
-          block.type = cellType(types[t]);
-          block.nodesPerCell = static_cast<int>(nodeTags[t].size() / elementTags[t].size());
-          g.blocks.push_back(std::move(block));
-        }
-        CellBlock& block = g.blocks[b->second];
-        const std::size_t npc = static_cast<std::size_t>(block.nodesPerCell);
-        CMS_INPUT_CHECK(npc == 0 || nodeTags[t].size() != npc * elementTags[t].size(),
-                        mesh.source << ": element block of type " << types[t] << " in physical group \""
-                                    << g.name << "\" has inconsistent node counts");
-        for (std::size_t e = 0; e < elementTags[t].size(); ++e) {
-          block.cellTags.push_back(elementTags[t][e]);
-          for (std::size_t k = 0; k < npc; ++k) {
-            const std::size_t nodeTag = nodeTags[t][e * npc + k];
-            const std::int64_t i = index(nodeTag);
-            CMS_INPUT_CHECK(i < 0, mesh.source << ": element " << elementTags[t][e] << " refers to node "
-                                               << nodeTag << ", which is not in the mesh");
-            block.nodes.push_back(i);
-          }
-        }
-      }
-    }
-    CMS_INPUT_CHECK(g.blocks.empty(), mesh.source << ": physical group \"" << g.name << "\" (dimension "
-                                                  << dim << ", tag " << tag << ") has no cells");
-    mesh.groups.push_back(std::move(g));
-  }
-}
-
-/// Reads the mesh of the current Gmsh session; messages name `source`.
-Mesh readSessionMesh(const std::string& source) {
-  Mesh mesh;
-  mesh.source = source;
-  readNodes(mesh);
-  checkDistinctNodes(mesh);
-  readGroups(mesh);
-  return mesh;
-}
+detail::GmshReadMsh gmshReader();  // below, with the other files of libexec/cms
 
 /// Reads a .msh through Gmsh in this process (the file passed
-/// checkMshStructure); every failure is an InputError naming `source`.
+/// checkMshStructure), by the Gmsh reader module loaded on first use
+/// (gmshReader); every failure is an InputError naming `source`.
 Mesh readMshInProcess(const std::string& path, const std::string& source) {
-  try {
-    GmshSession session;
-    try {
-      gmsh::open(path);
-      return readSessionMesh(source);
-    } catch (const InputError&) {
-      throw;
-    } catch (const std::bad_alloc&) {
-      throw;
-    } catch (const std::string& message) {  // how Gmsh 4.8 raises its errors
-      const std::string first = firstError();
-      throw InputError(source + ": " + (first.empty() ? message : first));
-    } catch (...) {
-      // Read Gmsh's message while the session that raised it is still open.
-      std::string message = firstError();
-      try {
-        if (message.empty()) gmsh::logger::getLastError(message);
-      } catch (...) {
-      }
-      if (!message.empty()) throw InputError(source + ": " + message);
-      throw;
-    }
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    // Past the scan no count in the file drives an allocation: running out
-    // of memory is the machine's limit, not malformed input.
-    throw;
-  } catch (const std::string& message) {  // from initialize / finalize
-    throw InputError(source + ": " + message);
-  } catch (const std::exception& e) {
-    throw InputError(source + ": Gmsh failed: " + e.what());
-  } catch (...) {
-    throw InputError(source + ": Gmsh failed to read the file");
+  Mesh mesh;
+  std::string message;
+  switch (gmshReader()(path.c_str(), source.c_str(), &mesh, &message, &checkDistinctNodes)) {
+    case detail::kGmshReadOk: break;
+    case detail::kGmshReadOutOfMemory: throw std::bad_alloc();
+    default: throw InputError(message);
   }
+  return mesh;
 }
 
 // ---------------------------------------------------------------------------
@@ -409,19 +253,21 @@ double positiveFromEnvironment(const char* name, double fallback) {
   return x;
 }
 
-/// The helper, found without any path compiled in (doc/architecture.md,
-/// "Install layout"): $CMS_GEO_MESHER when set, else libexec/cms/cms-geo-mesher
-/// one level above the directory of the running program or of the library
-/// holding this code (installed: <prefix>/bin/cms and <prefix>/lib find
-/// <prefix>/libexec/cms; in the build tree every program sits one level below
-/// build/, and the build puts the helper in build/libexec/cms), else beside
-/// the running program. Throws cms::InputError naming every place tried.
-std::string geoMesherPath() {
-  const char* name = "cms-geo-mesher";
-  if (const char* v = std::getenv("CMS_GEO_MESHER"); v && *v) {
-    CMS_INPUT_CHECK(::access(v, X_OK) != 0, "the .geo mesher: CMS_GEO_MESHER = " << v << " is not an executable file ("
-                                                << std::strerror(errno) << "); unset it to use the installed "
-                                                << name << " (<prefix>/libexec/cms/" << name << ")");
+/// A file of libexec/cms (the .geo mesher, the Gmsh reader module), found
+/// without any path compiled in (doc/architecture.md, "Install layout"):
+/// $`variable` when set, else libexec/cms/`name` one level above the
+/// directory of the running program or of the library holding this code
+/// (installed: <prefix>/bin/cms and <prefix>/lib find <prefix>/libexec/cms;
+/// in the build tree every program sits one level below build/, and the
+/// build puts the helpers in build/libexec/cms), else beside the running
+/// program. `mode` is access()'s (X_OK, R_OK). Throws cms::InputError
+/// naming every place tried.
+std::string libexecFile(const char* name, const char* variable, const char* what, const char* purpose, int mode) {
+  if (const char* v = std::getenv(variable); v && *v) {
+    CMS_INPUT_CHECK(::access(v, mode) != 0, what << ": " << variable << " = " << v << " is not "
+                                                 << (mode == X_OK ? "an executable" : "a readable") << " file ("
+                                                 << std::strerror(errno) << "); unset it to use the installed "
+                                                 << name << " (<prefix>/libexec/cms/" << name << ")");
     return v;
   }
   // The running program and the library holding this code (the program
@@ -431,7 +277,7 @@ std::string geoMesherPath() {
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) homes.push_back(self);
   Dl_info library{};
-  if (::dladdr(reinterpret_cast<void*>(&geoMesherPath), &library) != 0 && library.dli_fname && *library.dli_fname)
+  if (::dladdr(reinterpret_cast<void*>(&libexecFile), &library) != 0 && library.dli_fname && *library.dli_fname)
     homes.push_back(std::filesystem::absolute(library.dli_fname, ec));
   std::vector<std::filesystem::path> candidates;
   for (const auto& home : homes) {
@@ -441,16 +287,36 @@ std::string geoMesherPath() {
   if (!self.empty()) candidates.push_back(self.parent_path() / name);
   std::string tried;
   for (const auto& c : candidates) {
-    if (::access(c.c_str(), X_OK) == 0) return c.string();
+    if (::access(c.c_str(), mode) == 0) return c.string();
     tried += (tried.empty() ? "" : ", ") + c.string();
   }
-  CMS_INPUT_CHECK(true, "cannot find the .geo mesher " << name << ", which meshes .geo scripts (tried: "
-                                                       << (tried.empty() ? "nothing" : tried)
-                                                       << "); set CMS_GEO_MESHER to its path (installed: "
-                                                          "<prefix>/libexec/cms/" << name << ")");
+  CMS_INPUT_CHECK(true, "cannot find " << what << " " << name << ", which " << purpose << " (tried: "
+                                       << (tried.empty() ? "nothing" : tried) << "); set " << variable
+                                       << " to its path (installed: <prefix>/libexec/cms/" << name << ")");
   return {};
 }
 
+std::string geoMesherPath() {
+  return libexecFile("cms-geo-mesher", "CMS_GEO_MESHER", "the .geo mesher", "meshes .geo scripts", X_OK);
+}
+
+/// The Gmsh reader module's entry point, the module loaded on the first call
+/// and kept (Gmsh's SDK is a global state that outlives a read). Not loaded
+/// at all by a run without a Gmsh mesh.
+detail::GmshReadMsh gmshReader() {
+  static std::mutex lock;
+  static detail::GmshReadMsh entry = nullptr;
+  const std::lock_guard<std::mutex> guard(lock);
+  if (entry) return entry;
+  const std::string path =
+      libexecFile(detail::kGmshReaderModule, "CMS_GMSH_READER", "the Gmsh reader module", "reads .msh files", R_OK);
+  void* module = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  CMS_INPUT_CHECK(!module, "cannot load the Gmsh reader module " << path << ": " << ::dlerror());
+  entry = reinterpret_cast<detail::GmshReadMsh>(::dlsym(module, detail::kGmshReadMshSymbol));
+  CMS_INPUT_CHECK(!entry, "the Gmsh reader module " << path << " has no " << detail::kGmshReadMshSymbol
+                                                    << " (a module of another build?)");
+  return entry;
+}
 /// The cms-geo-mesher server of this process (GeoMesher.cpp): started by
 /// the first .geo read, kept for the next ones, ended (it reads end of file)
 /// when this process exits. A process forked from this one starts its own.

@@ -430,19 +430,25 @@ TEST(MeshReaderErrors, MissingGroupNamesTheAlternatives) {
 }
 
 // ---------------------------------------------------------------------------
-// The .geo mesher helper, found without a path compiled in (Mesh.cpp,
-// geoMesherPath): $CMS_GEO_MESHER, else <program>/../libexec/cms.
+// The .geo mesher helper and the Gmsh reader module, found without a path
+// compiled in (Mesh.cpp, libexecFile): $CMS_GEO_MESHER / $CMS_GMSH_READER,
+// else <program>/../libexec/cms.
 // ---------------------------------------------------------------------------
 
 /// Run only in a copy of this program (GeoMesherLookup.* below): reads a
 /// .geo script, and expects the mesher found when CMS_TEST_MESHER is
-/// "found", the error naming where it looked when it is "missing".
+/// "found", the error naming where it looked when it is "missing", and the
+/// error naming the reader module when it is "no reader".
 TEST(GeoMesherLookup, DISABLED_InACopyOfThisProgram) {
   const char* expected = std::getenv("CMS_TEST_MESHER");
   ASSERT_NE(expected, nullptr) << "run by GeoMesherLookup.* only";
   const char* tried = std::getenv("CMS_TEST_MESHER_TRIED");
   if (std::string(expected) == "found") {
     EXPECT_EQ(cms::mesh::readGmsh(kMeshes + "bar_hex.geo").nodeCount(), 21u * 9);
+  } else if (std::string(expected) == "no reader") {
+    expectInputErrorWith([&] { cms::mesh::readGmsh(kMeshes + "bar_hex_small_v41_ascii.msh"); },
+                         {"cannot find the Gmsh reader module cms-gmsh-reader.so, which reads .msh files",
+                          tried ? tried : "?", "set CMS_GMSH_READER"});
   } else {
     expectInputErrorWith([&] { cms::mesh::readGmsh(kMeshes + "bar_hex.geo"); },
                          {"cannot find the .geo mesher cms-geo-mesher", tried ? tried : "?", "set CMS_GEO_MESHER"});
@@ -451,7 +457,7 @@ TEST(GeoMesherLookup, DISABLED_InACopyOfThisProgram) {
 
 /// Runs this program's copy `exe` on the test above with `env` added; true when it passed.
 bool copyPasses(const fs::path& exe, const std::string& env) {
-  const std::string command = "env -u CMS_GEO_MESHER " + env + " '" + exe.string() +
+  const std::string command = "env -u CMS_GEO_MESHER -u CMS_GMSH_READER " + env + " '" + exe.string() +
                               "' --gtest_also_run_disabled_tests"
                               " --gtest_filter=GeoMesherLookup.DISABLED_InACopyOfThisProgram";
   return std::system(command.c_str()) == 0;
@@ -469,7 +475,54 @@ TEST(GeoMesherLookup, FoundInLibexecAboveTheProgramNotInTheBuildTree) {
       << "a copy of the program outside the build found the build tree's mesher";
   fs::create_directories(libexec.parent_path());
   fs::create_symlink(CMS_TEST_GEO_MESHER, libexec);
-  EXPECT_TRUE(copyPasses(exe, "CMS_TEST_MESHER=found")) << "the mesher in " << libexec << " was not found";
+  // The mesher alone: its .msh cannot be read back without the reader module.
+  const fs::path reader = libexec.parent_path() / "cms-gmsh-reader.so";
+  EXPECT_TRUE(copyPasses(exe, "CMS_TEST_MESHER='no reader' CMS_TEST_MESHER_TRIED='" + reader.string() + "'"))
+      << "a copy of the program outside the build found the build tree's Gmsh reader module";
+  fs::create_symlink(CMS_TEST_GMSH_READER, reader);
+  EXPECT_TRUE(copyPasses(exe, "CMS_TEST_MESHER=found")) << "the mesher and reader in " << libexec.parent_path()
+                                                        << " were not found";
+}
+
+/// Whether this process has libgmsh mapped.
+bool gmshMapped() {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line))
+    if (line.find("libgmsh") != std::string::npos) return true;
+  return false;
+}
+
+/// Run only in a fresh process (GmshModule.MappedOnlyForAGmshMesh).
+TEST(GmshModule, DISABLED_InAFreshProcess) {
+  ASSERT_FALSE(gmshMapped()) << "libgmsh is mapped before any mesh was read: linked into the program?";
+  EXPECT_GT(cms::mesh::readMesh(kMeshes + "bar_hex20_small.inp").nodeCount(), 0u);
+  EXPECT_FALSE(gmshMapped()) << "reading an .inp deck loaded Gmsh";
+  EXPECT_EQ(cms::mesh::readGmsh(kMeshes + "bar_hex_small_v41_ascii.msh").nodeCount(),
+            cms::mesh::readGmsh(kMeshes + "bar_hex_small_v22_ascii.msh").nodeCount());
+  EXPECT_TRUE(gmshMapped()) << "a .msh was read without the Gmsh reader module";
+}
+
+TEST(GmshModule, MappedOnlyForAGmshMesh) {
+  // A run without a Gmsh mesh never maps libgmsh and OpenCASCADE (~40 MiB
+  // resident, doc/benchmarks.md): checked in a fresh copy of this process.
+  const std::string command = "'" + fs::read_symlink("/proc/self/exe").string() +
+                              "' --gtest_also_run_disabled_tests --gtest_filter=GmshModule.DISABLED_InAFreshProcess";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+}
+
+/// Run only in a fresh process with CMS_GMSH_READER set
+/// (GmshModule.ABadOverrideIsNamed): the module is loaded once per process.
+TEST(GmshModule, DISABLED_WithABadOverride) {
+  expectInputErrorWith([&] { cms::mesh::readGmsh(kMeshes + "bar_hex_small_v41_ascii.msh"); },
+                       {"CMS_GMSH_READER = /nonexistent/cms-gmsh-reader.so is not a readable file"});
+}
+
+TEST(GmshModule, ABadOverrideIsNamed) {
+  const std::string command = "env CMS_GMSH_READER=/nonexistent/cms-gmsh-reader.so '" +
+                              fs::read_symlink("/proc/self/exe").string() +
+                              "' --gtest_also_run_disabled_tests --gtest_filter=GmshModule.DISABLED_WithABadOverride";
+  EXPECT_EQ(std::system(command.c_str()), 0);
 }
 
 TEST(GeoMesherLookup, ABadOverrideIsNamed) {
