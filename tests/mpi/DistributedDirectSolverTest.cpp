@@ -348,6 +348,31 @@ TEST(DistributedDirectSolver, ACountDiscardsTheFactorsAndKeepsOnlyItsWorkingMemo
   EXPECT_EQ(c.negative, kept.negativePivots());
 }
 
+// A count given the only reference to its matrix frees it once MUMPS's
+// triplets hold the values, before the factorisation (the peak of `cms modes`
+// on the bar was the coverage count with its K - w^2 M alive beside them).
+TEST(DistributedDirectSolver, ACountTakingItsMatrixOverFreesItBeforeFactoring) {
+  Teuchos::RCP<const CrsMatrix> A = laplacian(0.3, 0.0, false, false, 12, 12, 12);
+  const auto reference = distributedInertia(*A);
+  ASSERT_TRUE(reference.reliable()) << reference.failure;
+  const auto weak = A.create_weak();
+  DistributedDirectSolver counted(A, Kind::Symmetric, "A handed over");
+  A = Teuchos::null;  // the solver holds the only strong reference
+  counted.setPivotsOnly(true, /*releaseMatrix*/ true);
+  ASSERT_NO_THROW(counted.factor());
+  EXPECT_FALSE(weak.is_valid_ptr()) << "the matrix outlived its triplets";
+  EXPECT_EQ(counted.negativePivots(), reference.negative);
+  EXPECT_THROW(counted.factor(), std::logic_error) << "factored again without its matrix";
+  // inertia(RCP) and distributedInertia(RCP) count the same as by reference.
+  Teuchos::RCP<const CrsMatrix> B = laplacian(0.3, 0.0, false, false, 12, 12, 12);
+  const auto weakB = B.create_weak();
+  const auto c = inertia(std::move(B), InertiaMethod::Multifrontal);
+  ASSERT_TRUE(c.reliable()) << c.failure;
+  EXPECT_EQ(c.negative, reference.negative);
+  EXPECT_EQ(c.positive, reference.positive);
+  EXPECT_FALSE(weakB.is_valid_ptr());
+}
+
 namespace {
 /// gamma times the skew convection along x of the grid: B(i, i + 1) =
 /// gamma, B(i + 1, i) = -gamma.

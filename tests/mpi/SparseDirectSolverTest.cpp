@@ -6,9 +6,13 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+
+#include <map>
 
 #include "RotatingChain.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 
 using namespace cms;
@@ -91,4 +95,47 @@ TEST(SparseDirectSolver, SingularMatrixIsRefusedNotSolved) {
 TEST(SparseDirectSolver, UnknownMethodIsAnInputError) {
   // MUMPS is a method since issue 18 (DistributedDirectSolver); SuperLU is not.
   EXPECT_THROW(SparseDirectSolver(chainK(1.0), "SuperLU"), InputError);
+}
+
+// matrixSum: on a shared graph, a A + b B costs values only (no graph of its
+// own) and its entries are MatrixMatrix::add's to the bit (each a x + b y,
+// one rounding of each product and one of the sum, either way).
+TEST(MatrixSum, OnASharedGraphTheSameEntriesAsMatrixMatrixAdd) {
+  const auto K = chainK(3.0);
+  // B on K's graph with other values: K's entries times 0.37 plus 1.1.
+  auto B = Teuchos::rcp(new CrsMatrix(K->getCrsGraph()));
+  CrsMatrix::local_inds_host_view_type cols;
+  CrsMatrix::values_host_view_type vals;
+  for (LocalOrdinal r = 0; r < static_cast<LocalOrdinal>(K->getNodeNumRows()); ++r) {
+    K->getLocalRowView(r, cols, vals);
+    std::vector<double> v(vals.extent(0));
+    for (std::size_t e = 0; e < v.size(); ++e) v[e] = 0.37 * vals(e) + 1.1;
+    B->replaceLocalValues(r, cols, CrsMatrix::values_host_view_type(v.data(), v.size()));
+  }
+  B->fillComplete(K->getDomainMap(), K->getRangeMap());
+  const double a = 1.0, b = -1234.567;
+  const auto shared = matrixSum(a, *K, b, *B);
+  EXPECT_EQ(shared->getCrsGraph().get(), K->getCrsGraph().get()) << "a graph of its own";
+  const auto added = Tpetra::MatrixMatrix::add(a, false, *K, b, false, *B);
+  // B on a graph of its own: matrixSum falls back to MatrixMatrix::add.
+  const auto Bcopy = Tpetra::MatrixMatrix::add(1.0, false, *B, 0.0, false, *B);  // B's values, a new graph
+  const auto fallback = matrixSum(a, *K, b, *Bcopy);
+  EXPECT_NE(fallback->getCrsGraph().get(), K->getCrsGraph().get());
+  auto entries = [](const CrsMatrix& A, GlobalOrdinal row) {
+    const std::size_t n = A.getNumEntriesInGlobalRow(row);
+    CrsMatrix::nonconst_global_inds_host_view_type c("c", n);
+    CrsMatrix::nonconst_values_host_view_type v("v", n);
+    std::size_t got = 0;
+    A.getGlobalRowCopy(row, c, v, got);
+    std::map<GlobalOrdinal, double> m;
+    for (std::size_t e = 0; e < got; ++e) m[c(e)] += v(e);
+    return m;
+  };
+  const auto map = K->getRowMap();
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+    const GlobalOrdinal g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    const auto want = entries(*added, g);
+    EXPECT_EQ(entries(*shared, g), want) << "row " << g;
+    EXPECT_EQ(entries(*fallback, g), want) << "row " << g;
+  }
 }

@@ -353,6 +353,8 @@ void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<i
 void DistributedDirectSolver::factor(bool allowNullPivots) {
   Teuchos::Time timer("factor", true);
   Impl& m = *impl_;
+  TEUCHOS_TEST_FOR_EXCEPTION(m.A.is_null(), std::logic_error,
+                             name_ << ": factor() again after the count released its matrix");
   const auto comm = m.A->getComm();
   if (m.started) {  // a second factor() starts afresh
     m.call(-2);
@@ -360,6 +362,7 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   }
   m.number();
   m.triplets();
+  if (releaseMatrix_) m.A = m.B = Teuchos::null;  // the triplets hold the values from here
   DMUMPS_STRUC_C& id = m.id;
   id = DMUMPS_STRUC_C{};
   id.par = 1;  // the host works too
@@ -525,11 +528,11 @@ int ranksOnNode(const Teuchos::Comm<int>& comm) {
 namespace {
 /// The inertia from a count-only factorisation `f` (distributedInertia):
 /// METIS's nested dissection, MUMPS's failure returned, not thrown.
-SparseInertia countPivots(DistributedDirectSolver& f) {
+SparseInertia countPivots(DistributedDirectSolver& f, bool releaseMatrix = false) {
   SparseInertia out;
   out.method = "MUMPS multifrontal L D L^T";
   f.setOrdering(DistributedDirectSolver::Ordering::NestedDissection);
-  f.setPivotsOnly(true);  // the signs of the pivots are the count: no factor is kept
+  f.setPivotsOnly(true, releaseMatrix);  // the signs of the pivots are the count: no factor is kept
   try {
     f.factor(/*allowNullPivots*/ true);
   } catch (const NumericalError& e) {
@@ -547,6 +550,11 @@ SparseInertia countPivots(DistributedDirectSolver& f) {
 SparseInertia distributedInertia(const CrsMatrix& A) {
   DistributedDirectSolver f(Teuchos::rcpFromRef(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
   return countPivots(f);
+}
+
+SparseInertia distributedInertia(Teuchos::RCP<const CrsMatrix> A) {
+  DistributedDirectSolver f(std::move(A), DistributedDirectSolver::Kind::Symmetric, "inertia");
+  return countPivots(f, /*releaseMatrix*/ true);
 }
 
 SparseInertia distributedInertia(const CrsMatrix& A, const CrsMatrix& B) {

@@ -289,8 +289,13 @@ SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::glob
 }  // namespace
 
 SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
+  return inertia(Teuchos::rcpFromRef(A), method);  // not owned: nothing is freed
+}
+
+SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method) {
+  const CrsMatrix& A = *owned;
   checkSquare(A, "A");
-  if (method == InertiaMethod::Multifrontal) return distributedInertia(A);
+  if (method == InertiaMethod::Multifrontal) return distributedInertia(std::move(owned));
   SparseInertia r;
   bool tooCostly = false;
   double upperEntries = 0.0;
@@ -312,7 +317,7 @@ SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
     const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries);
-    return refused.failure.empty() ? distributedInertia(A) : refused;
+    return refused.failure.empty() ? distributedInertia(std::move(owned)) : refused;
   }
   return broadcast(*A.getComm(), r);
 }

@@ -7,6 +7,7 @@
 #include <Tpetra_Vector.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/SparseInertia.hpp"  // realEmbedding, stateMap
 
@@ -75,7 +76,7 @@ std::string SpectralTransform::factor() {
     return why;
   }
   const double w = std::sqrt(-s_);
-  auto A = Tpetra::MatrixMatrix::add(1.0, false, *sys_.K, -w * w, false, *sys_.M);
+  auto A = matrixSum(1.0, *sys_.K, -w * w, *sys_.M);
   CrsMatrix B(*sys_.G, Teuchos::Copy);
   B.resumeFill();
   B.scale(w);

@@ -9,6 +9,7 @@
 #include <TpetraExt_MatrixMatrix.hpp>
 
 #include "SpectralTransform.hpp"
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/SparseInertia.hpp"
@@ -72,7 +73,7 @@ SparseSturmCount detail::sturmCountBy(const SparseGyroscopicSystem& sys, double 
   // solver cuts in are at least its cluster tolerance 1e-6 wide).
   for (const double factor : {1.0, 1.0 + 1e-8, 1.0 - 1e-8}) {
     const double w = omega * factor;
-    const auto A = Tpetra::MatrixMatrix::add(1.0, false, *sys.K, -w * w, false, *sys.M);
+    const auto A = matrixSum(1.0, *sys.K, -w * w, *sys.M);
     SparseInertia in;
     if (gyroscopic) {
       const auto B = Tpetra::MatrixMatrix::add(w, false, *sys.G, 0.0, false, *sys.G);

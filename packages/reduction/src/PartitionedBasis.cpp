@@ -41,6 +41,7 @@
 
 #include "LoadPatterns.hpp"
 #include "SymmetricEigen.hpp"
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/Redistribution.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
@@ -113,7 +114,7 @@ Modes modesBelow(const CrsMatrix& K, const CrsMatrix& M, const Csr& Kc, const Cs
   Modes out;
   const int n = Kc.n;
   // How many: the inertia of K - lambda_cut M (Sylvester), one LDL^T.
-  const auto A = Tpetra::MatrixMatrix::add(1.0, false, K, -lambdaCut, false, M);
+  const auto A = matrixSum(1.0, K, -lambdaCut, M);
   const auto count = inertia(*A);
   if (!count.reliable())
     throw NumericalError(what + ": the Sturm count at the cut-off failed (" +

@@ -31,6 +31,7 @@
 #include "CopiedBasis.hpp"
 #include "MonolithicSum.hpp"
 #include "PartData.hpp"
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/BlasThreads.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -83,6 +84,13 @@ using Row = std::vector<std::pair<GlobalOrdinal, double>>;
 using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Modes per block of the error estimates' residuals (residualFlexibilityNorms):
+/// 8 columns (real and imaginary parts), each block of vectors of the
+/// largest substructure and of its factor's solve workspace ~10 such
+/// columns wide; wide enough for the solves' BLAS-3 kernels, and each block
+/// is one pass over the factor.
+constexpr int kResidualBlockModes = 4;
 
 /// The requested rows of a distributed matrix, on every rank (collective).
 std::map<GlobalOrdinal, Row> gatherRows(const CrsMatrix& T, const std::set<GlobalOrdinal>& rows) {
@@ -1285,137 +1293,140 @@ void SynthesizedStructure::releaseFlexibilities() {
 std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const StructureModes& modes,
                                                                    std::vector<std::vector<double>>* byPart) const {
   const auto& parts = structure_->parts();
-  const int nm = static_cast<int>(modes.result.modes.size()), nc = 2 * nm;  // real, imaginary per mode
+  const int nm = static_cast<int>(modes.result.modes.size());
   std::vector<double> correction(nm, 0.0);  // sum over substructures of Re(f^H K_a^-1 f)
   if (byPart) byPart->assign(static_cast<std::size_t>(nm), std::vector<double>(parts.size(), 0.0));
-  // The expanded modes, per substructure (collective).
-  std::vector<std::vector<Teuchos::RCP<MultiVector>>> u(nm);
-  for (int m = 0; m < nm; ++m) u[m] = expand(modes, m);
-  // Per part, the generalised forces of its residual on its 6 attachment
-  // coordinates (X^T r), which act on its parent's rows through H^T.
-  std::vector<std::vector<double>> toParent(parts.size());
-  // Children before parents (parts are in pre-order).
-  for (std::size_t kk = parts.size(); kk-- > 0;) {
-    const std::size_t k = kk;
-    const auto& p = *parts[k];
-    if (nm == 0) break;
-    const auto rmap = u[0][k]->getMap();
-    MultiVector U(rmap, nc), R(rmap, nc), MU(rmap, nc), GU(rmap, nc), KU(rmap, nc), tmp(rmap, nc);
-    for (int m = 0; m < nm; ++m)
-      for (int c = 0; c < 2; ++c) U.getVectorNonConst(2 * m + c)->update(1.0, *u[m][k]->getVector(c), 0.0);
-    GU.putScalar(0.0);
-    if (p.sub) {
-      // The substructure's matrices at these speeds (as projected in
-      // synthesize): G_s = Omega_s G1 (+ its own spin's G1 for a compound
-      // rotor), K_s = K + Omega_s^2 K2 (+ Omega_s omega KX1).
-      const auto& sub = *p.sub;
-      double frame = 0.0;
-      for (auto [i, ci] : p.frame.coefficients) frame += ci * modes.speeds.at(i);
-      sub.M()->apply(U, MU);
-      sub.K()->apply(U, KU);
-      // Its viscous damping D_s (dampers, Rayleigh: theory §13.1) acts with
-      // lambda like G: r = (lambda^2 M + lambda (G + D) + K) u.
-      if (!sub.D().is_null()) sub.D()->apply(U, GU);
-      if (p.frame.spinning && frame != 0.0) {
-        if (!sub.G1().is_null()) sub.G1()->apply(U, GU, Teuchos::NO_TRANS, frame, sub.D().is_null() ? 0.0 : 1.0);
-        if (!sub.K2().is_null()) {
-          sub.K2()->apply(U, tmp);
-          KU.update(frame * frame, tmp, 1.0);
+  // The modes a block at a time, and per substructure three blocks of
+  // vectors (the motion U, the residual R, one product or solution T): the
+  // residuals of every mode at once, with a block for each of M U, G U, K U,
+  // a temporary and the solution, were the error estimates' peak memory,
+  // 8 x 2 nm vectors of the largest substructure (doc/benchmarks.md, "The
+  // bar's memory"). The factor is read once per block in the solves.
+  for (int m0 = 0; m0 < nm; m0 += kResidualBlockModes) {
+    const int bm = std::min(kResidualBlockModes, nm - m0), nc = 2 * bm;  // real, imaginary per mode
+    // The expanded modes of the block, per substructure (collective).
+    std::vector<std::vector<Teuchos::RCP<MultiVector>>> u(bm);
+    for (int m = 0; m < bm; ++m) u[m] = expand(modes, m0 + m);
+    // Per part, the generalised forces of its residual on its 6 attachment
+    // coordinates (X^T r), which act on its parent's rows through H^T.
+    std::vector<std::vector<double>> toParent(parts.size());
+    // Children before parents (parts are in pre-order).
+    for (std::size_t kk = parts.size(); kk-- > 0;) {
+      const std::size_t k = kk;
+      const auto& p = *parts[k];
+      const auto rmap = u[0][k]->getMap();
+      MultiVector U(rmap, nc), R(rmap, nc), T(rmap, nc);
+      for (int m = 0; m < bm; ++m) {
+        for (int c = 0; c < 2; ++c) U.getVectorNonConst(2 * m + c)->update(1.0, *u[m][k]->getVector(c), 0.0);
+        u[m][k] = Teuchos::null;  // held in U from here
+      }
+      // r = (lambda^2 M + lambda G + K) u, real and imaginary parts, for
+      // u = a + i b and lambda = sigma + i omega, accumulated term by term
+      // from T = M U, then G U, then K U.
+      auto accumulate = [&](auto coefficient, bool first) {
+        for (int m = 0; m < bm; ++m) {
+          const std::complex<double> f = coefficient(modes.result.modes[m0 + m].lambda);
+          auto Ta = T.getVector(2 * m), Tb = T.getVector(2 * m + 1);
+          auto Ra = R.getVectorNonConst(2 * m), Rb = R.getVectorNonConst(2 * m + 1);
+          Ra->update(f.real(), *Ta, -f.imag(), *Tb, first ? 0.0 : 1.0);
+          Rb->update(f.imag(), *Ta, f.real(), *Tb, first ? 0.0 : 1.0);
         }
+      };
+      auto squared = [](std::complex<double> l) { return l * l; };
+      auto linear = [](std::complex<double> l) { return l; };
+      auto one = [](std::complex<double>) { return std::complex<double>(1.0, 0.0); };
+      if (p.sub) {
+        // The substructure's matrices at these speeds (as projected in
+        // synthesize): G_s = Omega_s G1 (+ its own spin's G1 for a compound
+        // rotor), K_s = K + Omega_s^2 K2 (+ Omega_s omega KX1).
+        const auto& sub = *p.sub;
+        double frame = 0.0;
+        for (auto [i, ci] : p.frame.coefficients) frame += ci * modes.speeds.at(i);
+        sub.M()->apply(U, T);
+        accumulate(squared, true);
+        // Its viscous damping D_s (dampers, Rayleigh: theory §13.1) acts with
+        // lambda like G: r = (lambda^2 M + lambda (G + D) + K) u.
+        double beta = 0.0;  // T holds nothing yet
+        if (!sub.D().is_null()) sub.D()->apply(U, T), beta = 1.0;
+        if (p.frame.spinning && frame != 0.0 && !sub.G1().is_null())
+          sub.G1()->apply(U, T, Teuchos::NO_TRANS, frame, beta), beta = 1.0;
+        if (p.compound) p.stationary->G1()->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(p.speedParam), beta), beta = 1.0;
+        if (beta != 0.0) accumulate(linear, false);
+        sub.K()->apply(U, T);
+        if (p.frame.spinning && frame != 0.0 && !sub.K2().is_null())
+          sub.K2()->apply(U, T, Teuchos::NO_TRANS, frame * frame, 1.0);
+        if (p.compound && !p.stationary->KX1().is_null())
+          p.stationary->KX1()->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(p.speedParam) * frame, 1.0);
+        accumulate(one, false);
+      } else {  // a rigid rotor: its equations on a (§11.5)
+        smallMatrix(rmap, p.rotor.M)->apply(U, T);
+        accumulate(squared, true);
+        double beta = 0.0;
+        for (const auto& [i, Gi] : p.rotor.G)
+          smallMatrix(rmap, Gi)->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(i), beta), beta = 1.0;
+        if (beta != 0.0) accumulate(linear, false);
+        beta = 0.0;
+        for (const auto& [i, j, Kij] : p.rotor.K)
+          smallMatrix(rmap, Kij)->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(i) * modes.speeds.at(j), beta),
+              beta = 1.0;
+        if (beta != 0.0) accumulate(one, false);
       }
-      if (p.compound) {
-        const auto& st = *p.stationary;
-        const double own = modes.speeds.at(p.speedParam);
-        st.G1()->apply(U, tmp);
-        GU.update(own, tmp, 1.0);
-        if (!st.KX1().is_null()) {
-          st.KX1()->apply(U, tmp);
-          KU.update(own * frame, tmp, 1.0);
+      // The children's forces on this substructure's rows, f = r + sum H^T g:
+      // the truth's equations on these rows in the floating-frame coordinates.
+      for (int c : p.children) {
+        if (toParent[c].empty()) continue;
+        for (std::size_t a = 0; a < parts[c]->Hrows.size() && a < 6; ++a)
+          for (auto [g, v] : parts[c]->Hrows[a]) {
+            const auto l = rmap->getLocalElement(g);
+            if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+            for (int col = 0; col < nc; ++col) R.sumIntoLocalValue(l, col, v * toParent[c][a * nc + col]);
+          }
+      }
+      // Its generalised forces on its attachment: g_a = sum_rows X(row, a) f(row).
+      if (p.parent >= 0 && !p.boolean()) {
+        std::vector<double> local(6 * nc, 0.0), global(6 * nc, 0.0);
+        const auto nodeOf = p.sub ? p.sub->dofs().rowNodes() : std::vector<std::int64_t>{};
+        for (std::size_t l = 0; l < rmap->getNodeNumElements(); ++l) {
+          const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
+          std::array<double, 6> x{};
+          if (p.sub) {
+            const auto& t = p.sub->dofs();
+            const auto nd = nodeOf[g];
+            x = detail::rigidRow({t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
+                                  t.coordinates[3 * nd + 2] - p.point[2]},
+                                 static_cast<int>(t.components[g]));
+          } else if (g < 6) {
+            x[g] = 1.0;
+          }
+          for (int a = 0; a < 6; ++a)
+            if (x[a] != 0.0)
+              for (int col = 0; col < nc; ++col) local[a * nc + col] += x[a] * R.getData(col)[l];
         }
+        Teuchos::reduceAll(*rmap->getComm(), Teuchos::REDUCE_SUM, 6 * nc, local.data(), global.data());
+        toParent[k] = global;
       }
-    } else {  // a rigid rotor: its equations on a (§11.5)
-      smallMatrix(rmap, p.rotor.M)->apply(U, MU);
-      KU.putScalar(0.0);
-      for (const auto& [i, Gi] : p.rotor.G) {
-        smallMatrix(rmap, Gi)->apply(U, tmp);
-        GU.update(modes.speeds.at(i), tmp, 1.0);
+      // A Full basis satisfies its own equations (with its children's forces)
+      // to the solver's accuracy; a rigid rotor has no deformation.
+      if (!p.sub || reports_[k].basis == "Full") continue;
+      Teuchos::Array<double> d(nc);
+      if (sharesPrototypeFactorisations(k)) {
+        // r^T K_c^-1 r = (Q^T r)^T K_p^-1 (Q^T r): the prototype's factor (§15.2).
+        const std::size_t q = structure_->prototypeOf(k);
+        const auto& proto = *parts[q]->sub;
+        const auto back = detail::turnedRows(R, proto.dofs(), proto.map(),
+                                             fem::Rotation::about(p.spec.copy->axis,
+                                                                  parts[q]->spec.copy->angle - p.spec.copy->angle));
+        MultiVector X(proto.map(), nc);
+        flexibility(q).solve(*back, X);
+        back->dot(X, d());
+      } else {
+        flexibility(k).solve(R, T);  // zero on the held rows; factored once per substructure
+        R.dot(T, d());
       }
-      for (const auto& [i, j, Kij] : p.rotor.K) {
-        smallMatrix(rmap, Kij)->apply(U, tmp);
-        KU.update(modes.speeds.at(i) * modes.speeds.at(j), tmp, 1.0);
-      }
+      for (int m = 0; m < bm; ++m) correction[m0 + m] += d[2 * m] + d[2 * m + 1];
+      if (byPart)
+        for (int m = 0; m < bm; ++m) (*byPart)[static_cast<std::size_t>(m0 + m)][k] = d[2 * m] + d[2 * m + 1];
     }
-    // r = (lambda^2 M + lambda G + K) u, real and imaginary parts, for
-    // u = a + i b and lambda = sigma + i omega.
-    for (int m = 0; m < nm; ++m) {
-      const auto l = modes.result.modes[m].lambda;
-      const auto l2 = l * l;
-      auto Ma = MU.getVector(2 * m), Mb = MU.getVector(2 * m + 1), Ga = GU.getVector(2 * m),
-           Gb = GU.getVector(2 * m + 1), Ka = KU.getVector(2 * m), Kb = KU.getVector(2 * m + 1);
-      auto Ra = R.getVectorNonConst(2 * m), Rb = R.getVectorNonConst(2 * m + 1);
-      Ra->update(l2.real(), *Ma, -l2.imag(), *Mb, 0.0);
-      Ra->update(l.real(), *Ga, -l.imag(), *Gb, 1.0);
-      Ra->update(1.0, *Ka, 1.0);
-      Rb->update(l2.imag(), *Ma, l2.real(), *Mb, 0.0);
-      Rb->update(l.imag(), *Ga, l.real(), *Gb, 1.0);
-      Rb->update(1.0, *Kb, 1.0);
-    }
-    // The children's forces on this substructure's rows, f = r + sum H^T g:
-    // the truth's equations on these rows in the floating-frame coordinates.
-    for (int c : p.children) {
-      if (toParent[c].empty()) continue;
-      for (std::size_t a = 0; a < parts[c]->Hrows.size() && a < 6; ++a)
-        for (auto [g, v] : parts[c]->Hrows[a]) {
-          const auto l = rmap->getLocalElement(g);
-          if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
-          for (int col = 0; col < nc; ++col) R.sumIntoLocalValue(l, col, v * toParent[c][a * nc + col]);
-        }
-    }
-    // Its generalised forces on its attachment: g_a = sum_rows X(row, a) f(row).
-    if (p.parent >= 0 && !p.boolean()) {
-      std::vector<double> local(6 * nc, 0.0), global(6 * nc, 0.0);
-      const auto nodeOf = p.sub ? p.sub->dofs().rowNodes() : std::vector<std::int64_t>{};
-      for (std::size_t l = 0; l < rmap->getNodeNumElements(); ++l) {
-        const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
-        std::array<double, 6> x{};
-        if (p.sub) {
-          const auto& t = p.sub->dofs();
-          const auto nd = nodeOf[g];
-          x = detail::rigidRow({t.coordinates[3 * nd] - p.point[0], t.coordinates[3 * nd + 1] - p.point[1],
-                                t.coordinates[3 * nd + 2] - p.point[2]},
-                               static_cast<int>(t.components[g]));
-        } else if (g < 6) {
-          x[g] = 1.0;
-        }
-        for (int a = 0; a < 6; ++a)
-          if (x[a] != 0.0)
-            for (int col = 0; col < nc; ++col) local[a * nc + col] += x[a] * R.getData(col)[l];
-      }
-      Teuchos::reduceAll(*rmap->getComm(), Teuchos::REDUCE_SUM, 6 * nc, local.data(), global.data());
-      toParent[k] = global;
-    }
-    // A Full basis satisfies its own equations (with its children's forces)
-    // to the solver's accuracy; a rigid rotor has no deformation.
-    if (!p.sub || reports_[k].basis == "Full") continue;
-    Teuchos::Array<double> d(nc);
-    if (sharesPrototypeFactorisations(k)) {
-      // r^T K_c^-1 r = (Q^T r)^T K_p^-1 (Q^T r): the prototype's factor (§15.2).
-      const std::size_t q = structure_->prototypeOf(k);
-      const auto& proto = *parts[q]->sub;
-      const auto back = detail::turnedRows(R, proto.dofs(), proto.map(),
-                                           fem::Rotation::about(p.spec.copy->axis,
-                                                                parts[q]->spec.copy->angle - p.spec.copy->angle));
-      MultiVector X(proto.map(), nc);
-      flexibility(q).solve(*back, X);
-      back->dot(X, d());
-    } else {
-      MultiVector X(rmap, nc);
-      flexibility(k).solve(R, X);  // zero on the held rows; factored once per substructure
-      R.dot(X, d());
-    }
-    for (int m = 0; m < nm; ++m) correction[m] += d[2 * m] + d[2 * m + 1];
-    if (byPart)
-      for (int m = 0; m < nm; ++m) (*byPart)[static_cast<std::size_t>(m)][k] = d[2 * m] + d[2 * m + 1];
   }
   return correction;
 }
@@ -1616,8 +1627,12 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
       }
       auto known = f.counts.find({src, omega});
       if (known == f.counts.end()) {
-        const auto A = Tpetra::MatrixMatrix::add(1.0, false, *f.heldK[src], -omega * omega, false, *f.heldM[src]);
-        known = f.counts.emplace(std::make_pair(src, omega), inertia(*A)).first;
+        // K - w^2 M handed over: freed once the count has its values (MUMPS's
+        // triplets), before the factorisation (the count was the bar's peak).
+        // (A named: a temporary RCP<CrsMatrix> converted in the call would
+        // hold it to the end of the statement.)
+        Teuchos::RCP<const CrsMatrix> A = matrixSum(1.0, *f.heldK[src], -omega * omega, *f.heldM[src]);
+        known = f.counts.emplace(std::make_pair(src, omega), inertia(std::move(A))).first;
       }
       const auto& count = known->second;
       for (double w : rep.frequencyEstimates) c.represented += w < omega;

@@ -86,8 +86,14 @@ public:
   /// factorisation needs only its working memory, MUMPS's out-of-core
   /// estimate INFO(17) (a third of the in-core INFO(15) on the rotor's K),
   /// and the memory guard holds that estimate against the budget. solve()
-  /// is then refused. Before factor().
-  void setPivotsOnly(bool only) { pivotsOnly_ = only; }
+  /// is then refused. Before factor(). With `releaseMatrix`, factor() lets
+  /// go of the matrices once MUMPS's triplets are made: a count given the
+  /// only reference to its matrix (distributedInertia(RCP)) frees it before
+  /// the factorisation's own peak, and cannot factor a second time.
+  void setPivotsOnly(bool only, bool releaseMatrix = false) {
+    pivotsOnly_ = only;
+    releaseMatrix_ = only && releaseMatrix;
+  }
 
   /// Analysis and numeric factorisation. Throws cms::NumericalError (the
   /// matrix's name, MUMPS's INFOG(1), INFOG(2) and meaning) if MUMPS fails,
@@ -131,6 +137,7 @@ private:
   double factorSeconds_ = 0.0, analysisSeconds_ = 0.0, factorEntries_ = 0.0, factorFlops_ = 0.0;
   Ordering ordering_ = Ordering::Automatic;
   bool pivotsOnly_ = false;
+  bool releaseMatrix_ = false;
   int orderingUsed_ = -1;  ///< INFOG(7) after factor()
   double memoryMaxMB_ = 0.0, memoryTotalMB_ = 0.0;
 };
@@ -144,6 +151,11 @@ int ranksOnNode(const Teuchos::Comm<int>& comm);
 /// kTinyPivot max |a_jj|; maxPivotRatio is not available from MUMPS (0).
 /// A MUMPS failure is returned in `failure`, not thrown. Collective.
 SparseInertia distributedInertia(const CrsMatrix& A);
+/// The same taking A over: a caller passing its only reference (a K - w^2 M
+/// formed for the count) has it freed once MUMPS's triplets are made, before
+/// the factorisation's working memory (the count was `cms modes`'s peak on
+/// the bar of doc/benchmarks.md).
+SparseInertia distributedInertia(Teuchos::RCP<const CrsMatrix> A);
 /// The same for the real embedding [[A, -B], [B, A]] of the Hermitian
 /// A + iB, its triplets built straight from A and B (no 2N-row matrix):
 /// counts of the embedding, each eigenvalue of A + iB twice (the caller

@@ -64,6 +64,10 @@ inline constexpr double kSimplicialInertiaFlops = 3e8;
 /// The inertia of the symmetric A (fill-complete; square, same row, range and
 /// domain maps). Collective.
 SparseInertia inertia(const CrsMatrix& A, InertiaMethod method = InertiaMethod::Auto);
+/// The same taking A over: given the only reference (a K - w^2 M formed for
+/// the count), A is freed as soon as the count has its own copy of the
+/// values (MUMPS's triplets, distributedInertia), before the factorisation.
+SparseInertia inertia(Teuchos::RCP<const CrsMatrix> A, InertiaMethod method = InertiaMethod::Auto);
 
 /// The inertia of the Hermitian H = A + iB (A symmetric, B skew, on the same
 /// maps) through its real symmetric embedding [[A, -B], [B, A]] of order 2n,
