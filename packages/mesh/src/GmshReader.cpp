@@ -3,7 +3,7 @@
 // loaded by Mesh.cpp (dlopen) on the first .msh or .geo read, so that a run
 // without a Gmsh mesh (an .inp deck, beams and point masses, Matrix Market
 // substructures) never maps libgmsh and OpenCASCADE: ~40 MiB of resident
-// pages and 36 of the program's 138 shared libraries (doc/benchmarks.md,
+// pages and 82 of the program's 138 shared libraries (doc/benchmarks.md,
 // "The bar's memory"). It links Gmsh and nothing of cms's but headers.
 #include <algorithm>
 #include <cstddef>
