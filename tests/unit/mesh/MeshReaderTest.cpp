@@ -15,6 +15,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <dlfcn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
@@ -513,16 +514,30 @@ TEST(GmshModule, MappedOnlyForAGmshMesh) {
 
 /// Run only in a fresh process with CMS_GMSH_READER set
 /// (GmshModule.ABadOverrideIsNamed): the module is loaded once per process.
+/// CMS_TEST_READER_ERROR is the text the error must hold.
 TEST(GmshModule, DISABLED_WithABadOverride) {
-  expectInputErrorWith([&] { cms::mesh::readGmsh(kMeshes + "bar_hex_small_v41_ascii.msh"); },
-                       {"CMS_GMSH_READER = /nonexistent/cms-gmsh-reader.so is not a readable file"});
+  const char* expected = std::getenv("CMS_TEST_READER_ERROR");
+  ASSERT_NE(expected, nullptr) << "run by GmshModule.ABadOverrideIsNamed only";
+  expectInputErrorWith([&] { cms::mesh::readGmsh(kMeshes + "bar_hex_small_v41_ascii.msh"); }, {expected});
 }
 
 TEST(GmshModule, ABadOverrideIsNamed) {
-  const std::string command = "env CMS_GMSH_READER=/nonexistent/cms-gmsh-reader.so '" +
-                              fs::read_symlink("/proc/self/exe").string() +
-                              "' --gtest_also_run_disabled_tests --gtest_filter=GmshModule.DISABLED_WithABadOverride";
-  EXPECT_EQ(std::system(command.c_str()), 0);
+  // Each of Mesh.cpp's refusals of a module: no such file, a file that is no
+  // shared library (dlopen fails), a library without the entry point (dlsym).
+  auto refused = [](const std::string& reader, const std::string& error) {
+    const std::string command = "env CMS_GMSH_READER='" + reader + "' CMS_TEST_READER_ERROR='" + error + "' '" +
+                                fs::read_symlink("/proc/self/exe").string() +
+                                "' --gtest_also_run_disabled_tests --gtest_filter=GmshModule.DISABLED_WithABadOverride";
+    return std::system(command.c_str()) == 0;
+  };
+  EXPECT_TRUE(refused("/nonexistent/cms-gmsh-reader.so",
+                      "CMS_GMSH_READER = /nonexistent/cms-gmsh-reader.so is not a readable file"));
+  const std::string notALibrary = kMeshes + "bar_hex_small_v22_ascii.msh";
+  EXPECT_TRUE(refused(notALibrary, "cannot load the Gmsh reader module " + notALibrary));
+  // A shared library of this machine's that has no cms_gmsh_read_msh: the C library.
+  Dl_info libc{};
+  ASSERT_NE(dladdr(reinterpret_cast<void*>(&std::malloc), &libc), 0);
+  EXPECT_TRUE(refused(libc.dli_fname, "has no cms_gmsh_read_msh"));
 }
 
 TEST(GeoMesherLookup, ABadOverrideIsNamed) {
