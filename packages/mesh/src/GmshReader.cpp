@@ -147,48 +147,35 @@ void readGroups(Mesh& mesh) {
   }
 }
 
-/// Reads a .msh through Gmsh (the file passed checkMshStructure); every
-/// failure is an InputError naming `source`.
+/// Reads a .msh through Gmsh (the file passed checkMshStructure). Gmsh's own
+/// errors while the session is open become InputErrors naming `source`;
+/// the rest (initialize, finalize) are turned into one at the entry point.
 Mesh readMsh(const std::string& path, const std::string& source, detail::GmshNodeCheck checkNodes) {
+  GmshSession session;
   try {
-    GmshSession session;
-    try {
-      gmsh::open(path);
-      Mesh mesh;
-      mesh.source = source;
-      readNodes(mesh);
-      checkNodes(mesh);
-      readGroups(mesh);
-      return mesh;
-    } catch (const InputError&) {
-      throw;
-    } catch (const std::bad_alloc&) {
-      throw;
-    } catch (const std::string& message) {  // how Gmsh 4.8 raises its errors
-      const std::string first = firstError();
-      throw InputError(source + ": " + (first.empty() ? message : first));
-    } catch (...) {
-      // Read Gmsh's message while the session that raised it is still open.
-      std::string message = firstError();
-      try {
-        if (message.empty()) gmsh::logger::getLastError(message);
-      } catch (...) {
-      }
-      if (!message.empty()) throw InputError(source + ": " + message);
-      throw;
-    }
+    gmsh::open(path);
+    Mesh mesh;
+    mesh.source = source;
+    readNodes(mesh);
+    checkNodes(mesh);
+    readGroups(mesh);
+    return mesh;
   } catch (const InputError&) {
     throw;
   } catch (const std::bad_alloc&) {
-    // Past the scan no count in the file drives an allocation: running out
-    // of memory is the machine's limit, not malformed input.
     throw;
-  } catch (const std::string& message) {  // from initialize / finalize
-    throw InputError(source + ": " + message);
-  } catch (const std::exception& e) {
-    throw InputError(source + ": Gmsh failed: " + e.what());
+  } catch (const std::string& message) {  // how Gmsh 4.8 raises its errors
+    const std::string first = firstError();
+    throw InputError(source + ": " + (first.empty() ? message : first));
   } catch (...) {
-    throw InputError(source + ": Gmsh failed to read the file");
+    // Read Gmsh's message while the session that raised it is still open.
+    std::string message = firstError();
+    try {
+      if (message.empty()) gmsh::logger::getLastError(message);
+    } catch (...) {
+    }
+    if (!message.empty()) throw InputError(source + ": " + message);
+    throw;
   }
 }
 
@@ -202,13 +189,18 @@ extern "C" int cms_gmsh_read_msh(const char* path, const char* source, cms::mesh
   try {
     *mesh = cms::mesh::readMsh(path, source, checkNodes);
     return kGmshReadOk;
-  } catch (const std::bad_alloc&) {
-    return kGmshReadOutOfMemory;
-  } catch (const std::exception& e) {  // InputError, and what readMsh turned into one
+  } catch (const cms::InputError& e) {
     *message = e.what();
-    return kGmshReadInputError;
+  } catch (const std::bad_alloc&) {
+    // Past the scan no count in the file drives an allocation: running out
+    // of memory is the machine's limit, not malformed input.
+    return kGmshReadOutOfMemory;
+  } catch (const std::string& m) {  // from initialize / finalize
+    *message = std::string(source) + ": " + m;
+  } catch (const std::exception& e) {
+    *message = std::string(source) + ": Gmsh failed: " + e.what();
   } catch (...) {
     *message = std::string(source) + ": Gmsh failed to read the file";
-    return kGmshReadInputError;
   }
+  return kGmshReadInputError;
 }
