@@ -73,13 +73,13 @@ SparseSturmCount detail::sturmCountBy(const SparseGyroscopicSystem& sys, double 
   // solver cuts in are at least its cluster tolerance 1e-6 wide).
   for (const double factor : {1.0, 1.0 + 1e-8, 1.0 - 1e-8}) {
     const double w = omega * factor;
-    const auto A = matrixSum(1.0, *sys.K, -w * w, *sys.M);
+    Teuchos::RCP<const CrsMatrix> A = matrixSum(1.0, *sys.K, -w * w, *sys.M);
     SparseInertia in;
     if (gyroscopic) {
       const auto B = Tpetra::MatrixMatrix::add(w, false, *sys.G, 0.0, false, *sys.G);
       in = inertia(*A, *B, method);
     } else {
-      in = inertia(*A, method);
+      in = inertia(std::move(A), method);  // handed over: freed once the count holds its values
     }
     out.omega = w;
     out.count = in.negative;

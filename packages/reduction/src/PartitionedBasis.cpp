@@ -114,8 +114,8 @@ Modes modesBelow(const CrsMatrix& K, const CrsMatrix& M, const Csr& Kc, const Cs
   Modes out;
   const int n = Kc.n;
   // How many: the inertia of K - lambda_cut M (Sylvester), one LDL^T.
-  const auto A = matrixSum(1.0, K, -lambdaCut, M);
-  const auto count = inertia(*A);
+  Teuchos::RCP<const CrsMatrix> A = matrixSum(1.0, K, -lambdaCut, M);
+  const auto count = inertia(std::move(A));  // handed over: freed once the count holds its values
   if (!count.reliable())
     throw NumericalError(what + ": the Sturm count at the cut-off failed (" +
                          (count.failure.empty() ? std::string("a pivot zero to rounding: the cut-off is one of its "

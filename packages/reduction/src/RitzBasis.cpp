@@ -15,6 +15,7 @@
 
 #include "HeldStiffness.hpp"
 #include "SymmetricEigen.hpp"
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/core/DistributedDirectSolver.hpp"
@@ -157,11 +158,12 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     if (kind == "Craig-Bampton")  // fixed-interface modes: the children's interfaces held too
       for (const auto& rows : boundary.interfaces) held.insert(held.end(), rows.begin(), rows.end());
     const double w = 2.0 * M_PI * cutoffHz;
-    const auto A = Tpetra::MatrixMatrix::add(1.0, false, *holdDofsScaled(*s.K(), held), -w * w, false,
-                                             *holdDofs(*s.M(), held, 0.0));
-    const auto count = useDistributedSolver(detail::DirectSolverScope::current(), *A, kDistributedAutoEntriesReduction)
-                           ? distributedInertia(*A)
-                           : inertia(*A);
+    Teuchos::RCP<const CrsMatrix> A =
+        matrixSum(1.0, *holdDofsScaled(*s.K(), held), -w * w, *holdDofs(*s.M(), held, 0.0));
+    // Handed over to the count: freed once it holds the values (MUMPS's triplets).
+    const bool distributed =
+        useDistributedSolver(detail::DirectSolverScope::current(), *A, kDistributedAutoEntriesReduction);
+    const auto count = distributed ? distributedInertia(std::move(A)) : inertia(std::move(A));
     if (!count.reliable())
       throw NumericalError(s.name() + ": the Sturm count at the cut-off " + std::to_string(cutoffHz) +
                            " Hz failed (" + (count.failure.empty() ? "a pivot zero to rounding: the cut-off is one "
