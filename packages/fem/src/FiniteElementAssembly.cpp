@@ -937,23 +937,38 @@ class Assembler {
         }
     }
     Teuchos::RCP<const CrsMatrix> Ksolve = holdFreeHinges();
+    const bool plainK = Ksolve.get() == out_.K.get();
     auto fSolve = Teuchos::rcp(new MultiVector(*f, Teuchos::Copy));
+    std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
     if (!heldRows.empty()) {
       // Held rows and columns replaced by the identity, held loads zeroed:
       // u1 = 0 there, the rest is the supported problem.
-      const std::vector<GlobalOrdinal> rows(heldRows.begin(), heldRows.end());
       Ksolve = holdDofsScaled(*Ksolve, rows);
       zeroHeldRows(*fSolve, rows);
     }
-    SparseDirectSolver solver(Ksolve, "CHOLMOD");
-    const auto outcome = solver.factor();
+    auto solver = std::make_shared<SparseDirectSolver>(Ksolve, "CHOLMOD");
+    const auto outcome = solver->factor();
     if (outcome != SparseDirectSolver::Outcome::Factored)
       throw NumericalError(model_.name + ": the centrifugal prestress needs a stiffness matrix that is "
                            "positive definite (a substructure restrained against rigid-body motion); "
-                           "CHOLMOD: " + solver.failure() +
+                           "CHOLMOD: " + solver->failure() +
                            ". Add boundary conditions or set \"Stress Stiffening\" to false");
     auto u1 = Teuchos::rcp(new MultiVector(ownedMap_, 1));
-    solver.solve(*fSolve, *u1);
+    solver->solve(*fSolve, *u1);
+    // K (with the attachment held) is what the reduction factors next
+    // (theory §11.7): offered to it, unless free hinges' springs made the
+    // matrix solved here a different one.
+    if (plainK && prestress_.keepFactor) {
+      std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+      auto kept = std::make_shared<HeldFactor>();
+      kept->solver = solver;
+      kept->matrix = Ksolve;
+      kept->base = out_.K;
+      kept->held = std::move(rows);
+      kept->bytes = 8.0 * solver->factorNonzeros();
+      out_.stiffnessFactor = std::move(kept);
+    }
     checkFreeHingesBalance(*u1, *f);
     if (!heldRows.empty()) recordReactions(*u1, *f, heldRows, heldDofs);
     return u1;

@@ -7,6 +7,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include <Teuchos_Array.hpp>
@@ -15,6 +16,8 @@ namespace cms::reduction::detail {
 
 namespace {
 thread_local std::string currentDirectSolver = "Auto";
+thread_local std::shared_ptr<const HeldFactor> offeredFactor;
+thread_local bool offerAdopted = false;
 }  // namespace
 
 DirectSolverScope::DirectSolverScope(std::string choice) : previous_(currentDirectSolver) {
@@ -23,14 +26,41 @@ DirectSolverScope::DirectSolverScope(std::string choice) : previous_(currentDire
 DirectSolverScope::~DirectSolverScope() { currentDirectSolver = previous_; }
 const std::string& DirectSolverScope::current() { return currentDirectSolver; }
 
+OfferedFactorScope::OfferedFactorScope(std::shared_ptr<const HeldFactor> factor)
+    : previous_(std::move(offeredFactor)), previousAdopted_(offerAdopted) {
+  offeredFactor = std::move(factor);
+  offerAdopted = false;
+}
+OfferedFactorScope::~OfferedFactorScope() {
+  offeredFactor = std::move(previous_);
+  offerAdopted = previousAdopted_;
+}
+bool OfferedFactorScope::adopted() const { return offerAdopted; }
+
 HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held)
     : held_(std::move(held)), name_(s.name()) {
+  // The prestress solve factored this very matrix when its K is this K
+  // (the same object: nothing changes its values after assembly) with the
+  // same rows held, and CHOLMOD is what would factor it here: adopt it.
+  std::vector<GlobalOrdinal> rows(held_);
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  const auto& offer = offeredFactor;
+  if (offer && offer->base.get() == s.K().get() && offer->held == rows &&
+      offer->solver->method() == "CHOLMOD" &&
+      !useDistributedSolver(DirectSolverScope::current(), *offer->matrix, kDistributedAutoEntriesReduction)) {
+    K_ = offer->matrix;
+    solver_ = offer->solver;
+    adopted_ = offerAdopted = true;
+    return;
+  }
   // Nothing held (a substructure clamped by its own supports): K itself,
   // not a copy (issue 18: one n x n matrix fewer, kept with the factor).
   K_ = held_.empty() ? s.K() : Teuchos::RCP<const CrsMatrix>(holdDofsScaled(*s.K(), held_));
   const bool mumps = useDistributedSolver(DirectSolverScope::current(), *K_, kDistributedAutoEntriesReduction);
-  solver_ = std::make_unique<SparseDirectSolver>(K_, mumps ? "MUMPS-LDLT" : "CHOLMOD");
-  if (solver_->factor() != SparseDirectSolver::Outcome::Factored)
+  auto solver = std::make_shared<SparseDirectSolver>(K_, mumps ? "MUMPS-LDLT" : "CHOLMOD");
+  solver_ = solver;
+  if (solver->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "
                          "positive definite: the substructure can still move as a rigid body (check its supports "
                          "and attachment) or about a hinge without Stiffness (a reduced basis needs a hinge "

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cms/core/HeldDofs.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
 #include "cms/substructure/Substructure.hpp"
@@ -35,6 +36,26 @@ private:
   std::string previous_;
 };
 
+/// A factorisation already made of K with some DOFs held (the prestress
+/// solve's: fem::AssembledMatrices::stiffnessFactor), offered to every
+/// HeldStiffness built on this thread while the scope lives: one whose
+/// substructure's K and held rows are the factor's adopts it instead of
+/// factoring again (theory §11.7). Like DirectSolverScope, it keeps the
+/// basis functions' signatures as they are.
+class OfferedFactorScope {
+public:
+  explicit OfferedFactorScope(std::shared_ptr<const HeldFactor> factor);
+  ~OfferedFactorScope();
+  OfferedFactorScope(const OfferedFactorScope&) = delete;
+  OfferedFactorScope& operator=(const OfferedFactorScope&) = delete;
+  /// Whether a HeldStiffness adopted the offer.
+  bool adopted() const;
+
+private:
+  std::shared_ptr<const HeldFactor> previous_;
+  bool previousAdopted_;
+};
+
 class HeldStiffness {
 public:
   /// Throws cms::NumericalError naming the substructure when K with `held`
@@ -46,12 +67,15 @@ public:
   Teuchos::RCP<const CrsMatrix> matrix() const { return K_; }
   /// The SparseDirectSolver method that factored it: "CHOLMOD" or "MUMPS-LDLT".
   const std::string& method() const { return solver_->method(); }
+  /// Whether it adopted an offered factorisation (OfferedFactorScope).
+  bool adopted() const { return adopted_; }
 
 private:
   std::vector<GlobalOrdinal> held_;
   std::string name_;
   Teuchos::RCP<const CrsMatrix> K_;
-  std::unique_ptr<SparseDirectSolver> solver_;
+  std::shared_ptr<const SparseDirectSolver> solver_;
+  bool adopted_ = false;
 };
 
 /// fixedInterfaceModes with an existing factorisation of K with the held

@@ -143,6 +143,7 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
   const std::string kind = p.get<std::string>("Basis");
   // Every held-stiffness factorisation below (detail::HeldStiffness) by this choice.
   const detail::DirectSolverScope directSolver(p.get<std::string>("Direct Solver"));
+  const detail::OfferedFactorScope offered(boundary.stiffnessFactor);
   int vectors = p.get<int>("Vectors");
   CMS_INPUT_CHECK(vectors < 0, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " must be >= 0");
   const long long freeRows = s.dofs().rows() - static_cast<long long>(boundary.held.size());
@@ -224,6 +225,7 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                               p.get<double>("Dependence Tolerance"));
   }
   basis.kind = kind;
+  basis.adoptedFactor = offered.adopted();
   if (below >= 0) {
     std::ostringstream os;
     os << "cut-off " << cutoffHz << " Hz: " << below << " of its modes below it (Sturm count), " << basis.size()

@@ -172,8 +172,12 @@ long long DofTable::row(std::int64_t node, Component c) const {
 
 Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel& model,
                                                   const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                                  const fem::PrestressConditions& prestress) {
-  fem::AssembledMatrices a = fem::assemble(model, comm, prestress);
+                                                  const fem::PrestressConditions& prestress,
+                                                  std::shared_ptr<const HeldFactor>* stiffnessFactor) {
+  fem::PrestressConditions conditions = prestress;
+  conditions.keepFactor = stiffnessFactor != nullptr;
+  fem::AssembledMatrices a = fem::assemble(model, comm, conditions);
+  if (stiffnessFactor != nullptr) *stiffnessFactor = std::move(a.stiffnessFactor);
   Substructure s;
   s.name_ = model.name;
   s.map_ = a.map;

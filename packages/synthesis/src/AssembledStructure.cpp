@@ -20,6 +20,7 @@
 #include "PartData.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
+#include "cms/core/PeakMemory.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/fem/LumpedElements.hpp"
 
@@ -463,7 +464,7 @@ void buildRigidRotor(Part& p, Part& parent) {
 // prestress holds its attachment and carries its children's reactions
 // (§11.4), which is why parts are assembled leaves first. A compound rotor
 // is assembled a second time in its own stationary frame. Collective.
-void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm, bool keepFactor) {
   fem::FiniteElementModel model = *p.spec.model;
   model.name = p.spec.name;
   if (p.frame.spinning)
@@ -474,7 +475,8 @@ void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
     for (const auto& h : p.heldDofs) pc.held.push_back({h.node, h.component, 0.0});
     pc.loads = p.childLoads;
   }
-  p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+  p.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc,
+                                                             keepFactor ? &p.stiffnessFactor : nullptr);
   if (p.compound) {
     fem::FiniteElementModel own = *p.spec.model;
     own.name = p.spec.name;
@@ -643,6 +645,7 @@ int solveFamilyPrestress(const AssembledStructure& out, const std::vector<std::p
     auto v = ur.getData(0);
     pc.displacement.assign(v.begin(), v.end());
     q.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
+    q.stiffnessFactor.reset();  // a new K object: the reduction factors it itself
     q.prestressSolvedGlobally = true;
     ++count;
   }
@@ -702,10 +705,24 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
   for (auto& p : parts)                                     // 4.
     if (p->spec.kind == SubstructureKind::Rigid) buildRigidRotor(*p, *parts[p->parent]);
 
-  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {  // 5. leaves first
+  // 5. Leaves first. Each prestress solve's factorisation of K is kept for
+  // the part's reduction, which factors the same matrix (theory §11.7),
+  // while the kept ones total at most a quarter of the memory available
+  // now: they wait for the reductions, which run root first. A copy that
+  // its prototype's basis will be turned into is not reduced: none kept.
+  double keptBytes = 0.0, budget = availableMemoryBytes() / 4.0;
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, 1, &budget, &keptBytes);  // one decision on every rank
+  budget = keptBytes;
+  keptBytes = 0.0;
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
     Part& p = **it;
     if (p.spec.kind == SubstructureKind::Rigid) continue;
-    assemblePart(p, comm);
+    const bool copy = p.spec.copy && p.spec.copy->prototype != p.spec.name;
+    assemblePart(p, comm, !copy);
+    if (p.stiffnessFactor) {  // bytes: the same on every rank
+      if (keptBytes + p.stiffnessFactor->bytes > budget) p.stiffnessFactor.reset();
+      else keptBytes += p.stiffnessFactor->bytes;
+    }
     if (p.parent >= 0 && p.prestressed()) passReactionToParent(p, *parts[p.parent]);
   }
   if (out.free_ && parts.front()->prestressed()) checkFreeSpinBalances(*parts.front());

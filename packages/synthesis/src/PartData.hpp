@@ -75,6 +75,10 @@ struct AssembledStructure::Part {
   std::vector<detail::NodalCoefficient> heldDofs;
   std::vector<GlobalOrdinal> held;
   bool prestressSolvedGlobally = false;  ///< step 7 of assemble (Boolean interfaces)
+  /// Its prestress solve's factorisation of K with `held` held, kept for
+  /// its reduction (SynthesizedStructure::buildBases takes it and frees it
+  /// after the part's basis; null if none or not kept: theory §11.7).
+  std::shared_ptr<const HeldFactor> stiffnessFactor;
   /// Prestress loads per unit Omega^2 from its children (their reactions).
   std::vector<fem::PrestressConditions::NodalValue> childLoads;
   /// R only: 6 x 6 matrices on a = (u_P, theta_P), 7 x 7 with the spin

@@ -540,6 +540,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
     rep.dropped = bases_[k].dropped;
     rep.eigensolverReport = bases_[k].eigensolverReport;
     rep.seconds = bases_[k].seconds;
+    rep.adoptedPrestressFactor = bases_[k].adoptedFactor;
     rep.basisBytes = bases_[k].vectors.is_null()
                          ? 0.0
                          : 8.0 * static_cast<double>(bases_[k].vectors->getGlobalLength()) *
@@ -570,6 +571,11 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       }
   }
   const bool concurrent = std::any_of(owner.begin(), owner.end(), [](int o) { return o >= 0; });
+  // The prestress solves' factorisations kept for the reductions (theory
+  // §11.7): one reduced here, on its own distributed matrix, adopts its
+  // own; the rest (gathered onto one rank, turned, reused) are freed now.
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (reused[k] || turned[k] || owner[k] >= 0) parts[k]->stiffnessFactor.reset();
   if (concurrent) {
     const auto self = comm->split(rank, 0);
     // a. Every such substructure gathered onto its rank (collective).
@@ -656,7 +662,10 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       rep.notTurned = why;
     }
     if (owner[k] < 0) {
-      bases_[k] = reduction::buildRitzBasis(*p.sub, boundaryOf(k), reductions[k]);
+      auto boundary = boundaryOf(k);
+      boundary.stiffnessFactor = std::move(parts[k]->stiffnessFactor);  // the basis keeps it if it adopts it
+      parts[k]->stiffnessFactor.reset();
+      bases_[k] = reduction::buildRitzBasis(*p.sub, boundary, reductions[k]);
       if (!bases_[k].full && bases_[k].size() > 0)
         rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases_[k]);
     }

@@ -268,3 +268,55 @@ TEST(RitzBasis, StiffnessSingularToWorkingPrecisionIsRefused) {
     EXPECT_NE(std::string(e.what()).find("singular to working precision"), std::string::npos) << e.what();
   }
 }
+
+TEST(RitzBasis, AdoptsThePrestressFactorisationOfTheSameHeldStiffness) {
+  // A spinning cantilever held at its start node during the centrifugal
+  // prestress solve, as a child is at its attachment (theory §10.2): that
+  // solve factors K with those six rows held, which is the matrix every
+  // basis below factors (theory §11.7). Offered that factorisation, a basis
+  // adopts it and factors nothing; the basis is the one it makes alone.
+  fixtures::HubBoom hb;
+  fem::BeamSection sec{1e-3, 1e-7, 3e-7, 2e-7};
+  auto model = hb.frame(fixtures::segmentMesh({0, 0, 0}, {2, 0, 0}, 16), {7e10, 0.33, 2700}, sec, "blade");
+  model.spin = fem::SpinDefinition{fem::Spin{{0, 0, 1}, {-0.5, 0, 0}}, fem::SpinDefinition::Frame::Rotating, true};
+  fem::PrestressConditions pc;
+  for (int comp = 0; comp < 6; ++comp) pc.held.push_back({0, static_cast<fem::Component>(comp), 0.0});
+  std::shared_ptr<const HeldFactor> factor;
+  const auto sub = substructure::Substructure::fromFiniteElementModel(model, world(), pc, &factor);
+  ASSERT_TRUE(factor);
+  EXPECT_EQ(factor->base.get(), sub.K().get());
+  EXPECT_GT(factor->bytes, 0.0);
+  SubstructureBoundary plain;
+  for (int comp = 0; comp < 6; ++comp) plain.held.push_back(sub.dofs().row(0, static_cast<fem::Component>(comp)));
+  EXPECT_EQ(factor->held, plain.held);
+  SubstructureBoundary offered = plain;
+  offered.stiffnessFactor = factor;
+  // Both factorisations are CHOLMOD's of the same matrix with the same BLAS
+  // in one process, so the bases should agree to the bit; the estimates
+  // (Rayleigh-Ritz, stationary in the basis) are allowed 100 eps relative.
+  const double tol = 100 * std::numeric_limits<double>::epsilon();
+  for (const std::string kind : {"Admissible", "Modes", "Craig-Bampton"}) {
+    SCOPED_TRACE(kind);
+    const auto own = buildRitzBasis(sub, plain, params(kind, 6));
+    const auto adopted = buildRitzBasis(sub, offered, params(kind, 6));
+    EXPECT_FALSE(own.adoptedFactor);
+    EXPECT_TRUE(adopted.adoptedFactor);
+    const auto a = estimateFrequencies(sub, own), b = estimateFrequencies(sub, adopted);
+    ASSERT_EQ(a.size(), 6u);
+    ASSERT_EQ(b.size(), a.size());
+    for (std::size_t r = 0; r < a.size(); ++r) EXPECT_NEAR(b[r], a[r], tol * a[r]) << "mode " << r;
+  }
+  // Offered to a basis of other held rows (the six and one more), or of
+  // another substructure's K: not adopted, and that basis factors its own.
+  SubstructureBoundary more = offered;
+  more.held.push_back(sub.dofs().row(1, fem::Component::UX));
+  EXPECT_FALSE(buildRitzBasis(sub, more, params("Admissible", 6)).adoptedFactor);
+  const auto other = substructure::Substructure::fromFiniteElementModel(model, world(), pc);
+  EXPECT_FALSE(buildRitzBasis(other, offered, params("Admissible", 6)).adoptedFactor);
+  // Without a prestress solve there is nothing to hand over.
+  std::shared_ptr<const HeldFactor> none;
+  auto still = model;
+  still.spin.reset();
+  substructure::Substructure::fromFiniteElementModel(still, world(), {}, &none);
+  EXPECT_FALSE(none);
+}

@@ -5,6 +5,7 @@
 // a child held at its attachment, fixed-interface vectors; doc/theory.md §11).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "cms/core/TpetraTypes.hpp"
@@ -21,6 +22,25 @@ Teuchos::RCP<CrsMatrix> holdDofs(const CrsMatrix& A, const std::vector<GlobalOrd
 /// tells a definite matrix from one definite only by rounding (a unit
 /// diagonal beside entries of 1e16 would).
 Teuchos::RCP<CrsMatrix> holdDofsScaled(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows);
+
+class SparseDirectSolver;
+
+/// A factorisation of holdDofsScaled(*base, held) (or of *base itself when
+/// `held` is empty), kept by the layer that made it for a later one that
+/// needs the same matrix factored: the centrifugal prestress solve's K with
+/// a child's attachment held is the reduction's held stiffness (theory
+/// §10.2, §11.7), so the reduction need not factor it again (issue 18).
+/// A user checks `base` (the same matrix object, whose values nobody
+/// changes after assembly) and `held` (sorted, unique) before relying on it.
+struct HeldFactor {
+  std::shared_ptr<const SparseDirectSolver> solver;
+  Teuchos::RCP<const CrsMatrix> matrix;  ///< what `solver` factored
+  Teuchos::RCP<const CrsMatrix> base;    ///< the matrix before holding
+  std::vector<GlobalOrdinal> held;       ///< sorted, unique
+  /// Bytes the factorisation holds (its entries, 8 bytes each; 0 when the
+  /// solver does not report them), the same on every rank.
+  double bytes = 0.0;
+};
 
 /// Zero the held rows of every column of X (owned rows only).
 void zeroHeldRows(MultiVector& X, const std::vector<GlobalOrdinal>& rows);

@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
+#include "cms/core/HeldDofs.hpp"
 #include "cms/core/TpetraTypes.hpp"
 #include "cms/fem/FiniteElementModel.hpp"
 
@@ -52,6 +54,9 @@ struct PrestressConditions {
   /// When not empty: u1 itself, one value per free DOF in layout order (the
   /// structure solved the coupled static problem); no solve, no reactions.
   std::vector<double> displacement;
+  /// Keep the solve's factorisation in AssembledMatrices::stiffnessFactor
+  /// for the reduction (otherwise it is freed as soon as u1 is known).
+  bool keepFactor = false;
   bool empty() const { return held.empty() && loads.empty() && displacement.empty(); }
 };
 
@@ -80,6 +85,10 @@ struct AssembledMatrices {
   std::vector<DependentDof> dependent;
   Teuchos::RCP<const MultiVector> f1;  ///< centrifugal load per Omega^2
   Teuchos::RCP<const MultiVector> u1;  ///< static response K u1 = f1 (prestress)
+  /// The prestress solve's factorisation of K with the held DOFs of the
+  /// PrestressConditions held (null without a prestress solve, or when free
+  /// hinges made it a different matrix), for the reduction to reuse.
+  std::shared_ptr<const HeldFactor> stiffnessFactor;
   /// Per held DOF of the PrestressConditions (same order; DOFs the model
   /// already fixes are skipped): the force the hold exerts on the
   /// substructure per unit Omega^2, r = K u1 - f1 - loads. Identical on every rank.

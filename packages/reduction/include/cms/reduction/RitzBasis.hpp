@@ -47,6 +47,11 @@ struct SubstructureBoundary {
   /// these DOFs (the transpose of the interface transform): the
   /// "interfaces" load pattern of admissible vectors (attachment modes).
   std::vector<std::vector<std::vector<std::pair<GlobalOrdinal, double>>>> interfaceLoads;
+  /// A factorisation of K with some rows held that another layer already
+  /// made (the prestress solve's), which the basis adopts instead of
+  /// factoring K again when its held rows are the same (theory §11.7);
+  /// null: none.
+  std::shared_ptr<const HeldFactor> stiffnessFactor;
 };
 
 struct RitzBasis {
@@ -58,6 +63,9 @@ struct RitzBasis {
   /// with their relative norm after projection: reported, never hidden.
   std::vector<std::string> dropped;
   double seconds = 0.0;
+  /// It factored nothing of its own: it adopted the boundary's
+  /// stiffnessFactor.
+  bool adoptedFactor = false;
   /// Anasazi's outcome for eigenvector bases ("" otherwise).
   std::string eigensolverReport;
   /// K with the attachment held, factored while the basis was built

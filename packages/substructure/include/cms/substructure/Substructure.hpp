@@ -46,9 +46,13 @@ public:
   /// Assembles the model (collective); see fem::assemble for errors. The
   /// prestress conditions hold a child's attachment and add its children's
   /// reactions during the centrifugal prestress solve (theory §10.2).
+  /// Given `stiffnessFactor`, the prestress solve's factorisation of K (with
+  /// the held DOFs held) is handed over there for the reduction to reuse
+  /// (null when there was none); otherwise it is freed here.
   static Substructure fromFiniteElementModel(const fem::FiniteElementModel& model,
                                              const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                             const fem::PrestressConditions& prestress = {});
+                                             const fem::PrestressConditions& prestress = {},
+                                             std::shared_ptr<const HeldFactor>* stiffnessFactor = nullptr);
   /// Reads a sidecar and its Matrix Market files (collective). Throws
   /// cms::InputError naming the file: unreadable or malformed matrix,
   /// dimensions that differ from the sidecar's DOF count, M or K missing,

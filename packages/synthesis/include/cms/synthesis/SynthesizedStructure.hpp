@@ -112,6 +112,9 @@ struct SubstructureReduction {
   std::vector<std::string> labels, dropped;
   std::string eigensolverReport;
   double seconds = 0.0;     ///< basis construction
+  /// Its basis factored no K of its own: it adopted the prestress solve's
+  /// factorisation of the same held stiffness (theory §11.7).
+  bool adoptedPrestressFactor = false;
   double basisBytes = 0.0;  ///< its vectors' storage (rows x columns x 8; 0 for Full and R)
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
   /// held (rad/s): the paper's truncation guide. Empty for Full and R.
