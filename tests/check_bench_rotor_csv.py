@@ -42,6 +42,8 @@ def main():
             # The parts are the pipeline's wall times, printed with 6 digits.
             if not pipeline > 0 or abs(parts - pipeline) > 1e-5 * pipeline:
                 problems.append(f"{tag}: bases + synthesis + solve = {parts}, pipeline {pipeline}")
+            if not float(r["truth_s"]) > 0 or not float(r["pipeline_over_truth"]) > 0:
+                problems.append(f"{tag}: no truth time or ratio (truth_s {r['truth_s']})")
             err = float(r["max_rel_error"])
             if not (math.isfinite(err) and err >= 0):
                 problems.append(f"{tag}: max_rel_error {err} (no comparison with the truth)")

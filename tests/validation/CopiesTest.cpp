@@ -149,8 +149,13 @@ TEST(Copies, ShareOneReductionAndKeepTheRotorsSymmetry) {
   const auto& r = s.reductions();
   ASSERT_EQ(r.size(), 5u);
   EXPECT_TRUE(r[1].turnedFrom.empty());
+  // The prototype's basis adopted its prestress solve's factorisation of
+  // its held stiffness (theory §11.4; the only part reduced, so on two
+  // ranks too); a turned copy factored nothing and says so.
+  EXPECT_TRUE(r[1].adoptedPrestressFactor);
   for (std::size_t k = 2; k < 5; ++k) {
     EXPECT_EQ(r[k].turnedFrom, "blade[1]") << r[k].name << ": " << r[k].notTurned;
+    EXPECT_FALSE(r[k].adoptedPrestressFactor) << r[k].name;
     EXPECT_EQ(r[k].labels, r[1].labels);
     EXPECT_EQ(r[k].frequencyEstimates, r[1].frequencyEstimates);
   }

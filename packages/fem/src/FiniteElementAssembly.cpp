@@ -956,7 +956,7 @@ class Assembler {
     auto u1 = Teuchos::rcp(new MultiVector(ownedMap_, 1));
     solver->solve(*fSolve, *u1);
     // K (with the attachment held) is what the reduction factors next
-    // (theory §11.7): offered to it, unless free hinges' springs made the
+    // (theory §11.4): offered to it, unless free hinges' springs made the
     // matrix solved here a different one.
     if (plainK && prestress_.keepFactor) {
       std::sort(rows.begin(), rows.end());

@@ -40,7 +40,7 @@ private:
 /// solve's: fem::AssembledMatrices::stiffnessFactor), offered to every
 /// HeldStiffness built on this thread while the scope lives: one whose
 /// substructure's K and held rows are the factor's adopts it instead of
-/// factoring again (theory §11.7). Like DirectSolverScope, it keeps the
+/// factoring again (theory §11.4). Like DirectSolverScope, it keeps the
 /// basis functions' signatures as they are.
 class OfferedFactorScope {
 public:

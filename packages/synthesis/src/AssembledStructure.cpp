@@ -706,7 +706,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     if (p->spec.kind == SubstructureKind::Rigid) buildRigidRotor(*p, *parts[p->parent]);
 
   // 5. Leaves first. Each prestress solve's factorisation of K is kept for
-  // the part's reduction, which factors the same matrix (theory §11.7),
+  // the part's reduction, which factors the same matrix (theory §11.4),
   // while the kept ones total at most a quarter of the memory available
   // now: they wait for the reductions, which run root first. A copy that
   // its prototype's basis will be turned into is not reduced: none kept.

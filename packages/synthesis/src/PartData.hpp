@@ -77,7 +77,7 @@ struct AssembledStructure::Part {
   bool prestressSolvedGlobally = false;  ///< step 7 of assemble (Boolean interfaces)
   /// Its prestress solve's factorisation of K with `held` held, kept for
   /// its reduction (SynthesizedStructure::buildBases takes it and frees it
-  /// after the part's basis; null if none or not kept: theory §11.7).
+  /// after the part's basis; null if none or not kept: theory §11.4).
   std::shared_ptr<const HeldFactor> stiffnessFactor;
   /// Prestress loads per unit Omega^2 from its children (their reactions).
   std::vector<fem::PrestressConditions::NodalValue> childLoads;

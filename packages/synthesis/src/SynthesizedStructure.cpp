@@ -572,7 +572,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
   }
   const bool concurrent = std::any_of(owner.begin(), owner.end(), [](int o) { return o >= 0; });
   // The prestress solves' factorisations kept for the reductions (theory
-  // §11.7): one reduced here, on its own distributed matrix, adopts its
+  // §11.4): one reduced here, on its own distributed matrix, adopts its
   // own; the rest (gathered onto one rank, turned, reused) are freed now.
   for (std::size_t k = 0; k < parts.size(); ++k)
     if (reused[k] || turned[k] || owner[k] >= 0) parts[k]->stiffnessFactor.reset();
@@ -656,6 +656,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
         bases_[k] = std::move(*b);
         report(k);
         rep.turnedFrom = parts[q]->spec.name;
+        rep.adoptedPrestressFactor = false;  // its prototype's flag came with the basis: it factored nothing
         rep.frequencyEstimates = reports_[q].frequencyEstimates;  // the same reduced K and M
         continue;
       }

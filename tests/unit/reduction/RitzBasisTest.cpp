@@ -273,7 +273,7 @@ TEST(RitzBasis, AdoptsThePrestressFactorisationOfTheSameHeldStiffness) {
   // A spinning cantilever held at its start node during the centrifugal
   // prestress solve, as a child is at its attachment (theory §10.2): that
   // solve factors K with those six rows held, which is the matrix every
-  // basis below factors (theory §11.7). Offered that factorisation, a basis
+  // basis below factors (theory §11.4). Offered that factorisation, a basis
   // adopts it and factors nothing; the basis is the one it makes alone.
   fixtures::HubBoom hb;
   fem::BeamSection sec{1e-3, 1e-7, 3e-7, 2e-7};

@@ -29,7 +29,7 @@ class SparseDirectSolver;
 /// `held` is empty), kept by the layer that made it for a later one that
 /// needs the same matrix factored: the centrifugal prestress solve's K with
 /// a child's attachment held is the reduction's held stiffness (theory
-/// §10.2, §11.7), so the reduction need not factor it again (issue 18).
+/// §10.2, §11.4), so the reduction need not factor it again (issue 18).
 /// A user checks `base` (the same matrix object, whose values nobody
 /// changes after assembly) and `held` (sorted, unique) before relying on it.
 struct HeldFactor {

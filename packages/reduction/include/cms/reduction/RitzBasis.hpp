@@ -49,7 +49,7 @@ struct SubstructureBoundary {
   std::vector<std::vector<std::vector<std::pair<GlobalOrdinal, double>>>> interfaceLoads;
   /// A factorisation of K with some rows held that another layer already
   /// made (the prestress solve's), which the basis adopts instead of
-  /// factoring K again when its held rows are the same (theory §11.7);
+  /// factoring K again when its held rows are the same (theory §11.4);
   /// null: none.
   std::shared_ptr<const HeldFactor> stiffnessFactor;
 };

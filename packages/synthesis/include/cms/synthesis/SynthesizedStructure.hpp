@@ -113,7 +113,7 @@ struct SubstructureReduction {
   std::string eigensolverReport;
   double seconds = 0.0;     ///< basis construction
   /// Its basis factored no K of its own: it adopted the prestress solve's
-  /// factorisation of the same held stiffness (theory §11.7).
+  /// factorisation of the same held stiffness (theory §11.4).
   bool adoptedPrestressFactor = false;
   double basisBytes = 0.0;  ///< its vectors' storage (rows x columns x 8; 0 for Full and R)
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
