@@ -42,24 +42,41 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
   return constraintModes(s, detail::HeldStiffness(s, held), unitRows);
 }
 
-RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
-                            double eigTol, double depTol) {
-  // A child attached through a single node or a Boolean interface moves
-  // with as many of these rows as it has attachment coordinates: each row is
-  // an interface coordinate and gets a unit constraint mode. A distributing
-  // (RigidFit, RBE3-like) interface has many rows but only the 6 fitted
-  // coordinates a = H u: its constraint modes are the minimum-energy shapes
-  // with H u = e_i, whose span is K^-1 H^T (doc/theory.md §11.3), i.e. the
-  // static shapes under the child's 6 attachment loads, not one per row.
+namespace {
+// A child attached through a single node or a Boolean interface moves
+// with as many of these rows as it has attachment coordinates: each row is
+// an interface coordinate and gets a unit constraint mode. A distributing
+// (RigidFit, RBE3-like) interface has many rows but only the 6 fitted
+// coordinates a = H u: its constraint modes are the minimum-energy shapes
+// with H u = e_i, whose span is K^-1 H^T (doc/theory.md §11.3), i.e. the
+// static shapes under the child's 6 attachment loads, not one per row.
+std::set<GlobalOrdinal> pointInterfaceRows(const SubstructureBoundary& boundary, std::vector<std::size_t>* distributing) {
   std::set<GlobalOrdinal> interface;
-  std::vector<std::size_t> distributing;
   for (std::size_t c = 0; c < boundary.interfaces.size(); ++c) {
     const auto& rows = boundary.interfaces[c];
     const std::size_t patterns = c < boundary.interfaceLoads.size() ? boundary.interfaceLoads[c].size() : rows.size();
-    if (patterns < rows.size()) distributing.push_back(c);
-    else interface.insert(rows.begin(), rows.end());
+    if (patterns < rows.size()) {
+      if (distributing) distributing->push_back(c);
+    } else {
+      interface.insert(rows.begin(), rows.end());
+    }
   }
   for (GlobalOrdinal g : boundary.held) interface.erase(g);
+  return interface;
+}
+}  // namespace
+
+std::vector<GlobalOrdinal> craigBamptonHeldRows(const SubstructureBoundary& boundary) {
+  const auto interface = pointInterfaceRows(boundary, nullptr);
+  std::set<GlobalOrdinal> all(boundary.held.begin(), boundary.held.end());
+  all.insert(interface.begin(), interface.end());
+  return {all.begin(), all.end()};
+}
+
+RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
+                            double eigTol, double depTol) {
+  std::vector<std::size_t> distributing;
+  const std::set<GlobalOrdinal> interface = pointInterfaceRows(boundary, &distributing);
   std::vector<GlobalOrdinal> heldAll(boundary.held);
   heldAll.insert(heldAll.end(), interface.begin(), interface.end());
 

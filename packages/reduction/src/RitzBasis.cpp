@@ -131,6 +131,29 @@ void appendOrthonormal(const CrsMatrix& M, const MultiVector& candidates, const 
   basis.vectors = V;
 }
 
+bool adoptsStiffnessFactor(const substructure::Substructure& s, const SubstructureBoundary& boundary,
+                           const Teuchos::ParameterList& params) {
+  const auto& f = boundary.stiffnessFactor;
+  if (!f || f->base.get() != s.K().get()) return false;
+  Teuchos::ParameterList p(params);
+  try {
+    p.validateParametersAndSetDefaults(*validParameters());
+  } catch (const std::exception&) {
+    return false;  // buildRitzBasis refuses them, naming the key
+  }
+  const std::string kind = p.get<std::string>("Basis");
+  std::vector<GlobalOrdinal> held;
+  if (kind == "Admissible" || kind == "Modes") held = boundary.held;
+  else if (kind == "Craig-Bampton" || kind == "Guyan") held = craigBamptonHeldRows(boundary);
+  else return false;  // Full factors nothing; Polynomial and Partitioned factor other matrices
+  std::sort(held.begin(), held.end());
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+  // A cut-off's Sturm count would run while the factor is resident.
+  const double cutoff = p.get<double>("Cutoff Frequency");
+  return held == f->held && !(cutoff > 0.0) && f->solver->method() == "CHOLMOD" &&
+         !useDistributedSolver(p.get<std::string>("Direct Solver"), *f->matrix, kDistributedAutoEntriesReduction);
+}
+
 RitzBasis buildRitzBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary,
                          const Teuchos::ParameterList& params) {
   const auto t0 = std::chrono::steady_clock::now();

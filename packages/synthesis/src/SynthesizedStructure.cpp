@@ -527,6 +527,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       if (parts[k]->sub && Teuchos::haveSameValuesSorted(previous->reductionLists_[k], reductions[k])) {
         bases_[k] = previous->bases_[k];
         reports_[k] = previous->reports_[k];
+        reports_[k].adoptedPrestressFactor = false;  // nothing factored or adopted by this synthesis
         reused[k] = true;
       }
   auto boundaryOf = [&](std::size_t k) { return substructureBoundary(parts, k); };
@@ -666,6 +667,8 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       auto boundary = boundaryOf(k);
       boundary.stiffnessFactor = std::move(parts[k]->stiffnessFactor);  // the basis keeps it if it adopts it
       parts[k]->stiffnessFactor.reset();
+      // One it will not adopt is freed before it factors its own.
+      if (!reduction::adoptsStiffnessFactor(*p.sub, boundary, reductions[k])) boundary.stiffnessFactor.reset();
       bases_[k] = reduction::buildRitzBasis(*p.sub, boundary, reductions[k]);
       if (!bases_[k].full && bases_[k].size() > 0)
         rep.frequencyEstimates = reduction::estimateFrequencies(*p.sub, bases_[k]);

@@ -306,6 +306,23 @@ TEST(RitzBasis, AdoptsThePrestressFactorisationOfTheSameHeldStiffness) {
     ASSERT_EQ(b.size(), a.size());
     for (std::size_t r = 0; r < a.size(); ++r) EXPECT_NEAR(b[r], a[r], tol * a[r]) << "mode " << r;
   }
+  // Who would adopt it, asked before: the synthesis frees it for the others
+  // before they factor their own.
+  EXPECT_TRUE(adoptsStiffnessFactor(sub, offered, params("Admissible", 6)));
+  EXPECT_TRUE(adoptsStiffnessFactor(sub, offered, params("Modes", 6)));
+  EXPECT_TRUE(adoptsStiffnessFactor(sub, offered, params("Craig-Bampton", 6)));
+  EXPECT_FALSE(adoptsStiffnessFactor(sub, offered, params("Polynomial", 6)));
+  EXPECT_FALSE(adoptsStiffnessFactor(sub, offered, params("Full", 0)));
+  auto cut = params("Admissible", 6);
+  cut.set("Cutoff Frequency", 50.0);  // its Sturm count would run beside the factor
+  EXPECT_FALSE(adoptsStiffnessFactor(sub, offered, cut));
+  auto mumps = params("Admissible", 6);
+  mumps.set("Direct Solver", std::string("MUMPS"));
+  EXPECT_FALSE(adoptsStiffnessFactor(sub, offered, mumps));
+  SubstructureBoundary pointChild = offered;  // a child on one node: Craig-Bampton holds its rows too
+  pointChild.interfaces.push_back({sub.dofs().row(16, fem::Component::UX)});
+  EXPECT_FALSE(adoptsStiffnessFactor(sub, pointChild, params("Craig-Bampton", 6)));
+  EXPECT_TRUE(adoptsStiffnessFactor(sub, pointChild, params("Admissible", 6)));
   // Offered to a basis of other held rows (the six and one more), or of
   // another substructure's K: not adopted, and that basis factors its own.
   SubstructureBoundary more = offered;

@@ -37,8 +37,9 @@ struct HeldFactor {
   Teuchos::RCP<const CrsMatrix> matrix;  ///< what `solver` factored
   Teuchos::RCP<const CrsMatrix> base;    ///< the matrix before holding
   std::vector<GlobalOrdinal> held;       ///< sorted, unique
-  /// Bytes the factorisation holds (its entries, 8 bytes each; 0 when the
-  /// solver does not report them), the same on every rank.
+  /// Bytes it holds: the factor's entries (8 bytes each; none counted when
+  /// the solver does not report them) and `matrix` when it is a copy; the
+  /// same on every rank.
   double bytes = 0.0;
 };
 

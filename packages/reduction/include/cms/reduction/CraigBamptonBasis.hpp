@@ -22,6 +22,12 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
                                           const std::vector<GlobalOrdinal>& unitRows);
 
 /// Constraint modes first (one per interface row), then `modes` eigenvectors.
+/// The rows a Craig-Bampton (or Guyan) basis holds in its modes and
+/// factors K with: the attachment and every point or Boolean interface row
+/// (a distributing interface is represented by its 6 static load shapes
+/// instead), sorted and unique.
+std::vector<GlobalOrdinal> craigBamptonHeldRows(const SubstructureBoundary& boundary);
+
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
                             double eigensolverTolerance, double dependenceTolerance);
 

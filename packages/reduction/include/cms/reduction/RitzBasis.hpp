@@ -63,8 +63,8 @@ struct RitzBasis {
   /// with their relative norm after projection: reported, never hidden.
   std::vector<std::string> dropped;
   double seconds = 0.0;
-  /// It factored nothing of its own: it adopted the boundary's
-  /// stiffnessFactor.
+  /// Its held stiffness is the boundary's stiffnessFactor, adopted instead
+  /// of factored (a cut-off's Sturm count, if any, is still its own).
   bool adoptedFactor = false;
   /// Anasazi's outcome for eigenvector bases ("" otherwise).
   std::string eigensolverReport;
@@ -75,6 +75,15 @@ struct RitzBasis {
 
   int size() const;  ///< columns (full: the non-held DOF count)
 };
+
+/// Whether buildRitzBasis with these parameters would adopt
+/// boundary.stiffnessFactor (theory §11.4): a basis that factors K with
+/// the same rows held (Admissible, Modes, and Craig-Bampton or Guyan
+/// without point interfaces), by CHOLMOD, and counts no cut-off first. The
+/// caller frees the factor otherwise, before the basis factors its own.
+/// False for parameters buildRitzBasis would refuse. Collective.
+bool adoptsStiffnessFactor(const substructure::Substructure& s, const SubstructureBoundary& boundary,
+                           const Teuchos::ParameterList& params);
 
 /// "Reduction" parameters: Basis, Vectors, Load Patterns, Dependence Tolerance.
 Teuchos::RCP<const Teuchos::ParameterList> validParameters();

@@ -239,7 +239,11 @@ struct MovingHub {
 class SynthesizedStructure {
 public:
   /// Every substructure reduced by its own "Reduction" parameters
-  /// (`truth`: every basis Full). Collective.
+  /// (`truth`: every basis Full). Collective. The first synthesis of an
+  /// assembled structure takes the prestress factorisations it kept (theory
+  /// §11.4): its reductions adopt them, and every synthesis frees them, so a
+  /// later synthesis factors again (the same numbers, to rounding). Not to
+  /// be called on one AssembledStructure from two threads at once.
   static SynthesizedStructure synthesize(const AssembledStructure& structure, bool truth = false);
   /// One "Reduction" list per substructure (tree order, as parts()).
   /// With `previous` (a synthesis of the same assembled structure), the
