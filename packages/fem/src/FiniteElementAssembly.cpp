@@ -969,9 +969,9 @@ class Assembler {
       // L's entries, and the held copy of K when it is one (12 bytes an
       // entry, 8 a row): the same on every rank.
       kept->bytes = 8.0 * solver->factorNonzeros() +
-                    (Ksolve.get() == out_.K.get() ? 0.0
-                                                  : 12.0 * static_cast<double>(Ksolve->getGlobalNumEntries()) +
-                                                        8.0 * static_cast<double>(Ksolve->getGlobalNumRows()));
+                    (heldRows.empty() ? 0.0
+                                      : 12.0 * static_cast<double>(Ksolve->getGlobalNumEntries()) +
+                                            8.0 * static_cast<double>(Ksolve->getGlobalNumRows()));
       out_.stiffnessFactor = std::move(kept);
     }
     checkFreeHingesBalance(*u1, *f);

@@ -37,18 +37,19 @@ OfferedFactorScope::~OfferedFactorScope() {
 }
 bool OfferedFactorScope::adopted() const { return offerAdopted; }
 
+bool factorFits(const HeldFactor& f, const substructure::Substructure& s, std::vector<GlobalOrdinal> held,
+                const std::string& directSolver) {
+  std::sort(held.begin(), held.end());
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+  return f.base.get() == s.K().get() && f.held == held && f.solver->method() == "CHOLMOD" &&
+         !useDistributedSolver(directSolver, *f.matrix, kDistributedAutoEntriesReduction);
+}
+
 HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held)
     : held_(std::move(held)), name_(s.name()) {
-  // The prestress solve factored this very matrix when its K is this K
-  // (the same object: nothing changes its values after assembly) with the
-  // same rows held, and CHOLMOD is what would factor it here: adopt it.
-  std::vector<GlobalOrdinal> rows(held_);
-  std::sort(rows.begin(), rows.end());
-  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  // The prestress solve factored this very matrix: adopt it.
   const auto& offer = offeredFactor;
-  if (offer && offer->base.get() == s.K().get() && offer->held == rows &&
-      offer->solver->method() == "CHOLMOD" &&
-      !useDistributedSolver(DirectSolverScope::current(), *offer->matrix, kDistributedAutoEntriesReduction)) {
+  if (offer && factorFits(*offer, s, held_, DirectSolverScope::current())) {
     K_ = offer->matrix;
     solver_ = offer->solver;
     adopted_ = offerAdopted = true;

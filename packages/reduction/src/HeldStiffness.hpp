@@ -56,6 +56,14 @@ private:
   bool previousAdopted_;
 };
 
+/// Whether `f` factored what a HeldStiffness of `s` with `held` (any order,
+/// duplicates allowed) under the "Direct Solver" choice `directSolver`
+/// would factor: the same K object (nothing changes its values after
+/// assembly), the same set of held rows, and CHOLMOD, which that choice
+/// would pick here. Collective (the choice may look at the matrix's size).
+bool factorFits(const HeldFactor& f, const substructure::Substructure& s, std::vector<GlobalOrdinal> held,
+                const std::string& directSolver);
+
 class HeldStiffness {
 public:
   /// Throws cms::NumericalError naming the substructure when K with `held`

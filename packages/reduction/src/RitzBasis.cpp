@@ -134,7 +134,7 @@ void appendOrthonormal(const CrsMatrix& M, const MultiVector& candidates, const 
 bool adoptsStiffnessFactor(const substructure::Substructure& s, const SubstructureBoundary& boundary,
                            const Teuchos::ParameterList& params) {
   const auto& f = boundary.stiffnessFactor;
-  if (!f || f->base.get() != s.K().get()) return false;
+  if (!f) return false;
   Teuchos::ParameterList p(params);
   try {
     p.validateParametersAndSetDefaults(*validParameters());
@@ -146,12 +146,9 @@ bool adoptsStiffnessFactor(const substructure::Substructure& s, const Substructu
   if (kind == "Admissible" || kind == "Modes") held = boundary.held;
   else if (kind == "Craig-Bampton" || kind == "Guyan") held = craigBamptonHeldRows(boundary);
   else return false;  // Full factors nothing; Polynomial and Partitioned factor other matrices
-  std::sort(held.begin(), held.end());
-  held.erase(std::unique(held.begin(), held.end()), held.end());
   // A cut-off's Sturm count would run while the factor is resident.
-  const double cutoff = p.get<double>("Cutoff Frequency");
-  return held == f->held && !(cutoff > 0.0) && f->solver->method() == "CHOLMOD" &&
-         !useDistributedSolver(p.get<std::string>("Direct Solver"), *f->matrix, kDistributedAutoEntriesReduction);
+  return !(p.get<double>("Cutoff Frequency") > 0.0) &&
+         detail::factorFits(*f, s, std::move(held), p.get<std::string>("Direct Solver"));
 }
 
 RitzBasis buildRitzBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary,

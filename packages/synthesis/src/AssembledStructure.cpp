@@ -710,10 +710,9 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
   // while the kept ones total at most a quarter of the memory available
   // now: they wait for the reductions, which run root first. A copy that
   // its prototype's basis will be turned into is not reduced: none kept.
-  double keptBytes = 0.0, budget = availableMemoryBytes() / 4.0;
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, 1, &budget, &keptBytes);  // one decision on every rank
-  budget = keptBytes;
-  keptBytes = 0.0;
+  const double ownBudget = availableMemoryBytes() / 4.0;
+  double budget = 0.0, keptBytes = 0.0;
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, 1, &ownBudget, &budget);  // one decision on every rank
   for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
     Part& p = **it;
     if (p.spec.kind == SubstructureKind::Rigid) continue;
