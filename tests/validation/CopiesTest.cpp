@@ -11,6 +11,8 @@
 #include <string>
 
 #include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_LAPACK.hpp>
+#include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/DenseMatrix.hpp"
 #include "cms/analysis/TruncationStudy.hpp"
@@ -18,6 +20,7 @@
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
+#include "DenseOf.hpp"
 
 using namespace cms;
 using namespace cms::synthesis;
@@ -126,6 +129,92 @@ TEST(Copies, AreTurnedAboutTheParentsSpinAxisAndNamed) {
     EXPECT_NEAR(t.coordinates[1], 0.2 * s, 8 * eps);
   }
   EXPECT_EQ(a.prototypeOf(0), 0u);
+}
+
+TEST(Copies, TurnTheirPrototypesMatricesInsteadOfBeingAssembled) {
+  // The copies Copies made get blade[1]'s matrices, centrifugal load and
+  // prestress reactions turned (theory §15.2), with no assembly or prestress
+  // solve of their own, and the assembly says so. Each equals what the
+  // copy's own turned mesh assembles to: the same description with the
+  // copies' models cloned, which the assembly cannot vouch for and so
+  // assembles (and says why).
+  const auto d = scene::Scene::parse(copiedRotor(), "copies.yaml").structure.withCopies();
+  auto cloned = d;
+  for (auto& spec : cloned.substructures)
+    if (spec.copy && spec.copy->index > 0) spec.model = std::make_shared<fem::FiniteElementModel>(*spec.model);
+  const auto turned = AssembledStructure::assemble(d, world());
+  const auto own = AssembledStructure::assemble(cloned, world());
+  auto has = [](const std::vector<std::string>& notes, const std::string& text) {
+    int n = 0;
+    for (const auto& note : notes) n += note.find(text) != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(has(turned.notes(), "blade[2], blade[3], blade[4]: the matrices and centrifugal prestress of blade[1] "
+                                "turned (no assembly or prestress solve of their own)"), 1);
+  EXPECT_EQ(has(turned.notes(), "assembled on its own"), 0);
+  EXPECT_EQ(has(own.notes(), "assembled on its own, not turned from blade[1] (its model or the prototype's is not "
+                             "the one Copies made)"), 3);
+  // The blade's held stiffness condition number: the prestress u1 (and so
+  // KS1 and the reactions) of two solves differ by up to kappa eps.
+  const auto* proto = turned.assembled(1);
+  const auto held = turned.heldRows(1);
+  DenseMatrix K = fixtures::denseOf(*proto->K());
+  std::vector<int> keep;
+  for (int i = 0; i < K.numRows(); ++i)
+    if (std::find(held.begin(), held.end(), i) == held.end()) keep.push_back(i);
+  const int m = static_cast<int>(keep.size());
+  DenseMatrix Kf(m, m);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) Kf(i, j) = K(keep[i], keep[j]);
+  std::vector<double> w(static_cast<std::size_t>(m)), work(static_cast<std::size_t>(3 * m));
+  int info = 0;
+  Teuchos::LAPACK<int, double>().SYEV('N', 'U', m, Kf.values(), m, w.data(), work.data(), 3 * m, &info);
+  ASSERT_EQ(info, 0);
+  ASSERT_GT(w.front(), 0.0);
+  const double kappa = w.back() / w.front();
+  for (std::size_t k = 2; k <= 4; ++k) {
+    const auto* a = turned.assembled(k);
+    const auto* b = own.assembled(k);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->dofs().offsets, b->dofs().offsets);
+    EXPECT_EQ(a->dofs().coordinates, b->dofs().coordinates);
+    // Element matrices in element axes turned to the structure's, summed
+    // over at most two elements a node pair: their rounding and the turn's
+    // three-term sums stay within 100 eps of the matrix norm; with the
+    // prestress behind them, within 100 kappa eps.
+    struct Pair {
+      const char* name;
+      Teuchos::RCP<const CrsMatrix> a, b;
+      double tol;
+    };
+    for (const Pair& p : {Pair{"M", a->M(), b->M(), 100 * eps}, Pair{"K", a->K(), b->K(), 100 * eps},
+                          Pair{"G1", a->G1(), b->G1(), 100 * eps}, Pair{"KT1", a->KT1(), b->KT1(), 100 * eps},
+                          Pair{"KS1", a->KS1(), b->KS1(), 100 * kappa * eps}}) {
+      ASSERT_FALSE(p.a.is_null()) << p.name;
+      ASSERT_FALSE(p.b.is_null()) << p.name;
+      DenseMatrix D = fixtures::denseOf(*p.a);
+      const DenseMatrix B = fixtures::denseOf(*p.b);
+      D -= B;
+      EXPECT_LE(frobeniusNorm(D), p.tol * frobeniusNorm(B)) << a->name() << " " << p.name;
+    }
+    Teuchos::Array<double> nf(1), nd(1);
+    b->f1()->norm2(nf());
+    MultiVector df(a->map(), 1);
+    df.doImport(*b->f1(), Tpetra::Import<>(b->map(), a->map()), Tpetra::INSERT);
+    df.update(1.0, *a->f1(), -1.0);
+    df.norm2(nd());
+    EXPECT_LE(nd[0], 100 * eps * nf[0]) << a->name() << " f1";
+    const auto& ra = a->prestressReactions();
+    const auto& rb = b->prestressReactions();
+    ASSERT_EQ(ra.size(), rb.size());
+    double largest = 0.0;
+    for (const auto& r : rb) largest = std::max(largest, std::abs(r.value));
+    for (std::size_t i = 0; i < ra.size(); ++i) {
+      EXPECT_EQ(ra[i].node, rb[i].node);
+      EXPECT_EQ(ra[i].component, rb[i].component);
+      EXPECT_LE(std::abs(ra[i].value - rb[i].value), 100 * kappa * eps * largest) << a->name() << " reaction " << i;
+    }
+  }
 }
 
 TEST(Copies, TruthIsTheRotorWithItsBladesWrittenOut) {
@@ -244,6 +333,10 @@ TEST(Copies, ACopyThatIsNotThePrototypeTurnedIsReducedOnItsOwn) {
   EXPECT_EQ(r[2].turnedFrom, "blade[1]");
   EXPECT_TRUE(r[3].turnedFrom.empty());
   EXPECT_NE(r[3].notTurned.find("reduced M differs"), std::string::npos) << r[3].notTurned;
+  // Its matrices were its own: the assembly could not vouch for its model.
+  int assembledOwn = 0;
+  for (const auto& note : s.assembled().notes()) assembledOwn += note.find("blade[3]: assembled on its own") == 0;
+  EXPECT_EQ(assembledOwn, 1);
 }
 
 TEST(Copies, ItemsThatDoNotTurnWithTheCopyAreRefused) {

@@ -4,9 +4,13 @@
 // DOFs of each child, the centrifugal prestress leaves first with each
 // child's root reaction passed to its parent, and the rigid rotors' matrices.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include <Teuchos_Comm.hpp>
@@ -494,6 +498,104 @@ void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm, b
 /// coordinates a (F_a = -X^T r), passed to its parent through H^T when both
 /// spin in the same frame (an A on an immovable attachment: the support
 /// takes it).
+/// The order of step 5: leaves first (the reverse of tree order, parents
+/// first), except that a copy waits for its prototype and comes right
+/// after it, still before its parent (the prototype and its copies share
+/// a parent, or have parents that are copies of one another, placed the
+/// same way).
+std::vector<std::size_t> assemblyOrder(const AssembledStructure& out) {
+  const std::size_t n = out.numSubstructures();
+  std::vector<std::size_t> order;
+  std::vector<char> done(n, 0);
+  std::map<std::size_t, std::vector<std::size_t>> waiting;
+  for (std::size_t i = n; i-- > 0;) {
+    const std::size_t q = out.prototypeOf(i);
+    if (q != i && !done[q]) {
+      waiting[q].push_back(i);
+      continue;
+    }
+    order.push_back(i);
+    done[i] = 1;
+    for (std::size_t c : waiting[i]) order.push_back(c), done[c] = 1;
+    waiting.erase(i);
+  }
+  return order;
+}
+
+/// Each node's loads or holds as its two triples (translations, rotations).
+using NodalTriples = std::map<std::int64_t, std::array<double, 6>>;
+
+/// The copy `p` made from its prototype `q`'s matrices turned
+/// (Substructure::turned), when the copy is the prototype turned: the
+/// models withCopies made for both, neither a compound part, the same held
+/// DOFs (a set the turn maps onto itself) and the children's loads the
+/// prototype's turned, to 1e3 eps of the largest (the children are copies
+/// whose reactions were turned, then carried through the attachment's
+/// geometry: rounding only). False with the reason otherwise. Collective.
+bool turnCopy(Part& p, const Part& q, std::string& why) {
+  const auto& c = p.spec.copy;
+  const auto& cq = q.spec.copy;
+  if (!c || !cq || !p.spec.model || p.spec.model != c->model || q.spec.model != cq->model) {
+    why = "its model or the prototype's is not the one Copies made";
+    return false;
+  }
+  if (!q.sub || p.compound || q.compound) {
+    why = q.sub ? "a rotor in the stationary form inside a spinning frame" : "the prototype has no matrices";
+    return false;
+  }
+  const auto turn = fem::Rotation::about(c->axis, c->angle - cq->angle);
+  const double eps = std::numeric_limits<double>::epsilon();
+  // Held DOFs: the same (node, component) set, closed under the turn.
+  std::set<std::pair<std::int64_t, int>> held, heldq;
+  for (const auto& h : p.heldDofs) held.insert({h.node, static_cast<int>(h.component)});
+  for (const auto& h : q.heldDofs) heldq.insert({h.node, static_cast<int>(h.component)});
+  bool closed = held == heldq;
+  for (const auto& [node, comp] : held) {
+    const int base = comp < 3 ? 0 : 3;
+    for (int d = 0; d < 3 && closed; ++d)
+      closed = held.count({node, base + d}) || std::abs(turn.R[d][comp - base]) <= 16 * eps;
+  }
+  if (!closed) {
+    why = "its held DOFs are not the prototype's turned";
+    return false;
+  }
+  auto triples = [](const std::vector<fem::PrestressConditions::NodalValue>& loads) {
+    NodalTriples t;
+    for (const auto& l : loads) t[l.node][static_cast<std::size_t>(l.component)] += l.value;
+    return t;
+  };
+  const NodalTriples mine = triples(p.childLoads), theirs = triples(q.childLoads);
+  double largest = 0.0, off = 0.0;
+  for (const auto& [node, v] : theirs)
+    for (double x : v) largest = std::max(largest, std::abs(x));
+  for (const auto& [node, v] : mine)
+    if (!theirs.count(node))
+      for (double x : v) off = std::max(off, std::abs(x));
+  for (const auto& [node, v] : theirs) {
+    const auto it = mine.find(node);
+    for (int base : {0, 3})
+      for (int d = 0; d < 3; ++d) {
+        double turned = 0.0;
+        for (int e = 0; e < 3; ++e) turned += turn.R[d][e] * v[static_cast<std::size_t>(base + e)];
+        const double have = it == mine.end() ? 0.0 : it->second[static_cast<std::size_t>(base + d)];
+        off = std::max(off, std::abs(have - turned));
+      }
+  }
+  if (off > 1e3 * eps * largest) {
+    why = "its children's prestress loads are not the prototype's turned";
+    return false;
+  }
+  std::optional<fem::SpinDefinition> spin = p.spec.model->spin;
+  if (p.frame.spinning)
+    spin = fem::SpinDefinition{fem::Spin{p.frame.axis, p.frame.origin}, p.frame.kind, p.frame.stressStiffening};
+  fem::FiniteElementModel model = *p.spec.model;
+  model.name = p.spec.name;
+  auto s = substructure::Substructure::turned(*q.sub, model, spin, turn, c->origin, why);
+  if (!s) return false;
+  p.sub = std::move(*s);
+  return true;
+}
+
 void passReactionToParent(const Part& p, Part& parent) {
   if (parent.frame.coefficients != p.frame.coefficients) return;
   std::vector<double> Fa(p.H.size(), 0.0);
@@ -710,19 +812,39 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
   // while the kept ones total at most a quarter of the memory available
   // now: they wait for the reductions, which run root first. A copy that
   // its prototype's basis will be turned into is not reduced: none kept.
+  // A copy comes right after its prototype (still before its parent) and
+  // turns the prototype's matrices, load and reactions instead of being
+  // assembled and prestressed again (theory §15.2).
   const double ownBudget = availableMemoryBytes() / 4.0;
   double budget = 0.0, keptBytes = 0.0;
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, 1, &ownBudget, &budget);  // one decision on every rank
-  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
-    Part& p = **it;
+  std::map<std::size_t, std::set<std::size_t>> turnedCopies;  // prototype -> copies turned
+  for (std::size_t i : assemblyOrder(out)) {
+    Part& p = *parts[i];
     if (p.spec.kind == SubstructureKind::Rigid) continue;
-    const bool copy = p.spec.copy && p.spec.copy->prototype != p.spec.name;
-    assemblePart(p, comm, !copy);
+    const std::size_t q = out.prototypeOf(i);
+    std::string why;
+    if (q == i) {
+      assemblePart(p, comm, true);
+    } else if (turnCopy(p, *parts[q], why)) {
+      turnedCopies[q].insert(i);
+    } else {
+      assemblePart(p, comm, false);
+      out.notes_.push_back(p.spec.name + ": assembled on its own, not turned from " + parts[q]->spec.name + " (" +
+                           why + ")");
+    }
     if (p.stiffnessFactor) {  // bytes: the same on every rank
       if (keptBytes + p.stiffnessFactor->bytes > budget) p.stiffnessFactor.reset();
       else keptBytes += p.stiffnessFactor->bytes;
     }
     if (p.parent >= 0 && p.prestressed()) passReactionToParent(p, *parts[p.parent]);
+  }
+  for (const auto& [q, copies] : turnedCopies) {
+    std::string list;
+    for (std::size_t k : copies) list += (list.empty() ? "" : ", ") + parts[k]->spec.name;
+    out.notes_.push_back(list + ": the matrices" + (parts[q]->prestressed() ? " and centrifugal prestress" : "") +
+                         " of " + parts[q]->spec.name + " turned (no assembly" +
+                         (parts[q]->prestressed() ? " or prestress solve" : "") + " of their own)");
   }
   if (out.free_ && parts.front()->prestressed()) checkFreeSpinBalances(*parts.front());
 

@@ -50,49 +50,6 @@ Projection project(const CrsMatrix& A, const MultiVector& V) {
 
 }  // namespace
 
-Teuchos::RCP<MultiVector> turnedRows(const MultiVector& X, const substructure::DofTable& table,
-                                     const Teuchos::RCP<const Map>& toMap, const fem::Rotation& turn) {
-  const int ncols = static_cast<int>(X.getNumVectors());
-  const auto rowNode = table.rowNodes();
-  // 1. The rows of X each local row of the result reads: its node's
-  // translations (or rotations), which the turn mixes.
-  auto sources = [&](GlobalOrdinal g, long long r[3]) {
-    const int base = static_cast<int>(table.components[g]) < 3 ? 0 : 3;
-    for (int e = 0; e < 3; ++e) r[e] = table.row(rowNode[g], static_cast<fem::Component>(base + e));
-    return static_cast<int>(table.components[g]) - base;
-  };
-  std::vector<GlobalOrdinal> need;
-  const auto nlocal = toMap->getNodeNumElements();
-  for (std::size_t lr = 0; lr < nlocal; ++lr) {
-    long long r[3];
-    sources(toMap->getGlobalElement(static_cast<LocalOrdinal>(lr)), r);
-    for (long long v : r)
-      if (v >= 0) need.push_back(static_cast<GlobalOrdinal>(v));
-  }
-  std::sort(need.begin(), need.end());
-  need.erase(std::unique(need.begin(), need.end()), need.end());
-  auto needMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                      Teuchos::ArrayView<const GlobalOrdinal>(need), 0, toMap->getComm()));
-  MultiVector Xn(needMap, ncols);
-  Xn.doImport(X, Tpetra::Import<>(X.getMap(), needMap), Tpetra::INSERT);
-  // 2. (Q x)_(node, c) = sum_e R[c][e] x_(node, e), a fixed component (no
-  // row) being zero.
-  auto out = Teuchos::rcp(new MultiVector(toMap, ncols));
-  for (int j = 0; j < ncols; ++j) {
-    const auto src = Xn.getData(j);
-    auto dst = out->getDataNonConst(j);
-    for (std::size_t lr = 0; lr < nlocal; ++lr) {
-      long long r[3];
-      const int c = sources(toMap->getGlobalElement(static_cast<LocalOrdinal>(lr)), r);
-      double v = 0;
-      for (int e = 0; e < 3; ++e)
-        if (r[e] >= 0) v += turn.R[c][e] * src[needMap->getLocalElement(static_cast<GlobalOrdinal>(r[e]))];
-      dst[lr] = v;
-    }
-  }
-  return out;
-}
-
 std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure& prototype,
                                                 const reduction::RitzBasis& basis,
                                                 const substructure::Substructure& copy, const fem::Rotation& turn,

@@ -13,11 +13,7 @@
 
 namespace cms::synthesis::detail {
 
-/// Q X: the rows of X (a substructure with DOF table `table`) with every
-/// node's translations and rotations turned by `turn`, onto `toMap` (the
-/// rows of a substructure with the same table: a copy). Collective.
-Teuchos::RCP<MultiVector> turnedRows(const MultiVector& X, const substructure::DofTable& table,
-                                     const Teuchos::RCP<const Map>& toMap, const fem::Rotation& turn);
+using substructure::turnedRows;  // Q X (cms/substructure/Substructure.hpp)
 
 /// V_c = Q V_p, Q turning every node's translations and rotations by `turn`
 /// (the copy's placement relative to the prototype's). Exact when the copy

@@ -229,6 +229,7 @@ StructureDescription StructureDescription::withCopies() const {
                                << angle * 180 / M_PI << " degrees about the spin axis it would act along others: give "
                                << "it the same values in every direction normal to the spin axis, or do not copy it");
           c.model = fem::placedModel(*x.model, turn, origin);
+          c.copy->model = c.model;
         }
         if (c.spin) {
           c.spin->axis = turn.apply(x.spin->axis);

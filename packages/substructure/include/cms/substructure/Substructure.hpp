@@ -16,6 +16,7 @@
 #include "cms/core/TpetraTypes.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
 #include "cms/fem/FiniteElementModel.hpp"
+#include "cms/fem/RigidPlacement.hpp"
 
 namespace Teuchos { template <class T> class Comm; }
 
@@ -53,6 +54,22 @@ public:
                                              const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                                              const fem::PrestressConditions& prestress = {},
                                              std::shared_ptr<const HeldFactor>* stiffnessFactor = nullptr);
+  /// A copy made by "Copies: N" from its prototype, without assembling or
+  /// solving anything (doc/theory.md §15.2): every matrix Q A Q^T, the
+  /// centrifugal load and the prestress reactions Q f, Q turning each node's
+  /// translations and rotations by `turn` (the copy's placement relative to
+  /// the prototype's, about an axis through `origin`); the DOF table with
+  /// the copy `model`'s coordinates and node tags, `spin` the copy's.
+  /// Exact when the copy is the prototype turned about an axis its loads
+  /// and supports respect, which the caller vouches for (the copy's model
+  /// is the one StructureDescription::withCopies made). Returns nullopt
+  /// with the reason in `why` (the caller then assembles the copy) when
+  /// the copy's mesh or spin is not the prototype's turned, the prototype
+  /// has a stationary rotor's tilt stiffness, or a node's rows are not
+  /// whole on one rank. Collective; the same verdict on every rank.
+  static std::optional<Substructure> turned(const Substructure& prototype, const fem::FiniteElementModel& model,
+                                            const std::optional<fem::SpinDefinition>& spin,
+                                            const fem::Rotation& turn, const fem::Vec3& origin, std::string& why);
   /// Reads a sidecar and its Matrix Market files (collective). Throws
   /// cms::InputError naming the file: unreadable or malformed matrix,
   /// dimensions that differ from the sidecar's DOF count, M or K missing,
@@ -126,5 +143,11 @@ private:
   double mass_ = 0.0;
   std::vector<fem::PrestressConditions::NodalValue> reactions1_;
 };
+
+/// Q X: the rows of X (a substructure with DOF table `table`) with every
+/// node's translations and rotations turned by `turn`, onto `toMap` (the
+/// rows of a substructure with the same table: a copy). Collective.
+Teuchos::RCP<MultiVector> turnedRows(const MultiVector& X, const DofTable& table, const Teuchos::RCP<const Map>& toMap,
+                                     const fem::Rotation& turn);
 
 }  // namespace cms::substructure

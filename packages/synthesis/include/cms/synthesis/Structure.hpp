@@ -90,6 +90,10 @@ struct CopyPlacement {
   int count = 1;
   double angle = 0.0;     ///< rad, phase + 2 pi index / count
   fem::Vec3 axis{0, 0, 1}, origin{0, 0, 0};
+  /// The model withCopies made (the prototype's turned): while the copy's
+  /// model is still this one, the assembly turns the prototype's matrices
+  /// instead of assembling the copy's (theory §15.2).
+  std::shared_ptr<const fem::FiniteElementModel> model;
 };
 
 struct SubstructureSpec {
