@@ -593,6 +593,7 @@ bool turnCopy(Part& p, const Part& q, std::string& why) {
   auto s = substructure::Substructure::turned(*q.sub, model, spin, turn, c->origin, why);
   if (!s) return false;
   p.sub = std::move(*s);
+  p.matricesTurned = true;
   return true;
 }
 

@@ -53,7 +53,7 @@ Projection project(const CrsMatrix& A, const MultiVector& V) {
 std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure& prototype,
                                                 const reduction::RitzBasis& basis,
                                                 const substructure::Substructure& copy, const fem::Rotation& turn,
-                                                std::string& why) {
+                                                bool vouched, std::string& why) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto& dp = prototype.dofs();
   const auto& dc = copy.dofs();
@@ -68,7 +68,16 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
   const auto& Vp = *basis.vectors;
   const int ncols = static_cast<int>(Vp.getNumVectors());
   auto Vc = turnedRows(Vp, dc, copy.map(), turn);
-  // The check: the copy's reduced matrices are the prototype's.
+  // The check: the copy's reduced matrices are the prototype's; for turned
+  // matrices, K and M turned on a random vector stand for it.
+  auto turnedCopy = [&] {
+    reduction::RitzBasis out = basis;
+    out.vectors = Vc;
+    out.flexibility.reset();  // the prototype's factor, not the copy's (shared turned, §15.2)
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  };
+  if (vouched && operatorsAreTurned(prototype, copy, turn)) return turnedCopy();
   struct Pair {
     const char* name;
     Teuchos::RCP<const CrsMatrix> p, c;
@@ -99,11 +108,7 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
       return std::nullopt;
     }
   }
-  reduction::RitzBasis out = basis;
-  out.vectors = Vc;
-  out.flexibility.reset();  // the prototype's factor, not the copy's (shared turned, §15.2)
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return out;
+  return turnedCopy();
 }
 
 bool operatorsAreTurned(const substructure::Substructure& prototype, const substructure::Substructure& copy,

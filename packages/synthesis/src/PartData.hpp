@@ -47,6 +47,9 @@ struct AssembledStructure::Part {
   int parent = -1;  ///< index in parts(), -1 for C
   std::vector<int> children;
   std::optional<substructure::Substructure> sub;  ///< C, E, A
+  /// A copy whose matrices are its prototype's turned by the assembly
+  /// (Substructure::turned, theory §15.2), not assembled on its own.
+  bool matricesTurned = false;
   /// An axisymmetric A in the stationary form spinning inside a spinning
   /// parent frame ("compound"): `sub` carries the parent frame's terms (like
   /// an E), `stationary` its own spin's G1 and the cross stiffness KX1.

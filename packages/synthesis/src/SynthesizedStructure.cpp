@@ -653,7 +653,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       const auto& placed = *p.spec.copy;
       const auto turn = fem::Rotation::about(placed.axis, placed.angle - parts[q]->spec.copy->angle);
       std::string why;
-      if (auto b = detail::turnedBasis(*parts[q]->sub, bases_[q], *p.sub, turn, why)) {
+      if (auto b = detail::turnedBasis(*parts[q]->sub, bases_[q], *p.sub, turn, p.matricesTurned, why)) {
         bases_[k] = std::move(*b);
         report(k);
         rep.turnedFrom = parts[q]->spec.name;
