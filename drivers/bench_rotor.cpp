@@ -113,6 +113,10 @@ private:
     solve_.set("Number of Modes", o_.modes);
     Row r = row("assembly", "");
     r.note = "meshing " + std::to_string(meshing) + " s";
+    for (auto n : structure_->notes()) {  // e.g. the copies turned (theory §15.2); the CSV takes no commas
+      std::replace(n.begin(), n.end(), ',', ' ');
+      r.note += "; " + n;
+    }
     if (root_) {
       std::cout << "\nh = " << base_.h << " m: " << base_.physicalDofs << " DOFs; assembly " << base_.assembly
                 << " s\n";
@@ -186,6 +190,10 @@ private:
       if (s) {
         r.reduce = s->basesSeconds, r.synth = s->reduceSeconds - s->basesSeconds, r.solve = s->solveSeconds;
         r.pipeline = s->reduceSeconds + s->solveSeconds, r.hz = s->hz, r.note = s->path;
+        if (!s->adopted.empty()) {  // theory §11.4: the assembly's factorisation reused
+          r.note += "; prestress factorisation adopted by";
+          for (const auto& name : s->adopted) r.note += " " + name;
+        }
         if (s->compared)
           r.maxError = s->accuracy.maxRelativeError, r.meanError = s->accuracy.meanRelativeError,
           r.worstMac = s->accuracy.worstMac;

@@ -3,9 +3,13 @@
 read it: exactly these columns, in this order; for each size an assembly,
 truth and floor row; every reduced row either measured (pipeline > 0, an
 error against the truth, bases + synthesis + solve = pipeline) or noted as
-skipped or failed; a sweep row when --steps > 0.
+skipped or failed; a sweep row when --steps > 0. With --turned-copies the
+assembly row notes that the copies' matrices were turned from their
+prototype's (theory 15.2); with --adopted the first reduced row of each size
+names the substructures whose basis adopted the prestress factorisation
+(theory 11.4).
 
-    check_bench_rotor_csv.py CSV
+    check_bench_rotor_csv.py CSV [--turned-copies] [--adopted]
 """
 import csv
 import math
@@ -18,6 +22,7 @@ COLUMNS = ("h,physical_dofs,truth_dofs,ranks,what,strategy,vectors,reduced_dofs,
 
 
 def main():
+    flags = set(sys.argv[2:])
     with open(sys.argv[1], newline="") as f:
         reader = csv.reader(f)
         header = next(reader)
@@ -33,6 +38,11 @@ def main():
         reduced = [r for r in sel if r["what"] == "reduced"]
         if not reduced:
             problems.append(f"h = {h}: no reduced row")
+        assembly = [r for r in sel if r["what"] == "assembly"]
+        if "--turned-copies" in flags and not any("turned (no assembly" in r["note"] for r in assembly):
+            problems.append(f"h = {h}: the assembly row does not note the copies turned: {[r['note'] for r in assembly]}")
+        if "--adopted" in flags and reduced and "prestress factorisation adopted by" not in reduced[0]["note"]:
+            problems.append(f"h = {h}: the first reduced row adopted no prestress factorisation: {reduced[0]['note']}")
         for r in reduced:
             tag = f"h = {h}, {r['strategy']} {r['vectors']}"
             if r["note"].startswith(("skipped", "FAILED")):

@@ -101,7 +101,10 @@ ComparisonResult StrategyComparison::run(const SolvedTruth& truth, const Strateg
         row.peakMiB = peakRssMiB();
         row.compared = truth.model != nullptr;
         if (row.compared) row.accuracy = compareWithTruth(s, m, *truth.model, *truth.modes, nModes);
-        for (const auto& r : s.reductions()) row.perSubstructure.push_back(r.coordinates);
+        for (const auto& r : s.reductions()) {
+          row.perSubstructure.push_back(r.coordinates);
+          if (r.adoptedPrestressFactor) row.adopted.push_back(r.name);
+        }
         row.path = m.path;
         for (const auto& mode : m.result.modes) row.hz.push_back(mode.hz);
         if (options_.get<bool>("Error Estimates")) {

@@ -31,6 +31,9 @@ struct StrategyRow {
   TruthComparison accuracy;
   double estimate = 0.0;  ///< largest estimated relative error of the compared modes ("Error Estimates")
   std::vector<int> perSubstructure;  ///< coordinates of each substructure
+  /// The substructures whose basis adopted the prestress solve's
+  /// factorisation (SubstructureReduction::adoptedPrestressFactor).
+  std::vector<std::string> adopted;
   std::string path;       ///< the solve path (synthesis::StructureModes::path)
   std::vector<double> hz;  ///< the frequencies solved, ascending (Hz)
 };
