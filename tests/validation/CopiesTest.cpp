@@ -5,6 +5,7 @@
 // rotor with its four blades written out, at 1 and 2 ranks.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -131,34 +132,33 @@ TEST(Copies, AreTurnedAboutTheParentsSpinAxisAndNamed) {
   EXPECT_EQ(a.prototypeOf(0), 0u);
 }
 
-TEST(Copies, TurnTheirPrototypesMatricesInsteadOfBeingAssembled) {
-  // The copies Copies made get blade[1]'s matrices, centrifugal load and
-  // prestress reactions turned (theory §15.2), with no assembly or prestress
-  // solve of their own, and the assembly says so. Each equals what the
-  // copy's own turned mesh assembles to: the same description with the
-  // copies' models cloned, which the assembly cannot vouch for and so
-  // assembles (and says why).
-  const auto d = scene::Scene::parse(copiedRotor(), "copies.yaml").structure.withCopies();
-  auto cloned = d;
-  for (auto& spec : cloned.substructures)
+namespace {
+
+/// The description with every copy's model cloned: the assembly cannot vouch
+/// for them (not the models withCopies made) and assembles each on its own.
+StructureDescription withClonedCopies(StructureDescription d) {
+  for (auto& spec : d.substructures)
     if (spec.copy && spec.copy->index > 0) spec.model = std::make_shared<fem::FiniteElementModel>(*spec.model);
-  const auto turned = AssembledStructure::assemble(d, world());
-  const auto own = AssembledStructure::assemble(cloned, world());
-  auto has = [](const std::vector<std::string>& notes, const std::string& text) {
-    int n = 0;
-    for (const auto& note : notes) n += note.find(text) != std::string::npos;
-    return n;
-  };
-  EXPECT_EQ(has(turned.notes(), "blade[2], blade[3], blade[4]: the matrices and centrifugal prestress of blade[1] "
-                                "turned (no assembly or prestress solve of their own)"), 1);
-  EXPECT_EQ(has(turned.notes(), "assembled on its own"), 0);
-  EXPECT_EQ(has(own.notes(), "assembled on its own, not turned from blade[1] (its model or the prototype's is not "
-                             "the one Copies made)"), 3);
-  // The blade's held stiffness condition number: the prestress u1 (and so
-  // KS1 and the reactions) of two solves differ by up to kappa eps.
-  const auto* proto = turned.assembled(1);
-  const auto held = turned.heldRows(1);
-  DenseMatrix K = fixtures::denseOf(*proto->K());
+  return d;
+}
+
+std::size_t indexOf(const AssembledStructure& a, const std::string& name) {
+  for (std::size_t k = 0; k < a.numSubstructures(); ++k)
+    if (a.substructure(k).name == name) return k;
+  ADD_FAILURE() << "no substructure " << name;
+  return 0;
+}
+
+int notesWith(const AssembledStructure& a, const std::string& text) {
+  int n = 0;
+  for (const auto& note : a.notes()) n += note.find(text) != std::string::npos;
+  return n;
+}
+
+/// kappa_2 of substructure k's K with its attachment held (dense: small).
+double heldConditionNumber(const AssembledStructure& a, std::size_t k) {
+  const auto held = a.heldRows(k);
+  const DenseMatrix K = fixtures::denseOf(*a.assembled(k)->K());
   std::vector<int> keep;
   for (int i = 0; i < K.numRows(); ++i)
     if (std::find(held.begin(), held.end(), i) == held.end()) keep.push_back(i);
@@ -169,52 +169,112 @@ TEST(Copies, TurnTheirPrototypesMatricesInsteadOfBeingAssembled) {
   std::vector<double> w(static_cast<std::size_t>(m)), work(static_cast<std::size_t>(3 * m));
   int info = 0;
   Teuchos::LAPACK<int, double>().SYEV('N', 'U', m, Kf.values(), m, w.data(), work.data(), 3 * m, &info);
-  ASSERT_EQ(info, 0);
-  ASSERT_GT(w.front(), 0.0);
-  const double kappa = w.back() / w.front();
+  EXPECT_EQ(info, 0);
+  EXPECT_GT(w.front(), 0.0);
+  return w.back() / w.front();
+}
+
+/// A copy's turned matrices against its own assembly. Element matrices in
+/// element axes turned to the structure's, summed over at most two elements
+/// a node pair: their rounding and the turn's three-term sums stay within
+/// 100 eps of the matrix norm; with the prestress behind them (KS1, the
+/// reactions), within 100 kappa eps, kappa the prototype's held stiffness
+/// condition number (two prestress solves differ by that much).
+void expectTheOwnAssembly(const substructure::Substructure& a, const substructure::Substructure& b, double kappa) {
+  EXPECT_EQ(a.dofs().offsets, b.dofs().offsets) << a.name();
+  EXPECT_EQ(a.dofs().coordinates, b.dofs().coordinates) << a.name();
+  struct Pair {
+    const char* name;
+    Teuchos::RCP<const CrsMatrix> a, b;
+    double tol;
+  };
+  for (const Pair& p : {Pair{"M", a.M(), b.M(), 100 * eps}, Pair{"K", a.K(), b.K(), 100 * eps},
+                        Pair{"G1", a.G1(), b.G1(), 100 * eps}, Pair{"KT1", a.KT1(), b.KT1(), 100 * eps},
+                        Pair{"KS1", a.KS1(), b.KS1(), 100 * kappa * eps}}) {
+    ASSERT_FALSE(p.a.is_null()) << a.name() << " " << p.name;
+    ASSERT_FALSE(p.b.is_null()) << a.name() << " " << p.name;
+    DenseMatrix D = fixtures::denseOf(*p.a);
+    const DenseMatrix B = fixtures::denseOf(*p.b);
+    D -= B;
+    EXPECT_LE(frobeniusNorm(D), p.tol * frobeniusNorm(B)) << a.name() << " " << p.name;
+  }
+  Teuchos::Array<double> nf(1), nd(1);
+  b.f1()->norm2(nf());
+  MultiVector df(a.map(), 1);
+  df.doImport(*b.f1(), Tpetra::Import<>(b.map(), a.map()), Tpetra::INSERT);
+  df.update(1.0, *a.f1(), -1.0);
+  df.norm2(nd());
+  EXPECT_LE(nd[0], 100 * eps * nf[0]) << a.name() << " f1";
+  const auto& ra = a.prestressReactions();
+  const auto& rb = b.prestressReactions();
+  ASSERT_EQ(ra.size(), rb.size()) << a.name();
+  double largest = 0.0;
+  for (const auto& r : rb) largest = std::max(largest, std::abs(r.value));
+  for (std::size_t i = 0; i < ra.size(); ++i) {
+    EXPECT_EQ(ra[i].node, rb[i].node);
+    EXPECT_EQ(ra[i].component, rb[i].component);
+    EXPECT_LE(std::abs(ra[i].value - rb[i].value), 100 * kappa * eps * largest) << a.name() << " reaction " << i;
+  }
+}
+
+}  // namespace
+
+TEST(Copies, TurnTheirPrototypesMatricesInsteadOfBeingAssembled) {
+  // The copies Copies made get blade[1]'s matrices, centrifugal load and
+  // prestress reactions turned (theory §15.2), with no assembly or prestress
+  // solve of their own, and the assembly says so. Each equals what the
+  // copy's own turned mesh assembles to (the same description with the
+  // copies' models cloned, which the assembly assembles, saying why).
+  const auto d = scene::Scene::parse(copiedRotor(), "copies.yaml").structure.withCopies();
+  const auto turned = AssembledStructure::assemble(d, world());
+  const auto own = AssembledStructure::assemble(withClonedCopies(d), world());
+  EXPECT_EQ(notesWith(turned, "blade[2], blade[3], blade[4]: the matrices and centrifugal prestress of blade[1] "
+                              "turned (no assembly or prestress solve of their own)"), 1);
+  EXPECT_EQ(notesWith(turned, "assembled on its own"), 0);
+  EXPECT_EQ(notesWith(own, "assembled on its own, not turned from blade[1] (its model or the prototype's is not "
+                           "the one Copies made)"), 3);
+  const double kappa = heldConditionNumber(turned, 1);
   for (std::size_t k = 2; k <= 4; ++k) {
-    const auto* a = turned.assembled(k);
-    const auto* b = own.assembled(k);
-    ASSERT_TRUE(a && b);
-    EXPECT_EQ(a->dofs().offsets, b->dofs().offsets);
-    EXPECT_EQ(a->dofs().coordinates, b->dofs().coordinates);
-    // Element matrices in element axes turned to the structure's, summed
-    // over at most two elements a node pair: their rounding and the turn's
-    // three-term sums stay within 100 eps of the matrix norm; with the
-    // prestress behind them, within 100 kappa eps.
-    struct Pair {
-      const char* name;
-      Teuchos::RCP<const CrsMatrix> a, b;
-      double tol;
-    };
-    for (const Pair& p : {Pair{"M", a->M(), b->M(), 100 * eps}, Pair{"K", a->K(), b->K(), 100 * eps},
-                          Pair{"G1", a->G1(), b->G1(), 100 * eps}, Pair{"KT1", a->KT1(), b->KT1(), 100 * eps},
-                          Pair{"KS1", a->KS1(), b->KS1(), 100 * kappa * eps}}) {
-      ASSERT_FALSE(p.a.is_null()) << p.name;
-      ASSERT_FALSE(p.b.is_null()) << p.name;
-      DenseMatrix D = fixtures::denseOf(*p.a);
-      const DenseMatrix B = fixtures::denseOf(*p.b);
-      D -= B;
-      EXPECT_LE(frobeniusNorm(D), p.tol * frobeniusNorm(B)) << a->name() << " " << p.name;
-    }
-    Teuchos::Array<double> nf(1), nd(1);
-    b->f1()->norm2(nf());
-    MultiVector df(a->map(), 1);
-    df.doImport(*b->f1(), Tpetra::Import<>(b->map(), a->map()), Tpetra::INSERT);
-    df.update(1.0, *a->f1(), -1.0);
-    df.norm2(nd());
-    EXPECT_LE(nd[0], 100 * eps * nf[0]) << a->name() << " f1";
-    const auto& ra = a->prestressReactions();
-    const auto& rb = b->prestressReactions();
-    ASSERT_EQ(ra.size(), rb.size());
-    double largest = 0.0;
-    for (const auto& r : rb) largest = std::max(largest, std::abs(r.value));
-    for (std::size_t i = 0; i < ra.size(); ++i) {
-      EXPECT_EQ(ra[i].node, rb[i].node);
-      EXPECT_EQ(ra[i].component, rb[i].component);
-      EXPECT_LE(std::abs(ra[i].value - rb[i].value), 100 * kappa * eps * largest) << a->name() << " reaction " << i;
+    ASSERT_TRUE(turned.assembled(k) && own.assembled(k));
+    expectTheOwnAssembly(*turned.assembled(k), *own.assembled(k), kappa);
+  }
+}
+
+TEST(Copies, TurnACopiedSubtreeChildrenFirst) {
+  // A tip beam on each blade (tip[j] hangs on blade[j]): each copy comes
+  // right after its prototype and before its parent (the tips first), and a
+  // blade copy's prestress, which carries its tip's centrifugal reaction, is
+  // blade[1]'s turned: the same as each copy assembled on its own.
+  const std::string tip =
+      "    tip:\n      Kind: E\n      Parent: blade\n      Attachment: {Parent Nodes: end, Nodes: start}\n"
+      "      Beam: {From: [2.2, 0.0, 0.0], To: [2.6, 0.0, 0.0], Elements: 4, Young's Modulus: 7.0e10, "
+      "Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0.0, 1.0, 0.0]}\n"
+      "      Reduction: {Basis: Admissible, Vectors: 4}\n";
+  const auto d =
+      scene::Scene::parse(rotor(blade("blade", 0.0, "      Copies: 4\n", kAdmissible) + tip), "copies.yaml")
+          .structure.withCopies();
+  const auto turned = AssembledStructure::assemble(d, world());
+  const auto own = AssembledStructure::assemble(withClonedCopies(d), world());
+  EXPECT_EQ(notesWith(turned, "blade[2], blade[3], blade[4]: the matrices and centrifugal prestress of blade[1] turned"), 1);
+  EXPECT_EQ(notesWith(turned, "tip[2], tip[3], tip[4]: the matrices and centrifugal prestress of tip[1] turned"), 1);
+  EXPECT_EQ(notesWith(own, "assembled on its own"), 6);
+  for (const std::string group : {"blade", "tip"}) {
+    const double kappa = heldConditionNumber(turned, indexOf(turned, group + "[1]"));
+    for (int j = 2; j <= 4; ++j) {
+      const std::string name = group + "[" + std::to_string(j) + "]";
+      const auto* a = turned.assembled(indexOf(turned, name));
+      const auto* b = own.assembled(indexOf(own, name));
+      ASSERT_TRUE(a && b);
+      expectTheOwnAssembly(*a, *b, kappa);
     }
   }
+  // The blades carry their tips' reactions: the copies' prestress is not
+  // the tipless blade's (the test would pass with no tip load otherwise).
+  const auto bare = AssembledStructure::assemble(scene::Scene::parse(copiedRotor(), "copies.yaml").structure, world());
+  DenseMatrix D = fixtures::denseOf(*turned.assembled(indexOf(turned, "blade[2]"))->KS1());
+  const DenseMatrix B = fixtures::denseOf(*bare.assembled(indexOf(bare, "blade[2]"))->KS1());
+  D -= B;
+  EXPECT_GT(frobeniusNorm(D), 1e-3 * frobeniusNorm(B));
 }
 
 TEST(Copies, TruthIsTheRotorWithItsBladesWrittenOut) {
