@@ -553,9 +553,20 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
   // solves); the same on every rank.
   std::vector<int> owner(parts.size(), -1);
   if (schedule == ReductionSchedule::Concurrent && nranks > 1) {
+    // A substructure that adopts its kept prestress factorisation stays on
+    // its distributed matrix, the one factored (theory §11.4): its basis is
+    // then solves with a factor made already, where gathered it would factor
+    // again on one rank (and so would its error estimates). The same
+    // decision on every rank: the factors kept are.
+    auto adopts = [&](std::size_t k) {
+      if (!parts[k]->stiffnessFactor) return false;
+      auto boundary = boundaryOf(k);
+      boundary.stiffnessFactor = parts[k]->stiffnessFactor;
+      return reduction::adoptsStiffnessFactor(*parts[k]->sub, boundary, reductions[k]);
+    };
     std::vector<std::pair<double, std::size_t>> work;
     for (std::size_t k = 0; k < parts.size(); ++k)
-      if (parts[k]->sub && !reused[k] && !turned[k] &&
+      if (parts[k]->sub && !reused[k] && !turned[k] && !adopts(k) &&
           !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
             (reductions[k].get<std::string>("Basis") == "Full" ||
              reductions[k].get<std::string>("Basis") == "Partitioned")))  // spreads its own parts over the ranks
