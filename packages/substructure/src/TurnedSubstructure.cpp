@@ -238,9 +238,17 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
     why = "its mesh has another node count";
   } else if (spin.has_value() != prototype.spin_.has_value()) {
     why = "it spins where the prototype does not, or the other way round";
-  } else if (spin) {
+  }
+  // The structure's size here: the largest distance of a prototype node
+  // from the origin or from the turn's axis point (the placement's scale).
+  double size = fem::norm(origin);
+  for (std::size_t n = 0; n < tp.nodes(); ++n) {
+    const fem::Vec3 xp{tp.coordinates[3 * n], tp.coordinates[3 * n + 1], tp.coordinates[3 * n + 2]};
+    size = std::max({size, fem::norm(xp), fem::norm(fem::sub(xp, origin))});
+  }
+  if (why.empty() && spin) {
     const auto& a = *prototype.spin_;
-    const double size = 1.0 + fem::norm(a.spin.origin) + fem::norm(spin->spin.origin);
+    size = std::max({size, fem::norm(a.spin.origin), fem::norm(spin->spin.origin)});
     if (spin->frame != a.frame || spin->stressStiffening != a.stressStiffening ||
         spin->frameAxis.has_value() != a.frameAxis.has_value() ||
         fem::norm(fem::sub(spin->spin.axis, turn.apply(a.spin.axis))) > 64 * eps ||
@@ -251,14 +259,13 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
   if (why.empty()) {
     // The mesh: each node the prototype's turned, to the rounding of the
     // turn against the structure's size (as the copies' placement, §15.1).
-    double size = 0.0, off = 0.0;
+    double off = 0.0;
     for (std::size_t n = 0; n < tp.nodes(); ++n) {
       const fem::Vec3 xp{tp.coordinates[3 * n], tp.coordinates[3 * n + 1], tp.coordinates[3 * n + 2]};
       const fem::Vec3 xc{mesh.coordinates[3 * n], mesh.coordinates[3 * n + 1], mesh.coordinates[3 * n + 2]};
-      size = std::max({size, fem::norm(xp), fem::norm(fem::sub(xp, origin))});
       off = std::max(off, fem::norm(fem::sub(xc, turnedPoint(xp))));
     }
-    if (off > 64 * eps * std::max(size, fem::norm(origin))) why = "its mesh is not the prototype's turned";
+    if (off > 64 * eps * size) why = "its mesh is not the prototype's turned";
   }
   // 2. The matrices, on the turned pattern of each graph they share.
   if (!why.empty()) return std::nullopt;

@@ -529,9 +529,11 @@ using NodalTriples = std::map<std::int64_t, std::array<double, 6>>;
 /// (Substructure::turned), when the copy is the prototype turned: the
 /// models withCopies made for both, neither a compound part, the same held
 /// DOFs (a set the turn maps onto itself) and the children's loads the
-/// prototype's turned, to 1e3 eps of the largest (the children are copies
-/// whose reactions were turned, then carried through the attachment's
-/// geometry: rounding only). False with the reason otherwise. Collective.
+/// prototype's turned, to 64 eps of the sum of their magnitudes (the
+/// children are copies whose reactions were turned, then carried through
+/// the attachment's rigid rows and summed: each load's rounding is a few
+/// eps of the magnitudes it was summed from, at most that sum). False with
+/// the reason otherwise. Collective.
 bool turnCopy(Part& p, const Part& q, std::string& why) {
   const auto& c = p.spec.copy;
   const auto& cq = q.spec.copy;
@@ -565,9 +567,8 @@ bool turnCopy(Part& p, const Part& q, std::string& why) {
     return t;
   };
   const NodalTriples mine = triples(p.childLoads), theirs = triples(q.childLoads);
-  double largest = 0.0, off = 0.0;
-  for (const auto& [node, v] : theirs)
-    for (double x : v) largest = std::max(largest, std::abs(x));
+  double total = 0.0, off = 0.0;  // sum of |load|: bounds the terms each load was summed from
+  for (const auto& l : q.childLoads) total += std::abs(l.value);
   for (const auto& [node, v] : mine)
     if (!theirs.count(node))
       for (double x : v) off = std::max(off, std::abs(x));
@@ -581,7 +582,7 @@ bool turnCopy(Part& p, const Part& q, std::string& why) {
         off = std::max(off, std::abs(have - turned));
       }
   }
-  if (off > 1e3 * eps * largest) {
+  if (off > 64 * eps * total) {
     why = "its children's prestress loads are not the prototype's turned";
     return false;
   }
@@ -749,6 +750,7 @@ int solveFamilyPrestress(const AssembledStructure& out, const std::vector<std::p
     pc.displacement.assign(v.begin(), v.end());
     q.sub = substructure::Substructure::fromFiniteElementModel(model, comm, pc);
     q.stiffnessFactor.reset();  // a new K object: the reduction factors it itself
+    q.matricesTurned = false;   // assembled here, a turned copy too
     q.prestressSolvedGlobally = true;
     ++count;
   }
@@ -840,13 +842,6 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     }
     if (p.parent >= 0 && p.prestressed()) passReactionToParent(p, *parts[p.parent]);
   }
-  for (const auto& [q, copies] : turnedCopies) {
-    std::string list;
-    for (std::size_t k : copies) list += (list.empty() ? "" : ", ") + parts[k]->spec.name;
-    out.notes_.push_back(list + ": the matrices" + (parts[q]->prestressed() ? " and centrifugal prestress" : "") +
-                         " of " + parts[q]->spec.name + " turned (no assembly" +
-                         (parts[q]->prestressed() ? " or prestress solve" : "") + " of their own)");
-  }
   if (out.free_ && parts.front()->prestressed()) checkFreeSpinBalances(*parts.front());
 
   for (auto& p : parts) {  // 6. nodal DOFs to rows, now that every layout is known
@@ -863,6 +858,15 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     const int count = solveFamilyPrestress(out, family);
     out.notes_.push_back("centrifugal prestress of " + std::to_string(count) + " substructures joined by Boolean "
                          "interfaces solved as one static problem (they were assembled twice)");
+  }
+  for (const auto& [q, copies] : turnedCopies) {  // those a Boolean family's solve did not reassemble
+    std::string list;
+    for (std::size_t k : copies)
+      if (parts[k]->matricesTurned) list += (list.empty() ? "" : ", ") + parts[k]->spec.name;
+    if (list.empty()) continue;
+    out.notes_.push_back(list + ": the matrices" + (parts[q]->prestressed() ? " and centrifugal prestress" : "") +
+                         " of " + parts[q]->spec.name + " turned (no assembly" +
+                         (parts[q]->prestressed() ? " or prestress solve" : "") + " of their own)");
   }
   out.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
