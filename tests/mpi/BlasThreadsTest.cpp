@@ -6,13 +6,9 @@
 #include <mpi.h>
 
 #include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <vector>
 #include <cstdlib>
 #include <thread>
 
-#include <Teuchos_BLAS.hpp>
 #include <Teuchos_DefaultComm.hpp>
 
 #include "cms/core/BlasThreads.hpp"
@@ -47,52 +43,6 @@ TEST(BlasThreads, AScopeSetsAndRestoresTheCount) {
   EXPECT_EQ(blasThreads(), 3);
   EXPECT_FALSE(setBlasThreads(0)) << "0 threads is refused, not passed on";
   EXPECT_EQ(blasThreads(), 3);
-}
-
-namespace {
-/// The process's threads (/proc/self/task).
-int processThreads() {
-  int n = 0;
-  for (const auto& e : std::filesystem::directory_iterator("/proc/self/task")) n += e.is_directory();
-  return n;
-}
-
-/// C = A B for 400 x 400 matrices, large enough for OpenBLAS to use its
-/// threads; returns max |C_ij - 400| (A = B = ones: every C_ij is 400).
-double product() {
-  const int n = 400;
-  std::vector<double> a(static_cast<std::size_t>(n) * n, 1.0), c(a.size(), 0.0);
-  Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, 1.0, a.data(), n, a.data(), n, 0.0,
-                                    c.data(), n);
-  double worst = 0.0;
-  for (double x : c) worst = std::max(worst, std::abs(x - n));
-  return worst;
-}
-}  // namespace
-
-// A one-thread scope ends the pool's workers, which would spin beside cms's
-// own threads, and the BLAS's next threaded call after it starts them again:
-// the thread count falls and rises back, and the products stay exact (sums
-// of 400 ones).
-TEST(BlasThreads, AOneThreadScopeEndsTheIdleWorkers) {
-  if (!controllable()) GTEST_SKIP() << "this BLAS has no threads of its own";
-  ASSERT_TRUE(setBlasThreads(2));
-  ASSERT_EQ(product(), 0.0);
-  // The pool keeps the workers of the largest count set so far (this
-  // process's earlier tests set 3): at least one of them ends.
-  const int pooled = processThreads();
-  int inside = 0;
-  {
-    const BlasThreadScope one(1);
-    inside = processThreads();
-    EXPECT_LT(inside, pooled) << "the pool's idle workers were not ended";
-    EXPECT_EQ(product(), 0.0);
-    EXPECT_EQ(processThreads(), inside) << "a one-thread call started workers";
-  }
-  EXPECT_EQ(blasThreads(), 2);
-  EXPECT_EQ(product(), 0.0);
-  EXPECT_GT(processThreads(), inside) << "the pool did not start again";
-  setBlasThreads(1);
 }
 
 // Each rank's share: the hardware threads over the ranks on the node (all

@@ -25,13 +25,6 @@ GetThreads getter() {
   static const auto f = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
   return f;
 }
-/// Ends OpenBLAS's pool of worker threads; its next threaded call starts
-/// the pool again (exec_blas: "lazy re-init", as after a fork).
-using Shutdown = int (*)();
-Shutdown shutdown() {
-  static const auto f = reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
-  return f;
-}
 
 }  // namespace
 
@@ -43,14 +36,7 @@ bool setBlasThreads(int n) {
   return true;
 }
 
-BlasThreadScope::BlasThreadScope(int n) : previous_(blasThreads()) {
-  setBlasThreads(n);
-  // Fewer threads leave the pool's idle workers spinning in sched_yield
-  // for OpenBLAS's thread timeout (~0.27 s after each threaded call) beside
-  // cms's own threads: on the spacecraft's 101-speed sweep one such worker
-  // took ~25% of the samples. With one thread, none is needed: end them.
-  if (n == 1 && previous_ > 1 && shutdown() != nullptr) shutdown()();
-}
+BlasThreadScope::BlasThreadScope(int n) : previous_(blasThreads()) { setBlasThreads(n); }
 
 BlasThreadScope::~BlasThreadScope() { setBlasThreads(previous_); }
 

@@ -26,10 +26,7 @@ bool setBlasThreads(int n);
 
 /// For this object's lifetime the BLAS runs on `n` threads, its previous
 /// setting restored after: around a pool of cms's own threads that each call
-/// the BLAS (SynthesizedStructure::solveMany's dense solves). Going down to
-/// one thread also ends OpenBLAS's idle workers (blas_thread_shutdown_),
-/// which would otherwise spin beside cms's threads; the BLAS's next
-/// threaded call after the scope starts them again.
+/// the BLAS (SynthesizedStructure::solveMany's dense solves).
 class BlasThreadScope {
 public:
   explicit BlasThreadScope(int n);
