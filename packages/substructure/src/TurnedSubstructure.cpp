@@ -50,41 +50,12 @@ public:
                 const fem::Rotation& turn)
       : R_(turn.R), rowMap_(A.getRowMap()), colMap_(A.getColMap()), domainMap_(A.getDomainMap()),
         rangeMap_(A.getRangeMap()), graph_(A.getCrsGraph().get()) {
-    const std::size_t nrows = rowMap_->getNodeNumElements(), ncols = colMap_->getNodeNumElements();
-    // 1. Each local column's triple as local columns, and its place in it.
-    partner_.assign(ncols, {-1, -1, -1});
-    slot_.assign(ncols, 0);
-    for (std::size_t lc = 0; lc < ncols && why_.empty(); ++lc) {
-      long long rows[3];
-      const int f = triple(t, rowNode, colMap_->getGlobalElement(static_cast<LocalOrdinal>(lc)), rows);
-      slot_[lc] = static_cast<std::int8_t>(f);
-      for (int d = 0; d < 3; ++d) {
-        if (rows[d] < 0) {
-          if (!negligible(R_[d][f])) why_ = "the turn carries a free component into a fixed one";
-          continue;
-        }
-        const auto l = colMap_->getLocalElement(static_cast<GlobalOrdinal>(rows[d]));
-        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) why_ = "a column's node is not whole in the column map";
-        partner_[lc][static_cast<std::size_t>(d)] = l;
-      }
-    }
-    // 2. Each local row's source rows (its node's triple, local).
-    source_.assign(nrows, {-1, -1, -1});
-    rowSlot_.assign(nrows, 0);
-    for (std::size_t lr = 0; lr < nrows && why_.empty(); ++lr) {
-      long long rows[3];
-      const int c = triple(t, rowNode, rowMap_->getGlobalElement(static_cast<LocalOrdinal>(lr)), rows);
-      rowSlot_[lr] = static_cast<std::int8_t>(c);
-      for (int e = 0; e < 3; ++e) {
-        if (rows[e] < 0) {
-          if (!negligible(R_[c][e])) why_ = "the turn carries a fixed component into a free one";
-          continue;
-        }
-        const auto l = rowMap_->getLocalElement(static_cast<GlobalOrdinal>(rows[e]));
-        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) why_ = "a node's rows are on two ranks";
-        source_[lr][static_cast<std::size_t>(e)] = l;
-      }
-    }
+    // 1. Each local column's triple as local columns (the columns an entry
+    // turns into: weight R_df from its place f to d), and its place in it.
+    localTriples(*colMap_, t, rowNode, true, partner_, slot_, "a column's node is not whole in the column map");
+    // 2. Each local row's source rows (the rows it reads: weight R_ce from
+    // e to its place c), local.
+    if (why_.empty()) localTriples(*rowMap_, t, rowNode, false, source_, rowSlot_, "a node's rows are on two ranks");
   }
 
   /// 3. The turned pattern: every column some source entry reaches.
@@ -168,6 +139,35 @@ public:
   }
 
 private:
+  /// For each local index of `map`: the local indices of its node triple
+  /// (-1 where the component is fixed) and its place in the triple. The
+  /// turn may not carry a value between a fixed and a free component:
+  /// R_(other, place) for columns (into the other), R_(place, other) for rows
+  /// (from it). `split`: the reason when a triple is not whole in `map`.
+  void localTriples(const Map& map, const DofTable& t, const std::vector<std::int64_t>& rowNode, bool columns,
+                    std::vector<std::array<LocalOrdinal, 3>>& local, std::vector<std::int8_t>& place,
+                    const char* split) {
+    const std::size_t n = map.getNodeNumElements();
+    local.assign(n, {-1, -1, -1});
+    place.assign(n, 0);
+    for (std::size_t l = 0; l < n && why_.empty(); ++l) {
+      long long rows[3];
+      const int p = triple(t, rowNode, map.getGlobalElement(static_cast<LocalOrdinal>(l)), rows);
+      place[l] = static_cast<std::int8_t>(p);
+      for (int o = 0; o < 3; ++o) {
+        if (rows[o] < 0) {
+          if (!negligible(columns ? R_[o][p] : R_[p][o]))
+            why_ = columns ? "the turn carries a free component into a fixed one"
+                           : "the turn carries a fixed component into a free one";
+          continue;
+        }
+        const auto g = map.getLocalElement(static_cast<GlobalOrdinal>(rows[o]));
+        if (g == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) why_ = split;
+        local[l][static_cast<std::size_t>(o)] = g;
+      }
+    }
+  }
+
   std::array<std::array<double, 3>, 3> R_;
   Teuchos::RCP<const Map> rowMap_, colMap_, domainMap_, rangeMap_;
   const void* graph_;
