@@ -494,10 +494,6 @@ void assemblePart(Part& p, const Teuchos::RCP<const Teuchos::Comm<int>>& comm, b
   }
 }
 
-/// A prestressed part's reaction, as generalised forces on its attachment
-/// coordinates a (F_a = -X^T r), passed to its parent through H^T when both
-/// spin in the same frame (an A on an immovable attachment: the support
-/// takes it).
 /// The order of step 5: leaves first (the reverse of tree order, parents
 /// first), except that a copy waits for its prototype and comes right
 /// after it, still before its parent (the prototype and its copies share
@@ -545,7 +541,7 @@ bool turnCopy(Part& p, const Part& q, std::string& why) {
     why = q.sub ? "a rotor in the stationary form inside a spinning frame" : "the prototype has no matrices";
     return false;
   }
-  const auto turn = fem::Rotation::about(c->axis, c->angle - cq->angle);
+  const auto turn = turnFromPrototype(*c, *cq);
   const double eps = std::numeric_limits<double>::epsilon();
   // Held DOFs: the same (node, component) set, closed under the turn.
   std::set<std::pair<std::int64_t, int>> held, heldq;
@@ -598,6 +594,10 @@ bool turnCopy(Part& p, const Part& q, std::string& why) {
   return true;
 }
 
+/// A prestressed part's reaction, as generalised forces on its attachment
+/// coordinates a (F_a = -X^T r), passed to its parent through H^T when both
+/// spin in the same frame (an A on an immovable attachment: the support
+/// takes it).
 void passReactionToParent(const Part& p, Part& parent) {
   if (parent.frame.coefficients != p.frame.coefficients) return;
   std::vector<double> Fa(p.H.size(), 0.0);

@@ -15,6 +15,12 @@
 
 namespace cms::synthesis {
 
+/// Q's rotation (theory §15.2): copy `c` relative to its prototype `p`, both
+/// placed about the same axis.
+inline fem::Rotation turnFromPrototype(const CopyPlacement& c, const CopyPlacement& p) {
+  return fem::Rotation::about(c.axis, c.angle - p.angle);
+}
+
 namespace detail {
 
 /// A coefficient on a (mesh node index, component) DOF: H before the

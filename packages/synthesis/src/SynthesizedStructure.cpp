@@ -661,8 +661,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
     if (turned[k]) {
       // Its prototype, earlier in tree order, has its basis by now.
       const std::size_t q = structure_->prototypeOf(k);
-      const auto& placed = *p.spec.copy;
-      const auto turn = fem::Rotation::about(placed.axis, placed.angle - parts[q]->spec.copy->angle);
+      const auto turn = turnFromPrototype(*p.spec.copy, *parts[q]->spec.copy);
       std::string why;
       if (auto b = detail::turnedBasis(*parts[q]->sub, bases_[q], *p.sub, turn, p.matricesTurned, why)) {
         bases_[k] = std::move(*b);
@@ -1561,8 +1560,7 @@ bool SynthesizedStructure::sharesPrototypeFactorisations(std::size_t k) const {
     const auto& parts = structure_->parts();
     const std::size_t q = structure_->prototypeOf(k);
     known = detail::operatorsAreTurned(*parts[q]->sub, *parts[k]->sub,
-                                       fem::Rotation::about(parts[k]->spec.copy->axis,
-                                                            parts[k]->spec.copy->angle - parts[q]->spec.copy->angle))
+                                       turnFromPrototype(*parts[k]->spec.copy, *parts[q]->spec.copy))
                 ? 1
                 : 0;
   }
