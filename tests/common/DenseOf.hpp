@@ -2,6 +2,9 @@
 // reference solves in the tests.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include <Teuchos_RCP.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -30,6 +33,14 @@ inline DenseMatrix denseOf(const CrsMatrix& A) {
     for (int i = 0; i < n; ++i) D(i, j) = c[i];
   }
   return D;
+}
+
+/// max |A_ij - B_ij| of two matrices of one shape.
+inline double maxAbsDifference(const DenseMatrix& A, const DenseMatrix& B) {
+  double d = 0.0;
+  for (int c = 0; c < A.numCols(); ++c)
+    for (int r = 0; r < A.numRows(); ++r) d = std::max(d, std::abs(A(r, c) - B(r, c)));
+  return d;
 }
 
 }  // namespace cms::fixtures

@@ -27,6 +27,7 @@
 #include <Teuchos_DefaultComm.hpp>
 #include <Teuchos_DefaultSerialComm.hpp>
 
+#include "DenseOf.hpp"
 #include "HubBoomStructure.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/analysis/TruthComparison.hpp"
@@ -248,7 +249,10 @@ TEST(HubBoom, ConcurrentAndDistributedSchedulesAgree) {
   // The same assembled structure reduced with each substructure whole on
   // one rank (concurrently) and with each distributed over every rank: the
   // same bases up to the order of sums, so the same reduced matrices (1e-12
-  // of the norm) and frequencies (1e-10, issue 6's target). On one rank both
+  // of the norm, ~4500 eps: the bases' solves, orthonormalisation and
+  // projections summed in another order) and frequencies
+  // (1e-10 relative, issue 6's target). Both bounds are relative to what
+  // they bound; checked by hand with OPENBLAS_CORETYPE=Nehalem. On one rank both
   // schedules are the same code path. The first synthesis after the assembly
   // takes the prestress factorisations kept for the booms, which adopt
   // them and so stay distributed (theory §11.4); a later one finds none
@@ -267,14 +271,8 @@ TEST(HubBoom, ConcurrentAndDistributedSchedulesAgree) {
   for (const SynthesizedStructure* x : {&a, &adopting}) {
     ASSERT_EQ(x->size(), b.size());
     const auto da = x->denseSystem({hb.Omega}), db = b.denseSystem({hb.Omega});
-    double dk = 0, dm = 0;
-    for (int c = 0; c < da.K.numCols(); ++c)
-      for (int r = 0; r < da.K.numRows(); ++r) {
-        dk = std::max(dk, std::abs(da.K(r, c) - db.K(r, c)));
-        dm = std::max(dm, std::abs(da.M(r, c) - db.M(r, c)));
-      }
-    EXPECT_LE(dk, 1e-12 * frobeniusNorm(db.K));
-    EXPECT_LE(dm, 1e-12 * frobeniusNorm(db.M));
+    EXPECT_LE(fixtures::maxAbsDifference(da.K, db.K), 1e-12 * frobeniusNorm(db.K));
+    EXPECT_LE(fixtures::maxAbsDifference(da.M, db.M), 1e-12 * frobeniusNorm(db.M));
     const auto wa = analysis::frequencies(solve(*x)), wb = analysis::frequencies(solve(b));
     for (std::size_t r = 0; r < wa.size(); ++r) EXPECT_NEAR(wa[r] / wb[r], 1.0, 1e-10) << "mode " << r;
     // What each rank found reaches every rank: labels and the truncation guide.
