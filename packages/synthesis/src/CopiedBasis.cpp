@@ -53,7 +53,7 @@ Projection project(const CrsMatrix& A, const MultiVector& V) {
 std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure& prototype,
                                                 const reduction::RitzBasis& basis,
                                                 const substructure::Substructure& copy, const fem::Rotation& turn,
-                                                bool vouched, std::string& why) {
+                                                bool operatorsTurned, std::string& why) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto& dp = prototype.dofs();
   const auto& dc = copy.dofs();
@@ -69,7 +69,7 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
   const int ncols = static_cast<int>(Vp.getNumVectors());
   auto Vc = turnedRows(Vp, dc, copy.map(), turn);
   // The check: the copy's reduced matrices are the prototype's; for turned
-  // matrices, K and M turned on a random vector stand for it.
+  // matrices, K and M turned on a random vector (the caller's) stand for it.
   auto turnedCopy = [&] {
     reduction::RitzBasis out = basis;
     out.vectors = Vc;
@@ -77,7 +77,7 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   };
-  if (vouched && operatorsAreTurned(prototype, copy, turn)) return turnedCopy();
+  if (operatorsTurned) return turnedCopy();
   struct Pair {
     const char* name;
     Teuchos::RCP<const CrsMatrix> p, c;

@@ -22,15 +22,15 @@ using substructure::turnedRows;  // Q X (cms/substructure/Substructure.hpp)
 /// V_c^T A_c V_c = V_p^T A_p V_p for each. That is checked here, to the
 /// rounding of the products (theory §15.2), and the copy's matrices
 /// differing from the prototype's turned is reported in `why` with no basis
-/// returned (the caller then reduces the copy itself). A copy whose
-/// matrices the assembly turned (`vouched`: A_c = Q A_p Q^T by
-/// construction) is checked on K and M applied to a random vector instead
-/// (operatorsAreTurned: two products, not eight of the basis' width), and
-/// by the projections only if that fails. Collective.
+/// returned (the caller then reduces the copy itself). For a copy whose
+/// matrices the assembly turned (A_c = Q A_p Q^T by construction) the caller
+/// passes `operatorsTurned`, the outcome of operatorsAreTurned (K and M on
+/// a random vector: two products, not eight of the basis' width): true
+/// stands for the projections, which run otherwise. Collective.
 std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure& prototype,
                                                 const reduction::RitzBasis& basis,
                                                 const substructure::Substructure& copy, const fem::Rotation& turn,
-                                                bool vouched, std::string& why);
+                                                bool operatorsTurned, std::string& why);
 
 /// Whether the copy's K and M are the prototype's turned, Q A_p Q^T = A_c,
 /// tested on a random vector to the rounding of the two products

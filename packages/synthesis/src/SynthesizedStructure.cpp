@@ -501,6 +501,23 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
 /// Step 1 of synthesize: every substructure's basis and its report, reused
 /// from `previous` where its "Reduction" list is unchanged; the others on
 /// the schedule.
+namespace {
+/// Whether copy k's K and M are its prototype's turned (detail::
+/// operatorsAreTurned), asked once per assembled structure: `known` caches
+/// it (1 yes, 0 no, -1 not yet). Collective the first time.
+bool operatorsTurned(const AssembledStructure& structure, std::size_t k, std::vector<int>& known) {
+  if (known[k] < 0) {
+    const auto& parts = structure.parts();
+    const std::size_t q = structure.prototypeOf(k);
+    known[k] = detail::operatorsAreTurned(*parts[q]->sub, *parts[k]->sub,
+                                          turnFromPrototype(*parts[k]->spec.copy, *parts[q]->spec.copy))
+                   ? 1
+                   : 0;
+  }
+  return known[k] == 1;
+}
+}  // namespace
+
 void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>& requested, ReductionSchedule schedule,
                                       const SynthesizedStructure* previous) {
   const auto& parts = structure_->parts();
@@ -663,7 +680,10 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
       const std::size_t q = structure_->prototypeOf(k);
       const auto turn = turnFromPrototype(*p.spec.copy, *parts[q]->spec.copy);
       std::string why;
-      if (auto b = detail::turnedBasis(*parts[q]->sub, bases_[q], *p.sub, turn, p.matricesTurned, why)) {
+      // A copy the assembly turned: K and M checked on a random vector (the
+      // same check the error estimates' shared factorisations ask, cached).
+      const bool operators = p.matricesTurned && operatorsTurned(*structure_, k, factorisations_->turnedImage);
+      if (auto b = detail::turnedBasis(*parts[q]->sub, bases_[q], *p.sub, turn, operators, why)) {
         bases_[k] = std::move(*b);
         report(k);
         rep.turnedFrom = parts[q]->spec.name;
@@ -1554,17 +1574,7 @@ std::vector<ModeAccuracy> SynthesizedStructure::accuracy(const StructureModes& m
 }
 
 bool SynthesizedStructure::sharesPrototypeFactorisations(std::size_t k) const {
-  if (reports_[k].turnedFrom.empty()) return false;
-  auto& known = factorisations_->turnedImage[k];
-  if (known < 0) {
-    const auto& parts = structure_->parts();
-    const std::size_t q = structure_->prototypeOf(k);
-    known = detail::operatorsAreTurned(*parts[q]->sub, *parts[k]->sub,
-                                       turnFromPrototype(*parts[k]->spec.copy, *parts[q]->spec.copy))
-                ? 1
-                : 0;
-  }
-  return known == 1;
+  return !reports_[k].turnedFrom.empty() && operatorsTurned(*structure_, k, factorisations_->turnedImage);
 }
 
 bool SynthesizedStructure::carriedRigidly(std::size_t k) const {
