@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
+#include <Teuchos_LAPACK.hpp>
 #include <Teuchos_RCP.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -41,6 +44,24 @@ inline double maxAbsDifference(const DenseMatrix& A, const DenseMatrix& B) {
   for (int c = 0; c < A.numCols(); ++c)
     for (int r = 0; r < A.numRows(); ++r) d = std::max(d, std::abs(A(r, c) - B(r, c)));
   return d;
+}
+
+/// kappa_2 of the symmetric K with the rows and columns `held` removed
+/// (dense: small matrices only); NaN when that is not positive definite.
+inline double heldConditionNumber(const CrsMatrix& K, const std::vector<GlobalOrdinal>& held) {
+  const DenseMatrix D = denseOf(K);
+  std::vector<int> keep;
+  for (int i = 0; i < D.numRows(); ++i)
+    if (std::find(held.begin(), held.end(), i) == held.end()) keep.push_back(i);
+  const int m = static_cast<int>(keep.size());
+  DenseMatrix Kf(m, m);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) Kf(i, j) = D(keep[i], keep[j]);
+  std::vector<double> w(static_cast<std::size_t>(m)), work(static_cast<std::size_t>(3 * m));
+  int info = 0;
+  Teuchos::LAPACK<int, double>().SYEV('N', 'U', m, Kf.values(), m, w.data(), work.data(), 3 * m, &info);
+  if (info != 0 || m == 0 || !(w.front() > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return w.back() / w.front();
 }
 
 }  // namespace cms::fixtures

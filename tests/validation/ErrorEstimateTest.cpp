@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -16,6 +17,7 @@
 
 #include <Teuchos_DefaultComm.hpp>
 
+#include "DenseOf.hpp"
 #include "HubBoomStructure.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/analysis/TruthComparison.hpp"
@@ -390,6 +392,52 @@ TEST(ErrorEstimate, TheSameAfterTheFactorsAreReleased) {
       EXPECT_NEAR(after[j], before[j], 1e-8 * before[j]) << basis << " mode " << j + 1;
     }
   }
+}
+
+// K with the attachment held is both what the prestress solve factors
+// (theory §11.4) and the estimates' flexibility (§11.8): the factorisation
+// kept from the one serves the other, whatever the basis held. The hub's
+// Craig-Bampton basis holds its interfaces too (another matrix: it factors
+// its own), yet its estimates take the prestress factor; the booms' bases
+// adopt theirs and so do their estimates. Released, the flexibilities are
+// factored afresh: the same matrix factored the same way, so the estimates
+// agree to 100 kappa eps relative (kappa the largest held stiffness's
+// condition number: the solves' forward error). A Full substructure (no
+// estimate) keeps nothing for them, and a synthesis finding no kept factor
+// (they went to the first) adopts none. On 2 ranks the concurrent schedule
+// gathers the hub onto one rank for its basis; its estimates still take
+// the factor of its distributed matrix.
+TEST(ErrorEstimate, TakeThePrestressFactorisationsKept) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto a = AssembledStructure::assemble(hb.structure(false, "Craig-Bampton", 6), comm);
+  auto s = SynthesizedStructure::synthesize(a, sameReduction(a, "Craig-Bampton", 6));
+  ASSERT_EQ(s.reductions().size(), 3u);
+  EXPECT_FALSE(s.reductions()[0].adoptedPrestressFactor) << "the hub's basis holds its interfaces";
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_TRUE(s.reductions()[k].estimatesAdoptedPrestressFactor) << s.reductions()[k].name;
+  for (std::size_t k = 1; k < 3; ++k) EXPECT_TRUE(s.reductions()[k].adoptedPrestressFactor) << s.reductions()[k].name;
+  const auto m = solve(s, 6);
+  const auto kept = s.errorEstimates(m);
+  s.releaseFlexibilities();
+  const auto own = s.errorEstimates(m);
+  double kappa = 1.0;
+  for (std::size_t k = 0; k < 3; ++k)
+    kappa = std::max(kappa, fixtures::heldConditionNumber(*a.assembled(k)->K(), a.heldRows(k)));
+  ASSERT_TRUE(std::isfinite(kappa));
+  const double eps = std::numeric_limits<double>::epsilon();
+  ASSERT_EQ(own.size(), kept.size());
+  for (std::size_t j = 0; j < kept.size(); ++j) {
+    ASSERT_GT(kept[j], 0.0) << "mode " << j + 1;
+    EXPECT_NEAR(own[j], kept[j], 100 * kappa * eps * kept[j]) << "mode " << j + 1;
+  }
+  const auto again = SynthesizedStructure::synthesize(a, sameReduction(a, "Craig-Bampton", 6));
+  for (const auto& r : again.reductions()) EXPECT_FALSE(r.estimatesAdoptedPrestressFactor) << r.name;
+  const auto b = AssembledStructure::assemble(hb.structure(false, "Craig-Bampton", 6), comm);
+  auto reductions = sameReduction(b, "Craig-Bampton", 6);
+  reductions.at(1).set("Basis", "Full");
+  const auto f = SynthesizedStructure::synthesize(b, reductions);
+  EXPECT_FALSE(f.reductions()[1].estimatesAdoptedPrestressFactor) << "Full: no estimate to serve";
+  EXPECT_TRUE(f.reductions()[0].estimatesAdoptedPrestressFactor);
 }
 
 // Each substructure's share of a mode's estimate (errorEstimates' `shares`,

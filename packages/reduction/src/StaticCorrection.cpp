@@ -6,12 +6,31 @@
 
 namespace cms::reduction {
 
-StaticCorrection::StaticCorrection(const substructure::Substructure& s, const SubstructureBoundary& boundary) {
+namespace {
+/// The attachment and the children's interface rows, sorted, unique.
+std::vector<GlobalOrdinal> heldRows(const SubstructureBoundary& boundary) {
   std::vector<GlobalOrdinal> held(boundary.held);
   for (const auto& rows : boundary.interfaces) held.insert(held.end(), rows.begin(), rows.end());
   std::sort(held.begin(), held.end());
   held.erase(std::unique(held.begin(), held.end()), held.end());
-  K_ = std::make_unique<detail::HeldStiffness>(s, std::move(held));
+  return held;
+}
+}  // namespace
+
+StaticCorrection::StaticCorrection(const substructure::Substructure& s, const SubstructureBoundary& boundary)
+    : K_(std::make_unique<detail::HeldStiffness>(s, heldRows(boundary))) {}
+
+std::shared_ptr<const StaticCorrection> StaticCorrection::adopting(const substructure::Substructure& s,
+                                                                   const SubstructureBoundary& boundary,
+                                                                   const std::shared_ptr<const HeldFactor>& factor) {
+  auto held = heldRows(boundary);
+  // "Auto": the choice a StaticCorrection made outside any reduction makes.
+  if (!factor || !detail::factorFits(*factor, s, held, "Auto")) return nullptr;
+  const detail::DirectSolverScope automatic("Auto");
+  const detail::OfferedFactorScope offered(factor);
+  auto K = std::make_unique<detail::HeldStiffness>(s, std::move(held));
+  if (!offered.adopted()) return nullptr;  // factorFits said yes: not reached
+  return std::make_shared<const StaticCorrection>(std::move(K));
 }
 
 StaticCorrection::StaticCorrection(std::unique_ptr<detail::HeldStiffness> factored) : K_(std::move(factored)) {}

@@ -545,6 +545,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
         bases_[k] = previous->bases_[k];
         reports_[k] = previous->reports_[k];
         reports_[k].adoptedPrestressFactor = false;  // nothing factored or adopted by this synthesis
+        reports_[k].estimatesAdoptedPrestressFactor = false;
         reused[k] = true;
       }
   auto boundaryOf = [&](std::size_t k) { return substructureBoundary(parts, k); };
@@ -601,10 +602,26 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
   }
   const bool concurrent = std::any_of(owner.begin(), owner.end(), [](int o) { return o >= 0; });
   // The prestress solves' factorisations kept for the reductions (theory
-  // §11.4): one reduced here, on its own distributed matrix, adopts its
-  // own; the rest (gathered onto one rank, turned, reused) are freed now.
-  for (std::size_t k = 0; k < parts.size(); ++k)
-    if (reused[k] || turned[k] || owner[k] >= 0) parts[k]->stiffnessFactor.reset();
+  // §11.4). K with the attachment held is also the error estimates'
+  // flexibility (§11.8): a factor of it serves them, whatever the basis
+  // holds (a Craig-Bampton hub holds its interfaces too, and factors
+  // another matrix), instead of the estimates factoring K again. Then one
+  // reduced here, on its own distributed matrix, adopts its own; the rest
+  // (gathered onto one rank, turned, reused) let go of theirs now.
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    auto& kept = parts[k]->stiffnessFactor;
+    const bool full = reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
+                      reductions[k].get<std::string>("Basis") == "Full";  // no estimate: nothing to serve
+    if (kept && !full && !reused[k] && !turned[k] && !factorisations_->flexibility[k]) {
+      reduction::SubstructureBoundary own;
+      own.held = parts[k]->held;  // as flexibility(k) holds it
+      if (auto f = reduction::StaticCorrection::adopting(*parts[k]->sub, own, kept)) {
+        factorisations_->flexibility[k] = std::move(f);
+        reports_[k].estimatesAdoptedPrestressFactor = true;
+      }
+    }
+    if (reused[k] || turned[k] || owner[k] >= 0) kept.reset();
+  }
   if (concurrent) {
     const auto self = comm->split(rank, 0);
     // a. Every such substructure gathered onto its rank (collective).

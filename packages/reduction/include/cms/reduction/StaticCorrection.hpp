@@ -28,6 +28,14 @@ public:
   StaticCorrection(const substructure::Substructure& s, const SubstructureBoundary& boundary);
   /// One already factored (a basis's own: RitzBasis::flexibility).
   explicit StaticCorrection(std::unique_ptr<detail::HeldStiffness> factored);
+  /// The flexibility of `s` with `boundary` held made from `factor`, a
+  /// factorisation already made (the prestress solve's, kept: theory §11.4)
+  /// when it factored this very matrix (the same K, the same held rows, a
+  /// method the "Auto" choice would pick); null otherwise. Nothing is
+  /// factored either way. Collective.
+  static std::shared_ptr<const StaticCorrection> adopting(const substructure::Substructure& s,
+                                                          const SubstructureBoundary& boundary,
+                                                          const std::shared_ptr<const HeldFactor>& factor);
   ~StaticCorrection();
   StaticCorrection(const StaticCorrection&) = delete;
   StaticCorrection& operator=(const StaticCorrection&) = delete;

@@ -115,6 +115,11 @@ struct SubstructureReduction {
   /// Its basis factored no K of its own: it adopted the prestress solve's
   /// factorisation of the same held stiffness (theory §11.4).
   bool adoptedPrestressFactor = false;
+  /// Its error estimates' flexibility (K with its attachment held, theory
+  /// §11.8) is that same prestress factorisation: the estimates factor
+  /// nothing for it. Also for a basis that held other rows (a
+  /// Craig-Bampton substructure with children: its interfaces).
+  bool estimatesAdoptedPrestressFactor = false;
   double basisBytes = 0.0;  ///< its vectors' storage (rows x columns x 8; 0 for Full and R)
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
   /// held (rad/s): the paper's truncation guide. Empty for Full and R.
