@@ -7,12 +7,15 @@ skipped or failed; a sweep row when --steps > 0. With --turned-copies the
 assembly row notes that the copies' matrices were turned from their
 prototype's (theory 15.2); with --adopted the first reduced row of each size
 names the substructures whose basis adopted the prestress factorisation
-(theory 11.4).
+(theory 11.4); with --estimates every measured reduced row notes how long
+its error estimates took (a positive time) and the largest (a finite
+estimate >= 0; theory 11.8).
 
-    check_bench_rotor_csv.py CSV [--turned-copies] [--adopted]
+    check_bench_rotor_csv.py CSV [--turned-copies] [--adopted] [--estimates]
 """
 import csv
 import math
+import re
 import sys
 
 COLUMNS = ("h,physical_dofs,truth_dofs,ranks,what,strategy,vectors,reduced_dofs,assembly_s,reduce_s,synthesis_s,"
@@ -47,6 +50,12 @@ def main():
             tag = f"h = {h}, {r['strategy']} {r['vectors']}"
             if r["note"].startswith(("skipped", "FAILED")):
                 continue
+            if "--estimates" in flags:
+                m = re.search(r"error estimates (\S+) s after the pipeline \(largest (\S+)\)", r["note"])
+                if not m:
+                    problems.append(f"{tag}: no error estimates in the note: {r['note']}")
+                elif not (float(m.group(1)) > 0 and math.isfinite(float(m.group(2))) and float(m.group(2)) >= 0):
+                    problems.append(f"{tag}: error estimates {m.group(1)} s, largest {m.group(2)}")
             pipeline = float(r["pipeline_s"])
             parts = float(r["reduce_s"]) + float(r["synthesis_s"]) + float(r["solve_s"])
             # The parts are the pipeline's wall times, printed with 6 digits.

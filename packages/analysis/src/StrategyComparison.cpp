@@ -108,7 +108,9 @@ ComparisonResult StrategyComparison::run(const SolvedTruth& truth, const Strateg
         row.path = m.path;
         for (const auto& mode : m.result.modes) row.hz.push_back(mode.hz);
         if (options_.get<bool>("Error Estimates")) {
+          const Stopwatch te;
           const auto estimates = s.errorEstimates(m);
+          row.estimateSeconds = te.seconds();
           for (int j = 0; j < nModes && j < static_cast<int>(estimates.size()); ++j)
             row.estimate = std::max(row.estimate, estimates[j]);
         }

@@ -30,6 +30,10 @@ struct StrategyRow {
   bool compared = true;   ///< false without a truth: `accuracy` is empty
   TruthComparison accuracy;
   double estimate = 0.0;  ///< largest estimated relative error of the compared modes ("Error Estimates")
+  /// Wall seconds of those estimates (SynthesizedStructure::errorEstimates:
+  /// the flexibilities' factorisations not kept from the prestress solves,
+  /// the residuals and their solves); 0 without "Error Estimates".
+  double estimateSeconds = 0.0;
   std::vector<int> perSubstructure;  ///< coordinates of each substructure
   /// The substructures whose basis adopted the prestress solve's
   /// factorisation (SubstructureReduction::adoptedPrestressFactor).
