@@ -1446,6 +1446,8 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
       if (p.parent >= 0 && !p.boolean()) {
         std::vector<double> local(6 * nc, 0.0), global(6 * nc, 0.0);
         const auto nodeOf = p.sub ? p.sub->dofs().rowNodes() : std::vector<std::int64_t>{};
+        std::vector<Teuchos::ArrayRCP<const double>> Rc(nc);  // views taken once: not per row
+        for (int col = 0; col < nc; ++col) Rc[col] = R.getData(col);
         for (std::size_t l = 0; l < rmap->getNodeNumElements(); ++l) {
           const auto g = rmap->getGlobalElement(static_cast<LocalOrdinal>(l));
           std::array<double, 6> x{};
@@ -1460,8 +1462,9 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
           }
           for (int a = 0; a < 6; ++a)
             if (x[a] != 0.0)
-              for (int col = 0; col < nc; ++col) local[a * nc + col] += x[a] * R.getData(col)[l];
+              for (int col = 0; col < nc; ++col) local[a * nc + col] += x[a] * Rc[col][l];
         }
+        Rc.clear();
         Teuchos::reduceAll(*rmap->getComm(), Teuchos::REDUCE_SUM, 6 * nc, local.data(), global.data());
         toParent[k] = global;
       }
