@@ -403,8 +403,9 @@ TEST(ErrorEstimate, TheSameAfterTheFactorsAreReleased) {
 // factored afresh: the same matrix factored the same way, so the estimates
 // agree to 100 kappa eps relative (kappa the largest held stiffness's
 // condition number: the solves' forward error). A Full substructure (no
-// estimate) keeps nothing for them, and a synthesis finding no kept factor
-// (they went to the first) adopts none. On 2 ranks the concurrent schedule
+// estimate) keeps nothing for them, a synthesis finding no kept factor
+// (they went to the first) adopts none, and a basis told to factor with
+// MUMPS adopts nothing while its estimates ("Auto": CHOLMOD) take it. On 2 ranks the concurrent schedule
 // gathers the hub onto one rank for its basis; its estimates still take
 // the factor of its distributed matrix.
 TEST(ErrorEstimate, TakeThePrestressFactorisationsKept) {
@@ -438,6 +439,16 @@ TEST(ErrorEstimate, TakeThePrestressFactorisationsKept) {
   const auto f = SynthesizedStructure::synthesize(b, reductions);
   EXPECT_FALSE(f.reductions()[1].estimatesAdoptedPrestressFactor) << "Full: no estimate to serve";
   EXPECT_TRUE(f.reductions()[0].estimatesAdoptedPrestressFactor);
+  // A basis told to factor with MUMPS does not adopt the kept CHOLMOD
+  // factor; the estimates, which choose "Auto" (CHOLMOD at this size), do.
+  const auto c = AssembledStructure::assemble(hb.structure(false, "Craig-Bampton", 6), comm);
+  auto mumps = sameReduction(c, "Admissible", 6);
+  mumps.at(1).set("Direct Solver", "MUMPS");
+  const auto g = SynthesizedStructure::synthesize(c, mumps);
+  EXPECT_FALSE(g.reductions()[1].adoptedPrestressFactor) << "MUMPS chosen for the basis";
+  EXPECT_TRUE(g.reductions()[1].estimatesAdoptedPrestressFactor);
+  EXPECT_TRUE(g.reductions()[2].adoptedPrestressFactor);
+  EXPECT_TRUE(g.reductions()[2].estimatesAdoptedPrestressFactor);
 }
 
 // Each substructure's share of a mode's estimate (errorEstimates' `shares`,
