@@ -433,18 +433,20 @@ TEST(ErrorEstimate, TakeThePrestressFactorisationsKept) {
   }
   const auto again = SynthesizedStructure::synthesize(a, sameReduction(a, "Craig-Bampton", 6));
   for (const auto& r : again.reductions()) EXPECT_FALSE(r.estimatesAdoptedPrestressFactor) << r.name;
-  const auto b = AssembledStructure::assemble(hb.structure(false, "Craig-Bampton", 6), comm);
-  auto reductions = sameReduction(b, "Craig-Bampton", 6);
-  reductions.at(1).set("Basis", "Full");
-  const auto f = SynthesizedStructure::synthesize(b, reductions);
+  // A fresh assembly (its factors kept), boom+ given `key: value` (the
+  // synthesis holds its assembly).
+  const auto withBoom = [&](const std::string& basis, const std::string& key, const std::string& value) {
+    const auto fresh = AssembledStructure::assemble(hb.structure(false, basis, 6), comm);
+    auto reductions = sameReduction(fresh, basis, 6);
+    reductions.at(1).set(key, value);
+    return SynthesizedStructure::synthesize(fresh, reductions);
+  };
+  const auto f = withBoom("Craig-Bampton", "Basis", "Full");
   EXPECT_FALSE(f.reductions()[1].estimatesAdoptedPrestressFactor) << "Full: no estimate to serve";
   EXPECT_TRUE(f.reductions()[0].estimatesAdoptedPrestressFactor);
   // A basis told to factor with MUMPS does not adopt the kept CHOLMOD
   // factor; the estimates, which choose "Auto" (CHOLMOD at this size), do.
-  const auto c = AssembledStructure::assemble(hb.structure(false, "Craig-Bampton", 6), comm);
-  auto mumps = sameReduction(c, "Admissible", 6);
-  mumps.at(1).set("Direct Solver", "MUMPS");
-  const auto g = SynthesizedStructure::synthesize(c, mumps);
+  const auto g = withBoom("Admissible", "Direct Solver", "MUMPS");
   EXPECT_FALSE(g.reductions()[1].adoptedPrestressFactor) << "MUMPS chosen for the basis";
   EXPECT_TRUE(g.reductions()[1].estimatesAdoptedPrestressFactor);
   EXPECT_TRUE(g.reductions()[2].adoptedPrestressFactor);
