@@ -498,10 +498,14 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   return out;
 }
 
-/// Step 1 of synthesize: every substructure's basis and its report, reused
-/// from `previous` where its "Reduction" list is unchanged; the others on
-/// the schedule.
 namespace {
+/// Whether a "Reduction" list asks for the basis `kind` ("Basis" given as a
+/// string; an unset or mistyped one is the default's or refused later).
+bool asksBasis(const Teuchos::ParameterList& reduction, const char* kind) {
+  return reduction.isParameter("Basis") && reduction.isType<std::string>("Basis") &&
+         reduction.get<std::string>("Basis") == kind;
+}
+
 /// Whether copy k's K and M are its prototype's turned (detail::
 /// operatorsAreTurned), asked once per assembled structure: `known` caches
 /// it (1 yes, 0 no, -1 not yet). Collective the first time.
@@ -518,6 +522,9 @@ bool operatorsTurned(const AssembledStructure& structure, std::size_t k, std::ve
 }
 }  // namespace
 
+/// Step 1 of synthesize: every substructure's basis and its report, reused
+/// from `previous` where its "Reduction" list is unchanged; the others on
+/// the schedule.
 void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>& requested, ReductionSchedule schedule,
                                       const SynthesizedStructure* previous) {
   const auto& parts = structure_->parts();
@@ -532,9 +539,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const std::size_t p = structure_->prototypeOf(k);
     own[k] = requested[p];
-    turned[k] = p != k && parts[k]->sub &&
-                !(own[k].isParameter("Basis") && own[k].isType<std::string>("Basis") &&
-                  own[k].get<std::string>("Basis") == "Full");
+    turned[k] = p != k && parts[k]->sub && !asksBasis(own[k], "Full");
   }
   const std::vector<Teuchos::ParameterList>& reductions = own;
   reductionLists_ = own;
@@ -584,10 +589,8 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
     };
     std::vector<std::pair<double, std::size_t>> work;
     for (std::size_t k = 0; k < parts.size(); ++k)
-      if (parts[k]->sub && !reused[k] && !turned[k] && !adopts(k) &&
-          !(reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
-            (reductions[k].get<std::string>("Basis") == "Full" ||
-             reductions[k].get<std::string>("Basis") == "Partitioned")))  // spreads its own parts over the ranks
+      if (parts[k]->sub && !reused[k] && !turned[k] && !adopts(k) && !asksBasis(reductions[k], "Full") &&
+          !asksBasis(reductions[k], "Partitioned"))  // spreads its own parts over the ranks
         work.push_back({std::pow(static_cast<double>(parts[k]->sub->dofs().rows()), 1.5), k});
     std::sort(work.begin(), work.end(), [](const auto& a, const auto& b) {
       return a.first > b.first || (a.first == b.first && a.second < b.second);
@@ -604,15 +607,14 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
   // The prestress solves' factorisations kept for the reductions (theory
   // §11.4). K with the attachment held is also the error estimates'
   // flexibility (§11.8): a factor of it serves them, whatever the basis
-  // holds (a Craig-Bampton hub holds its interfaces too, and factors
+  // holds (a Craig-Bampton hub holds its point interfaces too, and factors
   // another matrix), instead of the estimates factoring K again. Then one
   // reduced here, on its own distributed matrix, adopts its own; the rest
   // (gathered onto one rank, turned, reused) let go of theirs now.
   for (std::size_t k = 0; k < parts.size(); ++k) {
     auto& kept = parts[k]->stiffnessFactor;
-    const bool full = reductions[k].isParameter("Basis") && reductions[k].isType<std::string>("Basis") &&
-                      reductions[k].get<std::string>("Basis") == "Full";  // no estimate: nothing to serve
-    if (kept && !full && !reused[k] && !turned[k] && !factorisations_->flexibility[k]) {
+    // (A Full basis has no estimate: nothing to serve.)
+    if (kept && !asksBasis(reductions[k], "Full") && !reused[k] && !turned[k] && !factorisations_->flexibility[k]) {
       reduction::SubstructureBoundary own;
       own.held = parts[k]->held;  // as flexibility(k) holds it
       if (auto f = reduction::StaticCorrection::adopting(*parts[k]->sub, own, kept)) {
