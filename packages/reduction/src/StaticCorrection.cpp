@@ -1,6 +1,9 @@
 #include "cms/reduction/StaticCorrection.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+
+#include <Teuchos_TestForException.hpp>
 
 #include "HeldStiffness.hpp"
 
@@ -29,7 +32,9 @@ std::shared_ptr<const StaticCorrection> StaticCorrection::adopting(const substru
   const detail::DirectSolverScope automatic("Auto");
   const detail::OfferedFactorScope offered(factor);
   auto K = std::make_unique<detail::HeldStiffness>(s, std::move(held));
-  if (!offered.adopted()) return nullptr;  // factorFits said yes: not reached
+  // HeldStiffness asks factorFits with the same choice: it adopts.
+  TEUCHOS_TEST_FOR_EXCEPTION(!offered.adopted(), std::logic_error,
+                             s.name() << ": a factor that fits was not adopted (factored again)");
   return std::make_shared<const StaticCorrection>(std::move(K));
 }
 

@@ -118,7 +118,8 @@ struct SubstructureReduction {
   /// Its error estimates' flexibility (K with its attachment held, theory
   /// §11.8) is that same prestress factorisation: the estimates factor
   /// nothing for it. Also for a basis that held other rows (a
-  /// Craig-Bampton substructure with children: its interfaces).
+  /// Craig-Bampton substructure with point-attached children: their
+  /// interface rows).
   bool estimatesAdoptedPrestressFactor = false;
   double basisBytes = 0.0;  ///< its vectors' storage (rows x columns x 8; 0 for Full and R)
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
