@@ -44,8 +44,8 @@ std::size_t argmax(const std::vector<double>& v) {
 double stiffnessScale(const synthesis::AssembledStructure& s, std::size_t k) {
   const auto* sub = s.assembled(k);
   if (!sub) return 0.0;
-  const double m = sub->M()->getFrobeniusNorm();
-  return m > 0.0 ? sub->K()->getFrobeniusNorm() / m : 0.0;
+  const double m = sub->frobeniusNorm(substructure::Matrix::M);
+  return m > 0.0 ? sub->frobeniusNorm(substructure::Matrix::K) / m : 0.0;
 }
 
 // "ux 0.50, uy 0.50": the components that carry more than 5% of a

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <MatrixMarket_Tpetra.hpp>
 #include <Teuchos_Comm.hpp>
@@ -17,6 +18,7 @@
 #include <TpetraExt_MatrixMatrix.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/Error.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
@@ -112,7 +114,117 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
 
 }  // namespace
 
+const char* toString(Matrix a) {
+  switch (a) {
+    case Matrix::M: return "M";
+    case Matrix::K: return "K";
+    case Matrix::G1: return "G1";
+    case Matrix::KT1: return "KT1";
+    case Matrix::KS1: return "KS1";
+    case Matrix::K2: return "K2";
+    case Matrix::D: return "D";
+  }
+  return "?";
+}
+
+Teuchos::RCP<const CrsMatrix> Substructure::source(Matrix a) const {
+  if (prototype_) {
+    const auto& p = *prototype_;
+    switch (a) {
+      case Matrix::M: return p.M;
+      case Matrix::K: return p.K;
+      case Matrix::G1: return p.G1;
+      case Matrix::KT1: return p.KT1;
+      case Matrix::KS1: return p.KS1;
+      case Matrix::K2: return p.K2;
+      case Matrix::D: return p.D;
+    }
+  }
+  switch (a) {
+    case Matrix::M: return M_;
+    case Matrix::K: return K_;
+    case Matrix::G1: return G1_;
+    case Matrix::KT1: return KT1_;
+    case Matrix::KS1: return KS1_;
+    case Matrix::K2: return K2_;
+    case Matrix::D: return D_;
+  }
+  return Teuchos::null;
+}
+
+Teuchos::RCP<const CrsMatrix> Substructure::formedMatrix(Matrix a) const {
+  if (prototype_)
+    throw std::logic_error("substructure '" + name_ + "': its " + toString(a) +
+                           " is its prototype's turned and not formed (theory §15.2): apply() it, or formed()");
+  return source(a);
+}
+
+bool Substructure::has(Matrix a) const { return !source(a).is_null(); }
+
+void Substructure::apply(Matrix a, const MultiVector& X, MultiVector& Y, double alpha, double beta) const {
+  const auto A = source(a);
+  if (A.is_null()) throw std::logic_error("substructure '" + name_ + "' has no " + toString(a) + " to apply");
+  if (!prototype_) {
+    A->apply(X, Y, Teuchos::NO_TRANS, alpha, beta);
+    return;
+  }
+  // Q A_p Q^T X (theory §15.2): the rows turned back into the prototype's
+  // axes, its matrix, the result turned into the copy's. The copy's rows
+  // are the prototype's (the same map and table).
+  const auto& p = *prototype_;
+  const auto& R = p.turn.R;
+  const std::size_t nc = X.getNumVectors();
+  if (p.triples.empty() || !X.getMap()->isSameAs(*map_) || !Y.getMap()->isSameAs(*map_)) {
+    fem::Rotation back;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) back.R[i][j] = R[j][i];
+    const auto Xp = turnedRows(X, dofs_, A->getDomainMap(), back);
+    MultiVector AX(A->getRangeMap(), nc);
+    A->apply(*Xp, AX);
+    Y.update(alpha, *turnedRows(AX, dofs_, Y.getMap(), p.turn), beta);
+    return;
+  }
+  // Every node triple local: (Q^T x)_c = sum_e R_ec x_e, then
+  // (Q y)_c = sum_e R_ce y_e, row by row.
+  const std::size_t n = p.triples.size();
+  MultiVector Xp(map_, nc, false), AX(map_, nc, false);
+  {
+    const auto x = X.getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto xp = Xp.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (std::size_t j = 0; j < nc; ++j)
+      for (std::size_t l = 0; l < n; ++l) {
+        const auto& t = p.triples[l];
+        const int c = p.places[l];
+        double v = 0.0;
+        for (int e = 0; e < 3; ++e)
+          if (t[e] >= 0) v += R[e][c] * x(static_cast<std::size_t>(t[e]), j);
+        xp(l, j) = v;
+      }
+  }
+  A->apply(Xp, AX);
+  const auto ax = AX.getLocalViewHost(Tpetra::Access::ReadOnly);
+  const auto y = Y.getLocalViewHost(Tpetra::Access::ReadWrite);
+  for (std::size_t j = 0; j < nc; ++j)
+    for (std::size_t l = 0; l < n; ++l) {
+      const auto& t = p.triples[l];
+      const int c = p.places[l];
+      double v = 0.0;
+      for (int e = 0; e < 3; ++e)
+        if (t[e] >= 0) v += R[c][e] * ax(static_cast<std::size_t>(t[e]), j);
+      y(l, j) = alpha * v + (beta == 0.0 ? 0.0 : beta * y(l, j));
+    }
+}
+
+double Substructure::frobeniusNorm(Matrix a) const {
+  const auto A = source(a);
+  return A.is_null() ? 0.0 : A->getFrobeniusNorm();
+}
+
 void Substructure::finishConstruction() {
+  if (prototype_) {  // K2 is the prototype's (source()); M applied turned
+    mass_ = translationMass(*this);
+    return;
+  }
   // K2 = KS1 - KT1 (theory §9): formed once, so that each speed of a sweep
   // costs one matrix addition.
   // One pattern (an assembled model's matrices share their graph): K2 on
@@ -127,6 +239,7 @@ void Substructure::finishConstruction() {
 }
 
 Substructure Substructure::gatheredTo(int owner, const Teuchos::RCP<const Teuchos::Comm<int>>& self) const {
+  if (prototype_) return formed().gatheredTo(owner, self);
   Substructure s;
   s.name_ = name_;
   s.dofs_ = dofs_;
@@ -151,7 +264,7 @@ double Substructure::translationMass(const Substructure& s) {
     for (long i = 0; i < static_cast<long>(v.size()); ++i)
       v[i] = s.dofs_.components[map.getGlobalElement(static_cast<LocalOrdinal>(i))] == Component::UX ? 1.0 : 0.0;
   }
-  s.M_->apply(ones, Mx);
+  s.apply(Matrix::M, ones, Mx);
   Teuchos::Array<double> dot(1);
   ones.dot(Mx, dot());
   return dot[0];
@@ -299,6 +412,7 @@ std::string Substructure::fileStem() const {
 }
 
 void Substructure::writeMatrixMarket(const std::string& directory) const {
+  if (prototype_) return formed().writeMatrixMarket(directory);
   const auto comm = map_->getComm();
   const std::string stem = fileStem();
   int ok = 1;
@@ -357,6 +471,7 @@ void Substructure::writeMatrixMarket(const std::string& directory) const {
 }
 
 GyroscopicMatrices Substructure::atSpeed(double omega) const {
+  if (prototype_) return formed().atSpeed(omega);
   GyroscopicMatrices g;
   g.M = M_;
   g.K = K_;

@@ -97,6 +97,7 @@ public:
     turned_ = g;
   }
 
+  bool built() const { return !turned_.is_null(); }
   /// Why this rank's rows could not be turned locally (empty: they can).
   const std::string& why() const { return why_; }
   bool serves(const CrsMatrix& A) const { return A.getCrsGraph().get() == graph_; }
@@ -176,6 +177,36 @@ private:
   Teuchos::RCP<const Graph> turned_;
   std::string why_;
 };
+
+/// Each job's matrix A (null: none) as Q A Q^T on the turned pattern of
+/// its graph, one pattern per graph the matrices share, into *out; with no
+/// `out` only whether it can be (patterns checked, not built). Returns why
+/// not (empty: done), the same on every rank. Collective.
+std::string turnOnPatterns(
+    const std::vector<std::pair<Teuchos::RCP<const CrsMatrix>, Teuchos::RCP<const CrsMatrix>*>>& jobs,
+    const DofTable& tp, const fem::Rotation& turn, const Teuchos::Comm<int>& comm) {
+  const auto rowNode = tp.rowNodes();
+  std::vector<std::unique_ptr<TurnedPattern>> patterns;
+  for (const auto& [A, out] : jobs) {
+    if (A.is_null()) continue;  // the same on every rank
+    TurnedPattern* p = nullptr;
+    for (const auto& q : patterns)
+      if (q->serves(*A)) p = q.get();
+    if (p == nullptr) {
+      auto q = std::make_unique<TurnedPattern>(*A, tp, rowNode, turn);
+      // One verdict on every rank before the collective build.
+      int bad = q->why().empty() ? 0 : 1, anyBad = 0;
+      Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, bad, Teuchos::outArg(anyBad));
+      if (anyBad) return q->why().empty() ? "another rank's rows could not be turned" : q->why();
+      patterns.push_back(std::move(q));
+      p = patterns.back().get();
+    }
+    if (out == nullptr) continue;
+    if (!p->built()) p->build(*A);
+    *out = p->apply(*A);
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -267,39 +298,42 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
     }
     if (off > 64 * eps * size) why = "its mesh is not the prototype's turned";
   }
-  // 2. The matrices, on the turned pattern of each graph they share.
+  // 2. The matrices: not formed (the copy applies its prototype's, turned:
+  // apply()), but whether they could be, on the turned pattern of each
+  // graph they share (formed() relies on it), asked now.
   if (!why.empty()) return std::nullopt;
   const auto comm = prototype.map_->getComm();
   Substructure s;
-  const auto rowNode = why.empty() ? tp.rowNodes() : std::vector<std::int64_t>{};
-  std::vector<std::unique_ptr<TurnedPattern>> patterns;
-  auto turnMatrix = [&](const Teuchos::RCP<const CrsMatrix>& A) -> Teuchos::RCP<const CrsMatrix> {
-    if (A.is_null() || !why.empty()) return Teuchos::null;  // the same on every rank
-    const TurnedPattern* p = nullptr;
-    for (const auto& q : patterns)
-      if (q->serves(*A)) p = q.get();
-    if (p == nullptr) {
-      auto q = std::make_unique<TurnedPattern>(*A, tp, rowNode, turn);
-      // One verdict on every rank before the collective build.
-      int bad = q->why().empty() ? 0 : 1, anyBad = 0;
-      Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, bad, Teuchos::outArg(anyBad));
-      if (anyBad) {
-        why = q->why().empty() ? "another rank's rows could not be turned" : q->why();
-        return Teuchos::null;
-      }
-      q->build(*A);
-      patterns.push_back(std::move(q));
-      p = patterns.back().get();
-    }
-    return p->apply(*A);
-  };
-  s.M_ = turnMatrix(prototype.M_);
-  s.K_ = turnMatrix(prototype.K_);
-  s.G1_ = turnMatrix(prototype.G1_);
-  s.KT1_ = turnMatrix(prototype.KT1_);
-  s.KS1_ = turnMatrix(prototype.KS1_);
-  s.D_ = turnMatrix(prototype.D_);
+  auto proto = std::make_shared<Prototype>();
+  proto->M = prototype.M_, proto->K = prototype.K_, proto->G1 = prototype.G1_, proto->KT1 = prototype.KT1_;
+  proto->KS1 = prototype.KS1_, proto->K2 = prototype.K2_, proto->D = prototype.D_;
+  proto->turn = turn;
+  why = turnOnPatterns({{proto->M, nullptr}, {proto->K, nullptr}, {proto->G1, nullptr}, {proto->KT1, nullptr},
+                        {proto->KS1, nullptr}, {proto->D, nullptr}},
+                       tp, turn, *comm);
   if (!why.empty()) return std::nullopt;  // the same on every rank (step 1 is, and the patterns' verdicts)
+  // The local plan of the turns (Substructure::apply), where it serves.
+  {
+    const Map& map = *prototype.map_;
+    const auto rowNode = tp.rowNodes();
+    bool local = true;
+    for (const auto& A : {proto->M, proto->K, proto->G1, proto->KT1, proto->KS1, proto->K2, proto->D})
+      local = local && (A.is_null() || (A->getDomainMap()->isSameAs(map) && A->getRangeMap()->isSameAs(map)));
+    const std::size_t n = map.getNodeNumElements();
+    proto->triples.resize(local ? n : 0);
+    proto->places.resize(local ? n : 0);
+    for (std::size_t l = 0; l < n && local; ++l) {
+      long long r[3];
+      proto->places[l] = static_cast<std::int8_t>(triple(tp, rowNode, map.getGlobalElement(static_cast<LocalOrdinal>(l)), r));
+      for (int e = 0; e < 3; ++e) {
+        const LocalOrdinal at = r[e] < 0 ? -1 : map.getLocalElement(static_cast<GlobalOrdinal>(r[e]));
+        if (r[e] >= 0 && at == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) local = false;
+        proto->triples[l][static_cast<std::size_t>(e)] = at;
+      }
+    }
+    if (!local) proto->triples.clear(), proto->places.clear();
+  }
+  s.prototype_ = std::move(proto);
   // 3. The rest: the load and reactions per unit Omega^2 turned, the DOF
   // table with the copy's own coordinates and names.
   s.name_ = model.name;
@@ -326,6 +360,24 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
   s.dofs_ = tp;
   s.dofs_.nodeIds.assign(mesh.nodeTags.begin(), mesh.nodeTags.end());
   s.dofs_.coordinates = mesh.coordinates;
+  s.finishConstruction();
+  return s;
+}
+
+}  // namespace cms::substructure
+
+namespace cms::substructure {
+
+Substructure Substructure::formed() const {
+  if (!prototype_) return *this;
+  Substructure s = *this;
+  s.prototype_.reset();
+  const auto& p = *prototype_;
+  const std::string why = turnOnPatterns({{p.M, &s.M_}, {p.K, &s.K_}, {p.G1, &s.G1_}, {p.KT1, &s.KT1_},
+                                          {p.KS1, &s.KS1_}, {p.D, &s.D_}},
+                                         dofs_, p.turn, *map_->getComm());
+  // turned() asked the same patterns: they could be built then.
+  if (!why.empty()) throw std::logic_error("Substructure::formed: '" + name_ + "': " + why);
   s.finishConstruction();
   return s;
 }

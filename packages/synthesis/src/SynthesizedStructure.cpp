@@ -174,24 +174,32 @@ Row combine(const std::vector<std::pair<double, const Row*>>& terms) {
 /// rigid rotors (six rows) keep Tpetra's sparse products.
 class Projection {
 public:
-  explicit Projection(const CrsMatrix& T) : T_(T) {}
+  explicit Projection(const CrsMatrix& T) : T_(&T), coords_(T.getDomainMap()) {}
 
   /// T = B C with B (n x b, on T's row map) and C (b rows over the
   /// coordinates, given sparse): for a reduced substructure B = [X_s | V_s]
   /// (rigid or constraint-mode columns, then the basis) and C = [H_s T_p;
   /// I], so that T^T A T = C^T (B^T A B) C needs A times b = 6 + k columns
   /// instead of every coordinate reaching the substructure.
-  Projection(const CrsMatrix& T, Teuchos::RCP<const MultiVector> B, std::vector<Row> C)
-      : T_(T), B_(std::move(B)), C_(std::move(C)) {
-    small_ = Teuchos::rcp(new Map(B_->getNumVectors(), 0, T.getRowMap()->getComm(), Tpetra::LocallyReplicated));
+  Projection(Teuchos::RCP<const Map> coords, Teuchos::RCP<const MultiVector> B, std::vector<Row> C)
+      : coords_(std::move(coords)), B_(std::move(B)), C_(std::move(C)) {
+    small_ = Teuchos::rcp(new Map(B_->getNumVectors(), 0, coords_->getComm(), Tpetra::LocallyReplicated));
     std::set<GlobalOrdinal> cs;
     for (const auto& row : C_)
       for (auto [g, v] : row) cs.insert(g);
     cols_.assign(cs.begin(), cs.end());
   }
 
+  /// T^T A T for the substructure's matrix `a`: applied (a turned copy's
+  /// without being formed, theory §15.2) when T = B C; a Full basis's
+  /// sparse product needs the matrix itself.
+  Teuchos::RCP<const CrsMatrix> operator()(const substructure::Substructure& s, substructure::Matrix a) const {
+    return B_.is_null() ? sparse(*s.matrix(a)) : factored(s, a, 0);
+  }
+  /// The same for a matrix of its own (a compound rotor's KX1).
   Teuchos::RCP<const CrsMatrix> operator()(const CrsMatrix& A) const {
-    return B_.is_null() ? sparse(A) : factored(A, 0);
+    return B_.is_null() ? sparse(A) : factored([&](const MultiVector& X, MultiVector& Y) { A.apply(X, Y); },
+                                               A.getRangeMap(), A.getFrobeniusNorm(), 0);
   }
 
   /// The elastic stiffness, where B's first `rigid` columns are rigid
@@ -202,20 +210,26 @@ public:
   /// for 7.27). A column of K X within 1e3 eps ||K||_F ||X_a|| is that
   /// rounding and made exactly zero; a grounded part (springs, supports)
   /// gives K X of order ||K|| ||X|| and is kept (theory §11.2).
-  Teuchos::RCP<const CrsMatrix> stiffness(const CrsMatrix& K, int rigid) const {
-    return B_.is_null() ? sparse(K) : factored(K, rigid);
+  Teuchos::RCP<const CrsMatrix> stiffness(const substructure::Substructure& s, int rigid) const {
+    return B_.is_null() ? sparse(*s.K()) : factored(s, substructure::Matrix::K, rigid);
   }
 
 private:
-  Teuchos::RCP<const CrsMatrix> factored(const CrsMatrix& A, int rigid) const {
+  Teuchos::RCP<const CrsMatrix> factored(const substructure::Substructure& s, substructure::Matrix a, int rigid) const {
+    return factored([&](const MultiVector& X, MultiVector& Y) { s.apply(a, X, Y); }, s.map(), s.frobeniusNorm(a),
+                    rigid);
+  }
+  template <class Apply>
+  Teuchos::RCP<const CrsMatrix> factored(const Apply& apply, const Teuchos::RCP<const Map>& range, double normF,
+                                         int rigid) const {
     const int nb = static_cast<int>(B_->getNumVectors()), nc = static_cast<int>(cols_.size());
-    MultiVector AB(A.getRangeMap(), nb), S(small_, nb);
-    A.apply(*B_, AB);
+    MultiVector AB(range, nb), S(small_, nb);
+    apply(*B_, AB);
     if (rigid > 0) {
       std::vector<double> ab(nb), b(nb);
       AB.norm2(Teuchos::ArrayView<double>(ab));
       B_->norm2(Teuchos::ArrayView<double>(b));
-      const double floor = 1e3 * std::numeric_limits<double>::epsilon() * A.getFrobeniusNorm();
+      const double floor = 1e3 * std::numeric_limits<double>::epsilon() * normF;
       for (int a = 0; a < std::min(rigid, nb); ++a)
         if (ab[a] <= floor * b[a]) AB.getVectorNonConst(a)->putScalar(0.0);
     }
@@ -246,7 +260,7 @@ private:
       blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, nc, nb, 1.0, Sd.data(), nb, Cd.data(), nb, 0.0, W.data(), nb);
       blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nc, nc, nb, 1.0, Cd.data(), nb, W.data(), nb, 0.0, P.data(), nc);
     }
-    const auto coords = T_.getDomainMap();
+    const auto& coords = coords_;
     std::vector<Row> rows(coords->getNodeNumElements());
     for (int i = 0; i < nc; ++i) {
       const auto l = coords->getLocalElement(cols_[i]);
@@ -261,12 +275,13 @@ private:
 
   Teuchos::RCP<const CrsMatrix> sparse(const CrsMatrix& A) const {
     CrsMatrix AT(A.getRowMap(), 0);
-    Tpetra::MatrixMatrix::Multiply(A, false, T_, false, AT);
-    auto P = Teuchos::rcp(new CrsMatrix(T_.getDomainMap(), 0));
-    Tpetra::MatrixMatrix::Multiply(T_, true, AT, false, *P);
+    Tpetra::MatrixMatrix::Multiply(A, false, *T_, false, AT);
+    auto P = Teuchos::rcp(new CrsMatrix(coords_, 0));
+    Tpetra::MatrixMatrix::Multiply(*T_, true, AT, false, *P);
     return P;
   }
-  const CrsMatrix& T_;
+  const CrsMatrix* T_ = nullptr;  ///< formed (no B)
+  Teuchos::RCP<const Map> coords_;
   Teuchos::RCP<const MultiVector> B_;
   std::vector<Row> C_;
   std::vector<GlobalOrdinal> cols_;  ///< the coordinates C reaches
@@ -393,7 +408,7 @@ Teuchos::RCP<const CrsMatrix> modalDamping(const substructure::Substructure& sub
   DenseMatrix Kr(k, k);
   if (k > 0) {
     MultiVector KV(sub.map(), static_cast<std::size_t>(k));
-    sub.K()->apply(*basis.vectors, KV);
+    sub.apply(substructure::Matrix::K, *basis.vectors, KV);
     std::vector<double> local(static_cast<std::size_t>(k) * k, 0.0), global(local.size(), 0.0);
     const auto V = basis.vectors->getLocalViewHost(Tpetra::Access::ReadOnly);
     const auto W = KV.getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -486,6 +501,8 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   sums.G.resize(structure.speeds().size());
   sums.fullG.assign(structure.speeds().size(), detail::MonolithicSum(-1.0));
   out.T_.resize(parts.size());
+  out.B_.resize(parts.size());
+  out.C_.resize(parts.size());
   for (std::size_t k = 0; k < parts.size(); ++k) {
     bool moves = false;
     const auto A = out.attachmentMotion(k, moves);
@@ -513,6 +530,8 @@ bool operatorsTurned(const AssembledStructure& structure, std::size_t k, std::ve
   if (known[k] < 0) {
     const auto& parts = structure.parts();
     const std::size_t q = structure.prototypeOf(k);
+    // A copy applying its prototype's matrices turned has them by construction.
+    if (!parts[k]->sub->matricesFormed()) return (known[k] = 1) == 1;
     known[k] = detail::operatorsAreTurned(*parts[q]->sub, *parts[k]->sub,
                                           turnFromPrototype(*parts[k]->spec.copy, *parts[q]->spec.copy))
                    ? 1
@@ -540,6 +559,11 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
     const std::size_t p = structure_->prototypeOf(k);
     own[k] = requested[p];
     turned[k] = p != k && parts[k]->sub && !asksBasis(own[k], "Full");
+    // A copy applying its prototype's matrices turned (theory §15.2) whose
+    // basis is not turned here, or whose Boolean interface's constraint
+    // modes factor its K, has them formed, for good (collective).
+    if (parts[k]->sub && !parts[k]->sub->matricesFormed() && (!turned[k] || parts[k]->boolean()))
+      parts[k]->sub = parts[k]->sub->formed();
   }
   const std::vector<Teuchos::ParameterList>& reductions = own;
   reductionLists_ = own;
@@ -711,6 +735,7 @@ void SynthesizedStructure::buildBases(const std::vector<Teuchos::ParameterList>&
         continue;
       }
       rep.notTurned = why;
+      if (!p.sub->matricesFormed()) parts[k]->sub = p.sub->formed();  // reduced on its own (collective)
     }
     if (owner[k] < 0) {
       auto boundary = boundaryOf(k);
@@ -769,7 +794,7 @@ std::vector<SynthesizedStructure::SparseRow> SynthesizedStructure::attachmentMot
     std::set<GlobalOrdinal> need;
     for (const auto& h : p.Hrows)
       for (auto [g, v] : h) need.insert(g);
-    const auto Tp = gatherRows(*T_[p.parent], need);
+    const auto Tp = transformRows(p.parent, need);
     for (std::size_t a = 0; a < A.size(); ++a) {
       std::vector<std::pair<double, const Row*>> terms;
       for (auto [g, v] : p.Hrows[a]) {
@@ -929,10 +954,14 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
       rowsV[l] = own;
       rowsV[l].insert(rowsV[l].end(), virt.begin(), virt.end());
     }
-    terms.push_back({1.0, &own});
-    rows[l] = combine(terms);
+    if (B.is_null()) {
+      terms.push_back({1.0, &own});
+      rows[l] = combine(terms);
+    }
   }
-  T_[k] = fromRows(smap, rows, map_, smap);
+  // A reduced part's T = B C stays factored (transforms()): not formed.
+  if (B.is_null()) T_[k] = fromRows(smap, rows, map_, smap);
+  else B_[k] = B, C_[k] = C;
   Teuchos::RCP<const CrsMatrix> Tv = T_[k];
   std::vector<Row> motion;  // the virtual coordinates' rows over q
   if (virtualMotion) {
@@ -943,19 +972,19 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   bcol.clear();  // release the host views before B is read
   // c T^T A T added to a sum: a Full basis's by the monolithic assembly
   // (MonolithicSum.hpp), a reduced one's through its factors T = B C.
-  const Projection project = B.is_null() ? Projection(*T_[k]) : Projection(*T_[k], B, C);
+  const Projection project = B.is_null() ? Projection(*T_[k]) : Projection(map_, B, C);
   const bool full = basis.full;
-  const auto addTo = [&](Teuchos::RCP<const CrsMatrix>& sum, detail::MonolithicSum& fullSum, const CrsMatrix& A,
-                         double c) {
-    if (full) fullSum.add(*Tv, A, c, nq, motion);
-    else sum = addScaled(sum, c, project(A));
+  using substructure::Matrix;
+  const auto addTo = [&](Teuchos::RCP<const CrsMatrix>& sum, detail::MonolithicSum& fullSum, Matrix a, double c) {
+    if (full) fullSum.add(*Tv, *sub.matrix(a), c, nq, motion);
+    else sum = addScaled(sum, c, project(sub, a));
   };
-  addTo(sums.M, sums.fullM, *sub.M(), 1.0);
+  addTo(sums.M, sums.fullM, Matrix::M, 1.0);
   if (full) sums.fullK0.add(*Tv, *sub.K(), 1.0, nq, motion);
-  else sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(*sub.K(), hasA && !p.boolean() ? na : 0));
+  else sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(sub, hasA && !p.boolean() ? na : 0));
   // Damping (theory §13.1): the dampers' and Rayleigh D_s projected like
   // M; a modal ratio in the substructure's own coordinates.
-  if (!sub.D().is_null()) addTo(sums.D, sums.fullD, *sub.D(), 1.0);
+  if (sub.has(Matrix::D)) addTo(sums.D, sums.fullD, Matrix::D, 1.0);
   if (sub.modalDampingRatio() > 0.0) {
     CMS_INPUT_CHECK(basis.full, "synthesis: substructure '"
                                     << sub.name() << "': a Modal Damping Ratio needs a reduced basis (its modes' "
@@ -966,7 +995,8 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   if (p.compound) {
     // Its own spin inside the spinning parent frame (theory §11.5).
     const auto& st = *p.stationary;
-    addTo(sums.G[p.speedParam], sums.fullG[p.speedParam], *st.G1(), 1.0);
+    if (full) sums.fullG[p.speedParam].add(*Tv, *st.G1(), 1.0, nq, motion);
+    else sums.G[p.speedParam] = addScaled(sums.G[p.speedParam], 1.0, project(st, Matrix::G1));
     if (!st.KX1().is_null()) {
       const auto PX = full ? Teuchos::null : project(*st.KX1());
       for (auto [i, ci] : p.frame.coefficients) {
@@ -977,15 +1007,16 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
     }
   }
   if (p.frame.spinning) {
+    const bool hasG = sub.has(Matrix::G1), hasK2 = sub.has(Matrix::K2);
     Teuchos::RCP<const CrsMatrix> PG, PK;
-    if (!full && !sub.G1().is_null()) PG = project(*sub.G1());
-    if (!full && !sub.K2().is_null()) PK = project(*sub.K2());
+    if (!full && hasG) PG = project(sub, Matrix::G1);
+    if (!full && hasK2) PK = project(sub, Matrix::K2);
     for (auto [i, ci] : p.frame.coefficients) {
-      if (!sub.G1().is_null()) {
+      if (hasG) {
         if (full) sums.fullG[i].add(*Tv, *sub.G1(), ci, nq, motion);
         else sums.G[i] = addScaled(sums.G[i], ci, PG);
       }
-      if (sub.K2().is_null()) continue;
+      if (!hasK2) continue;
       for (auto [j, cj] : p.frame.coefficients) {
         if (j < i) continue;
         const double cij = i == j ? ci * cj : 2.0 * ci * cj;
@@ -1239,10 +1270,63 @@ std::vector<Teuchos::RCP<MultiVector>> SynthesizedStructure::expand(const Struct
     x.replaceLocalValue(l, 1, q.at(i).imag());
   }
   std::vector<Teuchos::RCP<MultiVector>> out;
-  for (const auto& T : T_) {
-    auto u = Teuchos::rcp(new MultiVector(T->getRangeMap(), 2));
-    T->apply(x, *u);
+  for (std::size_t k = 0; k < T_.size(); ++k) {
+    if (!T_[k].is_null()) {
+      auto u = Teuchos::rcp(new MultiVector(T_[k]->getRangeMap(), 2));
+      T_[k]->apply(x, *u);
+      out.push_back(u);
+      continue;
+    }
+    // u = B (C q): C q summed over the ranks' coordinates, on every rank.
+    const auto& C = C_[k];
+    const int nb = static_cast<int>(C.size());
+    std::vector<double> local(2 * static_cast<std::size_t>(nb), 0.0), y(local.size(), 0.0);
+    const auto xr = x.getData(0), xi = x.getData(1);
+    for (int j = 0; j < nb; ++j)
+      for (auto [g, v] : C[j]) {
+        const auto l = map_->getLocalElement(g);
+        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+        local[j] += v * xr[l], local[nb + j] += v * xi[l];
+      }
+    if (nb > 0) Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, 2 * nb, local.data(), y.data());
+    auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(nb), 0, map_->getComm(), Tpetra::LocallyReplicated));
+    MultiVector Y(small, 2);
+    for (int j = 0; j < nb; ++j) Y.replaceLocalValue(j, 0, y[j]), Y.replaceLocalValue(j, 1, y[nb + j]);
+    auto u = Teuchos::rcp(new MultiVector(B_[k]->getMap(), 2));
+    u->multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, 1.0, *B_[k], Y, 0.0);
     out.push_back(u);
+  }
+  return out;
+}
+
+std::map<GlobalOrdinal, SynthesizedStructure::SparseRow> SynthesizedStructure::transformRows(
+    std::size_t k, const std::set<GlobalOrdinal>& rows) const {
+  if (!T_[k].is_null()) return gatherRows(*T_[k], rows);
+  // T's rows of B C: B's rows gathered (each rank holds some), times C.
+  const auto& B = *B_[k];
+  const auto& C = C_[k];
+  const int nb = static_cast<int>(B.getNumVectors());
+  const std::vector<GlobalOrdinal> ids(rows.begin(), rows.end());
+  const int n = static_cast<int>(ids.size());
+  std::vector<double> local(static_cast<std::size_t>(n) * nb, 0.0), all(local.size(), 0.0);
+  std::vector<Teuchos::ArrayRCP<const double>> col(nb);
+  for (int j = 0; j < nb; ++j) col[j] = B.getData(j);
+  for (int i = 0; i < n; ++i) {
+    const auto l = B.getMap()->getLocalElement(ids[i]);
+    if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+    for (int j = 0; j < nb; ++j) local[static_cast<std::size_t>(i) * nb + j] = col[j][l];
+  }
+  col.clear();
+  if (!local.empty())
+    Teuchos::reduceAll(*B.getMap()->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), all.data());
+  std::map<GlobalOrdinal, SparseRow> out;
+  for (int i = 0; i < n; ++i) {
+    std::vector<std::pair<double, const Row*>> terms;
+    for (int j = 0; j < nb; ++j) {
+      const double b = all[static_cast<std::size_t>(i) * nb + j];
+      if (b != 0.0 && !C[j].empty()) terms.push_back({b, &C[j]});
+    }
+    out[ids[i]] = combine(terms);
   }
   return out;
 }
@@ -1261,7 +1345,7 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
   // ||K_s||_F once per substructure, not per mode (a collective reduction).
   std::vector<double> normK(parts.size(), 0.0);
   for (std::size_t k = 0; k < parts.size(); ++k)
-    if (parts[k]->sub) normK[k] = parts[k]->sub->K()->getFrobeniusNorm();
+    if (parts[k]->sub) normK[k] = parts[k]->sub->frobeniusNorm(substructure::Matrix::K);
   std::vector<ModeCharacter> out;
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
     const auto& mode = modes.result.modes[m];
@@ -1271,7 +1355,7 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
     for (std::size_t k = 0; k < parts.size(); ++k) {
       MultiVector Mu(u[k]->getMap(), 2);
       if (parts[k]->sub) {
-        parts[k]->sub->M()->apply(*u[k], Mu);
+        parts[k]->sub->apply(substructure::Matrix::M, *u[k], Mu);
       } else {
         const auto rmap = u[k]->getMap();
         auto Mr = smallMatrix(rmap, parts[k]->rotor.M);
@@ -1284,8 +1368,7 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
       double strain = 0.0;
       if (parts[k]->sub) {
         MultiVector Ku(u[k]->getMap(), 2);
-        const auto& K = *parts[k]->sub->K();
-        K.apply(*u[k], Ku);
+        parts[k]->sub->apply(substructure::Matrix::K, *u[k], Ku);
         Teuchos::Array<double> e(2), uu(2);
         u[k]->dot(Ku, e());
         u[k]->dot(*u[k], uu());
@@ -1401,22 +1484,23 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
         // The substructure's matrices at these speeds (as projected in
         // synthesize): G_s = Omega_s G1 (+ its own spin's G1 for a compound
         // rotor), K_s = K + Omega_s^2 K2 (+ Omega_s omega KX1).
+        // (A turned copy's applied as Q A_p Q^T, theory §15.2.)
+        using substructure::Matrix;
         const auto& sub = *p.sub;
         double frame = 0.0;
         for (auto [i, ci] : p.frame.coefficients) frame += ci * modes.speeds.at(i);
-        sub.M()->apply(U, T);
+        sub.apply(Matrix::M, U, T);
         accumulate(squared, true);
         // Its viscous damping D_s (dampers, Rayleigh: theory §13.1) acts with
         // lambda like G: r = (lambda^2 M + lambda (G + D) + K) u.
         double beta = 0.0;  // T holds nothing yet
-        if (!sub.D().is_null()) sub.D()->apply(U, T), beta = 1.0;
-        if (p.frame.spinning && frame != 0.0 && !sub.G1().is_null())
-          sub.G1()->apply(U, T, Teuchos::NO_TRANS, frame, beta), beta = 1.0;
+        if (sub.has(Matrix::D)) sub.apply(Matrix::D, U, T), beta = 1.0;
+        if (p.frame.spinning && frame != 0.0 && sub.has(Matrix::G1))
+          sub.apply(Matrix::G1, U, T, frame, beta), beta = 1.0;
         if (p.compound) p.stationary->G1()->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(p.speedParam), beta), beta = 1.0;
         if (beta != 0.0) accumulate(linear, false);
-        sub.K()->apply(U, T);
-        if (p.frame.spinning && frame != 0.0 && !sub.K2().is_null())
-          sub.K2()->apply(U, T, Teuchos::NO_TRANS, frame * frame, 1.0);
+        sub.apply(Matrix::K, U, T);
+        if (p.frame.spinning && frame != 0.0 && sub.has(Matrix::K2)) sub.apply(Matrix::K2, U, T, frame * frame, 1.0);
         if (p.compound && !p.stationary->KX1().is_null())
           p.stationary->KX1()->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(p.speedParam) * frame, 1.0);
         accumulate(one, false);
@@ -1618,11 +1702,11 @@ bool SynthesizedStructure::carriedRigidly(std::size_t k) const {
                                     static_cast<int>(t.components[g]));
     for (int a = 0; a < 6; ++a) X.replaceLocalValue(l, a, x[a]);
   }
-  p.sub->K()->apply(X, KX);
+  p.sub->apply(substructure::Matrix::K, X, KX);
   Teuchos::Array<double> kx(6), xn(6);
   KX.norm2(kx());
   X.norm2(xn());
-  const double floor = 1e3 * std::numeric_limits<double>::epsilon() * p.sub->K()->getFrobeniusNorm();
+  const double floor = 1e3 * std::numeric_limits<double>::epsilon() * p.sub->frobeniusNorm(substructure::Matrix::K);
   bool rigid = true;
   for (int a = 0; a < 6; ++a) rigid = rigid && kx[a] <= floor * xn[a];
   known = rigid ? 1 : 0;

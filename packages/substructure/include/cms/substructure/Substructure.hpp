@@ -8,7 +8,10 @@
 //   K(Omega) = K + Omega^2 (KS1 - KT1),   G(Omega) = Omega G1      (theory §9)
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +45,10 @@ struct GyroscopicMatrices {
   Teuchos::RCP<const CrsMatrix> M, G, K;
 };
 
+/// A substructure's matrices by name (theory §9): K2 = KS1 - KT1.
+enum class Matrix { M, K, G1, KT1, KS1, K2, D };
+const char* toString(Matrix a);
+
 class Substructure {
 public:
   /// Assembles the model (collective); see fem::assemble for errors. The
@@ -55,7 +62,9 @@ public:
                                              const fem::PrestressConditions& prestress = {},
                                              std::shared_ptr<const HeldFactor>* stiffnessFactor = nullptr);
   /// A copy made by "Copies: N" from its prototype, without assembling or
-  /// solving anything (doc/theory.md §15.2): every matrix Q A Q^T, the
+  /// solving anything (doc/theory.md §15.2): every matrix Q A Q^T, applied
+  /// as such without being formed (matricesFormed() is false: apply(),
+  /// frobeniusNorm(), or formed() for the matrices themselves), the
   /// centrifugal load and the prestress reactions Q f, Q turning each node's
   /// translations and rotations by `turn` (the copy's placement relative to
   /// the prototype's, about an axis through `origin`); the DOF table with
@@ -87,22 +96,43 @@ public:
   const std::string& name() const { return name_; }
   Teuchos::RCP<const Map> map() const { return map_; }
   const DofTable& dofs() const { return dofs_; }
-  Teuchos::RCP<const CrsMatrix> M() const { return M_; }
-  Teuchos::RCP<const CrsMatrix> K() const { return K_; }
-  Teuchos::RCP<const CrsMatrix> G1() const { return G1_; }
-  Teuchos::RCP<const CrsMatrix> KT1() const { return KT1_; }
-  Teuchos::RCP<const CrsMatrix> KS1() const { return KS1_; }
+  /// The matrices themselves. A turned copy whose matrices are not formed
+  /// (matricesFormed() false) has none to hand out: these throw
+  /// std::logic_error there (apply() and frobeniusNorm() serve it).
+  Teuchos::RCP<const CrsMatrix> M() const { return formedMatrix(Matrix::M); }
+  Teuchos::RCP<const CrsMatrix> K() const { return formedMatrix(Matrix::K); }
+  Teuchos::RCP<const CrsMatrix> G1() const { return formedMatrix(Matrix::G1); }
+  Teuchos::RCP<const CrsMatrix> KT1() const { return formedMatrix(Matrix::KT1); }
+  Teuchos::RCP<const CrsMatrix> KS1() const { return formedMatrix(Matrix::KS1); }
+  Teuchos::RCP<const CrsMatrix> matrix(Matrix a) const { return formedMatrix(a); }
+  /// Whether it has matrix `a` (K2: KS1 or KT1; D: any damping).
+  bool has(Matrix a) const;
+  /// Y = alpha A X + beta Y for its matrix A (collective). A turned copy
+  /// whose matrices are not formed applies Q A_p Q^T, its prototype's A_p
+  /// between the turns of the rows (theory §15.2): the copy's matrices are
+  /// never held. A missing matrix (has(a) false) is an error.
+  void apply(Matrix a, const MultiVector& X, MultiVector& Y, double alpha = 1.0, double beta = 0.0) const;
+  /// ||A||_F: a turned copy's is its prototype's (Q is orthogonal node by
+  /// node; the same to rounding).
+  double frobeniusNorm(Matrix a) const;
+  /// False for a copy made by turned(), whose matrices are its
+  /// prototype's turned and applied, not formed (theory §15.2).
+  bool matricesFormed() const { return !prototype_; }
+  /// This substructure with its matrices formed: a turned copy's Q A_p Q^T
+  /// on the turned pattern (collective; its memory is a prototype's);
+  /// otherwise a copy of this one (the matrices shared).
+  Substructure formed() const;
   /// Stationary rotor in a spinning frame: tilt stiffness per unit
   /// Omega_frame * omega (fem::AssembledMatrices::KX1; null otherwise).
   Teuchos::RCP<const CrsMatrix> KX1() const { return KX1_; }
   /// Centrifugal load per unit Omega^2 (rotating frame; null otherwise).
   Teuchos::RCP<const MultiVector> f1() const { return f1_; }
   /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
-  Teuchos::RCP<const CrsMatrix> K2() const { return K2_; }
+  Teuchos::RCP<const CrsMatrix> K2() const { return formedMatrix(Matrix::K2); }
   /// Viscous damping, independent of speed: the model's dampers plus the
   /// Rayleigh part alpha M + beta K (K at rest); null when there is none
   /// (theory §13.1). Not read from or written to Matrix Market files.
-  Teuchos::RCP<const CrsMatrix> D() const { return D_; }
+  Teuchos::RCP<const CrsMatrix> D() const { return formedMatrix(Matrix::D); }
   /// The model's modal damping ratio, applied by the synthesis in the
   /// reduced substructure's coordinates (0: none).
   double modalDampingRatio() const { return modalDampingRatio_; }
@@ -120,7 +150,8 @@ public:
   /// ranks reduce other substructures (doc/architecture.md, "Parallelism").
   /// Collective over map()'s communicator; on the other ranks the result has
   /// no matrices. Carries the matrices a reduction reads (M, K, KT1) with
-  /// the DOF table, name, spin and mass; not G1, KS1, KX1, f1, D.
+  /// the DOF table, name, spin and mass; not G1, KS1, KX1, f1, D. A turned
+  /// copy's are formed first.
   Substructure gatheredTo(int owner, const Teuchos::RCP<const Teuchos::Comm<int>>& self) const;
   /// M, G(Omega), K(Omega) (theory §9); Omega = 0 gives G = 0 and K. New
   /// matrices are formed only when a speed-dependent term is present.
@@ -129,6 +160,25 @@ public:
 private:
   static double translationMass(const Substructure& s);
   void finishConstruction();  ///< K2_ and mass_ from the matrices
+  /// The matrix held for `a` (null: none); throws std::logic_error for a
+  /// turned copy whose matrices are not formed.
+  Teuchos::RCP<const CrsMatrix> formedMatrix(Matrix a) const;
+  /// Its own A, or (a turned copy) its prototype's A_p.
+  Teuchos::RCP<const CrsMatrix> source(Matrix a) const;
+
+  /// A turned copy's prototype matrices (shared with the prototype: no
+  /// memory of their own) and the turn Q (theory §15.2).
+  struct Prototype {
+    Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1, K2, D;
+    fem::Rotation turn;
+    /// Each local row's node triple as local rows (-1: a fixed component)
+    /// and its place in it, when every triple is local and the matrices'
+    /// domain and range are the rows (the assembly distributes whole nodes):
+    /// the turns are then local passes; otherwise empty (turnedRows' import).
+    std::vector<std::array<LocalOrdinal, 3>> triples;
+    std::vector<std::int8_t> places;
+  };
+  std::shared_ptr<const Prototype> prototype_;
 
   std::string name_ = "substructure";
   Teuchos::RCP<const Map> map_;

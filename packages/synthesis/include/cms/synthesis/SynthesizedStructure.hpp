@@ -17,7 +17,9 @@
 #pragma once
 
 #include <complex>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -296,7 +298,12 @@ public:
                                         const Teuchos::ParameterList& params, int threads = 0) const;
 
   /// u_s = T_s q for each substructure, tree order (a rigid rotor's rows are
-  /// its a = (u_P, theta_P), and its spin angle if free).
+  /// its a = (u_P, theta_P), and its spin angle if free), formed for a Full
+  /// substructure and a rigid rotor; null for a reduced one, whose T_s =
+  /// B_s C_s (attachment motion and basis columns B_s, their rows over q
+  /// C_s) is kept factored: formed, its rows would hold every coordinate
+  /// its attachment reaches (a blade on a 24-blade disk's Craig-Bampton hub:
+  /// 168 a row, against B_s's 18), and expand() applies the factors.
   const std::vector<Teuchos::RCP<const CrsMatrix>>& transforms() const { return T_; }
   Teuchos::RCP<const Map> coordinateMap() const { return map_; }
   /// The rotors on moving attachments (theory §16.8); empty for a structure
@@ -360,6 +367,8 @@ private:
                   const SynthesizedStructure* previous);
   std::vector<GlobalOrdinal> layoutCoordinates();
   std::vector<SparseRow> attachmentMotion(std::size_t k, bool& moves);
+  /// Rows `rows` of part k's T (formed or B C) on every rank. Collective.
+  std::map<GlobalOrdinal, SparseRow> transformRows(std::size_t k, const std::set<GlobalOrdinal>& rows) const;
   void projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset, Sums& sums);
   void projectSubstructure(std::size_t k, const std::vector<SparseRow>& A, bool moves, GlobalOrdinal offset,
                            Sums& sums);
@@ -384,7 +393,9 @@ private:
   std::vector<Teuchos::ParameterList> reductionLists_;
   std::shared_ptr<Factorisations> factorisations_;
   Teuchos::RCP<const Map> map_;
-  std::vector<Teuchos::RCP<const CrsMatrix>> T_;  ///< per part: u_s = T_s q
+  std::vector<Teuchos::RCP<const CrsMatrix>> T_;  ///< per part: u_s = T_s q (formed; or null and:)
+  std::vector<Teuchos::RCP<const MultiVector>> B_;  ///< per reduced part: T_s = B_s C_s
+  std::vector<std::vector<std::vector<std::pair<GlobalOrdinal, double>>>> C_;  ///< C_s's rows over q
   Teuchos::RCP<const CrsMatrix> M_, K0_;
   Teuchos::RCP<const CrsMatrix> D_;  ///< viscous damping (null: none)
   std::vector<Teuchos::RCP<const CrsMatrix>> G_;  ///< per speed parameter
