@@ -196,6 +196,18 @@ void expectTheOwnAssembly(const substructure::Substructure& t, const substructur
     for (int j = 0; j < 3; ++j)
       EXPECT_LE(nd[j], tol * b.frobeniusNorm(m) * nx[j]) << t.name() << " " << toString(m) << " applied";
     EXPECT_NEAR(t.frobeniusNorm(m), b.frobeniusNorm(m), tol * b.frobeniusNorm(m)) << t.name() << " " << toString(m);
+    // The same product with X and Y distributed otherwise (the rows in
+    // contiguous blocks: on several ranks not the assembly's slabs), where
+    // the turns import the node triples instead of their local pass.
+    auto even = Teuchos::rcp(new Map(t.map()->getGlobalNumElements(), 0, t.map()->getComm()));
+    MultiVector xe(even, 3), ye(even, 3), de(even, 3);
+    xe.doImport(x, Tpetra::Import<>(b.map(), even), Tpetra::INSERT);
+    t.apply(m, xe, ye);
+    de.doImport(yb, Tpetra::Import<>(b.map(), even), Tpetra::INSERT);
+    de.update(1.0, ye, -1.0);
+    de.norm2(nd());
+    for (int j = 0; j < 3; ++j)
+      EXPECT_LE(nd[j], tol * b.frobeniusNorm(m) * nx[j]) << t.name() << " " << toString(m) << " applied, rows even";
   }
   const auto formed = t.formed();
   const auto& a = formed;
@@ -356,6 +368,10 @@ TEST(Copies, ShareOneReductionAndKeepTheRotorsSymmetry) {
   for (std::size_t k = 2; k < 5; ++k) {
     EXPECT_EQ(r[k].turnedFrom, "blade[1]") << r[k].name << ": " << r[k].notTurned;
     EXPECT_FALSE(r[k].adoptedPrestressFactor) << r[k].name;
+    // Its matrices applied turned, its B^T A B the prototype's by a
+    // congruence (theory §15.2): the frequencies below and the written-out
+    // rotor's (ReduceAsEachBladeReducedOnItsOwn) check what that gives.
+    EXPECT_TRUE(r[k].projectedFromPrototype) << r[k].name;
     EXPECT_EQ(r[k].labels, r[1].labels);
     EXPECT_EQ(r[k].frequencyEstimates, r[1].frequencyEstimates);
   }
@@ -444,6 +460,8 @@ TEST(Copies, ACopyThatIsNotThePrototypeTurnedIsReducedOnItsOwn) {
   EXPECT_EQ(r[2].turnedFrom, "blade[1]");
   EXPECT_TRUE(r[3].turnedFrom.empty());
   EXPECT_NE(r[3].notTurned.find("reduced M differs"), std::string::npos) << r[3].notTurned;
+  EXPECT_TRUE(r[2].projectedFromPrototype);
+  EXPECT_FALSE(r[3].projectedFromPrototype) << "assembled on its own: projected itself";
   // Its matrices were its own: the assembly could not vouch for its model.
   int assembledOwn = 0;
   for (const auto& note : s.assembled().notes()) assembledOwn += note.find("blade[3]: assembled on its own") == 0;

@@ -51,6 +51,7 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
                                   {"basis_bytes", s.basisBytes},
                                   {"basis_adopted_prestress_factor", s.adoptedPrestressFactor},
                                   {"estimates_adopted_prestress_factor", s.estimatesAdoptedPrestressFactor},
+                                  {"projected_from_prototype", s.projectedFromPrototype},
                                   {"frequency_estimates_hz", hz},
                                   {"dropped", s.dropped}});
     // A copy's basis turned from its prototype's (theory §15.2), or why not.

@@ -172,6 +172,17 @@ Row combine(const std::vector<std::pair<double, const Row*>>& terms) {
 /// (a sparse-times-dense product, one GEMM with a reduction over ranks, and
 /// small dense products); T of Full bases (the truth: near identity) and of
 /// rigid rotors (six rows) keep Tpetra's sparse products.
+/// D^T S D for n x n column-major D and S.
+std::vector<double> congruence(const std::vector<double>& D, const std::vector<double>& S) {
+  const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(S.size()))));
+  std::vector<double> W(S.size()), out(S.size());
+  Teuchos::BLAS<int, double> blas;
+  if (n == 0) return out;
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, 1.0, S.data(), n, D.data(), n, 0.0, W.data(), n);
+  blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, n, n, n, 1.0, D.data(), n, W.data(), n, 0.0, out.data(), n);
+  return out;
+}
+
 class Projection {
 public:
   explicit Projection(const CrsMatrix& T) : T_(&T), coords_(T.getDomainMap()) {}
@@ -214,40 +225,15 @@ public:
     return B_.is_null() ? sparse(*s.K()) : factored(s, substructure::Matrix::K, rigid);
   }
 
-private:
-  Teuchos::RCP<const CrsMatrix> factored(const substructure::Substructure& s, substructure::Matrix a, int rigid) const {
-    return factored([&](const MultiVector& X, MultiVector& Y) { s.apply(a, X, Y); }, s.map(), s.frobeniusNorm(a),
-                    rigid);
+  /// B^T A B (nb x nb, column-major, on every rank) for the substructure's
+  /// matrix `a`, the first `rigid` columns treated as in stiffness().
+  std::vector<double> small(const substructure::Substructure& s, substructure::Matrix a, int rigid) const {
+    return small([&](const MultiVector& X, MultiVector& Y) { s.apply(a, X, Y); }, s.map(), s.frobeniusNorm(a), rigid);
   }
-  template <class Apply>
-  Teuchos::RCP<const CrsMatrix> factored(const Apply& apply, const Teuchos::RCP<const Map>& range, double normF,
-                                         int rigid) const {
+  /// C^T S C over the coordinates, for S = B^T A B.
+  Teuchos::RCP<const CrsMatrix> expand(const std::vector<double>& Sd) const {
     const int nb = static_cast<int>(B_->getNumVectors()), nc = static_cast<int>(cols_.size());
-    MultiVector AB(range, nb), S(small_, nb);
-    apply(*B_, AB);
-    if (rigid > 0) {
-      std::vector<double> ab(nb), b(nb);
-      AB.norm2(Teuchos::ArrayView<double>(ab));
-      B_->norm2(Teuchos::ArrayView<double>(b));
-      const double floor = 1e3 * std::numeric_limits<double>::epsilon() * normF;
-      for (int a = 0; a < std::min(rigid, nb); ++a)
-        if (ab[a] <= floor * b[a]) AB.getVectorNonConst(a)->putScalar(0.0);
-    }
-    S.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *B_, AB, 0.0);
-    if (rigid > 0) {
-      // B_a^T K B_j = (K B_a)^T B_j: the row of a zeroed column is zero too.
-      for (int a = 0; a < std::min(rigid, nb); ++a) {
-        bool zero = true;
-        for (double v : S.getData(a)) zero = zero && v == 0.0;
-        if (zero)
-          for (int j = 0; j < nb; ++j) S.replaceLocalValue(static_cast<LocalOrdinal>(a), j, 0.0);
-      }
-    }
-    std::vector<double> Sd(static_cast<std::size_t>(nb) * nb), Cd(static_cast<std::size_t>(nb) * nc, 0.0);
-    for (int j = 0; j < nb; ++j) {
-      const auto c = S.getData(j);
-      for (int i = 0; i < nb; ++i) Sd[i + static_cast<std::size_t>(j) * nb] = c[i];
-    }
+    std::vector<double> Cd(static_cast<std::size_t>(nb) * nc, 0.0);
     for (int i = 0; i < nb; ++i)
       for (auto [g, v] : C_[i]) {
         const auto c = std::lower_bound(cols_.begin(), cols_.end(), g) - cols_.begin();
@@ -271,6 +257,46 @@ private:
       }
     }
     return fromRows(coords, rows, coords, coords);
+  }
+
+private:
+  Teuchos::RCP<const CrsMatrix> factored(const substructure::Substructure& s, substructure::Matrix a, int rigid) const {
+    return expand(small(s, a, rigid));
+  }
+  template <class Apply>
+  Teuchos::RCP<const CrsMatrix> factored(const Apply& apply, const Teuchos::RCP<const Map>& range, double normF,
+                                         int rigid) const {
+    return expand(small(apply, range, normF, rigid));
+  }
+  template <class Apply>
+  std::vector<double> small(const Apply& apply, const Teuchos::RCP<const Map>& range, double normF, int rigid) const {
+    const int nb = static_cast<int>(B_->getNumVectors());
+    MultiVector AB(range, nb), S(small_, nb);
+    apply(*B_, AB);
+    if (rigid > 0) {
+      std::vector<double> ab(nb), b(nb);
+      AB.norm2(Teuchos::ArrayView<double>(ab));
+      B_->norm2(Teuchos::ArrayView<double>(b));
+      const double floor = 1e3 * std::numeric_limits<double>::epsilon() * normF;
+      for (int a = 0; a < std::min(rigid, nb); ++a)
+        if (ab[a] <= floor * b[a]) AB.getVectorNonConst(a)->putScalar(0.0);
+    }
+    S.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *B_, AB, 0.0);
+    if (rigid > 0) {
+      // B_a^T K B_j = (K B_a)^T B_j: the row of a zeroed column is zero too.
+      for (int a = 0; a < std::min(rigid, nb); ++a) {
+        bool zero = true;
+        for (double v : S.getData(a)) zero = zero && v == 0.0;
+        if (zero)
+          for (int j = 0; j < nb; ++j) S.replaceLocalValue(static_cast<LocalOrdinal>(a), j, 0.0);
+      }
+    }
+    std::vector<double> Sd(static_cast<std::size_t>(nb) * nb);
+    for (int j = 0; j < nb; ++j) {
+      const auto c = S.getData(j);
+      for (int i = 0; i < nb; ++i) Sd[i + static_cast<std::size_t>(j) * nb] = c[i];
+    }
+    return Sd;
   }
 
   Teuchos::RCP<const CrsMatrix> sparse(const CrsMatrix& A) const {
@@ -444,6 +470,14 @@ Teuchos::RCP<const CrsMatrix> modalDamping(const substructure::Substructure& sub
 
 /// The projected matrices of synthesize as they accumulate, part by part.
 struct SynthesizedStructure::Sums {
+  /// The parts some copy takes its basis from, and their B^T A B (with the
+  /// rigid rows stiffness() zeroed) for the copies' congruences (§15.2).
+  std::set<std::size_t> prototypes;
+  struct Small {
+    std::vector<double> S;
+    int rigidZeroed = 0;
+  };
+  std::map<std::pair<std::size_t, substructure::Matrix>, Small> ofPrototype;
   Teuchos::RCP<const CrsMatrix> M, K0;
   Teuchos::RCP<const CrsMatrix> D;  ///< damping (null until a damped part is met)
   std::vector<Teuchos::RCP<const CrsMatrix>> G;  ///< per speed parameter
@@ -498,6 +532,8 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   // 3. Interface transforms and projections, parents first (a child's
   // attachment motion reads its parent's transform).
   Sums sums;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (structure.prototypeOf(k) != k) sums.prototypes.insert(structure.prototypeOf(k));
   sums.G.resize(structure.speeds().size());
   sums.fullG.assign(structure.speeds().size(), detail::MonolithicSum(-1.0));
   out.T_.resize(parts.size());
@@ -975,13 +1011,43 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   const Projection project = B.is_null() ? Projection(*T_[k]) : Projection(map_, B, C);
   const bool full = basis.full;
   using substructure::Matrix;
+  // A turned copy's B^T A B from its prototype's (theory §15.2), when
+  // Q^T B_c = B_p D: no product with its matrices at all.
+  const auto D = B.is_null() ? std::nullopt : copyRotation(k, *B, na, hasA && !p.boolean());
+  const int rigid = hasA && !p.boolean() ? na : 0;
+  reports_[k].projectedFromPrototype = D.has_value();  // until one matrix is projected itself
+  const auto reduced = [&](Matrix a) -> Teuchos::RCP<const CrsMatrix> {
+    const int r = a == Matrix::K ? rigid : 0;
+    const std::size_t q = structure_->prototypeOf(k);
+    if (D) {
+      const auto it = sums.ofPrototype.find({q, a});
+      // (K: only when the prototype's rigid rows were all zeroed, as the
+      // copy's then are: a mix of kept and zeroed ones would not turn.)
+      if (it != sums.ofPrototype.end() && (r == 0 || it->second.rigidZeroed == r))
+        return project.expand(congruence(*D, it->second.S));
+    }
+    reports_[k].projectedFromPrototype = false;
+    auto S = project.small(sub, a, r);
+    if (sums.prototypes.count(k)) {
+      int zeroed = 0;  // the rigid rows stiffness() made zero
+      const int nb = static_cast<int>(B->getNumVectors());
+      for (int i = 0; i < r; ++i) {
+        bool zero = true;
+        for (int j = 0; j < nb; ++j) zero = zero && S[i + static_cast<std::size_t>(j) * nb] == 0.0;
+        zeroed += zero;
+      }
+      sums.ofPrototype[{k, a}] = {S, zeroed};
+    }
+    return project.expand(S);
+  };
   const auto addTo = [&](Teuchos::RCP<const CrsMatrix>& sum, detail::MonolithicSum& fullSum, Matrix a, double c) {
     if (full) fullSum.add(*Tv, *sub.matrix(a), c, nq, motion);
-    else sum = addScaled(sum, c, project(sub, a));
+    else sum = addScaled(sum, c, B.is_null() ? project(sub, a) : reduced(a));
   };
   addTo(sums.M, sums.fullM, Matrix::M, 1.0);
   if (full) sums.fullK0.add(*Tv, *sub.K(), 1.0, nq, motion);
-  else sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(sub, hasA && !p.boolean() ? na : 0));
+  else if (B.is_null()) sums.K0 = addScaled(sums.K0, 1.0, project.stiffness(sub, rigid));
+  else sums.K0 = addScaled(sums.K0, 1.0, reduced(Matrix::K));
   // Damping (theory §13.1): the dampers' and Rayleigh D_s projected like
   // M; a modal ratio in the substructure's own coordinates.
   if (sub.has(Matrix::D)) addTo(sums.D, sums.fullD, Matrix::D, 1.0);
@@ -1009,8 +1075,8 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   if (p.frame.spinning) {
     const bool hasG = sub.has(Matrix::G1), hasK2 = sub.has(Matrix::K2);
     Teuchos::RCP<const CrsMatrix> PG, PK;
-    if (!full && hasG) PG = project(sub, Matrix::G1);
-    if (!full && hasK2) PK = project(sub, Matrix::K2);
+    if (!full && hasG) PG = B.is_null() ? project(sub, Matrix::G1) : reduced(Matrix::G1);
+    if (!full && hasK2) PK = B.is_null() ? project(sub, Matrix::K2) : reduced(Matrix::K2);
     for (auto [i, ci] : p.frame.coefficients) {
       if (hasG) {
         if (full) sums.fullG[i].add(*Tv, *sub.G1(), ci, nq, motion);
@@ -1025,6 +1091,68 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
       }
     }
   }
+}
+
+
+/// For copy k whose basis is its prototype's turned and whose matrices are
+/// its prototype's applied turned (theory §15.2): D with Q^T B_k = B_q D,
+/// so that B_k^T A_k B_k = D^T (B_q^T A_q B_q) D. D = blockdiag(M6, I): the
+/// basis columns turn back exactly, and the attachment's rigid motions X_k
+/// (about the copy's own point, which a parent face not symmetric about the
+/// axis places off the prototype's turned) are X_q M6, a 6 x 6 change of
+/// axes and reference point, found by least squares and accepted when
+/// ||Q^T X_k - X_q M6||_F <= 1e3 eps ||X_k||_F (rounding of the turn and of
+/// the copy's turned coordinates, which the assembly holds to 64 eps of the
+/// structure's size). nullopt otherwise (the caller projects). Collective.
+std::optional<std::vector<double>> SynthesizedStructure::copyRotation(std::size_t k, const MultiVector& B, int na,
+                                                                      bool rigidColumns) const {
+  const auto& parts = structure_->parts();
+  const std::size_t q = structure_->prototypeOf(k);
+  const auto& p = *parts[k];
+  if (q == k || reports_[k].turnedFrom.empty() || p.sub->matricesFormed() || B_[q].is_null() || !p.spec.copy ||
+      !parts[q]->spec.copy)
+    return std::nullopt;
+  const auto& Bq = *B_[q];
+  const int nb = static_cast<int>(B.getNumVectors());
+  if (static_cast<int>(Bq.getNumVectors()) != nb || (na > 0 && !rigidColumns) || na > nb) return std::nullopt;
+  std::vector<double> D(static_cast<std::size_t>(nb) * nb, 0.0);
+  for (int j = na; j < nb; ++j) D[j + static_cast<std::size_t>(j) * nb] = 1.0;
+  if (na == 0) return D;
+  const auto turn = turnFromPrototype(*p.spec.copy, *parts[q]->spec.copy);
+  fem::Rotation back;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) back.R[i][j] = turn.R[j][i];
+  const auto Xk = B.subCopy(Teuchos::Range1D(0, na - 1));
+  const auto Xq = Bq.subCopy(Teuchos::Range1D(0, na - 1));
+  const auto Y = substructure::turnedRows(*Xk, p.sub->dofs(), p.sub->map(), back);
+  auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(na), 0, B.getMap()->getComm(), Tpetra::LocallyReplicated));
+  MultiVector G(small, na), H(small, na);
+  G.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Xq, *Xq, 0.0);
+  H.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Xq, *Y, 0.0);
+  std::vector<double> g(static_cast<std::size_t>(na) * na), h(g.size());
+  for (int j = 0; j < na; ++j) {
+    const auto gj = G.getData(j), hj = H.getData(j);
+    for (int i = 0; i < na; ++i) g[i + static_cast<std::size_t>(j) * na] = gj[i], h[i + static_cast<std::size_t>(j) * na] = hj[i];
+  }
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POTRF('L', na, g.data(), na, &info);
+  if (info != 0) return std::nullopt;
+  lapack.POTRS('L', na, na, g.data(), na, h.data(), na, &info);
+  if (info != 0) return std::nullopt;
+  MultiVector M6(small, na);
+  for (int j = 0; j < na; ++j)
+    for (int i = 0; i < na; ++i) M6.replaceLocalValue(i, j, h[i + static_cast<std::size_t>(j) * na]);
+  std::vector<double> before(na), after(na);
+  Y->norm2(Teuchos::ArrayView<double>(before));
+  Y->multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, *Xq, M6, 1.0);
+  Y->norm2(Teuchos::ArrayView<double>(after));
+  double b2 = 0.0, a2 = 0.0;
+  for (int j = 0; j < na; ++j) b2 += before[j] * before[j], a2 += after[j] * after[j];
+  if (!(std::sqrt(a2) <= 1e3 * std::numeric_limits<double>::epsilon() * std::sqrt(b2))) return std::nullopt;
+  for (int j = 0; j < na; ++j)
+    for (int i = 0; i < na; ++i) D[i + static_cast<std::size_t>(j) * nb] = h[i + static_cast<std::size_t>(j) * na];
+  return D;
 }
 
 /// Step 4 of synthesize: the accumulated matrices made exactly symmetric

@@ -19,6 +19,7 @@
 #include <complex>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -123,6 +124,10 @@ struct SubstructureReduction {
   /// Craig-Bampton substructure with point-attached children: their
   /// interface rows).
   bool estimatesAdoptedPrestressFactor = false;
+  /// A turned copy whose reduced matrices B^T A B are its prototype's by a
+  /// congruence D^T (B_p^T A_p B_p) D (theory §15.2): no product with its
+  /// matrices was taken for them.
+  bool projectedFromPrototype = false;
   double basisBytes = 0.0;  ///< its vectors' storage (rows x columns x 8; 0 for Full and R)
   /// Rayleigh-Ritz estimates of its lowest frequencies at rest, attachment
   /// held (rad/s): the paper's truncation guide. Empty for Full and R.
@@ -367,6 +372,9 @@ private:
                   const SynthesizedStructure* previous);
   std::vector<GlobalOrdinal> layoutCoordinates();
   std::vector<SparseRow> attachmentMotion(std::size_t k, bool& moves);
+  /// Copy k's D with Q^T B_k = B_prototype D (its projections from the
+  /// prototype's), or nullopt. Collective.
+  std::optional<std::vector<double>> copyRotation(std::size_t k, const MultiVector& B, int na, bool rigidColumns) const;
   /// Rows `rows` of part k's T (formed or B C) on every rank. Collective.
   std::map<GlobalOrdinal, SparseRow> transformRows(std::size_t k, const std::set<GlobalOrdinal>& rows) const;
   void projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset, Sums& sums);
