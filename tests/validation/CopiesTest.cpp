@@ -517,8 +517,12 @@ TEST(Copies, AreTruncatedAlike) {
 
 TEST(Copies, EstimatesAndCountsUseThePrototypesFactorisation) {
   // The copies' error estimates and Sturm counts come from blade[1]'s
-  // factorisation, their residuals turned back (theory §15.2): the same as
-  // the written-out rotor's, each blade factored on its own.
+  // factorisation (theory §15.2): each copy's r^T K^-1 r from blade[1]'s
+  // Gram matrix W = P^T K^-1 P, P = [A_t B_1], on its own coordinates (its
+  // reduced matrices came from blade[1]'s: ShareOneReduction...), the same
+  // as the written-out rotor's, each blade factored on its own and its
+  // residual formed. (W's products cancel as r's do: the difference is
+  // eps (|K u| / |r|)^2 relative, below the eigenpairs' rounding here.)
   const auto copied = SynthesizedStructure::synthesize(assembled(copiedRotor()));
   const auto written = SynthesizedStructure::synthesize(assembled(writtenOutRotor()));
   const auto a = solve(copied, 1.0), b = solve(written, 1.0);

@@ -1563,6 +1563,71 @@ void SynthesizedStructure::releaseFlexibilities() {
   for (auto& b : bases_) b.flexibility.reset();
 }
 
+std::vector<double> SynthesizedStructure::copyResidualNorms(std::size_t k, const StructureModes& modes, int m0, int bm,
+                                                            const std::vector<double>& D,
+                                                            const std::vector<substructure::Matrix>& terms,
+                                                            double frame, const std::vector<double>& W,
+                                                            const std::vector<double>& XP,
+                                                            std::vector<double>* toParent) const {
+  using substructure::Matrix;
+  const auto& C = C_[k];
+  const int nb = static_cast<int>(C.size()), nc = 2 * bm, nt = static_cast<int>(terms.size()), w = nt * nb;
+  const int na = static_cast<int>(XP.size()) / std::max(w, 1);
+  // y = C q per column (real, imaginary per mode), summed over the ranks.
+  std::vector<double> local(static_cast<std::size_t>(nb) * nc, 0.0), y(local.size(), 0.0);
+  for (int m = 0; m < bm; ++m) {
+    const auto& q = modes.result.modes[m0 + m].q;
+    const bool replicated = static_cast<long long>(q.size()) == size();
+    for (int j = 0; j < nb; ++j)
+      for (auto [g, v] : C[j]) {
+        const auto l = map_->getLocalElement(g);
+        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+        const auto& x = q.at(replicated ? static_cast<std::size_t>(g) : static_cast<std::size_t>(l));
+        local[j + static_cast<std::size_t>(2 * m) * nb] += v * x.real();
+        local[j + static_cast<std::size_t>(2 * m + 1) * nb] += v * x.imag();
+      }
+  }
+  if (!local.empty())
+    Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), y.data());
+  Teuchos::BLAS<int, double> blas;
+  std::vector<double> z(y.size()), Z(static_cast<std::size_t>(w) * nc, 0.0), WZ(Z.size()), out(nc, 0.0);
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, nc, nb, 1.0, D.data(), nb, y.data(), nb, 0.0, z.data(), nb);
+  // Z: each term's coefficient c_t(lambda) times z, as the residual's
+  // accumulation does (Re r = Re c A a - Im c A b, Im r = Im c A a + Re c A b).
+  for (int t = 0; t < nt; ++t)
+    for (int m = 0; m < bm; ++m) {
+      const std::complex<double> l = modes.result.modes[m0 + m].lambda;
+      std::complex<double> c = 1.0;
+      switch (terms[static_cast<std::size_t>(t)]) {
+        case Matrix::M: c = l * l; break;
+        case Matrix::D: c = l; break;
+        case Matrix::G1: c = frame * l; break;
+        case Matrix::K2: c = frame * frame; break;
+        default: break;
+      }
+      for (int i = 0; i < nb; ++i) {
+        const double a = z[i + static_cast<std::size_t>(2 * m) * nb], b = z[i + static_cast<std::size_t>(2 * m + 1) * nb];
+        Z[t * nb + i + static_cast<std::size_t>(2 * m) * w] = c.real() * a - c.imag() * b;
+        Z[t * nb + i + static_cast<std::size_t>(2 * m + 1) * w] = c.imag() * a + c.real() * b;
+      }
+    }
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, w, nc, w, 1.0, W.data(), w, Z.data(), w, 0.0, WZ.data(), w);
+  for (int col = 0; col < nc; ++col)
+    for (int i = 0; i < w; ++i) out[col] += Z[i + static_cast<std::size_t>(col) * w] * WZ[i + static_cast<std::size_t>(col) * w];
+  if (toParent && na > 0) {
+    // X_c^T r_c = M6^T (X_p^T P) Z, M6 the top-left na x na of D.
+    std::vector<double> XPZ(static_cast<std::size_t>(na) * nc), M6(static_cast<std::size_t>(na) * na), g(XPZ.size());
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, na, nc, w, 1.0, XP.data(), na, Z.data(), w, 0.0, XPZ.data(), na);
+    for (int j = 0; j < na; ++j)
+      for (int i = 0; i < na; ++i) M6[i + static_cast<std::size_t>(j) * na] = D[i + static_cast<std::size_t>(j) * nb];
+    blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, na, nc, na, 1.0, M6.data(), na, XPZ.data(), na, 0.0, g.data(), na);
+    toParent->assign(static_cast<std::size_t>(6) * nc, 0.0);
+    for (int a = 0; a < std::min(na, 6); ++a)
+      for (int col = 0; col < nc; ++col) (*toParent)[static_cast<std::size_t>(a) * nc + col] = g[a + static_cast<std::size_t>(col) * na];
+  }
+  return out;
+}
+
 std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const StructureModes& modes,
                                                                    std::vector<std::vector<double>>* byPart) const {
   const auto& parts = structure_->parts();
@@ -1575,6 +1640,66 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
   // a temporary and the solution, were the error estimates' peak memory,
   // 8 x 2 nm vectors of the largest substructure (doc/benchmarks.md, "The
   // bar's memory"). The factor is read once per block in the solves.
+  //
+  // A turned copy with no children, whose reduced matrices came from its
+  // prototype's (copyRotation: Q^T B_c = B_p D), has its residual in the
+  // prototype's axes r_p = Q^T r_c = sum_t c_t(lambda) A_t B_p (D y), y = C q
+  // its factors' coordinates, t over M, D, G1, K, K2 with c_t = lambda^2,
+  // lambda, Omega lambda, 1, Omega^2. So r^T K^-1 r = Z^T W Z with W = P^T
+  // K_p^-1 P, P = [A_t B_p]_t, and X_c^T r_c = M6^T (X_p^T P) Z (theory
+  // §15.2): W made once from the prototype serves every copy, which then
+  // costs small dense products instead of sparse ones and solves.
+  struct Gram {
+    std::vector<substructure::Matrix> terms;
+    int nb = 0, na = 0;
+    std::vector<double> W, XP;  ///< (nt nb)^2 and na x (nt nb), column-major
+  };
+  std::map<std::size_t, Gram> gram;  // by prototype
+  std::vector<std::vector<double>> rotationOf(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& p = *parts[k];
+    const std::size_t q = structure_->prototypeOf(k);
+    if (q == k || !p.sub || !reports_[k].projectedFromPrototype || !p.children.empty() || p.compound ||
+        p.boolean() || B_[k].is_null() || B_[q].is_null() || parts[q]->compound || !sharesPrototypeFactorisations(k))
+      continue;
+    const int nb = static_cast<int>(B_[k]->getNumVectors()), na = nb - bases_[k].size();
+    auto D = copyRotation(k, *B_[k], na, true);
+    if (!D) continue;
+    rotationOf[k] = std::move(*D);
+    if (gram.count(q)) continue;
+    Gram g;
+    g.nb = nb, g.na = na;
+    const auto& proto = *parts[q]->sub;
+    using substructure::Matrix;
+    for (Matrix a : {Matrix::M, Matrix::D, Matrix::G1, Matrix::K, Matrix::K2})
+      if (proto.has(a)) g.terms.push_back(a);
+    const int nt = static_cast<int>(g.terms.size()), w = nt * nb;
+    MultiVector P(proto.map(), static_cast<std::size_t>(w)), KP(proto.map(), static_cast<std::size_t>(w));
+    for (int t = 0; t < nt; ++t) {
+      auto Pt = P.subViewNonConst(Teuchos::Range1D(t * nb, (t + 1) * nb - 1));
+      proto.apply(g.terms[static_cast<std::size_t>(t)], *B_[q], *Pt);
+    }
+    flexibility(q).solve(P, KP);
+    auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(w), 0, proto.map()->getComm(), Tpetra::LocallyReplicated));
+    MultiVector Wm(small, static_cast<std::size_t>(w));
+    Wm.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, P, KP, 0.0);
+    g.W.resize(static_cast<std::size_t>(w) * w);
+    for (int j = 0; j < w; ++j) {
+      const auto c = Wm.getData(j);
+      for (int i = 0; i < w; ++i) g.W[i + static_cast<std::size_t>(j) * w] = c[i];
+    }
+    if (na > 0) {
+      auto rigid = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(na), 0, proto.map()->getComm(), Tpetra::LocallyReplicated));
+      MultiVector XPm(rigid, static_cast<std::size_t>(w));
+      XPm.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *B_[q]->subView(Teuchos::Range1D(0, na - 1)), P, 0.0);
+      g.XP.resize(static_cast<std::size_t>(na) * w);
+      for (int j = 0; j < w; ++j) {
+        const auto c = XPm.getData(j);
+        for (int i = 0; i < na; ++i) g.XP[i + static_cast<std::size_t>(j) * na] = c[i];
+      }
+    }
+    gram[q] = std::move(g);
+  }
   for (int m0 = 0; m0 < nm; m0 += kResidualBlockModes) {
     const int bm = std::min(kResidualBlockModes, nm - m0), nc = 2 * bm;  // real, imaginary per mode
     // The expanded modes of the block, per substructure (collective).
@@ -1587,6 +1712,18 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     for (std::size_t kk = parts.size(); kk-- > 0;) {
       const std::size_t k = kk;
       const auto& p = *parts[k];
+      if (!rotationOf[k].empty()) {
+        const auto& g = gram.at(structure_->prototypeOf(k));
+        for (int m = 0; m < bm; ++m) u[m][k] = Teuchos::null;
+        double frame = 0.0;
+        for (auto [i, ci] : p.frame.coefficients) frame += ci * modes.speeds.at(i);
+        const auto d = copyResidualNorms(k, modes, m0, bm, rotationOf[k], g.terms, frame, g.W, g.XP,
+                                         p.parent >= 0 ? &toParent[k] : nullptr);
+        for (int m = 0; m < bm; ++m) correction[m0 + m] += d[2 * m] + d[2 * m + 1];
+        if (byPart)
+          for (int m = 0; m < bm; ++m) (*byPart)[static_cast<std::size_t>(m0 + m)][k] = d[2 * m] + d[2 * m + 1];
+        continue;
+      }
       const auto rmap = u[0][k]->getMap();
       MultiVector U(rmap, nc), R(rmap, nc), T(rmap, nc);
       for (int m = 0; m < bm; ++m) {

@@ -37,6 +37,10 @@
 namespace Teuchos { template <class T> class Comm; }
 namespace cms::reduction { class StaticCorrection; }
 
+namespace cms::substructure {
+enum class Matrix;  // cms/substructure/Substructure.hpp
+}
+
 namespace cms::synthesis {
 
 /// One spin rate of the structure: C's frame, or an R or A relative spin.
@@ -375,6 +379,13 @@ private:
   /// Copy k's D with Q^T B_k = B_prototype D (its projections from the
   /// prototype's), or nullopt. Collective.
   std::optional<std::vector<double>> copyRotation(std::size_t k, const MultiVector& B, int na, bool rigidColumns) const;
+  /// A copy's r^T K^-1 r per column of modes m0 .. m0 + bm from its
+  /// prototype's Gram matrix W (residualFlexibilityNorms), and its
+  /// attachment forces X^T r into *toParent. Collective.
+  std::vector<double> copyResidualNorms(std::size_t k, const StructureModes& modes, int m0, int bm,
+                                        const std::vector<double>& D, const std::vector<substructure::Matrix>& terms,
+                                        double frame, const std::vector<double>& W, const std::vector<double>& XP,
+                                        std::vector<double>* toParent) const;
   /// Rows `rows` of part k's T (formed or B C) on every rank. Collective.
   std::map<GlobalOrdinal, SparseRow> transformRows(std::size_t k, const std::set<GlobalOrdinal>& rows) const;
   void projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset, Sums& sums);
