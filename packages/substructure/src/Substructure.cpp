@@ -185,34 +185,25 @@ void Substructure::apply(Matrix a, const MultiVector& X, MultiVector& Y, double 
     return;
   }
   // Every node triple local: (Q^T x)_c = sum_e R_ec x_e, then
-  // (Q y)_c = sum_e R_ce y_e, row by row.
+  // (Q y)_c = sum_e R_ce y_e, row by row: out = a (turned in) + b out.
   const std::size_t n = p.triples.size();
-  MultiVector Xp(map_, nc, false), AX(map_, nc, false);
-  {
-    const auto x = X.getLocalViewHost(Tpetra::Access::ReadOnly);
-    const auto xp = Xp.getLocalViewHost(Tpetra::Access::OverwriteAll);
+  const auto turn = [&](const auto& in, const auto& out, bool back, double a, double b) {
     for (std::size_t j = 0; j < nc; ++j)
       for (std::size_t l = 0; l < n; ++l) {
         const auto& t = p.triples[l];
         const int c = p.places[l];
         double v = 0.0;
         for (int e = 0; e < 3; ++e)
-          if (t[e] >= 0) v += R[e][c] * x(static_cast<std::size_t>(t[e]), j);
-        xp(l, j) = v;
+          if (t[e] >= 0) v += (back ? R[e][c] : R[c][e]) * in(static_cast<std::size_t>(t[e]), j);
+        out(l, j) = a * v + (b == 0.0 ? 0.0 : b * out(l, j));
       }
-  }
+  };
+  MultiVector Xp(map_, nc, false), AX(map_, nc, false);
+  turn(X.getLocalViewHost(Tpetra::Access::ReadOnly), Xp.getLocalViewHost(Tpetra::Access::OverwriteAll), true, 1.0,
+       0.0);
   A->apply(Xp, AX);
-  const auto ax = AX.getLocalViewHost(Tpetra::Access::ReadOnly);
-  const auto y = Y.getLocalViewHost(Tpetra::Access::ReadWrite);
-  for (std::size_t j = 0; j < nc; ++j)
-    for (std::size_t l = 0; l < n; ++l) {
-      const auto& t = p.triples[l];
-      const int c = p.places[l];
-      double v = 0.0;
-      for (int e = 0; e < 3; ++e)
-        if (t[e] >= 0) v += R[c][e] * ax(static_cast<std::size_t>(t[e]), j);
-      y(l, j) = alpha * v + (beta == 0.0 ? 0.0 : beta * y(l, j));
-    }
+  turn(AX.getLocalViewHost(Tpetra::Access::ReadOnly), Y.getLocalViewHost(Tpetra::Access::ReadWrite), false, alpha,
+       beta);
 }
 
 double Substructure::frobeniusNorm(Matrix a) const {
