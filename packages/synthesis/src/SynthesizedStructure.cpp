@@ -162,16 +162,6 @@ Row combine(const std::vector<std::pair<double, const Row*>>& terms) {
   return out;
 }
 
-/// T^T A T for every matrix A of one substructure, with u_s = T q
-/// (collective). A reduced substructure's T has few nonzero columns (its own
-/// coordinates and those of its parent's that reach its attachment), each
-/// full length: as sparse matrices the products cost a sparse-sparse
-/// multiply with k entries per row, O(n k^2) hash operations, which took 92%
-/// of a 1000-coordinate synthesis (perf, doc/benchmarks.md). Reduced
-/// substructures are therefore projected through the factors T = B C below
-/// (a sparse-times-dense product, one GEMM with a reduction over ranks, and
-/// small dense products); T of Full bases (the truth: near identity) and of
-/// rigid rotors (six rows) keep Tpetra's sparse products.
 /// D^T S D for n x n column-major D and S.
 std::vector<double> congruence(const std::vector<double>& D, const std::vector<double>& S) {
   const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(S.size()))));
@@ -183,6 +173,16 @@ std::vector<double> congruence(const std::vector<double>& D, const std::vector<d
   return out;
 }
 
+/// T^T A T for every matrix A of one substructure, with u_s = T q
+/// (collective). A reduced substructure's T has few nonzero columns (its own
+/// coordinates and those of its parent's that reach its attachment), each
+/// full length: as sparse matrices the products cost a sparse-sparse
+/// multiply with k entries per row, O(n k^2) hash operations, which took 92%
+/// of a 1000-coordinate synthesis (perf, doc/benchmarks.md). Reduced
+/// substructures are therefore projected through the factors T = B C below
+/// (a sparse-times-dense product, one GEMM with a reduction over ranks, and
+/// small dense products); T of Full bases (the truth: near identity) and of
+/// rigid rotors (six rows) keep Tpetra's sparse products.
 class Projection {
 public:
   explicit Projection(const CrsMatrix& T) : T_(&T), coords_(T.getDomainMap()) {}
