@@ -174,6 +174,8 @@ void Substructure::apply(Matrix a, const MultiVector& X, MultiVector& Y, double 
   const auto& p = *prototype_;
   const auto& R = p.turn.R;
   const std::size_t nc = X.getNumVectors();
+  // (The same choice on every rank: triples are kept on all or none, and
+  // isSameAs is collective.)
   if (p.triples.empty() || !X.getMap()->isSameAs(*map_) || !Y.getMap()->isSameAs(*map_)) {
     fem::Rotation back;
     for (int i = 0; i < 3; ++i)

@@ -331,7 +331,11 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
         proto->triples[l][static_cast<std::size_t>(e)] = at;
       }
     }
-    if (!local) proto->triples.clear(), proto->places.clear();
+    // The same path on every rank: apply() is collective (the other one
+    // imports).
+    int mine = local ? 1 : 0, all = 0;
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MIN, mine, Teuchos::outArg(all));
+    if (all == 0) proto->triples.clear(), proto->places.clear();
   }
   s.prototype_ = std::move(proto);
   // 3. The rest: the load and reactions per unit Omega^2 turned, the DOF
@@ -363,10 +367,6 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
   s.finishConstruction();
   return s;
 }
-
-}  // namespace cms::substructure
-
-namespace cms::substructure {
 
 Substructure Substructure::formed() const {
   if (!prototype_) return *this;
