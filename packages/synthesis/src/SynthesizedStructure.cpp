@@ -539,6 +539,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   out.T_.resize(parts.size());
   out.B_.resize(parts.size());
   out.C_.resize(parts.size());
+  out.rotations_.assign(parts.size(), {});
   for (std::size_t k = 0; k < parts.size(); ++k) {
     bool moves = false;
     const auto A = out.attachmentMotion(k, moves);
@@ -1014,6 +1015,7 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   // A turned copy's B^T A B from its prototype's (theory §15.2), when
   // Q^T B_c = B_p D: no product with its matrices at all.
   const auto D = B.is_null() ? std::nullopt : copyRotation(k, *B, na, hasA && !p.boolean());
+  if (D) rotations_[k] = *D;  // for its error estimates (residualFlexibilityNorms)
   const int rigid = hasA && !p.boolean() ? na : 0;
   reports_[k].projectedFromPrototype = D.has_value();  // until one matrix is projected itself
   const auto reduced = [&](Matrix a) -> Teuchos::RCP<const CrsMatrix> {
@@ -1388,6 +1390,35 @@ std::vector<StructureModes> SynthesizedStructure::solveMany(const std::vector<st
 }
 
 std::vector<Teuchos::RCP<MultiVector>> SynthesizedStructure::expand(const StructureModes& modes, int m) const {
+  return expandParts(modes, m, {});
+}
+
+std::vector<double> SynthesizedStructure::factorCoordinates(std::size_t k, const StructureModes& modes, int m0,
+                                                            int bm) const {
+  // y = C q per column (real, imaginary per mode), each rank summing over its
+  // coordinates, then over the ranks.
+  const auto& C = C_[k];
+  const int nb = static_cast<int>(C.size()), nc = 2 * bm;
+  std::vector<double> local(static_cast<std::size_t>(nb) * nc, 0.0), y(local.size(), 0.0);
+  for (int m = 0; m < bm; ++m) {
+    const auto& q = modes.result.modes.at(m0 + m).q;
+    const bool replicated = static_cast<long long>(q.size()) == size();
+    for (int j = 0; j < nb; ++j)
+      for (auto [g, v] : C[j]) {
+        const auto l = map_->getLocalElement(g);
+        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+        const auto& x = q.at(replicated ? static_cast<std::size_t>(g) : static_cast<std::size_t>(l));
+        local[j + static_cast<std::size_t>(2 * m) * nb] += v * x.real();
+        local[j + static_cast<std::size_t>(2 * m + 1) * nb] += v * x.imag();
+      }
+  }
+  if (!local.empty())
+    Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), y.data());
+  return y;
+}
+
+std::vector<Teuchos::RCP<MultiVector>> SynthesizedStructure::expandParts(const StructureModes& modes, int m,
+                                                                         const std::vector<bool>& skip) const {
   const auto& q = modes.result.modes.at(m).q;
   const std::size_t nloc = map_->getNodeNumElements();
   const bool replicated = static_cast<long long>(q.size()) == size();
@@ -1399,24 +1430,19 @@ std::vector<Teuchos::RCP<MultiVector>> SynthesizedStructure::expand(const Struct
   }
   std::vector<Teuchos::RCP<MultiVector>> out;
   for (std::size_t k = 0; k < T_.size(); ++k) {
+    if (k < skip.size() && skip[k]) {
+      out.push_back(Teuchos::null);
+      continue;
+    }
     if (!T_[k].is_null()) {
       auto u = Teuchos::rcp(new MultiVector(T_[k]->getRangeMap(), 2));
       T_[k]->apply(x, *u);
       out.push_back(u);
       continue;
     }
-    // u = B (C q): C q summed over the ranks' coordinates, on every rank.
-    const auto& C = C_[k];
-    const int nb = static_cast<int>(C.size());
-    std::vector<double> local(2 * static_cast<std::size_t>(nb), 0.0), y(local.size(), 0.0);
-    const auto xr = x.getData(0), xi = x.getData(1);
-    for (int j = 0; j < nb; ++j)
-      for (auto [g, v] : C[j]) {
-        const auto l = map_->getLocalElement(g);
-        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
-        local[j] += v * xr[l], local[nb + j] += v * xi[l];
-      }
-    if (nb > 0) Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, 2 * nb, local.data(), y.data());
+    // u = B (C q).
+    const int nb = static_cast<int>(C_[k].size());
+    const auto y = factorCoordinates(k, modes, m, 1);
     auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(nb), 0, map_->getComm(), Tpetra::LocallyReplicated));
     MultiVector Y(small, 2);
     for (int j = 0; j < nb; ++j) Y.replaceLocalValue(j, 0, y[j]), Y.replaceLocalValue(j, 1, y[nb + j]);
@@ -1570,25 +1596,9 @@ std::vector<double> SynthesizedStructure::copyResidualNorms(std::size_t k, const
                                                             const std::vector<double>& XP,
                                                             std::vector<double>* toParent) const {
   using substructure::Matrix;
-  const auto& C = C_[k];
-  const int nb = static_cast<int>(C.size()), nc = 2 * bm, nt = static_cast<int>(terms.size()), w = nt * nb;
+  const int nb = static_cast<int>(C_[k].size()), nc = 2 * bm, nt = static_cast<int>(terms.size()), w = nt * nb;
   const int na = static_cast<int>(XP.size()) / std::max(w, 1);
-  // y = C q per column (real, imaginary per mode), summed over the ranks.
-  std::vector<double> local(static_cast<std::size_t>(nb) * nc, 0.0), y(local.size(), 0.0);
-  for (int m = 0; m < bm; ++m) {
-    const auto& q = modes.result.modes[m0 + m].q;
-    const bool replicated = static_cast<long long>(q.size()) == size();
-    for (int j = 0; j < nb; ++j)
-      for (auto [g, v] : C[j]) {
-        const auto l = map_->getLocalElement(g);
-        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
-        const auto& x = q.at(replicated ? static_cast<std::size_t>(g) : static_cast<std::size_t>(l));
-        local[j + static_cast<std::size_t>(2 * m) * nb] += v * x.real();
-        local[j + static_cast<std::size_t>(2 * m + 1) * nb] += v * x.imag();
-      }
-  }
-  if (!local.empty())
-    Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), y.data());
+  const auto y = factorCoordinates(k, modes, m0, bm);
   Teuchos::BLAS<int, double> blas;
   std::vector<double> z(y.size()), Z(static_cast<std::size_t>(w) * nc, 0.0), WZ(Z.size()), out(nc, 0.0);
   blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, nc, nb, 1.0, D.data(), nb, y.data(), nb, 0.0, z.data(), nb);
@@ -1655,17 +1665,16 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     std::vector<double> W, XP;  ///< (nt nb)^2 and na x (nt nb), column-major
   };
   std::map<std::size_t, Gram> gram;  // by prototype
-  std::vector<std::vector<double>> rotationOf(parts.size());
+  std::vector<bool> useGram(parts.size(), false);
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const auto& p = *parts[k];
     const std::size_t q = structure_->prototypeOf(k);
+    // (projectedFromPrototype: its D was found, rotations_[k].)
     if (q == k || !p.sub || !reports_[k].projectedFromPrototype || !p.children.empty() || p.compound ||
-        p.boolean() || B_[k].is_null() || B_[q].is_null() || parts[q]->compound || !sharesPrototypeFactorisations(k))
+        p.boolean() || parts[q]->compound || !sharesPrototypeFactorisations(k))
       continue;
     const int nb = static_cast<int>(B_[k]->getNumVectors()), na = nb - bases_[k].size();
-    auto D = copyRotation(k, *B_[k], na, true);
-    if (!D) continue;
-    rotationOf[k] = std::move(*D);
+    useGram[k] = true;
     if (gram.count(q)) continue;
     Gram g;
     g.nb = nb, g.na = na;
@@ -1704,7 +1713,7 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     const int bm = std::min(kResidualBlockModes, nm - m0), nc = 2 * bm;  // real, imaginary per mode
     // The expanded modes of the block, per substructure (collective).
     std::vector<std::vector<Teuchos::RCP<MultiVector>>> u(bm);
-    for (int m = 0; m < bm; ++m) u[m] = expand(modes, m0 + m);
+    for (int m = 0; m < bm; ++m) u[m] = expandParts(modes, m0 + m, useGram);  // (not the Gram copies')
     // Per part, the generalised forces of its residual on its 6 attachment
     // coordinates (X^T r), which act on its parent's rows through H^T.
     std::vector<std::vector<double>> toParent(parts.size());
@@ -1712,12 +1721,11 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     for (std::size_t kk = parts.size(); kk-- > 0;) {
       const std::size_t k = kk;
       const auto& p = *parts[k];
-      if (!rotationOf[k].empty()) {
+      if (useGram[k]) {
         const auto& g = gram.at(structure_->prototypeOf(k));
-        for (int m = 0; m < bm; ++m) u[m][k] = Teuchos::null;
         double frame = 0.0;
         for (auto [i, ci] : p.frame.coefficients) frame += ci * modes.speeds.at(i);
-        const auto d = copyResidualNorms(k, modes, m0, bm, rotationOf[k], g.terms, frame, g.W, g.XP,
+        const auto d = copyResidualNorms(k, modes, m0, bm, rotations_[k], g.terms, frame, g.W, g.XP,
                                          p.parent >= 0 ? &toParent[k] : nullptr);
         for (int m = 0; m < bm; ++m) correction[m0 + m] += d[2 * m] + d[2 * m + 1];
         if (byPart)

@@ -386,6 +386,12 @@ private:
                                         const std::vector<double>& D, const std::vector<substructure::Matrix>& terms,
                                         double frame, const std::vector<double>& W, const std::vector<double>& XP,
                                         std::vector<double>* toParent) const;
+  /// y = C_k q for modes m0 .. m0 + bm (nb x 2 bm, column-major, real and
+  /// imaginary parts; on every rank). Collective.
+  std::vector<double> factorCoordinates(std::size_t k, const StructureModes& modes, int m0, int bm) const;
+  /// expand() for the parts not skipped (null for those). Collective.
+  std::vector<Teuchos::RCP<MultiVector>> expandParts(const StructureModes& modes, int m,
+                                                     const std::vector<bool>& skip) const;
   /// Rows `rows` of part k's T (formed or B C) on every rank. Collective.
   std::map<GlobalOrdinal, SparseRow> transformRows(std::size_t k, const std::set<GlobalOrdinal>& rows) const;
   void projectRigidRotor(std::size_t k, const std::vector<SparseRow>& A, GlobalOrdinal offset, Sums& sums);
@@ -415,6 +421,9 @@ private:
   std::vector<Teuchos::RCP<const CrsMatrix>> T_;  ///< per part: u_s = T_s q (formed; or null and:)
   std::vector<Teuchos::RCP<const MultiVector>> B_;  ///< per reduced part: T_s = B_s C_s
   std::vector<std::vector<std::vector<std::pair<GlobalOrdinal, double>>>> C_;  ///< C_s's rows over q
+  /// Per turned copy projected from its prototype: D with Q^T B_c = B_p D
+  /// (copyRotation; empty otherwise), for its error estimates.
+  std::vector<std::vector<double>> rotations_;
   Teuchos::RCP<const CrsMatrix> M_, K0_;
   Teuchos::RCP<const CrsMatrix> D_;  ///< viscous damping (null: none)
   std::vector<Teuchos::RCP<const CrsMatrix>> G_;  ///< per speed parameter
