@@ -183,7 +183,10 @@ void expectTheOwnAssembly(const substructure::Substructure& t, const substructur
   xt.doImport(x, Tpetra::Import<>(b.map(), t.map()), Tpetra::INSERT);
   for (Matrix m : {Matrix::M, Matrix::K, Matrix::G1, Matrix::KT1, Matrix::KS1, Matrix::K2, Matrix::D}) {
     ASSERT_EQ(t.has(m), b.has(m)) << t.name() << " " << toString(m);
-    if (!b.has(m)) continue;
+    if (!b.has(m)) {
+      EXPECT_THROW(t.apply(m, xt, yt), std::logic_error) << t.name() << " has no " << toString(m);
+      continue;
+    }
     const double tol = (m == Matrix::KS1 || m == Matrix::K2 ? 100 * kappa : 100.0) * eps;
     t.apply(m, xt, yt);
     b.apply(m, x, yb);
