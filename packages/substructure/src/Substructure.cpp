@@ -152,7 +152,7 @@ Teuchos::RCP<const CrsMatrix> Substructure::source(Matrix a) const {
   return Teuchos::null;
 }
 
-Teuchos::RCP<const CrsMatrix> Substructure::formedMatrix(Matrix a) const {
+Teuchos::RCP<const CrsMatrix> Substructure::matrix(Matrix a) const {
   if (prototype_)
     throw std::logic_error("substructure '" + name_ + "': its " + toString(a) +
                            " is its prototype's turned and not formed (theory §15.2): apply() it, or formed()");

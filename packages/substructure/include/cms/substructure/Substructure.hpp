@@ -99,12 +99,13 @@ public:
   /// The matrices themselves. A turned copy whose matrices are not formed
   /// (matricesFormed() false) has none to hand out: these throw
   /// std::logic_error there (apply() and frobeniusNorm() serve it).
-  Teuchos::RCP<const CrsMatrix> M() const { return formedMatrix(Matrix::M); }
-  Teuchos::RCP<const CrsMatrix> K() const { return formedMatrix(Matrix::K); }
-  Teuchos::RCP<const CrsMatrix> G1() const { return formedMatrix(Matrix::G1); }
-  Teuchos::RCP<const CrsMatrix> KT1() const { return formedMatrix(Matrix::KT1); }
-  Teuchos::RCP<const CrsMatrix> KS1() const { return formedMatrix(Matrix::KS1); }
-  Teuchos::RCP<const CrsMatrix> matrix(Matrix a) const { return formedMatrix(a); }
+  Teuchos::RCP<const CrsMatrix> M() const { return matrix(Matrix::M); }
+  Teuchos::RCP<const CrsMatrix> K() const { return matrix(Matrix::K); }
+  Teuchos::RCP<const CrsMatrix> G1() const { return matrix(Matrix::G1); }
+  Teuchos::RCP<const CrsMatrix> KT1() const { return matrix(Matrix::KT1); }
+  Teuchos::RCP<const CrsMatrix> KS1() const { return matrix(Matrix::KS1); }
+  /// The matrix held for `a` (null: none), as the accessors above.
+  Teuchos::RCP<const CrsMatrix> matrix(Matrix a) const;
   /// Whether it has matrix `a` (K2: KS1 or KT1; D: any damping).
   bool has(Matrix a) const;
   /// Y = alpha A X + beta Y for its matrix A (collective). A turned copy
@@ -128,11 +129,11 @@ public:
   /// Centrifugal load per unit Omega^2 (rotating frame; null otherwise).
   Teuchos::RCP<const MultiVector> f1() const { return f1_; }
   /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
-  Teuchos::RCP<const CrsMatrix> K2() const { return formedMatrix(Matrix::K2); }
+  Teuchos::RCP<const CrsMatrix> K2() const { return matrix(Matrix::K2); }
   /// Viscous damping, independent of speed: the model's dampers plus the
   /// Rayleigh part alpha M + beta K (K at rest); null when there is none
   /// (theory §13.1). Not read from or written to Matrix Market files.
-  Teuchos::RCP<const CrsMatrix> D() const { return formedMatrix(Matrix::D); }
+  Teuchos::RCP<const CrsMatrix> D() const { return matrix(Matrix::D); }
   /// The model's modal damping ratio, applied by the synthesis in the
   /// reduced substructure's coordinates (0: none).
   double modalDampingRatio() const { return modalDampingRatio_; }
@@ -160,9 +161,6 @@ public:
 private:
   static double translationMass(const Substructure& s);
   void finishConstruction();  ///< K2_ and mass_ from the matrices
-  /// The matrix held for `a` (null: none); throws std::logic_error for a
-  /// turned copy whose matrices are not formed.
-  Teuchos::RCP<const CrsMatrix> formedMatrix(Matrix a) const;
   /// Its own A, or (a turned copy) its prototype's A_p.
   Teuchos::RCP<const CrsMatrix> source(Matrix a) const;
 
