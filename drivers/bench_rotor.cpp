@@ -28,6 +28,7 @@
 //   mpiexec -n 2 bench_rotor --h=0.03,0.015,0.009,0.0052 --csv=rotor-np2.csv
 #include <algorithm>
 #include <fstream>
+#include <iomanip>
 #include <optional>
 #include <sstream>
 
@@ -273,7 +274,7 @@ private:
   // 7. The sweep: one model, --steps speeds from 0 to nominal, no
   // re-projection; and the truth's, if it is small enough.
   double sweepSeconds(const synthesis::SynthesizedStructure& m, const Teuchos::ParameterList& p,
-                      int& notConverged) const {
+                      int& notConverged, std::vector<double>* hz = nullptr, std::string* path = nullptr) const {
     const Stopwatch t0;
     std::vector<std::vector<double>> speeds;
     for (int i = 0; i < o_.steps; ++i) {
@@ -281,9 +282,15 @@ private:
       for (double& v : speeds.back()) v *= static_cast<double>(i) / std::max(1, o_.steps - 1);
     }
     // As cms campbell solves its grid: on the cores left to each rank.
-    for (const auto& s : m.solveMany(speeds, p))
+    const auto all = m.solveMany(speeds, p);
+    const double seconds = t0.seconds();
+    if (path && !all.empty()) *path = all.front().path;
+    for (const auto& s : all) {
       notConverged += s.result.status != eigen::SolveStatus::Converged;
-    return t0.seconds();
+      if (hz)
+        for (const auto& mode : s.result.modes) hz->push_back(mode.hz);
+    }
+    return seconds;
   }
   void sweep() {
     memory_.open();
@@ -292,10 +299,30 @@ private:
     s.solve(speeds_, solve_);
     const double single = synthWall + t0.seconds();
     int notConverged = 0;
-    Row r = modelRow("sweep", s, synthWall, sweepSeconds(s, solve_, notConverged));
+    std::vector<double> hz, hzBidiagonal;
+    std::string path;
+    Row r = modelRow("sweep", s, synthWall, sweepSeconds(s, solve_, notConverged, &hz, &path));
     r.note = std::to_string(o_.steps) + " speeds / one speed = " + std::to_string(r.pipeline / single) + " (one: " +
              std::to_string(single) + " s); not converged " + std::to_string(notConverged);
     add(r);
+    // The same sweep with the dense path's general bidiagonalisation of its
+    // skew factor (theory §2): the skew tridiagonal form's gain, and that
+    // both give the same frequencies.
+    if (path.rfind("dense", 0) == 0) {
+      Teuchos::ParameterList bp(solve_);
+      bp.sublist("Dense Solver").set("Reduction", "Bidiagonal");
+      int nc = 0;
+      Row b = modelRow("sweep-bidiagonal", s, synthWall, sweepSeconds(s, bp, nc, &hzBidiagonal));
+      double diff = 0.0;
+      for (std::size_t i = 0; i < std::min(hz.size(), hzBidiagonal.size()); ++i)
+        diff = std::max(diff, std::abs(hzBidiagonal[i] / hz[i] - 1.0));
+      std::ostringstream note;
+      note << o_.steps << " speeds / one speed = " << b.pipeline / single << "; not converged " << nc
+           << "; max rel. frequency difference from the skew sweep " << std::setprecision(2) << diff
+           << (hz.size() == hzBidiagonal.size() ? "" : " (different mode counts)");
+      b.note = note.str();
+      add(b);
+    }
     if (!truthModel_ || truthModel_->size() > o_.truthSweepMaxDofs) return;
     Row t = row("sweep", "Full");
     t.reducedDofs = base_.truthDofs, t.synth = truthSynth_;

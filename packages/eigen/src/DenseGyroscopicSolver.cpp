@@ -11,6 +11,7 @@
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/eigen/SkewTridiagonal.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
@@ -239,6 +240,36 @@ Triplets smallestTriplets(const DenseMatrix& A, int nModes, double clusterTol) {
   }
 }
 
+/// The smallest singular triplets of the skew A from its skew tridiagonal
+/// form (doc/theory.md §2, "Skew tridiagonal form"): every frequency once,
+/// from the n x n bidiagonal; at least nModes + 2 of them, widened until the
+/// cluster holding the nModes-th is complete; each returned as the two right
+/// singular vectors (y, z) of its invariant plane, so the set reads as the
+/// bidiagonal path's (every value twice). False if dqds or inverse iteration
+/// did not converge: the caller then bidiagonalises A as a general matrix.
+bool skewTriplets(const DenseMatrix& A, int nModes, double clusterTol, Triplets& t) {
+  const int N = A.numRows();
+  const SkewTridiagonal st = skewTridiagonalise(A);
+  const std::vector<double> s = skewFrequencies(st);  // descending
+  const int n = static_cast<int>(s.size());
+  if (n == 0 || 2 * n != N) return false;
+  int want = std::min(n, nModes + 2);
+  while (want < n && s[n - want] - s[n - nModes] <= clusterTol) want = std::min(n, 2 * want);
+  std::vector<double> w(want);
+  for (int k = 0; k < want; ++k) w[k] = s[n - 1 - k];  // ascending
+  DenseMatrix Y;
+  if (!skewInvariantPlanes(st, w, Y)) return false;
+  t.s.resize(2 * want);
+  t.VT.shape(2 * want, N);
+  t.all = want == n;
+  for (int k = 0; k < want; ++k) {
+    const int j = want - 1 - k;  // descending, as dgesvdx returns them
+    t.s[2 * k] = t.s[2 * k + 1] = w[j];
+    for (int i = 0; i < N; ++i) t.VT(2 * k, i) = Y(i, 2 * j), t.VT(2 * k + 1, i) = Y(i, 2 * j + 1);
+  }
+  return true;
+}
+
 /// Whether the returned values hold every eigenfrequency up to the first gap
 /// past the nModes-th: the Sturm count of the system (doc/theory.md, "Sturm
 /// count") at the middle of that gap must equal the number of returned
@@ -270,7 +301,7 @@ std::string sturmDisagreement(const GyroscopicSystem& sys, const Triplets& t, in
 /// skew factor A = L^-1 G* L^-T (doc/theory.md, "Dense path"). `note` gets
 /// how the set was confirmed, and says when the request cut a cluster.
 std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const DenseMatrix& Lm,
-                                            const DenseMatrix& Lk, int nModes, std::string& note,
+                                            const DenseMatrix& Lk, int nModes, bool skew, std::string& note,
                                             bool& complete) {
   const int n = sys.size(), N = 2 * n;
   // With L = diag(Lm, Lk):  A = [[Lm^-1 G Lm^-T, Lm^-1 Lk], [-(Lm^-1 Lk)^T, 0]].
@@ -295,7 +326,16 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
   // count, independent of any eigensolver, checks the set, and the full SVD
   // replaces it if wrong.
   const double clusterTol = 1e-10 * A.normFrobenius();
-  Triplets t = smallestTriplets(A, nModes, clusterTol);
+  // The skew tridiagonal form (half the bidiagonalisation's matrix-vector
+  // work, each frequency once); the general bidiagonalisation on request, or
+  // should dqds or inverse iteration fail on it.
+  Triplets t;
+  std::string reduction = "skew tridiagonal form";
+  if (!skew || !skewTriplets(A, nModes, clusterTol, t)) {
+    if (skew) reduction = "bidiagonal form (the skew tridiagonal form's dqds or inverse iteration failed)";
+    else reduction = "bidiagonal form";
+    t = smallestTriplets(A, nModes, clusterTol);
+  }
   const SetConfirmation checked = confirmLowestSet(
       [&](std::string& confirmation) { return sturmDisagreement(sys, t, nModes, clusterTol, confirmation); },
       "the selected set", [&] {
@@ -303,7 +343,7 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
         return std::string("recomputed by the full SVD (dgesvd)");
       });
   complete = checked.complete;
-  note = checked.note;
+  note = "values from the " + reduction + "; " + checked.note;
   const std::vector<double>& s = t.s;
   const DenseMatrix& VT = t.VT;
   const int ns = static_cast<int>(s.size());
@@ -729,6 +769,12 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
         Teuchos::tuple<std::string>("Auto", "Meirovitch", "General"), pl.get());
     pl->set("Number of Modes", -1, "How many of the lowest modes to return; -1 for all n");
     Teuchos::setStringToIntegralParameter<int>(
+        "Reduction", "Skew Tridiagonal",
+        "the Meirovitch path's reduction of its skew factor A (doc/theory.md §2): Skew Tridiagonal (Householder "
+        "similarity, each frequency once from an n x n bidiagonal) or Bidiagonal (LAPACK dgebrd on A as a general "
+        "matrix, each frequency twice; also the fallback)",
+        Teuchos::tuple<std::string>("Skew Tridiagonal", "Bidiagonal"), pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
         "General Coordinates", "Given",
         "the general path's coordinates: Given (the pencil with M; the coordinates congruent to M = I only "
         "when dggev returns an infinite eigenvalue for the positive definite M), or Mass Congruent (always "
@@ -794,7 +840,8 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   if (method != "General" && whyNotSymmetric.empty()) {
     std::string note;
     bool complete = true;
-    result.modes = meirovitchModes(sys, Lm, Lk, nModes, note, complete);
+    result.modes = meirovitchModes(sys, Lm, Lk, nModes, params_.get<std::string>("Reduction") == "Skew Tridiagonal",
+                                   note, complete);
     result.solver = "dense Meirovitch (singular values of the skew factor of K*)";
     result.reason = "K and M positive definite: real symmetric form, seed eq. (24); " + note;
     if (!complete) result.status = SolveStatus::NumericalIssue;
