@@ -412,9 +412,8 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
       }
       const double omega = blas.NRM2(N, zp.data(), 1);
       for (double& x : zp) x /= omega;
-      // y = L^-T y', z = L^-T z'; the state is x = [q'; q], so q is the lower half.
-      lowerTransSolveVector(Lk, yp.data() + n);
-      lowerTransSolveVector(Lk, zp.data() + n);
+      // The state is x = [q'; q], so q is the lower half of y = L^-T y',
+      // z = L^-T z' (the solves for all modes at once, below).
       GyroscopicMode mode;
       mode.lambda = cplx(0.0, omega);
       mode.q.resize(n);
@@ -424,6 +423,15 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
     }
     hi = lo;
   }
+  // q = L_K^-T (y'_q + i z'_q) for every mode, one triangular solve.
+  const int k = static_cast<int>(modes.size());
+  DenseMatrix Q(n, 2 * k);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < n; ++i) Q(i, 2 * j) = modes[j].q[i].real(), Q(i, 2 * j + 1) = modes[j].q[i].imag();
+  blas.TRSM(Teuchos::LEFT_SIDE, Teuchos::LOWER_TRI, Teuchos::TRANS, Teuchos::NON_UNIT_DIAG, n, 2 * k, 1.0,
+            Lk.values(), Lk.stride(), Q.values(), Q.stride());
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < n; ++i) modes[j].q[i] = cplx(Q(i, 2 * j), Q(i, 2 * j + 1));
   return modes;
 }
 
