@@ -38,6 +38,7 @@
 
 int main(int argc, char* argv[]) {
   using namespace cms;
+  cms::hugePageHeap(argv);      // the heap on transparent huge pages (re-executes once)
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();

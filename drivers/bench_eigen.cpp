@@ -49,6 +49,7 @@ struct Row {
 int main(int argc, char* argv[]) {
   using namespace cms;
   using cms::peakRssMiB;
+  cms::hugePageHeap(argv);      // the heap on transparent huge pages (re-executes once)
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();

@@ -350,6 +350,7 @@ private:
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  cms::hugePageHeap(argv);      // the heap on transparent huge pages (re-executes once)
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   const auto comm = Teuchos::DefaultComm<int>::getComm();

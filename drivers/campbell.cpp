@@ -32,6 +32,7 @@
 #include "CommandLine.hpp"
 #include "DriverBoundary.hpp"
 #include "cms/analysis/CampbellStudy.hpp"
+#include "cms/core/Program.hpp"
 #include "cms/models/SpinningRayleighShaft.hpp"
 
 namespace {
@@ -51,6 +52,7 @@ double exactCrossing(const cms::models::ShaftProperties& p, int k, double order,
 
 int main(int argc, char* argv[]) {
   using namespace cms;
+  hugePageHeap(argv);  // the heap on transparent huge pages (re-executes once)
   return drivers::reportErrors("campbell", true, [&]() -> int {
     // 1. Options, printed back so every output records how it was produced.
     models::ShaftProperties shaft;

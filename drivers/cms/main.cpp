@@ -44,6 +44,7 @@ int truncate(int argc, char* argv[]);
 
 int main(int argc, char* argv[]) {
   using namespace cms;
+  cms::hugePageHeap(argv);      // the heap on transparent huge pages (re-executes once)
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Teuchos::GlobalMPISession mpi(&argc, &argv, nullptr);
   const bool root = Teuchos::DefaultComm<int>::getComm()->getRank() == 0;

@@ -25,6 +25,7 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
+  cms::hugePageHeap(argv);      // the heap on transparent huge pages (re-executes once)
   cms::singletonMpiDefaults();  // a lone process: no daemon, no fabric probing
   Tpetra::ScopeGuard scope(&argc, &argv);
   ::testing::InitGoogleTest(&argc, argv);

@@ -1,0 +1,36 @@
+// The heap on transparent huge pages (cms/core/Program.hpp, hugePageHeap):
+// every cms process, this test's included (MpiGTestMain calls it first),
+// runs with glibc.malloc.hugetlb in GLIBC_TUNABLES unless a stated reason
+// skips it, and CMS_HUGE_PAGES=0 is such a reason. That the re-executed
+// process keeps its arguments is checked by every driver test (their
+// options and scene paths arrive).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "cms/core/Program.hpp"
+
+using namespace cms;
+
+TEST(HugePageHeap, TheProcessRunsWithTheTunableUnlessAReasonSkipsIt) {
+  const std::string skipped = hugePageHeapSkipped();
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (!skipped.empty()) GTEST_SKIP() << "skipped: " << skipped;
+  ASSERT_NE(tunables, nullptr);
+  EXPECT_NE(std::string(tunables).find("glibc.malloc.hugetlb"), std::string::npos) << tunables;
+}
+
+TEST(HugePageHeap, CmsHugePagesZeroSkipsIt) {
+  const char* before = std::getenv("CMS_HUGE_PAGES");
+  const std::string saved = before != nullptr ? before : "";
+  setenv("CMS_HUGE_PAGES", "0", 1);
+  const std::string skipped = hugePageHeapSkipped();
+  if (before != nullptr) setenv("CMS_HUGE_PAGES", saved.c_str(), 1);
+  else unsetenv("CMS_HUGE_PAGES");
+#if defined(__linux__) && defined(__GLIBC__)
+  EXPECT_EQ(skipped, "CMS_HUGE_PAGES=0");
+#else
+  EXPECT_FALSE(skipped.empty());
+#endif
+}
