@@ -1,6 +1,9 @@
 #include "cms/core/BlasThreads.hpp"
 
 #include <dlfcn.h>
+#if defined(__linux__)
+#include <sched.h>
+#endif
 
 #include <algorithm>
 #include <cstdlib>
@@ -40,12 +43,26 @@ BlasThreadScope::BlasThreadScope(int n) : previous_(blasThreads()) { setBlasThre
 
 BlasThreadScope::~BlasThreadScope() { setBlasThreads(previous_); }
 
+int usableCores() {
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+#if defined(__linux__)
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (sched_getaffinity(0, sizeof(mask), &mask) == 0) return std::max(1, std::min(hardware, CPU_COUNT(&mask)));
+#endif
+  return hardware;
+}
+
+int coresPerRank(int ranksOnThisNode) {
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return std::max(1, std::min(usableCores(), hardware / std::max(1, ranksOnThisNode)));
+}
+
 int shareCoresWithBlas(const Teuchos::Comm<int>& comm) {
   const int onNode = ranksOnNode(comm);  // collective: before any rank returns
   for (const char* chosen : {"OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"})
     if (std::getenv(chosen) != nullptr) return blasThreads();
-  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  setBlasThreads(std::max(1, cores / std::max(1, onNode)));
+  setBlasThreads(coresPerRank(onNode));
   return blasThreads();
 }
 

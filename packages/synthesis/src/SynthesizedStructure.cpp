@@ -1337,7 +1337,7 @@ std::vector<StructureModes> SynthesizedStructure::solveMany(const std::vector<st
   const bool dense = solver == "Dense" || (solver == "Auto" && n <= p.get<int>("Dense Limit"));
   if (threads <= 0) {
     const int ranks = structure_->comm()->getSize();
-    threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / std::max(1, ranks));
+    threads = coresPerRank(ranks);  // within this rank's CPU binding
   }
   threads = std::min<int>(threads, static_cast<int>(speeds.size()));
   if (!dense || !hubs_.empty() || threads <= 1) {

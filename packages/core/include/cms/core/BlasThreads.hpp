@@ -38,9 +38,19 @@ private:
   int previous_;
 };
 
-/// Gives the BLAS this rank's share of its node's cores: the hardware
-/// threads divided by the ranks on the node (ranksOnNode,
-/// DistributedDirectSolver.hpp), at least 1, unless the environment already chose
+/// The cores this process may run on: the count of its CPU affinity mask
+/// (Linux), else the hardware threads. A launcher binds ranks: Open MPI's
+/// mpiexec puts a lone rank on one core by default, where a BLAS of two
+/// threads ran both on that core (doc/benchmarks.md, "A lone rank under
+/// mpiexec").
+int usableCores();
+
+/// This rank's share of its node: the hardware threads over the ranks on the
+/// node, at most usableCores(), at least 1.
+int coresPerRank(int ranksOnThisNode);
+
+/// Gives the BLAS this rank's share of its node's cores (coresPerRank of
+/// ranksOnNode, DistributedDirectSolver.hpp) unless the environment already chose
 /// (OPENBLAS_NUM_THREADS, GOTO_NUM_THREADS or OMP_NUM_THREADS set: left as
 /// they are). Two ranks on two cores each had two OpenBLAS threads before.
 /// Collective over `comm`. Returns the BLAS's threads afterwards.
