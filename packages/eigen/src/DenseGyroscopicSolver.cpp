@@ -122,8 +122,6 @@ void dgebrd_(const int* m, const int* n, double* a, const int* lda, double* d, d
 void dbdsqr_(const char* uplo, const int* n, const int* ncvt, const int* nru, const int* ncc, double* d,
              double* e, double* vt, const int* ldvt, double* u, const int* ldu, double* c, const int* ldc,
              double* work, int* info, std::size_t);
-void dstein_(const int* n, const double* d, const double* e, const int* m, const double* w, const int* iblock,
-             const int* isplit, double* z, const int* ldz, double* work, int* iwork, int* ifail, int* info);
 void dormbr_(const char* vect, const char* side, const char* trans, const int* m, const int* n, const int* k,
              const double* a, const int* lda, const double* tau, double* c, const int* ldc, double* work,
              const int* lwork, int* info, std::size_t, std::size_t, std::size_t);
@@ -173,20 +171,16 @@ Bidiagonal bidiagonalise(const DenseMatrix& A) {
 /// bidiagonalisation (doc/theory.md §2). False when dstein does not converge.
 bool tripletsFromBidiagonal(const Bidiagonal& b, int count, Triplets& t) {
   const int N = static_cast<int>(b.d.size()), T = 2 * N;
-  std::vector<double> diag(T, 0.0), off(T, 0.0);
+  std::vector<double> off(T - 1, 0.0);
   for (int i = 0; i < N; ++i) {
     off[2 * i] = b.d[i];
     if (i + 1 < N) off[2 * i + 1] = b.e[i];
   }
-  // The wanted values ascending (dstein's order within its one block).
-  std::vector<double> w(count);
+  // The wanted values ascending.
+  std::vector<double> w(count), Z;
   for (int k = 0; k < count; ++k) w[k] = b.s[N - 1 - k];
-  std::vector<int> iblock(count, 1), isplit(1, T), iwork(T), ifail(count);
-  std::vector<double> Z(static_cast<std::size_t>(T) * count), work(5 * T);
+  if (!zeroDiagonalTridiagonalVectors(off, w, Z)) return false;
   int info = 0;
-  dstein_(&T, diag.data(), off.data(), &count, w.data(), iblock.data(), isplit.data(), Z.data(), &T, work.data(),
-          iwork.data(), ifail.data(), &info);
-  if (info != 0) return false;
   // v = sqrt 2 (z_1, z_3, ...), normalised; then P v.
   DenseMatrix V(N, count);
   for (int k = 0; k < count; ++k) {

@@ -117,20 +117,29 @@ std::vector<double> skewFrequencies(const SkewTridiagonal& T) {
   return d;
 }
 
+bool zeroDiagonalTridiagonalVectors(const std::vector<double>& off, const std::vector<double>& values,
+                                    std::vector<double>& Z) {
+  const int N = static_cast<int>(off.size()) + 1, count = static_cast<int>(values.size());
+  Z.assign(static_cast<std::size_t>(N) * count, 0.0);
+  if (count == 0) return true;
+  // One block (dstein wants its values ascending within it).
+  std::vector<double> diag(N, 0.0), e(off);
+  e.resize(N, 0.0);
+  std::vector<int> iblock(count, 1), isplit(1, N), iwork(N), ifail(count);
+  std::vector<double> work(5 * N);
+  int info = 0;
+  dstein_(&N, diag.data(), e.data(), &count, values.data(), iblock.data(), isplit.data(), Z.data(), &N, work.data(),
+          iwork.data(), ifail.data(), &info);
+  return info == 0;
+}
+
 bool skewInvariantPlanes(const SkewTridiagonal& T, const std::vector<double>& sigma, DenseMatrix& Y) {
   const int N = T.size(), count = static_cast<int>(sigma.size());
   Y.shape(N, 2 * count);
   if (count == 0) return true;
-  // The symmetric tridiagonal Ts: zero diagonal, off-diagonal t (dstein
-  // wants the values ascending within its one block).
-  std::vector<double> diag(N, 0.0), off(T.t);
-  off.resize(N, 0.0);
-  std::vector<int> iblock(count, 1), isplit(1, N), iwork(N), ifail(count);
-  std::vector<double> Z(static_cast<std::size_t>(N) * count), work(5 * N);
-  int info = 0;
-  dstein_(&N, diag.data(), off.data(), &count, sigma.data(), iblock.data(), isplit.data(), Z.data(), &N, work.data(),
-          iwork.data(), ifail.data(), &info);
-  if (info != 0) return false;
+  // Eigenvectors of Ts: zero diagonal, off-diagonal t.
+  std::vector<double> Z;
+  if (!zeroDiagonalTridiagonalVectors(T.t, sigma, Z)) return false;
   // w = D^-1 z, D^-1 = diag(1, -i, -1, i, ...): y = Re w on the even rows,
   // z = Im w on the odd rows, each of norm 1/sqrt 2; normalised.
   for (int c = 0; c < count; ++c) {

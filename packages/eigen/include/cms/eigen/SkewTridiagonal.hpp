@@ -42,6 +42,16 @@ SkewTridiagonal skewTridiagonalise(const DenseMatrix& A, int blockSize = 32);
 /// empty if dqds did not converge.
 std::vector<double> skewFrequencies(const SkewTridiagonal& T);
 
+/// Eigenvectors of the symmetric tridiagonal with zero diagonal and
+/// off-diagonal `off` (its order is off.size() + 1) for the given
+/// eigenvalues, ascending, by inverse iteration (LAPACK dstein): column c of
+/// Z (column-major, order x values.size()) for values[c]. Such a matrix is
+/// the Golub-Kahan form of a bidiagonal, so this is how both the skew
+/// tridiagonal and the general bidiagonal path find their vectors. False if
+/// inverse iteration did not converge.
+bool zeroDiagonalTridiagonalVectors(const std::vector<double>& off, const std::vector<double>& values,
+                                    std::vector<double>& Z);
+
 /// For the given sigma (each a value of skewFrequencies, ascending), a
 /// real orthonormal pair (y, z) per value spanning A's invariant plane,
 /// A y = -sigma z, A z = sigma y: columns 2j and 2j + 1 of Y. From the
