@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include <Teuchos_LAPACK.hpp>
 #include <Teuchos_SerialDenseMatrix.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -190,6 +191,38 @@ std::vector<CyclicContent> cyclicContent(const std::vector<std::shared_ptr<Assem
     out.push_back(content);
   }
   return out;
+}
+
+std::optional<std::vector<double>> rigidMotionFit(const MultiVector& Xq, MultiVector& Y) {
+  const int na = static_cast<int>(Xq.getNumVectors());
+  if (na == 0 || static_cast<int>(Y.getNumVectors()) != na) return std::nullopt;
+  auto small =
+      Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(na), 0, Xq.getMap()->getComm(), Tpetra::LocallyReplicated));
+  MultiVector G(small, na), H(small, na);
+  G.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, Xq, Xq, 0.0);
+  H.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, Xq, Y, 0.0);
+  std::vector<double> g(static_cast<std::size_t>(na) * na), h(g.size());
+  for (int j = 0; j < na; ++j) {
+    const auto gj = G.getData(j), hj = H.getData(j);
+    for (int i = 0; i < na; ++i) g[i + static_cast<std::size_t>(j) * na] = gj[i], h[i + static_cast<std::size_t>(j) * na] = hj[i];
+  }
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POTRF('L', na, g.data(), na, &info);
+  if (info != 0) return std::nullopt;
+  lapack.POTRS('L', na, na, g.data(), na, h.data(), na, &info);
+  if (info != 0) return std::nullopt;
+  MultiVector M6(small, na);
+  for (int j = 0; j < na; ++j)
+    for (int i = 0; i < na; ++i) M6.replaceLocalValue(i, j, h[i + static_cast<std::size_t>(j) * na]);
+  std::vector<double> before(na), after(na);
+  Y.norm2(Teuchos::ArrayView<double>(before));
+  Y.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, Xq, M6, 1.0);
+  Y.norm2(Teuchos::ArrayView<double>(after));
+  double b2 = 0.0, a2 = 0.0;
+  for (int j = 0; j < na; ++j) b2 += before[j] * before[j], a2 += after[j] * after[j];
+  if (!(std::sqrt(a2) <= 1e3 * std::numeric_limits<double>::epsilon() * std::sqrt(b2))) return std::nullopt;
+  return h;
 }
 
 }  // namespace cms::synthesis::detail

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cms/fem/RigidPlacement.hpp"
 #include "cms/reduction/RitzBasis.hpp"
@@ -38,6 +39,17 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
 /// the copy's solves and inertias (error estimates, coverage). Collective.
 bool operatorsAreTurned(const substructure::Substructure& prototype, const substructure::Substructure& copy,
                         const fem::Rotation& turn);
+
+/// The copy's rigid motions as the prototype's mixed (theory §15.2): M6
+/// (na x na, column-major) with Y = Xq M6 by least squares through the
+/// normal equations (Xq: the prototype's na <= 6 rigid columns, independent;
+/// Y: the copy's, turned back), accepted when ||Y - Xq M6||_F <= 1e3 eps
+/// ||Y||_F, the rounding of the turn and of the copy's turned coordinates;
+/// nullopt when it is not (the copy's attachment moves otherwise than the
+/// prototype's turned: the caller projects the copy itself) or when Xq^T Xq
+/// is not positive definite. Y is overwritten with the residual.
+/// Collective.
+std::optional<std::vector<double>> rigidMotionFit(const MultiVector& Xq, MultiVector& Y);
 
 /// The harmonic content of every copied item in one mode: `parts` and `u`
 /// (the mode's motion per part, SynthesizedStructure::expand) in tree

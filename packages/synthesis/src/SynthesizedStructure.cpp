@@ -1127,33 +1127,10 @@ std::optional<std::vector<double>> SynthesizedStructure::copyRotation(std::size_
   const auto Xk = B.subCopy(Teuchos::Range1D(0, na - 1));
   const auto Xq = Bq.subCopy(Teuchos::Range1D(0, na - 1));
   const auto Y = substructure::turnedRows(*Xk, p.sub->dofs(), p.sub->map(), back);
-  auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(na), 0, B.getMap()->getComm(), Tpetra::LocallyReplicated));
-  MultiVector G(small, na), H(small, na);
-  G.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Xq, *Xq, 0.0);
-  H.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *Xq, *Y, 0.0);
-  std::vector<double> g(static_cast<std::size_t>(na) * na), h(g.size());
-  for (int j = 0; j < na; ++j) {
-    const auto gj = G.getData(j), hj = H.getData(j);
-    for (int i = 0; i < na; ++i) g[i + static_cast<std::size_t>(j) * na] = gj[i], h[i + static_cast<std::size_t>(j) * na] = hj[i];
-  }
-  Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
-  lapack.POTRF('L', na, g.data(), na, &info);
-  if (info != 0) return std::nullopt;
-  lapack.POTRS('L', na, na, g.data(), na, h.data(), na, &info);
-  if (info != 0) return std::nullopt;
-  MultiVector M6(small, na);
+  const auto M6 = detail::rigidMotionFit(*Xq, *Y);
+  if (!M6) return std::nullopt;
   for (int j = 0; j < na; ++j)
-    for (int i = 0; i < na; ++i) M6.replaceLocalValue(i, j, h[i + static_cast<std::size_t>(j) * na]);
-  std::vector<double> before(na), after(na);
-  Y->norm2(Teuchos::ArrayView<double>(before));
-  Y->multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, *Xq, M6, 1.0);
-  Y->norm2(Teuchos::ArrayView<double>(after));
-  double b2 = 0.0, a2 = 0.0;
-  for (int j = 0; j < na; ++j) b2 += before[j] * before[j], a2 += after[j] * after[j];
-  if (!(std::sqrt(a2) <= 1e3 * std::numeric_limits<double>::epsilon() * std::sqrt(b2))) return std::nullopt;
-  for (int j = 0; j < na; ++j)
-    for (int i = 0; i < na; ++i) D[i + static_cast<std::size_t>(j) * nb] = h[i + static_cast<std::size_t>(j) * na];
+    for (int i = 0; i < na; ++i) D[i + static_cast<std::size_t>(j) * nb] = (*M6)[i + static_cast<std::size_t>(j) * na];
   return D;
 }
 
