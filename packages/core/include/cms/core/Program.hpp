@@ -33,7 +33,8 @@ using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 /// project's 2-core virtual machine a page fault costs microseconds: the
 /// 54,000-DOF bar's `cms modes` took 276,000 of them and 9.2 s, with the
 /// tunable 11,000 and 6.1 s, at the same peak memory (doc/benchmarks.md,
-/// "The heap on huge pages"). Skipped (see hugePageHeapSkipped) with
+/// "The heap on huge pages"); the second start costs ~45 ms there, which
+/// an exported GLIBC_TUNABLES avoids. Skipped (see hugePageHeapSkipped) with
 /// CMS_HUGE_PAGES=0, without THP, under valgrind, or with an older glibc; a
 /// GLIBC_TUNABLES that already names the tunable is left as it is.
 void hugePageHeap(char** argv);
