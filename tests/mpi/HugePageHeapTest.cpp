@@ -1,4 +1,4 @@
-// The heap on transparent huge pages (cms/core/Program.hpp, hugePageHeap):
+// The heap on transparent huge pages (cms/core/HugePageHeap.hpp):
 // every cms process, this test's included (MpiGTestMain calls it first),
 // runs with glibc.malloc.hugetlb in GLIBC_TUNABLES unless a stated reason
 // skips it, and CMS_HUGE_PAGES=0 is such a reason. That the re-executed
@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "cms/core/Program.hpp"
+#include "cms/core/HugePageHeap.hpp"
 
 using namespace cms;
 

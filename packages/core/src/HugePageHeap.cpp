@@ -1,5 +1,6 @@
-#include "cms/core/Program.hpp"
+#include "cms/core/HugePageHeap.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>

@@ -18,30 +18,12 @@
 #include <Tpetra_Core.hpp>
 
 #include "cms/core/BlasThreads.hpp"
+#include "cms/core/HugePageHeap.hpp"
 #include "cms/core/ProgramBoundary.hpp"
 
 namespace cms {
 
 using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
-
-/// First thing in main: the process's heap on transparent huge pages.
-/// glibc (>= 2.35) advises its heap and mmap'd blocks as huge-page
-/// candidates when GLIBC_TUNABLES holds glibc.malloc.hugetlb=1, and reads
-/// its tunables only when a process starts; so a process started without it
-/// executes itself again (execv of /proc/self/exe: the same PID, arguments
-/// and environment, plus the tunable) before it has done anything. On this
-/// project's 2-core virtual machine a page fault costs microseconds: the
-/// 54,000-DOF bar's `cms modes` took 276,000 of them and 9.2 s, with the
-/// tunable 11,000 and 6.1 s, at the same peak memory (doc/benchmarks.md,
-/// "The heap on huge pages"); the second start costs ~45 ms there, which
-/// an exported GLIBC_TUNABLES avoids. Skipped (see hugePageHeapSkipped) with
-/// CMS_HUGE_PAGES=0, without THP, under valgrind, or with an older glibc; a
-/// GLIBC_TUNABLES that already names the tunable is left as it is.
-void hugePageHeap(char** argv);
-
-/// Why hugePageHeap would not re-execute this process ("" if it would, or
-/// did).
-std::string hugePageHeapSkipped();
 
 /// Before MPI starts: a program started without a launcher (no mpiexec,
 /// srun: a "singleton") gets Open MPI's defaults for a lone process unless
