@@ -171,6 +171,47 @@ TEST(GroundResonance, UndampedUnstableRangeFromTheDiscriminantEigenvaluesAndFloq
   }
 }
 
+// At the band's upper edge the regressing lag and the hub coalesce into a
+// defective pair. At 1.3274403076171877 rad/s (7.5e-7 relative above the
+// edge, a point the bisection above visits) LAPACK dggev's QZ iteration
+// failed on the scaled pencil with OpenBLAS's Haswell kernels (info = 6)
+// once the pencil's scale moved by one rounding; the general path threw.
+// The solve must return all five modes, and their eigenvalues must be the
+// roots of the characteristic quartic (§16.4), found independently from its
+// companion matrix, and the collective lag's i nu, which the quartic's
+// cyclic coordinates do not hold. Tolerance: 10 sqrt(n eps) max|lambda|, what rounding
+// can do to a defective eigenvalue (the argument of the test above).
+TEST(GroundResonance, GeneralPathAtTheBandEdgeWhereQzStalled) {
+  for (double W : {1.3274403076171877, 0.7759467473, 1.0}) {
+    auto r = articulated(3);
+    r.Omega = W;
+    const auto res = multiBladeModes(r);
+    ASSERT_EQ(static_cast<int>(res.modes.size()), r.size()) << "Omega = " << W << ": " << res.reason;
+    EXPECT_EQ(res.status, eigen::SolveStatus::Converged) << res.reason;
+    // Roots of a4 w^4 + ... + a0 from the companion matrix (LAPACK dgeev on 4 x 4).
+    const auto a = r.characteristicQuartic();
+    double C[16] = {0.0}, wr[4], wi[4], work[64], dummy = 0.0;
+    for (int j = 0; j < 4; ++j) C[0 + 4 * j] = -a[j + 1] / a[0];
+    for (int i = 1; i < 4; ++i) C[i + 4 * (i - 1)] = 1.0;
+    int info = 0;
+    Teuchos::LAPACK<int, double>().GEEV('N', 'N', 4, C, 4, wr, wi, &dummy, 1, &dummy, 1, work, 64, nullptr, &info);
+    ASSERT_EQ(info, 0);
+    double scale = 0.0;
+    for (const auto& m : res.modes) scale = std::max(scale, std::abs(m.lambda));
+    const double tol = 10.0 * std::sqrt(r.size() * DBL_EPSILON) * scale;
+    for (const auto& m : res.modes) {
+      double nearest = std::abs(m.lambda - cplx(0.0, std::sqrt(r.lagFrequencySquared())));
+      for (int k = 0; k < 4; ++k) {
+        const cplx w(wr[k], wi[k]), I(0.0, 1.0);
+        nearest = std::min({nearest, std::abs(m.lambda - I * w), std::abs(m.lambda + I * std::conj(w))});
+      }
+      EXPECT_LE(nearest, tol) << "Omega = " << W << ": lambda = " << m.lambda << " is no root of the quartic; "
+                              << res.reason;
+    }
+    std::printf("Omega = %.17g: %s\n", W, res.reason.c_str());
+  }
+}
+
 // Deutsch's boundary (§16.5): at the centre speed, a root sits on the
 // imaginary axis exactly when c_hub c_zeta = (N S^2 / 2) omega_h^3 / nu. The
 // least damping ratio of the multi-blade system is 0 there, positive 10%

@@ -319,7 +319,7 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
   // member of a repeated pair missing, a higher value in its place): a Sturm
   // count, independent of any eigensolver, checks the set, and the full SVD
   // replaces it if wrong.
-  const double clusterTol = 1e-10 * A.normFrobenius();
+  const double clusterTol = 1e-10 * frobeniusNorm(A);
   // The skew tridiagonal form (half the bidiagonalisation's matrix-vector
   // work, each frequency once); the general bidiagonalisation on request, or
   // should dqds or inverse iteration fail on it.
@@ -437,15 +437,28 @@ public:
   using NumericalError::NumericalError;
 };
 
+/// dggev's QZ iteration did not converge (info > 0). It happened at the
+/// edge of a ground-resonance band (theory §16.4), where two eigenvalues
+/// coalesce into a defective pair, after the pencil's scale moved by one
+/// rounding: a critical speed, an answer the general path must give.
+class QzFailure : public NumericalError {
+public:
+  using NumericalError::NumericalError;
+};
+
 /// The 2n first-order pencil A x = lambda B x with x = [q; q'],
 /// A = [[0, I], [-(K + N), -(G + D)]], B = [[I, 0], [0, M]], solved by LAPACK
 /// dggev after scaling time so that M, G, K have comparable norms
-/// (doc/theory.md, "General"; the damped pencil, §13).
-std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale) {
+/// (doc/theory.md, "General"; the damped pencil, §13). With `standard`, M
+/// must be I and B is then the identity: LAPACK dgeev (Hessenberg QR, shifts
+/// of its own) solves A x = lambda x instead, the last resort when dggev's QZ
+/// failed on the pencil in both coordinates.
+std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale,
+                                         bool standard = false) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
   const bool damped = sys.damped();
-  const double mu = std::max(sys.M.normFrobenius(), std::numeric_limits<double>::min());
+  const double mu = std::max(frobeniusNorm(sys.M), std::numeric_limits<double>::min());
   DenseMatrix A(N, N), B(N, N);
   for (int i = 0; i < n; ++i) {
     A(i, n + i) = 1.0;
@@ -462,14 +475,32 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   double vl = 0.0, wq = 0.0;
   int info = 0, lwork = -1;
   Teuchos::LAPACK<int, double> lapack;
-  lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
-              VR.values(), N, &wq, lwork, &info);
-  lwork = static_cast<int>(wq);
-  std::vector<double> work(std::max(1, lwork));
-  lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
-              VR.values(), N, work.data(), lwork, &info);
-  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
-                             "DenseGyroscopicSolver: LAPACK dggev failed, info = " << info);
+  if (standard) {
+    // B = diag(I, M / mu) with M = I: A itself, scaled back by mu.
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) A(n + i, j) *= mu, A(n + i, n + j) *= mu;
+    lapack.GEEV('N', 'V', N, A.values(), N, ar.data(), ai.data(), &vl, 1, VR.values(), N, &wq, lwork, nullptr, &info);
+    lwork = static_cast<int>(wq);
+    std::vector<double> work(std::max(1, lwork));
+    lapack.GEEV('N', 'V', N, A.values(), N, ar.data(), ai.data(), &vl, 1, VR.values(), N, work.data(), lwork, nullptr,
+                &info);
+    TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                               "DenseGyroscopicSolver: LAPACK dgeev failed, info = " << info
+                                   << " (its QR iteration did not converge), after dggev's QZ failed on the pencil "
+                                      "in the given coordinates and in those with M = I");
+    std::fill(be.begin(), be.end(), 1.0);
+  } else {
+    lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
+                VR.values(), N, &wq, lwork, &info);
+    lwork = static_cast<int>(wq);
+    std::vector<double> work(std::max(1, lwork));
+    lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
+                VR.values(), N, work.data(), lwork, &info);
+    TEUCHOS_TEST_FOR_EXCEPTION(info < 0, std::logic_error,
+                               "DenseGyroscopicSolver: LAPACK dggev rejected argument " << -info);
+    if (info > 0)
+      throw QzFailure("DenseGyroscopicSolver: LAPACK dggev's QZ iteration failed, info = " + std::to_string(info));
+  }
 
   // One eigenvalue of each conjugate pair is kept (the modes of lambda and
   // conj(lambda) are conjugate): those with Im > 0, and of the (near-)real
@@ -702,30 +733,31 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
   DenseMatrix Ge(sys.G), Ke(sys.K);
   if (hasD) Ge += sys.D;
   if (hasN) Ke += sys.N;
-  const double nM = sys.M.normFrobenius(),
-               nG = sys.G.normFrobenius() + (hasD ? sys.D.normFrobenius() : 0.0),
-               nK = sys.K.normFrobenius() + (hasN ? sys.N.normFrobenius() : 0.0);
+  const double nM = frobeniusNorm(sys.M),
+               nG = frobeniusNorm(sys.G) + (hasD ? frobeniusNorm(sys.D) : 0.0),
+               nK = frobeniusNorm(sys.K) + (hasN ? frobeniusNorm(sys.N) : 0.0);
   const double scale = frequencyScale(nM, nG, nK);
-  // Products with the real and imaginary parts of all modes at once (BLAS-3).
-  DenseMatrix Qr(n, k), Qi(n, k);
+  // Products with the real and imaginary parts of all modes at once (BLAS-3):
+  // Q = [Re q_1 .. Re q_k, Im q_1 .. Im q_k].
+  DenseMatrix Q(n, 2 * k);
   for (int j = 0; j < k; ++j)
     for (int i = 0; i < n; ++i) {
-      Qr(i, j) = modes[j].q[i].real();
-      Qi(i, j) = modes[j].q[i].imag();
+      Q(i, j) = modes[j].q[i].real();
+      Q(i, k + j) = modes[j].q[i].imag();
     }
-  DenseMatrix MQr, MQi, GQr, GQi, KQr, KQi;
-  gemm(false, false, 1.0, sys.M, Qr, 0.0, MQr);
-  gemm(false, false, 1.0, sys.M, Qi, 0.0, MQi);
-  gemm(false, false, 1.0, Ge, Qr, 0.0, GQr);
-  gemm(false, false, 1.0, Ge, Qi, 0.0, GQi);
-  gemm(false, false, 1.0, Ke, Qr, 0.0, KQr);
-  gemm(false, false, 1.0, Ke, Qi, 0.0, KQi);
+  DenseMatrix MQ, GQ, KQ;
+  gemm(false, false, 1.0, sys.M, Q, 0.0, MQ);
+  gemm(false, false, 1.0, Ge, Q, 0.0, GQ);
+  gemm(false, false, 1.0, Ke, Q, 0.0, KQ);
   // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
+  // |q_i| as sqrt(norm): std::abs's hypot guards against squares
+  // overflowing, which needs entries beyond 1e154 that no computed shape
+  // has, and took 4% of a sweep's speed.
   DenseMatrix absK(n, n), absG(n, n), Qa(n, k), KQa, GQa;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) absK(i, j) = std::abs(Ke(i, j)), absG(i, j) = std::abs(Ge(i, j));
   for (int j = 0; j < k; ++j)
-    for (int i = 0; i < n; ++i) Qa(i, j) = std::abs(modes[j].q[i]);
+    for (int i = 0; i < n; ++i) Qa(i, j) = std::sqrt(std::norm(modes[j].q[i]));
   gemm(false, false, 1.0, absK, Qa, 0.0, KQa);
   gemm(false, false, 1.0, absG, Qa, 0.0, GQa);
   for (int j = 0; j < k; ++j) {
@@ -735,12 +767,12 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
     std::size_t imax = 0;
     for (int i = 0; i < n; ++i) {
       const cplx q = m.q[i];
-      const cplx Mq(MQr(i, j), MQi(i, j)), Gq(GQr(i, j), GQi(i, j)), Kq(KQr(i, j), KQi(i, j));
+      const cplx Mq(MQ(i, j), MQ(i, k + j)), Gq(GQ(i, j), GQ(i, k + j)), Kq(KQ(i, j), KQ(i, k + j));
       qMq += std::real(std::conj(q) * Mq);
       qKq += std::real(std::conj(q) * Kq);  // with N: its Hermitian part only (N skew adds i Im)
       qq += std::norm(q);
       rr += std::norm(l2 * Mq + l * Gq + Kq);
-      if (std::abs(q) > std::abs(m.q[imax])) imax = i;
+      if (Qa(i, j) > Qa(imax, j)) imax = i;
     }
     const double denom = (nK + std::abs(l) * nG + std::norm(l) * nM) * std::sqrt(qq);
     m.residual = denom > 0.0 ? std::sqrt(rr) / denom : std::sqrt(rr);
@@ -782,6 +814,13 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
         "when dggev returns an infinite eigenvalue for the positive definite M), or Mass Congruent (always "
         "M = I by q = L^-T p, M = L L^T)",
         Teuchos::tuple<std::string>("Given", "Mass Congruent"), pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
+        "General Eigensolver", "QZ",
+        "the general path's algorithm: QZ (LAPACK dggev on the pencil; when its iteration fails, again in the "
+        "coordinates with M = I, then Hessenberg QR there) or Hessenberg QR (LAPACK dgeev on the standard "
+        "problem in the coordinates with M = I; faster, but its rounding can split a defective cluster into a "
+        "false instability: doc/benchmarks.md)",
+        Teuchos::tuple<std::string>("QZ", "Hessenberg QR"), pl.get());
     pl->set("Structure Tolerance", 1e-10,
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
     addStabilityTolerances(*pl);
@@ -812,15 +851,15 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   GyroscopicResult result;
   result.numRequested = nModes;
   const double scale = frequencyScale(
-      sys.M.normFrobenius(), sys.G.normFrobenius() + (sys.D.numRows() > 0 ? sys.D.normFrobenius() : 0.0),
-      sys.K.normFrobenius() + (sys.N.numRows() > 0 ? sys.N.normFrobenius() : 0.0));
+      frobeniusNorm(sys.M), frobeniusNorm(sys.G) + (sys.D.numRows() > 0 ? frobeniusNorm(sys.D) : 0.0),
+      frobeniusNorm(sys.K) + (sys.N.numRows() > 0 ? frobeniusNorm(sys.N) : 0.0));
 
   std::string whyNotSymmetric;
   DenseMatrix Lk(sys.K);
   if (sys.damped()) {
     // Damping (D) or circulatory (N) terms: the spectrum is no longer
     // Hamiltonian and Meirovitch's real symmetric form does not exist.
-    whyNotSymmetric = std::string("damped: ") + (sys.D.numRows() > 0 && sys.D.normFrobenius() > 0.0 ? "D != 0" : "N != 0") +
+    whyNotSymmetric = std::string("damped: ") + (sys.D.numRows() > 0 && frobeniusNorm(sys.D) > 0.0 ? "D != 0" : "N != 0") +
                       " makes the system non-conservative, Meirovitch's symmetric form (seed eq. (24)) "
                       "needs D = N = 0: general first-order pencil";
     CMS_INPUT_CHECK(method == "Meirovitch", "DenseGyroscopicSolver: Method \"Meirovitch\" needs an undamped "
@@ -856,7 +895,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     // M = Lm Lm^T > 0 (checked above): the congruent system with M = I,
     // q = Lm^-T p, has B = I in its pencil and no infinite eigenvalue; the
     // same eigenvalues, its shapes mapped back.
-    const auto solveCongruent = [&] {
+    const auto solveCongruent = [&](std::string& how) {
       GyroscopicSystem c = sys;
       const auto congruent = [&](DenseMatrix& X) {
         if (X.numRows() != n) return;
@@ -866,7 +905,17 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       c.M.shape(n, n);
       for (int i = 0; i < n; ++i) c.M(i, i) = 1.0;
       congruent(c.G), congruent(c.K), congruent(c.D), congruent(c.N);
-      result.modes = generalModes(c, every ? 2 * n : nModes, scale);
+      bool qr = params_.get<std::string>("General Eigensolver") == "Hessenberg QR";
+      if (!qr) {
+        try {
+          result.modes = generalModes(c, every ? 2 * n : nModes, scale);
+        } catch (const QzFailure& e) {
+          qr = true;
+          how = std::string("; there too ") + e.what() +
+                ": solved by LAPACK dgeev (Hessenberg QR) on the standard problem, B = I";
+        }
+      }
+      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, /*standard=*/true);
       std::vector<double> re(n), im(n);
       for (auto& m : result.modes) {
         for (int i = 0; i < n; ++i) re[i] = m.q[i].real(), im[i] = m.q[i].imag();
@@ -874,19 +923,31 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
         lowerTransSolveVector(Lm, im.data());
         for (int i = 0; i < n; ++i) m.q[i] = cplx(re[i], im[i]);
       }
-      result.solver = "dense general (LAPACK dggev, 2n first-order pencil, congruent to M = I)";
+      result.solver = qr ? "dense general (LAPACK dgeev, 2n first-order standard problem, congruent to M = I)"
+                         : "dense general (LAPACK dggev, 2n first-order pencil, congruent to M = I)";
     };
-    if (params_.get<std::string>("General Coordinates") == "Mass Congruent") {
-      solveCongruent();
-      result.reason += std::string(result.reason.empty() ? "" : "; ") + "requested in the coordinates with M = I";
+    std::string how;
+    const auto also = [&](const std::string& why) {
+      result.reason += std::string(result.reason.empty() ? "" : "; ") + why + how;
+    };
+    if (params_.get<std::string>("General Eigensolver") == "Hessenberg QR") {
+      solveCongruent(how);
+      also("Hessenberg QR requested, in the coordinates with M = I");
+    } else if (params_.get<std::string>("General Coordinates") == "Mass Congruent") {
+      solveCongruent(how);
+      also("requested in the coordinates with M = I");
     } else {
       try {
         result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
       } catch (const InfiniteEigenvalue&) {
-        solveCongruent();
-        result.reason += std::string(result.reason.empty() ? "" : "; ") +
-                         "dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
-                         "solved again with M = I by the congruence q = L^-T p";
+        solveCongruent(how);
+        also("dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
+             "solved again with M = I by the congruence q = L^-T p");
+      } catch (const QzFailure& e) {
+        // A near-defective pencil (a coalescence at a critical speed): the
+        // congruent pencil has other rounding, and B = I.
+        solveCongruent(how);
+        also(std::string(e.what()) + " on the pencil with M: solved again with M = I by the congruence q = L^-T p");
       }
     }
     if (every) result.numRequested = static_cast<int>(result.modes.size());
