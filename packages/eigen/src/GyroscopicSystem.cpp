@@ -6,7 +6,7 @@
 namespace cms::eigen {
 
 bool GyroscopicSystem::damped() const {
-  return (D.numRows() > 0 && D.normFrobenius() > 0.0) || (N.numRows() > 0 && N.normFrobenius() > 0.0);
+  return (D.numRows() > 0 && frobeniusNorm(D) > 0.0) || (N.numRows() > 0 && frobeniusNorm(N) > 0.0);
 }
 
 void GyroscopicSystem::validate(double relTol) const {
@@ -36,7 +36,7 @@ void GyroscopicSystem::validate(double relTol) const {
   // frequency scale s (lambda^2 M, lambda G, K at |lambda| = s), so a G or K
   // that is zero up to rounding (a Ritz projection onto rigid-body vectors) is
   // not mistaken for a structural error.
-  const double nM = M.normFrobenius(), nG = G.normFrobenius(), nK = K.normFrobenius();
+  const double nM = frobeniusNorm(M), nG = frobeniusNorm(G), nK = frobeniusNorm(K);
   const double s = frequencyScale(nM, nG, nK);
   const double sys = s * s * nM + s * nG + nK;
   const double dM = symmetryDefect(M) * nM * s * s / sys;
@@ -53,7 +53,7 @@ void GyroscopicSystem::validate(double relTol) const {
                                "(s^2||M|| + s||G|| + ||K||) = "
                                    << dK << " > " << relTol);
   if (D.numRows() > 0) {
-    const double nD = D.normFrobenius();
+    const double nD = frobeniusNorm(D);
     const double dD = symmetryDefect(D) * nD * s / (sys + s * nD);
     CMS_INPUT_CHECK(dD > relTol, "GyroscopicSystem: the damping matrix D is not symmetric: "
                                  "max|D - D^T| s / (s^2||M|| + s||G|| + s||D|| + ||K||) = "
@@ -61,7 +61,7 @@ void GyroscopicSystem::validate(double relTol) const {
                                      << " (a skew part is gyroscopic: it belongs in G)");
   }
   if (N.numRows() > 0) {
-    const double nN = N.normFrobenius();
+    const double nN = frobeniusNorm(N);
     const double dN = skewDefect(N) * nN / (sys + nN);
     CMS_INPUT_CHECK(dN > relTol, "GyroscopicSystem: the circulatory matrix N is not skew-symmetric: "
                                  "max|N + N^T| / (s^2||M|| + s||G|| + ||K|| + ||N||) = "

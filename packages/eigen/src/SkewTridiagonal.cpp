@@ -25,11 +25,15 @@ SkewTridiagonal skewTridiagonalise(const DenseMatrix& A, int blockSize) {
   const int N = A.numRows();
   CMS_INPUT_CHECK(A.numCols() != N, "skewTridiagonalise: A is " << N << " x " << A.numCols() << ", not square");
   SkewTridiagonal s;
-  s.reflectors.shape(N, N);
+  // Every entry is written below (zero-filling it first was 2% of a
+  // sweep's speed).
+  s.reflectors.shapeUninitialized(N, N);
   DenseMatrix& R = s.reflectors;
   // Exactly skew from the strictly lower triangle.
-  for (int j = 0; j < N; ++j)
+  for (int j = 0; j < N; ++j) {
+    R(j, j) = 0.0;
     for (int i = j + 1; i < N; ++i) R(i, j) = A(i, j), R(j, i) = -A(i, j);
+  }
   s.t.assign(std::max(0, N - 1), 0.0);
   s.tau.assign(std::max(0, N - 1), 0.0);
   if (N < 2) return s;
