@@ -74,18 +74,19 @@ TEST(DenseGyroscopic, ReturnsTheLowestAtEveryCountWithRepeatedFrequencies) {
     std::vector<double> ref;
     for (double w : fixtures::companionFrequencies(halves[c])) ref.insert(ref.end(), {w, w});
     ASSERT_EQ(static_cast<int>(ref.size()), s.size());
-    for (const std::string reduction : {"Skew Tridiagonal", "Bidiagonal"})
-    for (int N = 1; N <= s.size(); ++N) {
-      const GyroscopicResult r = solveDense(s, N, reduction);
-      EXPECT_EQ(r.status, SolveStatus::Converged) << reduction << ", system " << c << " N = " << N << ": " << r.reason;
-      ASSERT_EQ(static_cast<int>(r.modes.size()), N) << "system " << c;
-      for (int k = 0; k < N; ++k)
-        EXPECT_NEAR(r.modes[k].omega, ref[k], 1e-9 * ref[k]) << "system " << c << " N = " << N << " mode " << k;
-      // How the set was confirmed: a Sturm count, or the whole spectrum.
-      EXPECT_TRUE(r.reason.find("Sturm count") != std::string::npos ||
-                  r.reason.find("whole spectrum") != std::string::npos) << r.reason;
-      // N odd cuts a pair: the result says so and names the count that keeps it whole.
-      if (N % 2 == 1) EXPECT_NE(r.reason.find("cuts a cluster"), std::string::npos) << "N = " << N << ": " << r.reason;
+    for (const std::string reduction : {"Skew Tridiagonal", "Bidiagonal"}) {
+      for (int N = 1; N <= s.size(); ++N) {
+        const GyroscopicResult r = solveDense(s, N, reduction);
+        EXPECT_EQ(r.status, SolveStatus::Converged) << reduction << ", system " << c << " N = " << N << ": " << r.reason;
+        ASSERT_EQ(static_cast<int>(r.modes.size()), N) << "system " << c;
+        for (int k = 0; k < N; ++k)
+          EXPECT_NEAR(r.modes[k].omega, ref[k], 1e-9 * ref[k]) << "system " << c << " N = " << N << " mode " << k;
+        // How the set was confirmed: a Sturm count, or the whole spectrum.
+        EXPECT_TRUE(r.reason.find("Sturm count") != std::string::npos ||
+                    r.reason.find("whole spectrum") != std::string::npos) << r.reason;
+        // N odd cuts a pair: the result says so and names the count that keeps it whole.
+        if (N % 2 == 1) EXPECT_NE(r.reason.find("cuts a cluster"), std::string::npos) << "N = " << N << ": " << r.reason;
+      }
     }
   }
 }
