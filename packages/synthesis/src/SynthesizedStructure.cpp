@@ -33,6 +33,7 @@
 #include "PartData.hpp"
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/BlasThreads.hpp"
+#include "cms/core/DistributedDirectSolver.hpp"  // ranksOnNode
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/core/Redistribution.hpp"
@@ -1312,10 +1313,8 @@ std::vector<StructureModes> SynthesizedStructure::solveMany(const std::vector<st
   const std::string solver = p.get<std::string>("Solver");
   const long long n = size();
   const bool dense = solver == "Dense" || (solver == "Auto" && n <= p.get<int>("Dense Limit"));
-  if (threads <= 0) {
-    const int ranks = structure_->comm()->getSize();
-    threads = coresPerRank(ranks);  // within this rank's CPU binding
-  }
+  if (threads <= 0)  // the ranks sharing this node, not the communicator's size (collective)
+    threads = coresPerRank(ranksOnNode(*structure_->comm()));  // within this rank's CPU binding
   threads = std::min<int>(threads, static_cast<int>(speeds.size()));
   if (!dense || !hubs_.empty() || threads <= 1) {
     for (std::size_t k = 0; k < speeds.size(); ++k) out[k] = solve(speeds[k], params);

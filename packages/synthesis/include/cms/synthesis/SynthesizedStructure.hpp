@@ -299,7 +299,8 @@ public:
   StructureModes solve(const std::vector<double>& speeds, const Teuchos::ParameterList& params) const;
   /// solve() at every set of `speeds`, in order. On the dense path the
   /// solves run on `threads` threads of this rank (0: the cores left to
-  /// this rank, coresPerRank(ranks): the hardware threads over the ranks,
+  /// this rank, coresPerRank(ranksOnNode): the hardware threads over the
+  /// ranks sharing this node,
   /// at most the cores the rank is bound to), each on its
   /// own copy of the parameters: the same results as one solve() after
   /// another (each is the same computation on the same matrices).
