@@ -14,6 +14,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
+#include "cms/core/SparseProduct.hpp"
 
 using namespace cms;
 using Outcome = SparseDirectSolver::Outcome;
@@ -138,4 +139,82 @@ TEST(MatrixSum, OnASharedGraphTheSameEntriesAsMatrixMatrixAdd) {
     EXPECT_EQ(entries(*shared, g), want) << "row " << g;
     EXPECT_EQ(entries(*fallback, g), want) << "row " << g;
   }
+}
+
+// cms::multiply against Tpetra's apply: Y = alpha A X + beta Y on a chain
+// large enough for threads (nnz x columns above multiply's threshold), with
+// 7 columns (a block of four and a remainder). On one rank it runs on 2 and
+// 3 threads: the same bits on both (each row summed in its stored order),
+// and against Tpetra per column within 2 m eps (|alpha| ||A||_inf ||x||_inf
+// + |beta| ||y0||_inf), m the most entries in a row: both sums run over the
+// same m terms, each rounding at most m times. On two ranks A has an
+// importer and multiply is Tpetra's apply itself: the same bits.
+TEST(SparseProduct, ThreadedRowsAgreeWithTpetraApply) {
+  const auto comm = Teuchos::DefaultComm<int>::getComm();
+  fixtures::ChainSpec spec;
+  spec.nodes = 60000;  // 360,000 entries: x 7 columns above multiply's threshold of 2e6
+  spec.spin = 3.0;
+  const auto K = fixtures::sparseChain(spec, comm).K;
+  const auto map = K->getDomainMap();
+  const int nv = 7;
+  MultiVector X(map, nv), Y0(map, nv);
+  X.randomize();
+  Y0.randomize();
+  const double alpha = 0.7, beta = -1.3, eps = std::numeric_limits<double>::epsilon();
+  MultiVector want(Y0, Teuchos::Copy);
+  K->apply(X, want, Teuchos::NO_TRANS, alpha, beta);
+  const bool threaded = multiplyThreads(*K, X, Y0, 2) > 1;
+  EXPECT_EQ(threaded, comm->getSize() == 1) << "threads only without communication";
+  Teuchos::Array<double> xn(nv), yn(nv), dn(nv);
+  X.normInf(xn());
+  Y0.normInf(yn());
+  const double m = static_cast<double>(K->getGlobalMaxNumRowEntries()), normA = K->getFrobeniusNorm();
+  std::vector<MultiVector> got;
+  for (int threads : {2, 3}) {
+    got.emplace_back(Y0, Teuchos::Copy);
+    multiply(*K, X, got.back(), alpha, beta, threads);
+    MultiVector d(got.back(), Teuchos::Copy);
+    d.update(-1.0, want, 1.0);
+    d.normInf(dn());
+    for (int j = 0; j < nv; ++j) {
+      // ||A||_inf <= sqrt(m) ||A||_F
+      const double bound = 2 * m * eps * (alpha * std::sqrt(m) * normA * xn[j] + std::abs(beta) * yn[j]);
+      if (threaded) EXPECT_LE(dn[j], bound) << threads << " threads, column " << j;
+      else EXPECT_EQ(dn[j], 0.0) << "Tpetra's apply itself, column " << j;
+    }
+  }
+  got[1].update(-1.0, got[0], 1.0);
+  got[1].normInf(dn());
+  for (int j = 0; j < nv; ++j) EXPECT_EQ(dn[j], 0.0) << "2 and 3 threads differ in column " << j;
+}
+
+// beta = 0 overwrites Y (NaN included), as Tpetra's apply; X and Y one block
+// (aliased) or sharing memory go through Tpetra's apply, which copies X.
+TEST(SparseProduct, OverwritesNaNAndHandsAliasedBlocksToTpetra) {
+  const auto comm = Teuchos::DefaultComm<int>::getComm();
+  fixtures::ChainSpec spec;
+  spec.nodes = 60000;
+  const auto K = fixtures::sparseChain(spec, comm).K;
+  const auto map = K->getDomainMap();
+  MultiVector X(map, 7), Y(map, 7);
+  X.randomize();
+  Y.putScalar(std::numeric_limits<double>::quiet_NaN());
+  ASSERT_EQ(multiplyThreads(*K, X, Y, 2) > 1, comm->getSize() == 1);
+  multiply(*K, X, Y, 1.0, 0.0, 2);
+  MultiVector want(map, 7);
+  K->apply(X, want);
+  Teuchos::Array<double> n(7);
+  Y.update(-1.0, want, 1.0);
+  Y.normInf(n());
+  for (int j = 0; j < 7; ++j) {
+    EXPECT_TRUE(std::isfinite(n[j])) << "column " << j;
+    EXPECT_LE(n[j], 1e-12 * K->getFrobeniusNorm()) << "column " << j;
+  }
+  // In place: Z = A Z.
+  MultiVector Z(X, Teuchos::Copy);
+  EXPECT_EQ(multiplyThreads(*K, Z, Z, 2), 1);
+  multiply(*K, Z, Z, 1.0, 0.0, 2);
+  Z.update(-1.0, want, 1.0);
+  Z.normInf(n());
+  for (int j = 0; j < 7; ++j) EXPECT_EQ(n[j], 0.0) << "in place, column " << j;
 }

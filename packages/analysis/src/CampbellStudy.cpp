@@ -1,5 +1,6 @@
 #include "cms/analysis/CampbellStudy.hpp"
 #include "cms/analysis/PeriodicStructure.hpp"
+#include "cms/core/SparseProduct.hpp"
 
 #include <algorithm>
 #include <map>
@@ -188,8 +189,8 @@ std::vector<std::vector<double>> macMatrix(const CrsMatrix& M, long long n, cons
   };
   const MultiVector Xa = pack(a), Xb = pack(b);
   MultiVector MXa(map, Xa.getNumVectors()), MXb(map, Xb.getNumVectors());
-  M.apply(Xa, MXa);
-  M.apply(Xb, MXb);
+  multiply(M, Xa, MXa);
+  multiply(M, Xb, MXb);
   // Local sums: per pair (re, im) of a^H M b, then a^H M a, then b^H M b; one reduction.
   std::vector<double> local(2 * P * C + P + C, 0.0), global(local.size(), 0.0);
   for (std::size_t t = 0; t < P; ++t) {

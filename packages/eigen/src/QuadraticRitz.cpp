@@ -13,6 +13,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/SparseProduct.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
 namespace cms::eigen::detail {
@@ -66,7 +67,7 @@ Teuchos::RCP<CrsMatrix> absoluteValues(const CrsMatrix& A) {
 
 DenseMatrix projectOnto(const CrsMatrix& A, const MultiVector& Q) {
   MultiVector AQ(Q.getMap(), Q.getNumVectors());
-  A.apply(Q, AQ);
+  multiply(A, Q, AQ);
   DenseMatrix R(static_cast<int>(Q.getNumVectors()), static_cast<int>(Q.getNumVectors()));
   MVT::MvTransMv(1.0, Q, AQ, R);
   return R;
@@ -115,13 +116,13 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
   MVT::MvTimesMatAddMv(1.0, Q, Yi, 0.0, Qi);
   MultiVector MQr(rowMap, kk), MQi(rowMap, kk), GQr(rowMap, kk), GQi(rowMap, kk), KQr(rowMap, kk),
       KQi(rowMap, kk);
-  sys.M->apply(Qr, MQr), sys.M->apply(Qi, MQi);
-  sys.G->apply(Qr, GQr), sys.G->apply(Qi, GQi);
+  multiply(*sys.M, Qr, MQr), multiply(*sys.M, Qi, MQi);
+  multiply(*sys.G, Qr, GQr), multiply(*sys.G, Qi, GQi);
   if (!sys.D.is_null()) {  // G q stands for (G + D) q in the residual below
-    sys.D->apply(Qr, GQr, Teuchos::NO_TRANS, 1.0, 1.0);
-    sys.D->apply(Qi, GQi, Teuchos::NO_TRANS, 1.0, 1.0);
+    multiply(*sys.D, Qr, GQr, 1.0, 1.0);
+    multiply(*sys.D, Qi, GQi, 1.0, 1.0);
   }
-  sys.K->apply(Qr, KQr), sys.K->apply(Qi, KQi);
+  multiply(*sys.K, Qr, KQr), multiply(*sys.K, Qi, KQi);
   // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
   MultiVector Qa(rowMap, kk), KQa(rowMap, kk), GQa(rowMap, kk);
   {

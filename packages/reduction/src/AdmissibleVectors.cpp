@@ -13,6 +13,7 @@
 #include "HeldStiffness.hpp"
 #include "LoadPatterns.hpp"
 #include "cms/reduction/StaticCorrection.hpp"
+#include "cms/core/SparseProduct.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 
@@ -74,7 +75,7 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
     MultiVector x(map, 1), y(map, 1);
     auto xv = x.getDataNonConst(0);
     std::copy(r.begin(), r.end(), xv.begin());
-    s.M()->apply(x, y);
+    multiply(*s.M(), x, y);
     auto yv = y.getData(0);
     return std::vector<double>(yv.begin(), yv.end());
   };
@@ -107,7 +108,7 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
         const int c = static_cast<int>(t.components[g]);
         if (c < 3) xv[l] = t.coordinates[3 * nodeOf[g] + c] - spin.origin[c];
       }
-      s.KT1()->apply(x, y);
+      multiply(*s.KT1(), x, y);
       auto yv = y.getData(0);
       newColumn("static: centrifugal").assign(yv.begin(), yv.end());
     } else if (p == "rotation") {
@@ -221,7 +222,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   for (int j = 0; j < basis.size(); ++j) {
     auto x = Teuchos::rcp(new Vector(*basis.vectors->getVector(j), Teuchos::Copy));
     auto Mx = Teuchos::rcp(new Vector(map)), Kx = Teuchos::rcp(new Vector(map));
-    s.M()->apply(*x, *Mx), s.K()->apply(*x, *Kx);
+    multiply(*s.M(), *x, *Mx), multiply(*s.K(), *x, *Kx);
     keep(x, Mx, Kx);
   }
   // A candidate carries M x and K x, updated with x as it is projected off
@@ -236,7 +237,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   auto candidate = [&](const Vector& v, const std::string& label) {
     Candidate c{Teuchos::rcp(new Vector(v, Teuchos::Copy)), Teuchos::rcp(new Vector(map)),
                 Teuchos::rcp(new Vector(map)), label};
-    s.M()->apply(*c.x, *c.Mx), s.K()->apply(*c.x, *c.Kx);
+    multiply(*s.M(), *c.x, *c.Mx), multiply(*s.K(), *c.x, *c.Kx);
     c.norm0 = std::sqrt(std::max(0.0, c.x->dot(*c.Mx)));
     if (!(c.norm0 > 0.0)) basis.dropped.push_back(label + " (zero M-norm: the pattern has no mass on free DOFs)");
     return c;
@@ -333,10 +334,10 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     // M-orthonormal to working precision rather than to the drift.
     for (int pass = 0; pass < 2; ++pass)
       for (std::size_t k = 0; k < kept.size(); ++k) pick.x->update(-Mkept[k]->dot(*pick.x), *kept[k], 1.0);
-    s.M()->apply(*pick.x, *pick.Mx);
+    multiply(*s.M(), *pick.x, *pick.Mx);
     const double norm = std::sqrt(std::max(0.0, pick.x->dot(*pick.Mx)));
     pick.x->scale(1.0 / norm), pick.Mx->scale(1.0 / norm);
-    s.K()->apply(*pick.x, *pick.Kx);
+    multiply(*s.K(), *pick.x, *pick.Kx);
     keep(pick.x, pick.Mx, pick.Kx);
     basis.labels.push_back(pick.label);
     enqueueContinuation(kept.size() - 1, "column " + std::to_string(kept.size()));

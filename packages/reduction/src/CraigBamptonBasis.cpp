@@ -8,6 +8,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "cms/core/SparseProduct.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
 
@@ -28,7 +29,7 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
     const auto l = map->getLocalElement(unitRows[j]);
     if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) E.replaceLocalValue(l, j, 1.0);
   }
-  s.K()->apply(E, KE);
+  multiply(*s.K(), E, KE);
   KE.scale(-1.0);
   K.solve(KE, *Psi);
   Psi->update(1.0, E, 1.0);

@@ -19,6 +19,7 @@
 
 #include "HeldStiffness.hpp"
 #include "SymmetricEigen.hpp"
+#include "cms/core/SparseProduct.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HashRandom.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -64,7 +65,7 @@ public:
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, double alpha = 1.0,
              double beta = 0.0) const override {
     MultiVector MX(X.getMap(), X.getNumVectors()), Z(X.getMap(), X.getNumVectors());
-    M_->apply(X, MX);
+    multiply(*M_, X, MX);
     K_.solve(MX, Z);
     if (!Y_.is_null()) {
       const int m = static_cast<int>(Y_->getNumVectors()), nv = static_cast<int>(X.getNumVectors());
@@ -123,8 +124,8 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
     const auto l = map->getLocalElement(freeRows[j]);
     if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) E.replaceLocalValue(l, j, 1.0);
   }
-  s.K()->apply(E, KE);
-  s.M()->apply(E, ME);
+  multiply(*s.K(), E, KE);
+  multiply(*s.M(), E, ME);
   auto rep = Teuchos::rcp(new Map(static_cast<GlobalOrdinal>(n), 0, map->getComm(), Tpetra::LocallyReplicated));
   Tpetra::Import<> imp(map, rep);
   MultiVector Kr(rep, nf), Mr(rep, nf);

@@ -3,6 +3,7 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/SparseProduct.hpp"
 #include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -82,7 +83,7 @@ void HeldStiffness::solve(const MultiVector& B, MultiVector& X) const {
   // stiffness ratios past 1e12) and the frequencies built from such vectors
   // were wrong with a converged status. Refuse instead (theory §11.7).
   MultiVector r(b.getMap(), b.getNumVectors());
-  K_->apply(X, r);
+  multiply(*K_, X, r);
   r.update(-1.0, b, 1.0);
   Teuchos::Array<double> rn(b.getNumVectors()), bn(b.getNumVectors());
   r.norm2(rn());

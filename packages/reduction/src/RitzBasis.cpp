@@ -15,6 +15,7 @@
 
 #include "HeldStiffness.hpp"
 #include "SymmetricEigen.hpp"
+#include "cms/core/SparseProduct.hpp"
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
@@ -100,7 +101,7 @@ void appendOrthonormal(const CrsMatrix& M, const MultiVector& candidates, const 
   Vector c(map), Mc(map);
   for (std::size_t j = 0; j < candidates.getNumVectors() && static_cast<int>(kept.size()) < maxColumns; ++j) {
     c.assign(*candidates.getVector(j));
-    M.apply(c, Mc);
+    multiply(M, c, Mc);
     const double norm0 = std::sqrt(std::max(0.0, c.dot(Mc)));
     if (!(norm0 > 0.0)) {
       basis.dropped.push_back(labels[j] + " (zero M-norm: the pattern has no mass on free DOFs)");
@@ -111,7 +112,7 @@ void appendOrthonormal(const CrsMatrix& M, const MultiVector& candidates, const 
     for (int pass = 0; pass < 2; ++pass) {
       for (std::size_t k = 0; k < kept.size(); ++k) c.update(-Mkept[k]->dot(c), *kept[k], 1.0);
     }
-    M.apply(c, Mc);
+    multiply(M, c, Mc);
     const double norm = std::sqrt(std::max(0.0, c.dot(Mc)));
     if (!(norm > tolerance * norm0)) {
       std::ostringstream os;
@@ -261,8 +262,8 @@ std::vector<double> estimateFrequencies(const substructure::Substructure& s, con
   const MultiVector& V = *basis.vectors;
   const int k = static_cast<int>(V.getNumVectors());
   MultiVector KV(V.getMap(), k), MV(V.getMap(), k);
-  s.K()->apply(V, KV);
-  s.M()->apply(V, MV);
+  multiply(*s.K(), V, KV);
+  multiply(*s.M(), V, MV);
   // Small dense projections, replicated: column dot products.
   std::vector<double> Kr(k * k), Mr(k * k);
   for (int i = 0; i < k; ++i)

@@ -2,6 +2,7 @@
 
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/Redistribution.hpp"
+#include "cms/core/SparseProduct.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -165,7 +166,7 @@ void Substructure::apply(Matrix a, const MultiVector& X, MultiVector& Y, double 
   const auto A = source(a);
   if (A.is_null()) throw std::logic_error("substructure '" + name_ + "' has no " + toString(a) + " to apply");
   if (!prototype_) {
-    A->apply(X, Y, Teuchos::NO_TRANS, alpha, beta);
+    multiply(*A, X, Y, alpha, beta);
     return;
   }
   // Q A_p Q^T X (theory §15.2): the rows turned back into the prototype's
@@ -182,7 +183,7 @@ void Substructure::apply(Matrix a, const MultiVector& X, MultiVector& Y, double 
       for (int j = 0; j < 3; ++j) back.R[i][j] = R[j][i];
     const auto Xp = turnedRows(X, dofs_, A->getDomainMap(), back);
     MultiVector AX(A->getRangeMap(), nc);
-    A->apply(*Xp, AX);
+    multiply(*A, *Xp, AX);
     Y.update(alpha, *turnedRows(AX, dofs_, Y.getMap(), p.turn), beta);
     return;
   }
@@ -203,7 +204,7 @@ void Substructure::apply(Matrix a, const MultiVector& X, MultiVector& Y, double 
   MultiVector Xp(map_, nc, false), AX(map_, nc, false);
   turn(X.getLocalViewHost(Tpetra::Access::ReadOnly), Xp.getLocalViewHost(Tpetra::Access::OverwriteAll), true, 1.0,
        0.0);
-  A->apply(Xp, AX);
+  multiply(*A, Xp, AX);
   turn(AX.getLocalViewHost(Tpetra::Access::ReadOnly), Y.getLocalViewHost(Tpetra::Access::ReadWrite), false, alpha,
        beta);
 }

@@ -14,6 +14,8 @@
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/SparseProduct.hpp"
+
 namespace cms::synthesis::detail {
 
 namespace {
@@ -29,7 +31,7 @@ struct Projection {
 Projection project(const CrsMatrix& A, const MultiVector& V) {
   const auto n = static_cast<int>(V.getNumVectors());
   MultiVector AV(A.getRangeMap(), n);
-  A.apply(V, AV);
+  multiply(A, V, AV);
   auto local = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(n), 0, V.getMap()->getComm(),
                                     Tpetra::LocallyReplicated));
   MultiVector S(local, n);
@@ -178,7 +180,7 @@ std::vector<CyclicContent> cyclicContent(const std::vector<std::shared_ptr<Assem
         C.getVectorNonConst(0)->update(cs, *a, sn, *b, 1.0);
         C.getVectorNonConst(1)->update(cs, *b, -sn, *a, 1.0);
       }
-      proto.sub->M()->apply(C, MC);
+      multiply(*proto.sub->M(), C, MC);
       Teuchos::Array<double> d(2);
       C.dot(MC, d());
       content.share[static_cast<std::size_t>(std::min(h, N - h))] += (d[0] + d[1]) / N;

@@ -1,0 +1,115 @@
+#include "cms/core/SparseProduct.hpp"
+
+#include <algorithm>
+#include <thread>
+#include <vector>
+
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/BlasThreads.hpp"
+
+namespace cms {
+
+namespace {
+/// Below this many multiply-adds (entries x columns) a thread's start
+/// (~30 us) is not worth it.
+constexpr double kMinimumWork = 2e6;
+
+/// Rows [r0, r1) of Y = alpha A X + beta Y, columns four at a time so that
+/// each entry of A is loaded once per four columns. Each sum runs in the
+/// order of the row's entries.
+void rows(const std::size_t* rowPtr, const LocalOrdinal* col, const double* val, const double* x, std::size_t ldx,
+          double* y, std::size_t ldy, int nv, double alpha, double beta, std::size_t r0, std::size_t r1) {
+  int j = 0;
+  for (; j + 3 < nv; j += 4) {
+    const double *x0 = x + j * ldx, *x1 = x0 + ldx, *x2 = x1 + ldx, *x3 = x2 + ldx;
+    double *y0 = y + j * ldy, *y1 = y0 + ldy, *y2 = y1 + ldy, *y3 = y2 + ldy;
+    for (std::size_t r = r0; r < r1; ++r) {
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+      for (std::size_t k = rowPtr[r]; k < rowPtr[r + 1]; ++k) {
+        const double a = val[k];
+        const std::size_t c = static_cast<std::size_t>(col[k]);
+        s0 += a * x0[c], s1 += a * x1[c], s2 += a * x2[c], s3 += a * x3[c];
+      }
+      if (beta == 0.0) {
+        y0[r] = alpha * s0, y1[r] = alpha * s1, y2[r] = alpha * s2, y3[r] = alpha * s3;
+      } else {
+        y0[r] = alpha * s0 + beta * y0[r], y1[r] = alpha * s1 + beta * y1[r];
+        y2[r] = alpha * s2 + beta * y2[r], y3[r] = alpha * s3 + beta * y3[r];
+      }
+    }
+  }
+  for (; j < nv; ++j) {
+    const double* xj = x + j * ldx;
+    double* yj = y + j * ldy;
+    for (std::size_t r = r0; r < r1; ++r) {
+      double s = 0.0;
+      for (std::size_t k = rowPtr[r]; k < rowPtr[r + 1]; ++k) s += val[k] * xj[static_cast<std::size_t>(col[k])];
+      yj[r] = beta == 0.0 ? alpha * s : alpha * s + beta * yj[r];
+    }
+  }
+}
+}  // namespace
+
+int multiplyThreads(const CrsMatrix& A, const MultiVector& X, const MultiVector& Y, int threads) {
+  if (threads <= 0) threads = blasThreads();
+  if (threads <= 1 || !A.isFillComplete() || &X == &Y || !X.isConstantStride() || !Y.isConstantStride()) return 1;
+  const auto graph = A.getCrsGraph();
+  if (!graph->getImporter().is_null() || !graph->getExporter().is_null()) return 1;
+  if (X.getNumVectors() != Y.getNumVectors() || X.getLocalLength() != A.getColMap()->getNodeNumElements() ||
+      Y.getLocalLength() != A.getRowMap()->getNodeNumElements())
+    return 1;
+  const double work = static_cast<double>(A.getNodeNumEntries()) * static_cast<double>(X.getNumVectors());
+  if (work < kMinimumWork) return 1;
+  return std::min<int>(threads, static_cast<int>(std::max<std::size_t>(1, A.getNodeNumRows() / 64)));
+}
+
+void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double alpha, double beta, int asked) {
+  int threads = multiplyThreads(A, X, Y, asked);
+  if (threads > 1) {  // X and Y sharing memory (views of one block): Tpetra's apply copies first
+    const auto xv = X.getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto yv = Y.getLocalViewHost(Tpetra::Access::ReadOnly);
+    const double *x0 = xv.data(), *x1 = x0 + xv.span(), *y0 = yv.data(), *y1 = y0 + yv.span();
+    if (x0 < y1 && y0 < x1) threads = 1;
+  }
+  if (threads <= 1) {
+    A.apply(X, Y, Teuchos::NO_TRANS, alpha, beta);
+    return;
+  }
+  // Without an importer the column map is the domain map and X's local
+  // rows are the columns' local indices (Tpetra's own fast path).
+  const auto local = A.getLocalMatrixHost();
+  const auto rowMap = local.graph.row_map;
+  const auto entries = local.graph.entries;
+  const auto values = local.values;
+  const std::size_t n = A.getNodeNumRows();
+  std::vector<std::size_t> rowPtr(n + 1);
+  for (std::size_t r = 0; r <= n; ++r) rowPtr[r] = static_cast<std::size_t>(rowMap(r));
+  const auto xv = X.getLocalViewHost(Tpetra::Access::ReadOnly);
+  const auto yv = beta == 0.0 ? Y.getLocalViewHost(Tpetra::Access::OverwriteAll)
+                              : Y.getLocalViewHost(Tpetra::Access::ReadWrite);
+  const int nv = static_cast<int>(X.getNumVectors());
+  const std::size_t ldx = xv.stride(1), ldy = yv.stride(1);
+  const double* x = xv.data();
+  double* y = yv.data();
+  const LocalOrdinal* col = entries.data();
+  const double* val = values.data();
+  // Rows split so that each thread has about the same number of entries.
+  std::vector<std::size_t> split(static_cast<std::size_t>(threads) + 1, n);
+  split[0] = 0;
+  const std::size_t nnz = rowPtr[n];
+  for (int t = 1; t < threads; ++t) {
+    const std::size_t target = nnz / static_cast<std::size_t>(threads) * static_cast<std::size_t>(t);
+    split[static_cast<std::size_t>(t)] =
+        static_cast<std::size_t>(std::lower_bound(rowPtr.begin(), rowPtr.end(), target) - rowPtr.begin());
+  }
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t)
+    pool.emplace_back(rows, rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, split[static_cast<std::size_t>(t)],
+                      std::max(split[static_cast<std::size_t>(t)], split[static_cast<std::size_t>(t) + 1]));
+  rows(rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, 0, split[1]);
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace cms
