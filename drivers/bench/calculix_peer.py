@@ -290,6 +290,9 @@ def main():
     ap.add_argument("--repeat", type=int, default=1,
                     help="rounds of runs, every solver once per round in turn (interleaved); wall time and peak "
                          "memory are the medians")
+    ap.add_argument("--threads", choices=("1", "default"), default="1",
+                    help="1 (default): both tools on one thread (OMP_NUM_THREADS=OPENBLAS_NUM_THREADS=1, the "
+                         "protocol of issue 18); default: each tool as it runs out of the box, on every core")
     ap.add_argument("--work", default="calculix-peer", help="scratch directory")
     ap.add_argument("--csv", default="calculix-peer.csv")
     a = ap.parse_args()
@@ -313,7 +316,7 @@ def main():
     ccx = shutil.which("ccx")
     if not ccx:
         print("calculix_peer: ccx not found (apt-get install calculix-ccx): the CalculiX rows are skipped")
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1") if a.threads == "1" else None
 
     reference, ref_label = None, ""
     if a.reference_csv:
@@ -374,7 +377,7 @@ def main():
         truth = results.get("cms truth (Full, sparse Anasazi)", {}).get("hz")
         ccx_s = median(next((e["s"] for k, e in results.items() if k.startswith("CalculiX *COMPLEX")), [None]))
         print(f"\n{a.model} {element}, h = {h} m, ns = {a.ns}: {dofs} DOFs, spin {a.omega} rad/s, lowest {a.modes} modes,"
-              f" median of {a.repeat} interleaved run(s); load {os.getloadavg()[0]:.2f}")
+              f" median of {a.repeat} interleaved run(s); threads: {a.threads}; load {os.getloadavg()[0]:.2f}")
         if reference:
             print(f"reference: {ref_label}")
         print(f"{'solver':52s} {'wall s':>8s} {'peak MiB':>9s} {'f1 Hz':>10s} {'vs truth':>9s} {'vs ref.':>9s}"
@@ -397,14 +400,15 @@ def main():
                              "peak_mib": f"{mem:.1f}" if mem else "", "mode": i + 1, "hz": f"{hz[i]:.9g}",
                              "rel_diff_vs_cms_truth": f"{relative_errors(hz, truth)[i]:.3e}" if truth else "",
                              "rel_err_vs_reference": f"{errs[i]:.3e}" if errs else "",
-                             "phases_s": " ".join(f"{k}={v:.3f}" for k, v in phases.items() if v is not None)})
+                             "phases_s": " ".join(f"{k}={v:.3f}" for k, v in phases.items() if v is not None),
+                             "threads": a.threads})
         if not ccx:
             rows.append({"model": a.model, "element": element, "h": h, "ns": a.ns, "dofs": dofs,
                          "solver": "CalculiX: skipped (ccx not found)"})
     with open(a.csv + ".tmp", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=["model", "element", "h", "ns", "dofs", "omega_rad_s", "solver", "modes_returned", "runs",
                                           "wall_s", "wall_s_all", "peak_mib", "mode", "hz", "rel_diff_vs_cms_truth",
-                                          "rel_err_vs_reference", "phases_s"])
+                                          "rel_err_vs_reference", "phases_s", "threads"])
         w.writeheader()
         w.writerows(rows)
     os.replace(a.csv + ".tmp", a.csv)
