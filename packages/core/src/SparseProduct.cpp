@@ -1,6 +1,7 @@
 #include "cms/core/SparseProduct.hpp"
 
 #include <algorithm>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -105,9 +106,14 @@ void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double a
         static_cast<std::size_t>(std::lower_bound(rowPtr.begin(), rowPtr.end(), target) - rowPtr.begin());
   }
   std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t)
-    pool.emplace_back(rows, rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, split[static_cast<std::size_t>(t)],
-                      std::max(split[static_cast<std::size_t>(t)], split[static_cast<std::size_t>(t) + 1]));
+  for (int t = 1; t < threads; ++t) {
+    const std::size_t r0 = split[static_cast<std::size_t>(t)], r1 = std::max(r0, split[static_cast<std::size_t>(t) + 1]);
+    try {
+      pool.emplace_back(rows, rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, r0, r1);
+    } catch (const std::system_error&) {  // no thread to be had: these rows here
+      rows(rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, r0, r1);
+    }
+  }
   rows(rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, 0, split[1]);
   for (auto& th : pool) th.join();
 }
