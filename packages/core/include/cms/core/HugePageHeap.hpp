@@ -16,10 +16,15 @@ namespace cms {
 /// project's 2-core virtual machine a page fault costs microseconds: the
 /// 54,000-DOF bar's `cms modes` took 276,000 of them and 9.2 s, with the
 /// tunable 11,000 and 6.1 s, at the same peak memory (doc/benchmarks.md,
-/// "The heap on huge pages"); the second start costs ~45 ms there, which
+/// "The heap on huge pages"); the second start costs ~40 ms there, which
 /// an exported GLIBC_TUNABLES avoids. Skipped (see hugePageHeapSkipped) with
 /// CMS_HUGE_PAGES=0, without THP, under valgrind, or with an older glibc; a
-/// GLIBC_TUNABLES that already names the tunable is left as it is.
+/// GLIBC_TUNABLES that already names the tunable is left as it is, and a
+/// process executed once already (CMS_HUGE_PAGES_EXECUTED in its
+/// environment) is not executed again. A program that links this (any that
+/// calls it) executes itself again from its .preinit_array, before the
+/// shared libraries' initialisers run; the call in main is then a no-op
+/// kept for programs whose loader ignores .preinit_array.
 void hugePageHeap(char** argv);
 
 /// Why hugePageHeap would not re-execute this process ("" if it would, or
