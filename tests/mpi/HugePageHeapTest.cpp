@@ -34,3 +34,16 @@ TEST(HugePageHeap, CmsHugePagesZeroSkipsIt) {
   EXPECT_FALSE(skipped.empty());
 #endif
 }
+
+// Run by the test hugepages_executed_once with CMS_HUGE_PAGES_EXECUTED=1 and
+// GLIBC_TUNABLES unset (skipped elsewhere): a process marked as executed once
+// already is not executed again, the guard against a loader that drops
+// GLIBC_TUNABLES, which would otherwise execute the process for ever. Without
+// the guard this process would have been executed again with the tunable.
+TEST(HugePageHeap, AProcessMarkedAsExecutedIsNotExecutedAgain) {
+  if (std::getenv("CMS_EXPECT_NO_REEXECUTION") == nullptr) GTEST_SKIP() << "run by the test hugepages_executed_once";
+  ASSERT_NE(std::getenv("CMS_HUGE_PAGES_EXECUTED"), nullptr);
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  EXPECT_TRUE(tunables == nullptr || std::string(tunables).find("glibc.malloc.hugetlb") == std::string::npos)
+      << tunables;
+}
