@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <system_error>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include <Tpetra_CrsMatrix.hpp>
@@ -85,8 +86,11 @@ void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double a
   const auto entries = local.graph.entries;
   const auto values = local.values;
   const std::size_t n = A.getNodeNumRows();
-  std::vector<std::size_t> rowPtr(n + 1);
-  for (std::size_t r = 0; r <= n; ++r) rowPtr[r] = static_cast<std::size_t>(rowMap(r));
+  // The local matrix's own row offsets, read in place (copied per call
+  // before: an O(n) pass for nothing).
+  static_assert(std::is_same_v<std::remove_const_t<std::remove_pointer_t<decltype(rowMap.data())>>, std::size_t>,
+                "Tpetra's row offsets are size_t");
+  const std::size_t* rowPtr = rowMap.data();
   const auto xv = X.getLocalViewHost(Tpetra::Access::ReadOnly);
   const auto yv = beta == 0.0 ? Y.getLocalViewHost(Tpetra::Access::OverwriteAll)
                               : Y.getLocalViewHost(Tpetra::Access::ReadWrite);
@@ -103,18 +107,18 @@ void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double a
   for (int t = 1; t < threads; ++t) {
     const std::size_t target = nnz / static_cast<std::size_t>(threads) * static_cast<std::size_t>(t);
     split[static_cast<std::size_t>(t)] =
-        static_cast<std::size_t>(std::lower_bound(rowPtr.begin(), rowPtr.end(), target) - rowPtr.begin());
+        static_cast<std::size_t>(std::lower_bound(rowPtr, rowPtr + n + 1, target) - rowPtr);
   }
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) {
     const std::size_t r0 = split[static_cast<std::size_t>(t)], r1 = std::max(r0, split[static_cast<std::size_t>(t) + 1]);
     try {
-      pool.emplace_back(rows, rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, r0, r1);
+      pool.emplace_back(rows, rowPtr, col, val, x, ldx, y, ldy, nv, alpha, beta, r0, r1);
     } catch (const std::system_error&) {  // no thread to be had: these rows here
-      rows(rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, r0, r1);
+      rows(rowPtr, col, val, x, ldx, y, ldy, nv, alpha, beta, r0, r1);
     }
   }
-  rows(rowPtr.data(), col, val, x, ldx, y, ldy, nv, alpha, beta, 0, split[1]);
+  rows(rowPtr, col, val, x, ldx, y, ldy, nv, alpha, beta, 0, split[1]);
   for (auto& th : pool) th.join();
 }
 
