@@ -16,7 +16,7 @@ double frobeniusNorm(const DenseMatrix& A) {
   // Four independent sums of squares, column by column: Teuchos'
   // normFrobenius chains one sum through an abs per entry, and a dense
   // solve of n = 128 called it a dozen times, 6% of a sweep's speed
-  // (doc/benchmarks.md, "The sweep's bookkeeping").
+  // (doc/benchmarks.md, "A speed's bookkeeping trimmed").
   const int m = A.numRows(), n = A.numCols(), ld = A.stride();
   const double* a = A.values();
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
