@@ -25,6 +25,9 @@ inline mesh::CellType cellTypeOf(fem::SolidType t, int* gmshType) {
     case fem::SolidType::Hex20:
     case fem::SolidType::Hex20Reduced: *gmshType = 17; return mesh::CellType::Hex20;
     case fem::SolidType::Wedge15: *gmshType = 18; return mesh::CellType::Wedge15;
+    case fem::SolidType::Hex27: *gmshType = 12; return mesh::CellType::Hex27;
+    case fem::SolidType::Hex64: *gmshType = 92; return mesh::CellType::Hex64;
+    case fem::SolidType::Hex125: *gmshType = 93; return mesh::CellType::Hex125;
   }
   return mesh::CellType::Other;
 }

@@ -102,9 +102,85 @@ TestMesh withEdgeNodes(const TestMesh& linear, const int (&edges)[E][2], fem::So
 
 inline TestMesh toTet10(const TestMesh& tet4) { return withEdgeNodes(tet4, kTet10Edges, fem::SolidType::Tet10); }
 
+/// The order k of a Lagrange hex type (Hex27 2, Hex64 3, Hex125 4); 0 otherwise.
+inline int lagrangeOrder(fem::SolidType t) {
+  return t == fem::SolidType::Hex27 ? 2 : t == fem::SolidType::Hex64 ? 3 : t == fem::SolidType::Hex125 ? 4 : 0;
+}
+
+/// Lexicographic index of the Lagrange hex node (i, j, l) (SolidElement.hpp).
+inline int lagrangeNode(int k, int i, int j, int l) { return i + (k + 1) * (j + (k + 1) * l); }
+
+/// The (k+1)^3 nodes of a Lagrange hex of order k on the trilinear map of
+/// 8 corners (Gmsh's corner order), in lexicographic order: node (i, j, l)
+/// at reference point (-1 + 2i/k, -1 + 2j/k, -1 + 2l/k). Interpolated
+/// along i, then j, then l, each step exact at its ends and where its two
+/// values agree: a node on a face x = 1 gets x = 1 exactly (the patch test
+/// tells boundary nodes by exact comparison; thirds summed as shape
+/// functions would give 0.9999999999999999).
+inline std::vector<double> lagrangeHexNodes(const double* corners, int k) {
+  auto lerp = [k](double a, double b, int i) { return i == 0 ? a : i == k ? b : a == b ? a : a + (b - a) * i / k; };
+  std::vector<double> x;
+  for (int l = 0; l <= k; ++l)
+    for (int j = 0; j <= k; ++j)
+      for (int i = 0; i <= k; ++i)
+        for (int d = 0; d < 3; ++d) {
+          const double* c = corners + d;
+          const double e00 = lerp(c[0], c[3], i), e10 = lerp(c[9], c[6], i), e01 = lerp(c[12], c[15], i),
+                       e11 = lerp(c[21], c[18], i);
+          x.push_back(lerp(lerp(e00, e10, j), lerp(e01, e11, j), l));
+        }
+  return x;
+}
+
+/// A hex grid as Lagrange hexes of order k: each cell's nodes on the
+/// trilinear map of its corners, shared between cells (a face's nodes
+/// depend on that face's corners only; merged by their corners' indices).
+inline TestMesh withLagrangeNodes(const TestMesh& hex, fem::SolidType type) {
+  const int k = lagrangeOrder(type);
+  TestMesh m;
+  m.type = type;
+  std::map<std::vector<int>, int> index;  // (the cell's corner ids weighted by position) -> node
+  for (const auto& c : hex.cells) {
+    double corners[24];
+    for (int a = 0; a < 8; ++a)
+      for (int d = 0; d < 3; ++d) corners[3 * a + d] = hex.xyz[3 * c[a] + d];
+    const std::vector<double> x = lagrangeHexNodes(corners, k);
+    std::vector<int> cell;
+    for (int l = 0; l <= k; ++l)
+      for (int j = 0; j <= k; ++j)
+        for (int i = 0; i <= k; ++i) {
+          // A node is the trilinear combination of the corners with weights
+          // (i, k - i) (j, k - j) (l, k - l): its key is the sorted list of
+          // (corner id, weight) pairs with nonzero weight, the same from
+          // every cell that shares it.
+          std::vector<std::pair<int, int>> w;
+          const int wi[2] = {k - i, i}, wj[2] = {k - j, j}, wl[2] = {k - l, l};
+          static const int bit[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                        {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+          for (int a = 0; a < 8; ++a) {
+            const int weight = wi[bit[a][0]] * wj[bit[a][1]] * wl[bit[a][2]];
+            if (weight) w.push_back({c[a], weight});
+          }
+          std::sort(w.begin(), w.end());
+          std::vector<int> key;
+          for (const auto& [id, weight] : w) key.insert(key.end(), {id, weight});
+          auto it = index.find(key);
+          if (it == index.end()) {
+            it = index.emplace(key, m.nodes()).first;
+            const double* y = &x[3 * lagrangeNode(k, i, j, l)];
+            m.xyz.insert(m.xyz.end(), y, y + 3);
+          }
+          cell.push_back(it->second);
+        }
+    m.cells.push_back(cell);
+  }
+  return m;
+}
+
 /// A hex grid as a mesh of `type` (any SolidType): hexes as they are (Hex8,
-/// Hex8Incompatible), with edge nodes (Hex20, Hex20Reduced), split into
-/// tets (Tet4, Tet10) or wedges (Wedge15).
+/// Hex8Incompatible), with edge nodes (Hex20, Hex20Reduced), with the
+/// Lagrange grid of nodes (Hex27, Hex64, Hex125), split into tets (Tet4,
+/// Tet10) or wedges (Wedge15).
 inline TestMesh fromHexGrid(const TestMesh& hex, fem::SolidType type) {
   using fem::SolidType;
   switch (type) {
@@ -119,6 +195,9 @@ inline TestMesh fromHexGrid(const TestMesh& hex, fem::SolidType type) {
     case SolidType::Tet4: return toTet4(hex);
     case SolidType::Tet10: return toTet10(toTet4(hex));
     case SolidType::Wedge15: return withEdgeNodes(toWedgeCorners(hex), kWedge15Edges, type);
+    case SolidType::Hex27:
+    case SolidType::Hex64:
+    case SolidType::Hex125: return withLagrangeNodes(hex, type);
   }
   return hex;
 }

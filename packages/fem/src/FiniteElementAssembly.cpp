@@ -38,6 +38,9 @@ namespace cms::fem {
 
 namespace {
 
+/// The most nodes one item has: a Hex125 cell (cms/fem/SolidElement.hpp).
+constexpr int kMaxItemNodes = 125;
+
 constexpr std::uint8_t kTranslations = 0x07;
 constexpr std::uint8_t kAllComponents = 0x3f;
 
@@ -243,7 +246,7 @@ class Assembler {
     }
   }
 
-  /// The item's nodes into out (at most 27); returns their count.
+  /// The item's nodes into out (at most kMaxItemNodes); returns their count.
   int itemNodes(const Item& it, std::int64_t* out) const {
     if (it.block) {
       const int n = it.block->nodesPerCell;
@@ -263,7 +266,7 @@ class Assembler {
     DofLayout& L = out_.layout;
     L.present.assign(numNodes_, 0);
     L.fixed.assign(numNodes_, 0);
-    std::int64_t nodes[32];
+    std::int64_t nodes[kMaxItemNodes];
     for (const Item& it : items_) {
       if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
       const int nn = itemNodes(it, nodes);
@@ -440,7 +443,7 @@ class Assembler {
   // row's local index in it. Collective: the overlap map.
   void mapItemRows() {
     const DofLayout& L = out_.layout;
-    std::int64_t nodes[32];
+    std::int64_t nodes[kMaxItemNodes];
     itemDofStart_.assign(localItems_.size() + 1, 0);
     std::vector<std::pair<long long, double>> terms;
     for (std::size_t k = 0; k < localItems_.size(); ++k) {
@@ -1081,7 +1084,7 @@ class Assembler {
     auto u = uOverlap.getData(0);
     const Spin spin = model_.spin->spin;
     Target vKS = target("KS1");
-    std::vector<double> ue(6 * 27), ur(6 * 27 * 3);
+    std::vector<double> ue(6 * kMaxItemNodes), ur(6 * kMaxItemNodes * 3);
     for (std::size_t local = 0; local < localItems_.size() && failure_.empty(); ++local) {
       const Item& it = items_[localItems_[local]];
       if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
@@ -1157,7 +1160,7 @@ class Assembler {
   bool damped_ = false;  ///< some spring item has damping: D is assembled
   double freeHingeStiffness_ = 0.0;  ///< k_s of holdFreeHinges (0: no free hinge)
   std::vector<std::int64_t> positions_;
-  std::vector<double> xyz_ = std::vector<double>(3 * 27);
+  std::vector<double> xyz_ = std::vector<double>(3 * kMaxItemNodes);
   Target vM_, vK_, vG_, vKT_, vD_;
   std::vector<double> vf_;
   std::string failure_;

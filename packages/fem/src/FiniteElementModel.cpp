@@ -387,6 +387,9 @@ SolidType solidTypeOf(const ElementSet& set, const mesh::CellBlock& b) {
     case mesh::CellType::Tet4: return SolidType::Tet4;
     case mesh::CellType::Tet10: return SolidType::Tet10;
     case mesh::CellType::Wedge15: return SolidType::Wedge15;
+    case mesh::CellType::Hex27: return SolidType::Hex27;
+    case mesh::CellType::Hex64: return SolidType::Hex64;
+    case mesh::CellType::Hex125: return SolidType::Hex125;
     case mesh::CellType::Hex8:
       if (set.hex8) return *set.hex8;
       // C3D8R has no one-point brick here; the incompatible-mode brick is the
@@ -422,13 +425,14 @@ void FiniteElementModel::validate() const {
                           ? b.type == mesh::CellType::Line2
                           : (b.type == mesh::CellType::Tet4 || b.type == mesh::CellType::Tet10 ||
                              b.type == mesh::CellType::Hex8 || b.type == mesh::CellType::Hex20 ||
-                             b.type == mesh::CellType::Wedge15);
+                             b.type == mesh::CellType::Wedge15 || b.type == mesh::CellType::Hex27 ||
+                             b.type == mesh::CellType::Hex64 || b.type == mesh::CellType::Hex125);
       CMS_INPUT_CHECK(!ok, what << " (" << mesh->source << ", physical group of dimension " << g.dim
                                 << "): cells of type " << mesh::cellTypeName(b.type) << " (Gmsh type " << b.gmshType
                                 << ", e.g. element " << (b.cellTags.empty() ? 0 : b.cellTags[0])
                                 << ") are not supported by "
                                 << (s.kind == ElementSet::Kind::Frame ? "Frame sets (2-node lines only)"
-                                                                      : "Solid sets (Tet4, Tet10, Hex8, Hex20, Wedge15)"));
+                                                                      : "Solid sets (Tet4, Tet10, Hex8, Hex20, Wedge15, Hex27, Hex64, Hex125)"));
     }
   }
   for (const PointMassSet& p : pointMasses) mesh->group(p.nodeSet);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "cms/core/Error.hpp"
 
@@ -10,9 +11,8 @@ namespace cms::fem {
 
 namespace {
 
-constexpr int kMaxNodes = 20;
-constexpr int kMaxPoints = 27;
-constexpr int kMaxGauss = 3;  // points per direction of the largest rule below
+constexpr int kMaxNodes = 125;  // Hex125
+constexpr int kMaxGauss = 5;    // points per direction of the largest rule below
 
 /// Gauss-Jacobi rule with n points on [0, 1] for the weight (1 - u)^alpha:
 /// the zeros of P_n^(alpha,0) by Newton with deflation from Chebyshev guesses,
@@ -57,7 +57,7 @@ void gaussJacobi01(int n, int alpha, double* u, double* w) {
 
 /// The reference cell of each element: a formulation shares its shape's
 /// nodes and shape functions.
-enum class Shape { Tet4, Tet10, Hex8, Hex20, Wedge15 };
+enum class Shape { Tet4, Tet10, Hex8, Hex20, Wedge15, HexQ2, HexQ3, HexQ4 };
 Shape shapeOf(SolidType type) {
   switch (type) {
     case SolidType::Tet4: return Shape::Tet4;
@@ -67,9 +67,14 @@ Shape shapeOf(SolidType type) {
     case SolidType::Hex20:
     case SolidType::Hex20Reduced: return Shape::Hex20;
     case SolidType::Wedge15: return Shape::Wedge15;
+    case SolidType::Hex27: return Shape::HexQ2;
+    case SolidType::Hex64: return Shape::HexQ3;
+    case SolidType::Hex125: return Shape::HexQ4;
   }
   throw std::logic_error("solid element: unknown SolidType");
 }
+/// The polynomial order per coordinate of a Lagrange hex; 0 for the others.
+int lagrangeOrder(Shape s) { return s == Shape::HexQ2 ? 2 : s == Shape::HexQ3 ? 3 : s == Shape::HexQ4 ? 4 : 0; }
 int shapeNodeCount(Shape s) {
   switch (s) {
     case Shape::Tet4: return 4;
@@ -77,19 +82,29 @@ int shapeNodeCount(Shape s) {
     case Shape::Hex8: return 8;
     case Shape::Hex20: return 20;
     case Shape::Wedge15: return 15;
+    case Shape::HexQ2: return 27;
+    case Shape::HexQ3: return 64;
+    case Shape::HexQ4: return 125;
   }
   throw std::logic_error("solid element: unknown Shape");
 }
 
 /// Reference-element shape functions and their derivatives in (xi, eta, zeta),
-/// precomputed at the points of one quadrature rule.
+/// precomputed at the points of one quadrature rule (sized to the shape: a
+/// Hex125 rule holds 125 x 125 values, a Hex20 one 27 x 20).
 struct Rule {
   int nn = 0, nq = 0;
   double refVolume = 0.0;
-  double w[kMaxPoints] = {};
-  double p[kMaxPoints][3] = {};  ///< reference coordinates of each point
-  double N[kMaxPoints][kMaxNodes] = {};
-  double dN[kMaxPoints][kMaxNodes][3] = {};
+  std::vector<double> w;       ///< weight of each point
+  std::vector<double> points;  ///< reference coordinates, 3 per point
+  std::vector<double> values;  ///< N_a at point q: values[q * nn + a]
+  std::vector<double> grads;   ///< grad_ref N_a at point q: grads[3 * (q * nn + a) + i]
+
+  const double* p(int q) const { return &points[3 * static_cast<std::size_t>(q)]; }
+  const double* N(int q) const { return &values[static_cast<std::size_t>(q) * nn]; }
+  const double (*dN(int q) const)[3] {
+    return reinterpret_cast<const double(*)[3]>(&grads[3 * static_cast<std::size_t>(q) * nn]);
+  }
 };
 
 /// Tet: reference vertices (0,0,0) (1,0,0) (0,1,0) (0,0,1), barycentrics
@@ -109,7 +124,38 @@ constexpr int kHex20Edge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3
 constexpr int kWedge15Edge[9][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 4},
                                     {2, 5}, {3, 4}, {3, 5}, {4, 5}};
 
+/// Lagrange hexahedron of order k: nodes on the (k+1)^3 equispaced grid of
+/// [-1, 1]^3 in lexicographic order, a = i + (k+1) j + (k+1)^2 l for the
+/// node at (-1 + 2i/k, -1 + 2j/k, -1 + 2l/k) (the reader puts Gmsh's order
+/// into this one, cms/mesh/Mesh.hpp); N_a = l_i(xi) l_j(eta) l_l(zeta) with
+/// l_i the 1D Lagrange polynomials on those points.
+void lagrangeHexShape(int k, const double* p, double* N, double (*dN)[3]) {
+  double l[3][kMaxGauss], dl[3][kMaxGauss];  // k + 1 <= kMaxGauss
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i <= k; ++i) {
+      const double ti = -1.0 + 2.0 * i / k;
+      double v = 1.0, dv = 0.0;
+      for (int m = 0; m <= k; ++m) {
+        if (m == i) continue;
+        const double tm = -1.0 + 2.0 * m / k, f = (p[d] - tm) / (ti - tm);
+        dv = dv * f + v / (ti - tm);  // product rule, one factor at a time
+        v *= f;
+      }
+      l[d][i] = v, dl[d][i] = dv;
+    }
+  int a = 0;
+  for (int c = 0; c <= k; ++c)
+    for (int b = 0; b <= k; ++b)
+      for (int i = 0; i <= k; ++i, ++a) {
+        N[a] = l[0][i] * l[1][b] * l[2][c];
+        dN[a][0] = dl[0][i] * l[1][b] * l[2][c];
+        dN[a][1] = l[0][i] * dl[1][b] * l[2][c];
+        dN[a][2] = l[0][i] * l[1][b] * dl[2][c];
+      }
+}
+
 void shape(Shape type, const double* p, double* N, double (*dN)[3]) {
+  if (const int k = lagrangeOrder(type)) return lagrangeHexShape(k, p, N, dN);
   if (type == Shape::Hex8) {
     for (int a = 0; a < 8; ++a) {
       const int* s = kHexCorner[a];
@@ -217,7 +263,11 @@ Rule makeRule(Shape type, int n) {
   Rule r;
   r.nn = shapeNodeCount(type);
   r.nq = n * n * n;
-  const bool hex = type == Shape::Hex8 || type == Shape::Hex20;
+  r.w.resize(r.nq);
+  r.points.resize(3 * static_cast<std::size_t>(r.nq));
+  r.values.resize(static_cast<std::size_t>(r.nq) * r.nn);
+  r.grads.resize(3 * static_cast<std::size_t>(r.nq) * r.nn);
+  const bool hex = type == Shape::Hex8 || type == Shape::Hex20 || lagrangeOrder(type) > 0;
   const bool wedge = type == Shape::Wedge15;
   double u[3][kMaxGauss], w[3][kMaxGauss];
   for (int d = 0; d < 3; ++d)
@@ -227,7 +277,7 @@ Rule makeRule(Shape type, int n) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k, ++q) {
-        double* p = r.p[q];
+        double* p = &r.points[3 * static_cast<std::size_t>(q)];
         if (hex) {
           p[0] = 2.0 * u[0][i] - 1.0, p[1] = 2.0 * u[1][j] - 1.0, p[2] = 2.0 * u[2][k] - 1.0;
           r.w[q] = 8.0 * w[0][i] * w[1][j] * w[2][k];
@@ -242,7 +292,8 @@ Rule makeRule(Shape type, int n) {
           p[0] = u[2][k] * (1.0 - u[0][i]) * (1.0 - u[1][j]);
           r.w[q] = w[0][i] * w[1][j] * w[2][k];
         }
-        shape(type, p, r.N[q], r.dN[q]);
+        shape(type, p, &r.values[static_cast<std::size_t>(q) * r.nn],
+              reinterpret_cast<double(*)[3]>(&r.grads[3 * static_cast<std::size_t>(q) * r.nn]));
       }
   return r;
 }
@@ -256,7 +307,11 @@ Rule makeRule(Shape type, int n) {
 /// purpose: that is C3D20R. Mass rules integrate N_a N_b det J exactly on
 /// straight-sided tetrahedra and wedges (degree 2, 4, 4) and on any trilinear
 /// hex (quartic per coordinate), and on a parallelepiped Hex20 (quartic), and
-/// with it the centrifugal load N_a x det J.
+/// with it the centrifugal load N_a x det J. A Lagrange hex of order k takes
+/// k + 1 points per direction for both (Hex27 3, Hex64 4, Hex125 5): N_a N_b
+/// has degree 2k per coordinate, so the mass is exact on parallelepipeds, and
+/// B^T D B degree 2k - 2 there, so the stiffness rule has one point to spare
+/// (no spurious zero-energy modes on distorted cells).
 enum class Use { Stiffness, Mass };
 
 const Rule& ruleFor(SolidType type, Use use) {
@@ -266,6 +321,7 @@ const Rule& ruleFor(SolidType type, Use use) {
     Rule hex2 = makeRule(Shape::Hex8, 2), hex3 = makeRule(Shape::Hex8, 3);
     Rule hex20x2 = makeRule(Shape::Hex20, 2), hex20x3 = makeRule(Shape::Hex20, 3);
     Rule wedge3 = makeRule(Shape::Wedge15, 3);
+    Rule hexQ2 = makeRule(Shape::HexQ2, 3), hexQ3 = makeRule(Shape::HexQ3, 4), hexQ4 = makeRule(Shape::HexQ4, 5);
   };
   static const Rules rules;
   const bool k = use == Use::Stiffness;
@@ -277,6 +333,9 @@ const Rule& ruleFor(SolidType type, Use use) {
     case SolidType::Hex20: return rules.hex20x3;
     case SolidType::Hex20Reduced: return k ? rules.hex20x2 : rules.hex20x3;
     case SolidType::Wedge15: return rules.wedge3;
+    case SolidType::Hex27: return rules.hexQ2;
+    case SolidType::Hex64: return rules.hexQ3;
+    case SolidType::Hex125: return rules.hexQ4;
   }
   throw std::logic_error("solid element: unknown SolidType");
 }
@@ -310,7 +369,7 @@ public:
     double c[3][3] = {};
     for (int a = 0; a < r_.nn; ++a) {  // unrolled by hand: -O2 keeps c in registers
       const double* x = x_ + 3 * a;
-      const double* d = r_.dN[q][a];
+      const double* d = r_.dN(q)[a];
       c[0][0] += x[0] * d[0], c[0][1] += x[1] * d[0], c[0][2] += x[2] * d[0];
       c[1][0] += x[0] * d[1], c[1][1] += x[1] * d[1], c[1][2] += x[2] * d[1];
       c[2][0] += x[0] * d[2], c[2][1] += x[1] * d[2], c[2][2] += x[2] * d[2];
@@ -335,7 +394,7 @@ public:
     if (g) {
       const double inv = 1.0 / det;
       for (int a = 0; a < r_.nn; ++a) {
-        const double* d = r_.dN[q][a];
+        const double* d = r_.dN(q)[a];
         for (int i = 0; i < 3; ++i)
           g[a][i] = inv * (C[i][0] * d[0] + C[i][1] * d[1] + C[i][2] * d[2]);
       }
@@ -347,7 +406,7 @@ public:
   void position(int q, double* x) const {
     x[0] = x[1] = x[2] = 0.0;
     for (int a = 0; a < r_.nn; ++a)
-      for (int i = 0; i < 3; ++i) x[i] += r_.N[q][a] * x_[3 * a + i];
+      for (int i = 0; i < 3; ++i) x[i] += r_.N(q)[a] * x_[3 * a + i];
   }
 
 private:
@@ -393,7 +452,7 @@ public:
     if (!incompatible_) return in_.point(q, g);
     double C[3][3], det = 0.0;
     const double s = in_.point(q, g, C, &det);
-    const double* p = in_.rule().p[q];
+    const double* p = in_.rule().p(q);
     for (int k = 0; k < 3; ++k) {
       const double f = -2.0 * p[k] / det;
       for (int i = 0; i < 3; ++i) g[8 + k][i] = f * C0_[i][k];
@@ -541,20 +600,26 @@ std::vector<double> gradientNodeValues(const Gradients& in, const Lame& L, const
   return v;
 }
 
+/// A symmetric nn x nn matrix of node pairs, row-major (m[a * nn + b]).
+using NodeMatrix = std::vector<double>;
+
 /// Scalar consistent-mass kernel m_ab = ∫ rho N_a N_b dV (upper triangle
 /// filled) and, when f is not null, f_a = ∫ rho N_a r_perp dV.
-void scalarMass(const SolidElement& e, double m[kMaxNodes][kMaxNodes], const Spin* spin,
-                double* f) {
+NodeMatrix scalarMass(const SolidElement& e, const Spin* spin, double* f) {
   const Integrator in(e, Use::Mass);
   const Rule& r = in.rule();
   const double rho = e.material.rho;
-  for (int a = 0; a < r.nn; ++a) std::fill(m[a], m[a] + r.nn, 0.0);
+  const int nn = r.nn;
+  NodeMatrix m(static_cast<std::size_t>(nn) * nn, 0.0);
   if (f) std::fill(f, f + 3 * r.nn, 0.0);
   for (int q = 0; q < r.nq; ++q) {
     const double rs = rho * in.point(q, nullptr);
-    const double* N = r.N[q];
-    for (int a = 0; a < r.nn; ++a)
-      for (int b = a; b < r.nn; ++b) m[a][b] += rs * N[a] * N[b];
+    const double* N = r.N(q);
+    for (int a = 0; a < nn; ++a) {
+      double* row = &m[static_cast<std::size_t>(a) * nn];
+      const double ra = rs * N[a];
+      for (int b = a; b < nn; ++b) row[b] += ra * N[b];
+    }
     if (f) {
       double x[3];
       in.position(q, x);
@@ -567,19 +632,22 @@ void scalarMass(const SolidElement& e, double m[kMaxNodes][kMaxNodes], const Spi
         for (int i = 0; i < 3; ++i) f[3 * a + i] += rs * N[a] * d[i];
     }
   }
+  return m;
 }
 
 /// Block matrix with blocks k_ab * B, k symmetric with its upper triangle
 /// given. A skew B gives a skew matrix.
-ElementMatrix expand(int nn, double k[kMaxNodes][kMaxNodes], const double B[3][3]) {
+ElementMatrix expand(int nn, NodeMatrix& k, const double B[3][3]) {
   for (int a = 0; a < nn; ++a)
-    for (int b = 0; b < a; ++b) k[a][b] = k[b][a];
+    for (int b = 0; b < a; ++b) k[static_cast<std::size_t>(a) * nn + b] = k[static_cast<std::size_t>(b) * nn + a];
   ElementMatrix M(3 * nn);
   double* row = M.a.data();
-  for (int a = 0; a < nn; ++a)
+  for (int a = 0; a < nn; ++a) {
+    const double* ka = &k[static_cast<std::size_t>(a) * nn];
     for (int i = 0; i < 3; ++i, row += M.n)
       for (int b = 0; b < nn; ++b)
-        for (int j = 0; j < 3; ++j) row[3 * b + j] = k[a][b] * B[i][j];
+        for (int j = 0; j < 3; ++j) row[3 * b + j] = ka[b] * B[i][j];
+  }
   return M;
 }
 
@@ -594,6 +662,9 @@ const char* solidTypeName(SolidType type) {
     case SolidType::Wedge15: return "Wedge15";
     case SolidType::Hex8Incompatible: return "Hex8Incompatible";
     case SolidType::Hex20Reduced: return "Hex20Reduced";
+    case SolidType::Hex27: return "Hex27";
+    case SolidType::Hex64: return "Hex64";
+    case SolidType::Hex125: return "Hex125";
   }
   throw std::logic_error("solid element: unknown SolidType");
 }
@@ -609,8 +680,7 @@ ElementMatrix solidStiffness(const SolidElement& e) {
 }
 
 ElementMatrix solidMass(const SolidElement& e) {
-  double m[kMaxNodes][kMaxNodes];
-  scalarMass(e, m, nullptr, nullptr);
+  NodeMatrix m = scalarMass(e, nullptr, nullptr);
   const double I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   return expand(solidNodeCount(e.type), m, I);
 }
@@ -624,10 +694,9 @@ double solidVolume(const SolidElement& e) {
 
 SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin) {
   const int nn = solidNodeCount(e.type);
-  double m[kMaxNodes][kMaxNodes];
   SpinMatrices out;
   out.f1.assign(3 * nn, 0.0);
-  scalarMass(e, m, &spin, out.f1.data());
+  NodeMatrix m = scalarMass(e, &spin, out.f1.data());
   const Vec3& n = spin.axis;
   // G1 blocks 2 m_ab [n]x (skew); KT1 blocks m_ab [n]x^T [n]x = m_ab (I - n n^T).
   const double cross2[3][3] = {{0.0, -2.0 * n[2], 2.0 * n[1]},
@@ -650,7 +719,7 @@ ElementMatrix solidGeometricStiffness(const SolidElement& e, const double* ue) {
   const Lame L = lame(e.material);
   std::vector<double> X;
   const std::vector<double> u = gradientNodeValues(in, L, ue, &X);
-  double k[kMaxNodes][kMaxNodes] = {};
+  NodeMatrix k(static_cast<std::size_t>(nt) * nt, 0.0);
   double g[kMaxNodes][3], S[3][3], Sg[kMaxNodes][3];
   for (int q = 0; q < r.nq; ++q) {
     const double s = in.point(q, g);
@@ -658,9 +727,10 @@ ElementMatrix solidGeometricStiffness(const SolidElement& e, const double* ue) {
     for (int b = 0; b < nt; ++b)
       for (int i = 0; i < 3; ++i)
         Sg[b][i] = s * (S[i][0] * g[b][0] + S[i][1] * g[b][1] + S[i][2] * g[b][2]);
-    for (int a = 0; a < nt; ++a)
-      for (int b = a; b < nt; ++b)
-        k[a][b] += g[a][0] * Sg[b][0] + g[a][1] * Sg[b][1] + g[a][2] * Sg[b][2];
+    for (int a = 0; a < nt; ++a) {
+      double* row = &k[static_cast<std::size_t>(a) * nt];
+      for (int b = a; b < nt; ++b) row[b] += g[a][0] * Sg[b][0] + g[a][1] * Sg[b][1] + g[a][2] * Sg[b][2];
+    }
   }
   const double I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const ElementMatrix Kg = expand(nt, k, I);

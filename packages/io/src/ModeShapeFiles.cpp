@@ -44,6 +44,11 @@ int vtkNode(fem::CellType t, int i) {
   return i;
 }
 
+/// The order of a Lagrange hexahedron (Hex27, Hex64, Hex125); 0 otherwise.
+int lagrangeHexOrder(fem::CellType t) {
+  return t == fem::CellType::Hex27 ? 2 : t == fem::CellType::Hex64 ? 3 : t == fem::CellType::Hex125 ? 4 : 0;
+}
+
 /// A distributed two-column vector gathered to every rank, by global row.
 std::vector<std::array<double, 2>> gather(const MultiVector& u) {
   const auto map = u.getMap();
@@ -133,6 +138,25 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
       for (const auto& h : structure.substructure(k).model->hinges) followHinge(mesh, h, base, re, im);
       for (const auto& es : structure.substructure(k).model->elementSets)
         for (const auto& b : mesh.group(es.group).blocks) {
+          if (const int p = lagrangeHexOrder(b.type)) {
+            // Drawn as its p^3 sub-hexahedra between neighbouring nodes: every
+            // node's value is written, and no reader has to agree with VTK
+            // on the node order of its Lagrange cells (which changed in VTK 9).
+            const int m = p + 1;
+            for (std::size_t c = 0; c < b.size(); ++c) {
+              const std::int64_t* cn = &b.nodes[c * b.nodesPerCell];
+              auto at = [&](int i, int j, int l) { return base + cn[i + m * (j + m * l)]; };
+              for (int l = 0; l < p; ++l)
+                for (int j = 0; j < p; ++j)
+                  for (int i = 0; i < p; ++i) {
+                    cells.push_back({at(i, j, l), at(i + 1, j, l), at(i + 1, j + 1, l), at(i, j + 1, l),
+                                     at(i, j, l + 1), at(i + 1, j, l + 1), at(i + 1, j + 1, l + 1),
+                                     at(i, j + 1, l + 1)});
+                    cellType.push_back(12), cellPart.push_back(static_cast<int>(k));
+                  }
+            }
+            continue;
+          }
           const int vt = vtkType(b.type);
           if (vt == 0) continue;
           for (std::size_t c = 0; c < b.size(); ++c) {

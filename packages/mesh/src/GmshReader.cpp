@@ -6,6 +6,7 @@
 // pages and 82 of the program's 138 shared libraries (doc/benchmarks.md,
 // "The bar's memory"). It links Gmsh and nothing of cms's but headers.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -39,8 +40,45 @@ CellType cellType(int gmshType) {
     case 5: return CellType::Hex8;
     case 17: return CellType::Hex20;
     case 18: return CellType::Wedge15;
+    case 12: return CellType::Hex27;
+    case 92: return CellType::Hex64;
+    case 93: return CellType::Hex125;
     default: return CellType::Other;
   }
+}
+
+/// For a Lagrange hexahedron (Hex27, Hex64, Hex125): lexicographic[g] is
+/// the position in cms's order (Mesh.hpp) of Gmsh's node g, from Gmsh's own
+/// reference coordinates of its nodes (on the (k+1)^3 grid of [-1, 1]^3).
+/// Empty for every other type: those keep Gmsh's order.
+std::vector<int> lexicographicOrder(int gmshType, CellType type) {
+  if (type != CellType::Hex27 && type != CellType::Hex64 && type != CellType::Hex125) return {};
+  std::string name;
+  int dim = 0, order = 0, count = 0, primary = 0;
+  std::vector<double> reference;
+  gmsh::model::mesh::getElementProperties(gmshType, name, dim, order, count, reference, primary);
+  const int k = type == CellType::Hex27 ? 2 : type == CellType::Hex64 ? 3 : 4;
+  const int m = k + 1;
+  if (dim != 3 || order != k || count != m * m * m || reference.size() != 3u * count)
+    throw InputError("Gmsh reports element type " + std::to_string(gmshType) + " as \"" + name +
+                     "\" of order " + std::to_string(order) + " with " + std::to_string(count) +
+                     " nodes; cms expects the " + std::to_string(m * m * m) + "-node Lagrange hexahedron");
+  std::vector<int> to(count), seen(count, 0);
+  for (int g = 0; g < count; ++g) {
+    int ijk[3];
+    for (int d = 0; d < 3; ++d) {
+      const double t = 0.5 * (reference[3 * g + d] + 1.0) * k;  // 0..k
+      ijk[d] = static_cast<int>(std::lround(t));
+      if (std::abs(t - ijk[d]) > 1e-6 || ijk[d] < 0 || ijk[d] > k)
+        throw InputError("Gmsh's reference node " + std::to_string(g) + " of element type " +
+                         std::to_string(gmshType) + " is not on the equispaced grid of order " + std::to_string(k));
+    }
+    to[g] = ijk[0] + m * (ijk[1] + m * ijk[2]);
+    if (seen[to[g]]++)
+      throw InputError("Gmsh's reference nodes of element type " + std::to_string(gmshType) +
+                       " repeat a grid point");
+  }
+  return to;
 }
 
 /// Node tag -> index: a table when tags are dense enough, else a search.
@@ -125,18 +163,24 @@ void readGroups(Mesh& mesh) {
           g.blocks.push_back(std::move(block));
         }
         CellBlock& block = g.blocks[b->second];
+        const std::vector<int> to = lexicographicOrder(types[t], block.type);
         const std::size_t npc = static_cast<std::size_t>(block.nodesPerCell);
         CMS_INPUT_CHECK(npc == 0 || nodeTags[t].size() != npc * elementTags[t].size(),
                         mesh.source << ": element block of type " << types[t] << " in physical group \""
                                     << g.name << "\" has inconsistent node counts");
+        CMS_INPUT_CHECK(!to.empty() && to.size() != npc,
+                        mesh.source << ": element block of type " << types[t] << " in physical group \""
+                                    << g.name << "\" has " << npc << " nodes per cell, not " << to.size());
         for (std::size_t e = 0; e < elementTags[t].size(); ++e) {
           block.cellTags.push_back(elementTags[t][e]);
+          const std::size_t first = block.nodes.size();
+          block.nodes.resize(first + npc);
           for (std::size_t k = 0; k < npc; ++k) {
             const std::size_t nodeTag = nodeTags[t][e * npc + k];
             const std::int64_t i = index(nodeTag);
             CMS_INPUT_CHECK(i < 0, mesh.source << ": element " << elementTags[t][e] << " refers to node "
                                                << nodeTag << ", which is not in the mesh");
-            block.nodes.push_back(i);
+            block.nodes[first + (to.empty() ? k : static_cast<std::size_t>(to[k]))] = i;
           }
         }
       }

@@ -57,6 +57,9 @@ const char* cellTypeName(CellType type) {
     case CellType::Hex8: return "Hex8";
     case CellType::Hex20: return "Hex20";
     case CellType::Wedge15: return "Wedge15";
+    case CellType::Hex27: return "Hex27";
+    case CellType::Hex64: return "Hex64";
+    case CellType::Hex125: return "Hex125";
     case CellType::Other: return "Other";
   }
   return "Other";
@@ -75,6 +78,9 @@ int cellNodeCount(CellType type) {
     case CellType::Hex8: return 8;
     case CellType::Hex20: return 20;
     case CellType::Wedge15: return 15;
+    case CellType::Hex27: return 27;
+    case CellType::Hex64: return 64;
+    case CellType::Hex125: return 125;
     case CellType::Other: return 0;
   }
   return 0;

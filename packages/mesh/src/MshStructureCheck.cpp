@@ -46,7 +46,8 @@ namespace {
 // that keeps the scan simple it is stricter than Gmsh: MSH 2.2 and 4.1 only,
 // little-endian binary, no partitioned meshes or post-processing data, MSH
 // 2.2 elements with exactly the two standard tags, element types 1..31 (the
-// classic Lagrange cells), tags in [1, 2^31 - 1]. The cost is one pass over
+// classic Lagrange cells) and the cubic and quartic quadrangles and
+// hexahedra (36, 37, 92, 93) of Lagrange-hex meshes, tags in [1, 2^31 - 1]. The cost is one pass over
 // the bytes, below Gmsh's own read (0.35 s of 1.2 s for 10^6 nodes, binary).
 // ---------------------------------------------------------------------------
 
@@ -55,9 +56,16 @@ struct MshType {
   int dim = -1;
 };
 
-// Node count and dimension of Gmsh element types 1..31, as Gmsh 4.8's
-// getElementProperties reports them.
+// Node count and dimension of Gmsh element types 1..31, 36, 37, 92 and 93,
+// as Gmsh 4.8's getElementProperties reports them.
 MshType mshType(long long type) {
+  switch (type) {
+    case 36: return {16, 2};   // Quad16
+    case 37: return {25, 2};   // Quad25
+    case 92: return {64, 3};   // Hex64
+    case 93: return {125, 3};  // Hex125
+    default: break;
+  }
   static const MshType table[32] = {
       {0, -1}, {2, 1},  {3, 2},  {4, 2},  {4, 3},  {8, 3},  {6, 3},  {5, 3},
       {3, 1},  {6, 2},  {9, 2},  {10, 3}, {27, 3}, {18, 3}, {14, 3}, {1, 0},

@@ -41,15 +41,20 @@ using cms::fixtures::hexGrid;
 using cms::fixtures::toTet4;
 using cms::fixtures::toTet10;
 
-constexpr SolidType kTypes[] = {SolidType::Tet4,  SolidType::Tet10,   SolidType::Hex8,
-                                SolidType::Hex20, SolidType::Wedge15, SolidType::Hex8Incompatible,
-                                SolidType::Hex20Reduced};
+constexpr SolidType kTypes[] = {SolidType::Tet4,    SolidType::Tet10,         SolidType::Hex8,
+                                SolidType::Hex20,   SolidType::Wedge15,       SolidType::Hex8Incompatible,
+                                SolidType::Hex20Reduced, SolidType::Hex27, SolidType::Hex64,
+                                SolidType::Hex125};
 
 const char* typeName(SolidType t) { return solidTypeName(t); }
 
+using cms::fixtures::lagrangeHexNodes;
+using cms::fixtures::lagrangeNode;
+using cms::fixtures::lagrangeOrder;
+
 bool isHex(SolidType t) {
   return t == SolidType::Hex8 || t == SolidType::Hex8Incompatible || t == SolidType::Hex20 ||
-         t == SolidType::Hex20Reduced;
+         t == SolidType::Hex20Reduced || lagrangeOrder(t) > 0;
 }
 bool isQuadraticHex(SolidType t) { return t == SolidType::Hex20 || t == SolidType::Hex20Reduced; }
 
@@ -182,6 +187,7 @@ std::vector<double> distorted(SolidType t) {
                            -0.09, 0.04,  -0.10, 0.05,  -0.07, 0.03,  0.12,  0.09,
                            -0.06, -0.04, 0.02,  0.08,  0.10,  -0.11, -0.02, -0.08};
   for (int k = 0; k < 24; ++k) x[k] += move[k] + (k % 3 == 0 ? 3.0 : k % 3 == 1 ? -1.0 : 0.5);
+  if (lagrangeOrder(t)) return lagrangeHexNodes(x.data(), lagrangeOrder(t));
   return isQuadraticHex(t) ? withEdgeMidpoints(x, cms::fixtures::kHex20Edges) : x;
 }
 
@@ -200,6 +206,7 @@ std::vector<double> affine(SolidType t) {
       x[3 * a + i] =
           o[i] + A[i][0] * ref[3 * a] + A[i][1] * ref[3 * a + 1] + A[i][2] * ref[3 * a + 2];
   if (t == SolidType::Wedge15) return withEdgeMidpoints(x, cms::fixtures::kWedge15Edges);
+  if (lagrangeOrder(t)) return lagrangeHexNodes(x.data(), lagrangeOrder(t));
   return isQuadraticHex(t) ? withEdgeMidpoints(x, cms::fixtures::kHex20Edges) : x;
 }
 
@@ -216,8 +223,14 @@ double tetVolume(const std::vector<double>& x) {
 std::vector<double> vertexMean(SolidType t, const std::vector<double>& x) {
   const int nv = isHex(t) ? 8 : t == SolidType::Wedge15 ? 6 : 4;
   std::vector<double> c(3, 0.0);
-  for (int a = 0; a < nv; ++a)
-    for (int i = 0; i < 3; ++i) c[i] += x[3 * a + i] / nv;
+  for (int a = 0; a < nv; ++a) {
+    // A Lagrange hex's corners are the lexicographic nodes (0|k, 0|k, 0|k).
+    const int k = lagrangeOrder(t);
+    const int node = k ? lagrangeNode(k, (a == 1 || a == 2 || a == 5 || a == 6) ? k : 0,
+                                      (a == 2 || a == 3 || a == 6 || a == 7) ? k : 0, a >= 4 ? k : 0)
+                       : a;
+    for (int i = 0; i < 3; ++i) c[i] += x[3 * node + i] / nv;
+  }
   return c;
 }
 
@@ -514,7 +527,10 @@ bool onUnitCubeBoundary(const double* p) {
 /// up to 0.06 per coordinate; edges straight (edge nodes at midpoints) except
 /// Tet10's with bendEdges.
 TestMesh patch(SolidType t, bool bendEdges = false) {
-  TestMesh hex = hexGrid(3, 3, 3, 1.0, 1.0, 1.0);
+  // Lagrange hexes: 2 x 2 x 2 cells (the centre vertex moved) keep the dense
+  // solve below 2,200 rows for Hex125.
+  const int cells = lagrangeOrder(t) ? 2 : 3;
+  TestMesh hex = hexGrid(cells, cells, cells, 1.0, 1.0, 1.0);
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> jitter(-0.06, 0.06);
   for (int a = 0; a < hex.nodes(); ++a)
@@ -565,7 +581,9 @@ TEST(SolidPatchTest, LinearFieldIsReproducedWithConstantStress) {
        {Case{SolidType::Tet4, false, "Tet4"}, Case{SolidType::Tet10, false, "Tet10"},
         Case{SolidType::Tet10, true, "Tet10 curved"}, Case{SolidType::Hex8, false, "Hex8"},
         Case{SolidType::Hex8Incompatible, false, "Hex8Incompatible"}, Case{SolidType::Hex20, false, "Hex20"},
-        Case{SolidType::Hex20Reduced, false, "Hex20Reduced"}, Case{SolidType::Wedge15, false, "Wedge15"}}) {
+        Case{SolidType::Hex20Reduced, false, "Hex20Reduced"}, Case{SolidType::Wedge15, false, "Wedge15"},
+        Case{SolidType::Hex27, false, "Hex27"}, Case{SolidType::Hex64, false, "Hex64"},
+        Case{SolidType::Hex125, false, "Hex125"}}) {
     SCOPED_TRACE(k.name);
     const TestMesh m = patch(k.type, k.bend);
     const std::vector<double> ulin = linearField(m.xyz, c, G);

@@ -18,6 +18,7 @@
 #include <dlfcn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <tuple>
 #include <vector>
 
 #include "ExpectError.hpp"
@@ -204,6 +205,65 @@ TEST(MeshReader, OtherCellTypesAreKeptWithTheirGmshType) {
   EXPECT_EQ(b.gmshType, 6);  // 6-node prism
   EXPECT_EQ(b.nodesPerCell, 6);
   EXPECT_EQ(b.size(), 1u);
+}
+
+// Lagrange hexahedra of order 2, 3, 4 (Gmsh 12, 92, 93): the reader puts
+// Gmsh's node order (corners, edges, faces, interior) into lexicographic
+// order of the reference grid (Mesh.hpp), which SolidElement.cpp's shape
+// functions assume. On a transfinite mesh of a parallelepiped every cell is
+// affine, so node (i, j, l) must sit at c000 + (i/k) e1 + (j/k) e2 + (l/k)
+// e3 with e1, e2, e3 the edges from the cell's first corner to the nodes
+// (k,0,0), (0,k,0), (0,0,k), and (e1 x e2) . e3 > 0 (positively oriented, as
+// Gmsh's hexahedra are). A node out of place is off by at least 1/(2k) of a
+// cell edge (0.0625 here); Gmsh places nodes to its own rounding (~1e-13),
+// so 1e-10 of the extent separates the two.
+TEST(MeshReader, LagrangeHexahedraArriveInLexicographicOrder) {
+  TempDir dir("cms_mesh_test");
+  for (const auto& [order, type, gmshType] : {std::tuple{2, CellType::Hex27, 12}, std::tuple{3, CellType::Hex64, 92},
+                                               std::tuple{4, CellType::Hex125, 93}}) {
+    SCOPED_TRACE(order);
+    const std::string geo = dir.write(
+        "lagrange" + std::to_string(order) + ".geo",
+        "Point(1) = {0, 0, 0}; Point(2) = {1, 0.2, 0.1}; Point(3) = {1.3, 1.2, 0.3}; Point(4) = {0.3, 1, 0.2};\n"
+        "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+        "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+        "Transfinite Curve{1, 2, 3, 4} = 3; Transfinite Surface{1}; Recombine Surface{1};\n"
+        "v[] = Extrude {0.1, 0.25, 1.2} { Surface{1}; Layers{2}; Recombine; };\n"
+        "Physical Volume(\"solid\") = {v[1]}; Physical Surface(\"base\") = {1};\n"
+        "Mesh.ElementOrder = " + std::to_string(order) + "; Mesh.SecondOrderIncomplete = 0;\n");
+    const Mesh m = cms::mesh::readGmsh(geo);
+    expectWellFormed(m);
+    const auto& b = onlyBlock(m, "solid");
+    ASSERT_EQ(b.type, type);
+    EXPECT_EQ(b.gmshType, gmshType);
+    ASSERT_EQ(b.nodesPerCell, (order + 1) * (order + 1) * (order + 1));
+    ASSERT_EQ(b.size(), 8u);
+    const int k = order, n1 = k + 1;
+    const double extent = 2.0;
+    for (std::size_t c = 0; c < b.size(); ++c) {
+      const std::int64_t* cell = &b.nodes[c * b.nodesPerCell];
+      const double* x0 = m.x(cell[0]);
+      double e[3][3];
+      const int ends[3] = {k, k * n1, k * n1 * n1};
+      for (int d = 0; d < 3; ++d)
+        for (int i = 0; i < 3; ++i) e[d][i] = m.x(cell[ends[d]])[i] - x0[i];
+      const double triple = (e[0][1] * e[1][2] - e[0][2] * e[1][1]) * e[2][0] +
+                            (e[0][2] * e[1][0] - e[0][0] * e[1][2]) * e[2][1] +
+                            (e[0][0] * e[1][1] - e[0][1] * e[1][0]) * e[2][2];
+      EXPECT_GT(triple, 0.0) << "cell " << b.cellTags[c];
+      for (int l = 0; l <= k; ++l)
+        for (int j = 0; j <= k; ++j)
+          for (int i = 0; i <= k; ++i) {
+            const double* x = m.x(cell[i + n1 * (j + n1 * l)]);
+            for (int d = 0; d < 3; ++d)
+              ASSERT_NEAR(x[d], x0[d] + (i * e[0][d] + j * e[1][d] + l * e[2][d]) / k, 1e-10 * extent)
+                  << "cell " << b.cellTags[c] << " node (" << i << ", " << j << ", " << l << ")";
+          }
+    }
+    // The base's cubic and quartic quadrangles (Gmsh 36, 37) pass the .msh
+    // scan and make a node set like any other cells.
+    EXPECT_EQ(m.group("base").blocks.at(0).nodesPerCell, n1 * n1);
+  }
 }
 
 // ---------------------------------------------------------------------------

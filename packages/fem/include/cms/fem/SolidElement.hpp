@@ -2,7 +2,9 @@
 // Gmsh's node order (cms/mesh/Mesh.hpp): 4- and 10-node tetrahedra, 8-node
 // hexahedra (full 2x2x2 integration, or with Wilson-Taylor incompatible modes
 // condensed per element), 20-node serendipity hexahedra (3x3x3, or reduced
-// 2x2x2 as CalculiX's C3D20R) and 15-node wedges. Stiffness, consistent mass,
+// 2x2x2 as CalculiX's C3D20R), 15-node wedges, and Lagrange hexahedra of
+// order 2, 3 and 4 (27, 64 and 125 nodes, in lexicographic order: the
+// reader reorders Gmsh's). Stiffness, consistent mass,
 // rotating-frame terms per unit speed and the geometric stiffness of the
 // stress caused by a displacement (doc/theory.md §9, §10, §14). Mass rules
 // are exact on straight-sided elements; stiffness rules are exact there
@@ -14,8 +16,13 @@
 namespace cms::fem {
 
 /// An element: a cell shape and its formulation. Hex8Incompatible and
-/// Hex20Reduced share the nodes of Hex8 and Hex20.
-enum class SolidType { Tet4, Tet10, Hex8, Hex20, Wedge15, Hex8Incompatible, Hex20Reduced };
+/// Hex20Reduced share the nodes of Hex8 and Hex20. Hex27, Hex64 and Hex125
+/// are the Lagrange (tensor-product) hexahedra of order k = 2, 3, 4, node
+/// (i, j, l) at reference point (-1 + 2i/k, -1 + 2j/k, -1 + 2l/k) numbered
+/// i + (k+1) j + (k+1)^2 l, fully integrated ((k+1)^3 Gauss points): the
+/// frequency error falls as h^(2k) (theory §14.5), so a slender part needs
+/// far fewer DOFs than with quadratic elements.
+enum class SolidType { Tet4, Tet10, Hex8, Hex20, Wedge15, Hex8Incompatible, Hex20Reduced, Hex27, Hex64, Hex125 };
 
 /// "Tet4", ..., "Hex8Incompatible", "Hex20Reduced".
 const char* solidTypeName(SolidType type);

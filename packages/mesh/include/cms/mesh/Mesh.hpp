@@ -30,7 +30,14 @@ namespace cms::mesh {
 ///     (6,4) (1,4) (2,5) (3,6), so Gmsh node 6+k is deck node
 ///     7 + {0,2,6,1,7,8,3,5,4}[k].
 /// Corners of Tet4/Tet10/Hex8/Hex20/Wedge15 are in the same order in both.
-enum class CellType { Point1, Line2, Line3, Tri3, Tri6, Quad4, Tet4, Tet10, Hex8, Hex20, Wedge15, Other };
+///   Hex27, Hex64, Hex125 (Gmsh 12, 92, 93: Lagrange hexahedra of order 2,
+///     3, 4): the reader does NOT keep Gmsh's order (corners, edges, faces,
+///     interior, each recursively) but puts the nodes in lexicographic order
+///     of their reference positions, node (i, j, l) of the (k+1)^3 grid of
+///     [-1, 1]^3 at i + (k+1) j + (k+1)^2 l, from Gmsh's own reference
+///     coordinates (getElementProperties); cms/fem/SolidElement.hpp uses
+///     that order.
+enum class CellType { Point1, Line2, Line3, Tri3, Tri6, Quad4, Tet4, Tet10, Hex8, Hex20, Wedge15, Hex27, Hex64, Hex125, Other };
 
 const char* cellTypeName(CellType type);
 /// Nodes per cell; 0 for Other.
