@@ -101,6 +101,11 @@ double saintVenantTorsion() {
   return M_PI / kLength * std::sqrt(kNuZero.shearModulus() * J / (kNuZero.rho * Ip));
 }
 
+/// Elements along the bar for ns across: 5 ns (2:1 along), or 6 ns for a
+/// Hex64, whose nodes sit at thirds of an element: the mid-span section
+/// that holds ux must be a layer of nodes.
+int alongBar(SolidType type, int ns) { return type == SolidType::Hex64 ? 6 * ns : 5 * ns; }
+
 struct BarResult {
   long long dofs = 0;
   double bending = 0.0, torsion = 0.0, lowest = 0.0;
@@ -112,7 +117,7 @@ struct BarResult {
 BarResult diaphragmBar(SolidType type, int ns, eigen::SolveStatus* status = nullptr) {
   fem::FiniteElementModel m;
   m.name = "bar";
-  m.mesh = barMesh(type, kLength, kSide, kSide, 5 * ns, ns, ns);
+  m.mesh = barMesh(type, kLength, kSide, kSide, alongBar(type, ns), ns, ns);
   m.materials["steel"] = kNuZero;
   m.elementSets.push_back(elementSet(type, "steel"));
   m.fixed.push_back({"ends", "ends", {Component::UY, Component::UZ}, false});
@@ -147,9 +152,10 @@ int levels() {
 // a minute, so the coarsest levels are outside the asymptotic range; the
 // orders measured there are 1.64/1.74 (Hex8 bending/torsion), 2.00/1.74
 // (Hex8Incompatible), 2.69/2.13 (Tet10), 3.08/3.61 (Hex20), 4.00/4.25
-// (Hex20Reduced), 3.08/3.36 (Wedge15); the asymptotic orders are 2 and 4.
-// Asserted a little below the measured values: 1.5 for the linear bricks,
-// 2.8-3.5 for the quadratic bricks and wedge, 2.5/1.9 for Tet10 (whose
+// (Hex20Reduced), 3.08/3.36 (Wedge15), 3.23/3.61 (Hex27, the Lagrange
+// brick: its errors are Hex20's to two digits); the asymptotic orders are 2
+// and 4. Asserted a little below the measured values: 1.5 for the linear
+// bricks, 2.8-3.5 for the quadratic bricks and wedge, 2.5/1.9 for Tet10 (whose
 // torsion is the slowest: its error at 9558 DOFs, 2.1e-3, is 3.5x Hex20's at
 // 5270, the "Tet10 needs a fine cross-section for torsion"). A wrong
 // integration rule or shape function drops a quadratic element to order 2 or
@@ -172,7 +178,8 @@ TEST(SolidConvergence, ShearDiaphragmBarBendingAndTorsionAtTheExpectedOrder) {
       {SolidType::Tet10, 1, 2, 2.5, 1.9, 4e-4, 4e-3},
       {SolidType::Hex20, 1, 2, 2.8, 3.2, 2e-4, 1.2e-3},
       {SolidType::Hex20Reduced, 2, 2, 3.5, 3.5, 4e-7, 1.5e-5},
-      {SolidType::Wedge15, 1, 2, 2.8, 3.0, 2e-4, 1.5e-3}};
+      {SolidType::Wedge15, 1, 2, 2.8, 3.0, 2e-4, 1.5e-3},
+      {SolidType::Hex27, 1, 2, 2.9, 3.2, 1.5e-4, 9e-4}};
   const bool fine = std::getenv("CMS_CONVERGENCE_FINE") != nullptr;
   std::vector<std::vector<BarResult>> results;
   for (const Family& f : families) {
@@ -180,7 +187,7 @@ TEST(SolidConvergence, ShearDiaphragmBarBendingAndTorsionAtTheExpectedOrder) {
     for (int level = 0, ns = fine ? f.ns0Fine : f.ns0; level < levels(); ++level, ns *= 2) {
       results.back().push_back(diaphragmBar(f.type, ns));
       const BarResult& b = results.back().back();
-      table << fem::solidTypeName(f.type) << ',' << ns << ',' << 5 * ns << ',' << b.dofs << ',' << b.bending << ','
+      table << fem::solidTypeName(f.type) << ',' << ns << ',' << alongBar(f.type, ns) << ',' << b.dofs << ',' << b.bending << ','
             << (b.bending - wb) / wb << ',' << b.torsion << ',' << (b.torsion - wt) / wt << '\n';
     }
   }
@@ -207,6 +214,51 @@ TEST(SolidConvergence, ShearDiaphragmBarBendingAndTorsionAtTheExpectedOrder) {
     EXPECT_LT(std::abs(eb), f.finestBending);
     EXPECT_LT(std::abs(et), f.finestTorsion);
   }
+}
+
+// The cubic and quartic Lagrange bricks on the same bar, ns = 1 and 2 across
+// (Hex64 832 and 5194 DOFs, Hex125 1450 and 9558): three levels would take
+// 3.6e4 and 6.9e4 DOFs, so the order comes from two levels against the
+// closed form. That closed form is exact to about 2.3e-8 in bending here
+// (the limit Hex125 reaches at 6.9e4 DOFs, doc/benchmarks.md), so:
+//  - Hex64 bending: (e1 - m) / (e2 - m) with m = 2.3e-8, measured 48 (order
+//    5.6, asymptotically 6); asserted >= 2^5 = 32: a rule or a shape
+//    function that lost an order gives 2^4 or less.
+//  - Hex125 bending: 1.0e-7 at 1450 DOFs, already near m; asserted below
+//    2e-7 (a quartic element that lost two orders would be near Hex64's
+//    1.6e-5 at fewer DOFs), and below 4e-8 at ns = 2.
+//  - Torsion: one element across, the cubic and quartic bricks share their
+//    odd-odd polynomials in (y, z) (y z, y^3 z, y z^3, y^3 z^3), which is
+//    what the warping of a square section needs, so both stop at 5.8e-4
+//    (measured: 5.832e-4 and 5.778e-4); two across, Hex125 1.6e-5 and Hex64
+//    1.75e-4. Asserted below 1.5x those. Every error must be positive
+//    (converging from above) except where it is within m of zero.
+TEST(SolidConvergence, CubicAndQuarticBricksConvergeAtHighOrder) {
+  const double wb = timoshenkoHinged(), wt = saintVenantTorsion(), m = 2.3e-8;
+  const BarResult c1 = diaphragmBar(SolidType::Hex64, 1), c2 = diaphragmBar(SolidType::Hex64, 2);
+  const BarResult q1 = diaphragmBar(SolidType::Hex125, 1), q2 = diaphragmBar(SolidType::Hex125, 2);
+  for (const BarResult* r : {&c1, &c2, &q1, &q2}) {
+    ASSERT_GT(r->bending, 0.0) << "no bending mode found";
+    ASSERT_GT(r->torsion, 0.0) << "no torsion mode found";
+    EXPECT_GT(r->lowest, 0.5 * wb) << "a spurious mode";
+  }
+  auto eb = [&](const BarResult& r) { return (r.bending - wb) / wb; };
+  auto et = [&](const BarResult& r) { return (r.torsion - wt) / wt; };
+  std::printf("Hex64  bending %.3e %.3e torsion %.3e %.3e (%lld, %lld DOFs)\n", eb(c1), eb(c2), et(c1), et(c2),
+              c1.dofs, c2.dofs);
+  std::printf("Hex125 bending %.3e %.3e torsion %.3e %.3e (%lld, %lld DOFs)\n", eb(q1), eb(q2), et(q1), et(q2),
+              q1.dofs, q2.dofs);
+  EXPECT_GT(eb(c2), 0.0);
+  EXPECT_GE((eb(c1) - m) / (eb(c2) - m), 32.0);
+  EXPECT_LT(eb(c2), 6e-7);
+  EXPECT_GT(eb(q1), -m);
+  EXPECT_LT(eb(q1), 2e-7);
+  EXPECT_LT(std::abs(eb(q2)), 4e-8);
+  EXPECT_GT(et(c1), 0.0);
+  EXPECT_LT(et(c1), 9e-4);
+  EXPECT_LT(et(q1), 9e-4);
+  EXPECT_LT(et(c2), 2.7e-4);
+  EXPECT_LT(et(q2), 2.4e-5);
 }
 
 // The reduced Hex20's spurious modes (SolidHourglass in the unit tests: six
@@ -285,10 +337,15 @@ TEST(SolidConvergence, RotatingBladeAgreesWithTheBeamModelForEveryNewElement) {
   const auto beam = beamBlade();
   const double EI = kSteel.E * kChord * kThick * kThick * kThick / 12.0, rhoA = kSteel.rho * kChord * kThick;
   const double unit = std::sqrt(EI / (rhoA * std::pow(kBladeL, 4)));
-  for (SolidType t : {SolidType::Hex8Incompatible, SolidType::Hex20, SolidType::Hex20Reduced, SolidType::Wedge15}) {
+  for (SolidType t : {SolidType::Hex8Incompatible, SolidType::Hex20, SolidType::Hex20Reduced, SolidType::Wedge15,
+                      SolidType::Hex27, SolidType::Hex64, SolidType::Hex125}) {
     SCOPED_TRACE(fem::solidTypeName(t));
     const bool linear = t == SolidType::Hex8Incompatible;
-    const auto solid = linear ? solidBlade(t, 100, 4, 2) : solidBlade(t, 50, 2, 1);
+    // The cubic and quartic bricks: one element across, 16 and 12 along.
+    const auto solid = linear                          ? solidBlade(t, 100, 4, 2)
+                       : t == SolidType::Hex64  ? solidBlade(t, 16, 1, 1)
+                       : t == SolidType::Hex125 ? solidBlade(t, 12, 1, 1)
+                                                : solidBlade(t, 50, 2, 1);
     for (double T : {0.0, 6.0}) {
       const auto ws = flapAndChord(solid, T * unit), wb = flapAndChord(beam, T * unit);
       for (int k = 0; k < 2; ++k) {
