@@ -143,8 +143,8 @@ TEST(MatrixSum, OnASharedGraphTheSameEntriesAsMatrixMatrixAdd) {
 
 // cms::multiply against Tpetra's apply: Y = alpha A X + beta Y on a chain
 // large enough for threads (nnz x columns above multiply's threshold), with
-// 7 columns (a block of four and a remainder). On one rank it runs on 2 and
-// 3 threads: the same bits on both (each row summed in its stored order),
+// 7 columns (a block of four and a remainder). On one rank it runs its own kernel on 1, 2 and 3 threads: the
+// same bits on all three (each row summed in its stored order),
 // and against Tpetra per column within 2 m eps (|alpha| ||A||_inf ||x||_inf
 // + |beta| ||y0||_inf), m the most entries in a row: both sums run over the
 // same m terms, each rounding at most m times. On two ranks A has an
@@ -176,11 +176,12 @@ TEST(SparseProduct, ThreadedRowsAgreeWithTpetraApply) {
   K->apply(X, want, Teuchos::NO_TRANS, alpha, beta);
   const bool threaded = multiplyThreads(*K, X, Y0, 2) > 1;
   EXPECT_EQ(threaded, comm->getSize() == 1) << "threads only without communication";
+  EXPECT_EQ(multiplyThreads(*K, X, Y0, 1), comm->getSize() == 1 ? 1 : 0) << "the own kernel on one thread";
   Teuchos::Array<double> xn(nv), yn(nv), dn(nv);
   X.normInf(xn());
   Y0.normInf(yn());
   std::vector<MultiVector> got;
-  for (int threads : {2, 3}) {
+  for (int threads : {1, 2, 3}) {
     got.emplace_back(Y0, Teuchos::Copy);
     multiply(*K, X, got.back(), alpha, beta, threads);
     MultiVector d(got.back(), Teuchos::Copy);
@@ -192,9 +193,11 @@ TEST(SparseProduct, ThreadedRowsAgreeWithTpetraApply) {
       else EXPECT_EQ(dn[j], 0.0) << "Tpetra's apply itself, column " << j;
     }
   }
-  got[1].update(-1.0, got[0], 1.0);
-  got[1].normInf(dn());
-  for (int j = 0; j < nv; ++j) EXPECT_EQ(dn[j], 0.0) << "2 and 3 threads differ in column " << j;
+  for (int k : {1, 2}) {
+    got[k].update(-1.0, got[0], 1.0);
+    got[k].normInf(dn());
+    for (int j = 0; j < nv; ++j) EXPECT_EQ(dn[j], 0.0) << k + 1 << " threads and 1 differ in column " << j;
+  }
 }
 
 // beta = 0 overwrites Y (NaN included), as Tpetra's apply, within
@@ -226,7 +229,7 @@ TEST(SparseProduct, OverwritesNaNAndCopiesOverlappingViews) {
   }
   // In place: Z = A Z.
   MultiVector Z(X, Teuchos::Copy);
-  EXPECT_EQ(multiplyThreads(*K, Z, Z, 2), 1);
+  EXPECT_EQ(multiplyThreads(*K, Z, Z, 2), 0);
   multiply(*K, Z, Z, 1.0, 0.0, 2);
   Z.update(-1.0, want, 1.0);
   Z.normInf(n());

@@ -14,8 +14,8 @@
 namespace cms {
 
 namespace {
-/// Below this many multiply-adds (entries x columns) a thread's start
-/// (~30 us) is not worth it.
+/// Below this many multiply-adds (entries x columns) a second thread's start
+/// (~30 us) is not worth it: one thread runs the kernel.
 constexpr double kMinimumWork = 2e6;
 
 /// Rows [r0, r1) of Y = alpha A X + beta Y, columns four at a time so that
@@ -56,14 +56,14 @@ void rows(const std::size_t* rowPtr, const LocalOrdinal* col, const double* val,
 
 int multiplyThreads(const CrsMatrix& A, const MultiVector& X, const MultiVector& Y, int threads) {
   if (threads <= 0) threads = blasThreads();
-  if (threads <= 1 || !A.isFillComplete() || &X == &Y || !X.isConstantStride() || !Y.isConstantStride()) return 1;
+  if (!A.isFillComplete() || &X == &Y || !X.isConstantStride() || !Y.isConstantStride()) return 0;
   const auto graph = A.getCrsGraph();
-  if (!graph->getImporter().is_null() || !graph->getExporter().is_null()) return 1;
+  if (!graph->getImporter().is_null() || !graph->getExporter().is_null()) return 0;
   if (X.getNumVectors() != Y.getNumVectors() || X.getLocalLength() != A.getColMap()->getNodeNumElements() ||
       Y.getLocalLength() != A.getRowMap()->getNodeNumElements())
-    return 1;
+    return 0;
   const double work = static_cast<double>(A.getNodeNumEntries()) * static_cast<double>(X.getNumVectors());
-  if (work < kMinimumWork) return 1;
+  if (threads <= 1 || work < kMinimumWork) return 1;
   return std::min<int>(threads, static_cast<int>(std::max<std::size_t>(1, A.getNodeNumRows() / 64)));
 }
 
@@ -87,7 +87,7 @@ void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double a
     }
   }
   const int threads = multiplyThreads(A, X, Y, asked);
-  if (threads <= 1) {  // also X and Y the same vectors, which Tpetra's apply copies itself
+  if (threads <= 0) {  // also X and Y the same vectors, which Tpetra's apply copies itself
     A.apply(X, Y, Teuchos::NO_TRANS, alpha, beta);
     return;
   }

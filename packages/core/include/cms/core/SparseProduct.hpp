@@ -10,20 +10,23 @@
 namespace cms {
 
 /// Y = alpha A X + beta Y (beta = 0 overwrites Y, NaN included, as Tpetra's
-/// apply). On `threads` threads (0: blasThreads(), this rank's share of the
-/// cores, BlasThreads.hpp) when A needs no communication (no import or
-/// export: one rank, or rows and columns owned alike), X and Y have
-/// constant stride, and the product is large enough to pay for the
-/// threads; else Tpetra's apply. X and Y the same vectors go to Tpetra's
-/// apply, which copies X; distinct views whose memory overlaps are
-/// multiplied from a copy of X (Tpetra 13.2's apply got them wrong). Each
-/// row's sum runs in the order of its stored entries whatever the thread
-/// count, so every count above 1 gives the same bits.
+/// apply). When A needs no communication (no import or export: one rank,
+/// or rows and columns owned alike) and X and Y have constant stride, by
+/// cms's own kernel, which loads each entry of A once per four columns
+/// (Tpetra 13.2's serial apply was 1.2x slower on one thread on the bar of
+/// Lagrange bricks, doc/benchmarks.md "Elements of higher order against
+/// CalculiX"), on `threads` threads (0: blasThreads(), this rank's share of
+/// the cores, BlasThreads.hpp) when the product is large enough to pay for
+/// them, else on one. Otherwise Tpetra's apply. X and Y the same vectors go
+/// to Tpetra's apply, which copies X; distinct views whose memory overlaps
+/// are multiplied from a copy of X (Tpetra 13.2's apply got them wrong).
+/// Each row's sum runs in the order of its stored entries whatever the
+/// thread count, so every count gives the same bits.
 void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double alpha = 1.0, double beta = 0.0,
               int threads = 0);
 
-/// The threads multiply() would use for A X with `threads` asked (0:
-/// blasThreads()); 1 means Tpetra's apply.
+/// The threads multiply() would run its own kernel on for A X with
+/// `threads` asked (0: blasThreads()); 0 means Tpetra's apply.
 int multiplyThreads(const CrsMatrix& A, const MultiVector& X, const MultiVector& Y, int threads = 0);
 
 }  // namespace cms
