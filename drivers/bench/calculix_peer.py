@@ -23,7 +23,12 @@ Each is solved:
     the Coriolis coupling of in-plane bending is lost, doc/benchmarks.md);
   * by `cms modes` on the same mesh: the truth (Full basis, sparse Anasazi
     path; --no-truth skips it) and each --reductions entry (default a
-    Craig-Bampton reduction with --vectors fixed-interface modes).
+    Craig-Bampton reduction with --vectors fixed-interface modes);
+  * with --cms-lagrange (the bar), by `cms modes` on meshes of its own:
+    Lagrange bricks of order 3 or 4 (Hex64, Hex125; no .inp element has
+    their nodes, so CalculiX cannot run them), as coarse as the accuracy
+    allows, graded towards the clamped root: a user's fastest route to the
+    same accuracy, compared with CalculiX's on its C3D20 mesh.
 
 Every frequency is compared with the cms truth of the same mesh and, given
 --reference (the cms truth of a finer bar mesh, 'h:ns') or --reference-csv
@@ -47,6 +52,10 @@ solver and their relative differences.
     /usr/bin/python3 drivers/bench/calculix_peer.py --cms build/drivers/cms --model=bar --element=C3D20 \\
         --h=0.01 --ns=3 --omega=100 --modes=10 --ccx-modes=10,20 --reductions=Admissible:24,Craig-Bampton:30 \\
         --reference=0.0025:4 --repeat=3 --csv=bar-equal-accuracy.csv
+    /usr/bin/python3 drivers/bench/calculix_peer.py --cms build/drivers/cms --model=bar --element=C3D20 \\
+        --h=0.01 --ns=3 --omega=100 --modes=10 --ccx-modes=10 --no-truth --reductions=Admissible:24 \\
+        --cms-lagrange=3:1:24:1.15,4:1:12:1.2 --reference-csv=doc/bench/bar-reference-400x6x6-2026-11-25.csv \\
+        --repeat=3 --csv=bar-lagrange.csv
 """
 import argparse
 import csv
@@ -151,7 +160,7 @@ def read_ccx(dat):
     return rows(blocks[0], 3), rows(blocks[1], 2)
 
 
-def write_scene(work, omega, modes, basis, vectors, target=0.0, tag=None):
+def write_scene(work, omega, modes, basis, vectors, target=0.0, tag=None, mesh="mesh.inp"):
     if basis == "Partitioned":  # vectors is "CUTOFF" or "CUTOFFxPARTS" (theory 18)
         cutoff, _, parts = str(vectors).partition("x")
         reduction = (f"      Reduction:\n        Basis: Partitioned\n        Cutoff Frequency: {float(cutoff)}\n" +
@@ -172,7 +181,7 @@ def write_scene(work, omega, modes, basis, vectors, target=0.0, tag=None):
         Origin: [{AXIS_POINT[0]}, {AXIS_POINT[1]}, {AXIS_POINT[2]}]
         Rate: {omega}
       Finite Element Model:
-        Mesh: mesh.inp
+        Mesh: {mesh}
         Materials:
           steel:
             Young's Modulus: {E}
@@ -193,7 +202,8 @@ def write_scene(work, omega, modes, basis, vectors, target=0.0, tag=None):
 
 
 def read_cms(work, tag):
-    """(frequencies Hz, phase timings s from the JSON)."""
+    """(frequencies Hz, phase timings s from the JSON; with the physical DOFs
+    of the run's mesh under "dofs")."""
     out = os.path.join(work, f"out-{tag}")
     with open(os.path.join(out, f"blade-{tag}-modes.csv")) as f:
         hz = [float(r["hz"]) for r in csv.DictReader(f)]
@@ -201,10 +211,42 @@ def read_cms(work, tag):
     try:
         import json
         with open(os.path.join(out, f"blade-{tag}.json")) as f:
-            phases = json.load(f).get("timings_s", {})
+            d = json.load(f)
+        phases = dict(d.get("timings_s", {}))
+        phases["dofs"] = sum(s.get("physical_dofs", 0) for s in d.get("substructures", []))
     except (OSError, ValueError):
         pass
     return hz, phases
+
+
+def parse_lagrange(text):
+    """--cms-lagrange: [(order, ns, nx, grade)] from 'ORDER:NS:NX[:GRADE],...'."""
+    out = []
+    for item in filter(None, text.split(",")):
+        parts = item.split(":")
+        if len(parts) not in (3, 4):
+            raise ValueError(f"--cms-lagrange: '{item}' is not ORDER:NS:NX[:GRADE]")
+        order, ns, nx = (int(p) for p in parts[:3])
+        grade = float(parts[3]) if len(parts) == 4 else 1.0
+        if order not in (2, 3, 4) or ns < 1 or nx < 1 or not grade >= 1.0:
+            raise ValueError(f"--cms-lagrange: '{item}': order 2, 3 or 4, ns and nx >= 1, grade >= 1")
+        out.append((order, ns, nx, grade))
+    return out
+
+
+def write_lagrange_mesh(work, order, ns, nx, grade):
+    """The bar in Lagrange bricks of `order` (bar.geo: 27, 64 or 125 nodes;
+    order 2 with SecondOrderIncomplete off), ns across, nx along growing by
+    `grade` from the root: a mesh for cms alone (no .inp element has these
+    nodes). Returns its file name in work."""
+    name = f"bar-lagrange{order}-ns{ns}-nx{nx}-g{grade:g}.msh"
+    cmd = ["gmsh", "-3", "-setnumber", "L", str(BAR_L), "-setnumber", "a", str(BAR_A), "-setnumber", "nx", str(nx),
+           "-setnumber", "ns", str(ns), "-setnumber", "hex", "1", "-setnumber", "order", str(order),
+           "-setnumber", "grade", str(grade), BAR_GEO, "-o", os.path.join(work, name)]
+    if order == 2:
+        cmd[-3:-3] = ["-setnumber", "Mesh.SecondOrderIncomplete", "0"]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return name
 
 
 def parse_reductions(text, vectors):
@@ -282,6 +324,11 @@ def main():
                     help="cms reductions, comma-separated Basis:vectors or Basis:ta=accuracy (Target Accuracy) or "
                          "Partitioned:CUTOFF_HZ[xPARTS], "
                          "e.g. Craig-Bampton:30,Admissible:40,Admissible:ta=1e-3 (default: Craig-Bampton:--vectors)")
+    ap.add_argument("--cms-lagrange", default="",
+                    help="--model=bar: also run cms on its own meshes of Lagrange bricks, comma-separated "
+                         "ORDER:NS:NX[:GRADE] (order 3: Hex64, 4: Hex125; NS across, NX along growing by GRADE "
+                         "from the root), each with the first --reductions entry: equal accuracy on fewer DOFs, "
+                         "against CalculiX on the C3D20 mesh of --h")
     ap.add_argument("--no-truth", action="store_true", help="skip the cms truth (Full basis) on each mesh")
     ap.add_argument("--reference", default="",
                     help="--model=bar: 'h:ns' of a finer mesh whose cms truth is the reference every row is compared "
@@ -306,6 +353,7 @@ def main():
     try:
         reductions = parse_reductions(a.reductions or f"Craig-Bampton:{a.vectors}", a.vectors)
         ccx_modes = [int(w) for w in a.ccx_modes.split(",") if w] or [a.modes]
+        lagrange = parse_lagrange(a.cms_lagrange)
     except ValueError as e:
         print(f"calculix_peer: {e}", file=sys.stderr)
         return 2
@@ -356,6 +404,15 @@ def main():
             tag = basis if basis == "Full" else (f"{basis}-{vectors}" + (f"-ta{target:g}" if target else ""))
             scene = write_scene(work, a.omega, a.modes, basis, vectors, target, tag)
             runs.append((tag, [a.cms, "modes", scene, f"--output={work}/out-{tag}"], None))
+        if lagrange and a.model != "bar":
+            print("calculix_peer: --cms-lagrange needs --model=bar", file=sys.stderr)
+            return 2
+        for order, ns, nx, grade in lagrange:
+            basis, vectors, target = reductions[0]
+            mesh = write_lagrange_mesh(work, order, ns, nx, grade)
+            tag = f"Hex{(order + 1) ** 3}-{ns}x{nx}-g{grade:g}-{basis}-{vectors}"
+            scene = write_scene(work, a.omega, a.modes, basis, vectors, target, tag, mesh=mesh)
+            runs.append((tag, [a.cms, "modes", scene, f"--output={work}/out-{tag}"], None))
         results = {}  # label -> {"s": [...], "mem": [...], "hz": [...], "phases": [...]}
         for r in range(a.repeat):
             for tag, cmd, ccx_name in runs:
@@ -368,6 +425,8 @@ def main():
                 else:
                     hz, phases = read_cms(work, tag)
                     label = "cms truth (Full, sparse Anasazi)" if tag == "Full" else f"cms {tag}"
+                    if tag.startswith("Hex"):
+                        label += f" ({phases.get('dofs', 0)} DOFs)"
                     outs = [(label, hz, phases)]
                 for label, hz, phases in outs:
                     e = results.setdefault(label, {"s": [], "mem": [], "hz": hz, "phases": []})
@@ -392,7 +451,8 @@ def main():
             ratio = s / ccx_s if ccx_s else float("nan")
             print(f"{label:52s} {s:8.2f} {mem if mem else float('nan'):9.0f} {hz[0] if hz else float('nan'):10.5f}"
                   f" {d_truth:9.2e} {d_ref:9.2e} {ratio:8.2f}{note}")
-            phases = {k: median([p.get(k) for p in e["phases"]]) for k in (e["phases"][0] if e["phases"] else {})}
+            phases = {k: median([p.get(k) for p in e["phases"]]) for k in (e["phases"][0] if e["phases"] else {})
+                      if k != "dofs"}
             for i in range(len(hz)):
                 rows.append({"model": a.model, "element": element, "h": h, "ns": a.ns, "dofs": dofs,
                              "omega_rad_s": a.omega, "solver": label, "modes_returned": len(hz), "runs": len(e["s"]),
