@@ -38,7 +38,11 @@ If (hex)
   ends[] = {};
   For i In {1:nx}
     ones[] += 1;
-    ends[] += (grade == 1) ? i / nx : (grade^i - 1) / (grade^nx - 1);
+    If (grade == 1)  // (Gmsh's ?: evaluates both branches: no 0 / 0 here)
+      ends[] += i / nx;
+    Else
+      ends[] += (grade^i - 1) / (grade^nx - 1);
+    EndIf
   EndFor
   out[] = Extrude {L, 0, 0} { Surface{1}; Layers{ones[], ends[]}; Recombine; };
 Else
