@@ -899,10 +899,13 @@ TEST(SolidElementErrors, InvertedOrDegenerateElementThrowsNumericalError) {
   wedge.resize(18);  // corners
   std::swap_ranges(wedge.begin(), wedge.begin() + 9, wedge.begin() + 9);
   wedge = withEdgeMidpoints(wedge, cms::fixtures::kWedge15Edges);
+  const std::vector<double> hex27 = lagrangeHexNodes(hex.data(), 2), hex64 = lagrangeHexNodes(hex.data(), 3),
+                            hex125 = lagrangeHexNodes(hex.data(), 4);
   const std::pair<SolidType, const std::vector<double>*> bad[] = {
       {SolidType::Tet4, &tet},         {SolidType::Tet10, &tet10},          {SolidType::Hex8, &hex},
       {SolidType::Tet4, &flat},        {SolidType::Hex8Incompatible, &hex}, {SolidType::Hex20, &hex20},
-      {SolidType::Hex20Reduced, &hex20}, {SolidType::Wedge15, &wedge}};
+      {SolidType::Hex20Reduced, &hex20}, {SolidType::Wedge15, &wedge},      {SolidType::Hex27, &hex27},
+      {SolidType::Hex64, &hex64},      {SolidType::Hex125, &hex125}};
   for (const auto& [t, x] : bad) {
     SCOPED_TRACE(typeName(t));
     const SolidElement e{t, x->data(), material()};
