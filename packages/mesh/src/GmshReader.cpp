@@ -20,6 +20,7 @@
 #include "cms/mesh/Mesh.hpp"
 #include "GmshReader.hpp"
 #include "GmshSession.hpp"
+#include "GmshTypes.hpp"
 
 namespace cms::mesh {
 namespace {
@@ -27,25 +28,7 @@ namespace {
 using detail::GmshSession;
 using detail::firstError;
 
-CellType cellType(int gmshType) {
-  switch (gmshType) {
-    case 15: return CellType::Point1;
-    case 1: return CellType::Line2;
-    case 8: return CellType::Line3;
-    case 2: return CellType::Tri3;
-    case 9: return CellType::Tri6;
-    case 3: return CellType::Quad4;
-    case 4: return CellType::Tet4;
-    case 11: return CellType::Tet10;
-    case 5: return CellType::Hex8;
-    case 17: return CellType::Hex20;
-    case 18: return CellType::Wedge15;
-    case 12: return CellType::Hex27;
-    case 92: return CellType::Hex64;
-    case 93: return CellType::Hex125;
-    default: return CellType::Other;
-  }
-}
+using detail::cellTypeOfGmsh;
 
 /// For a Lagrange hexahedron (Hex27, Hex64, Hex125): lexicographic[g] is
 /// the position in cms's order (Mesh.hpp) of Gmsh's node g, from Gmsh's own
@@ -158,7 +141,7 @@ void readGroups(Mesh& mesh) {
         if (added) {
           CellBlock block;
           block.gmshType = types[t];
-          block.type = cellType(types[t]);
+          block.type = cellTypeOfGmsh(types[t]);
           block.nodesPerCell = static_cast<int>(nodeTags[t].size() / elementTags[t].size());
           g.blocks.push_back(std::move(block));
         }

@@ -38,6 +38,7 @@
 #include "cms/mesh/InpReader.hpp"
 #include "GmshReader.hpp"
 #include "MesherSocket.hpp"
+#include "MshReader.hpp"
 #include "MshStructureCheck.hpp"
 
 extern char** environ;
@@ -230,6 +231,21 @@ detail::GmshReadMsh gmshReader();  // below, with the other files of libexec/cms
 /// Reads a .msh through Gmsh in this process (the file passed
 /// checkMshStructure), by the Gmsh reader module loaded on first use
 /// (gmshReader); every failure is an InputError naming `source`.
+/// Whether MSH 4.1 files are read without Gmsh (MshReader.cpp): yes unless
+/// CMS_MSH_READER=gmsh sends every file to the Gmsh reader module.
+bool readWithoutGmsh() {
+  const char* v = std::getenv("CMS_MSH_READER");
+  if (!v || !*v) return true;
+  const std::string reader(v);
+  CMS_INPUT_CHECK(reader != "gmsh" && reader != "cms",
+                  "environment variable CMS_MSH_READER = \"" << reader << "\" must be \"cms\" or \"gmsh\"");
+  return reader == "cms";
+}
+
+/// A checked .msh (its bytes already scanned into `content`, or not): read
+/// without Gmsh when it is MSH 4.1, else by Gmsh's SDK in the reader module.
+Mesh readScannedMsh(detail::MshContent& content, const std::string& path, const std::string& source);
+
 Mesh readMshInProcess(const std::string& path, const std::string& source) {
   Mesh mesh;
   std::string message;
@@ -527,29 +543,36 @@ Mesh meshScriptInChild(const std::string& path, const std::map<std::string, doub
                                << lastActivity(log));
   }
   // Gmsh's own output: scanned all the same (cheap next to meshing).
+  detail::MshContent content;
   try {
-    detail::checkMshStructure(out, readFile(out));
+    detail::checkMshStructure(out, readFile(out), readWithoutGmsh() ? &content : nullptr);
   } catch (const InputError& e) {
     throw InputError(path + ": the mesh Gmsh made from this script cannot be read back: " + e.what());
   }
-  return readMshInProcess(out, path);
+  return readScannedMsh(content, out, path);
+}
+
+Mesh readScannedMsh(detail::MshContent& content, const std::string& path, const std::string& source) {
+  if (content.captured) return detail::meshFromMsh41(std::move(content), source, &checkDistinctNodes);
+  return readMshInProcess(path, source);
 }
 
 }  // namespace
 
 Mesh readGmsh(const std::string& path, const std::map<std::string, double>& parameters) {
   bool script = false;
+  detail::MshContent content;
   {
     const std::string bytes = readFile(path);
     if (bytes.compare(0, 11, "$MeshFormat") == 0) {
-      detail::checkMshStructure(path, bytes);
+      detail::checkMshStructure(path, bytes, readWithoutGmsh() ? &content : nullptr);
     } else {
       script = endsWith(path, ".geo");
       CMS_INPUT_CHECK(!script, path << ": not a Gmsh mesh (a .msh file starts with $MeshFormat) nor a "
                                        ".geo script");
     }
   }
-  return script ? meshScriptInChild(path, parameters) : readMshInProcess(path, path);
+  return script ? meshScriptInChild(path, parameters) : readScannedMsh(content, path, path);
 }
 
 Mesh readMesh(const std::string& path, const std::map<std::string, double>& parameters) {

@@ -77,8 +77,8 @@ MshType mshType(long long type) {
 
 class MshScanner {
 public:
-  MshScanner(const std::string& path, const std::string& bytes)
-      : path_(path), b_(bytes.data()), n_(bytes.size()) {}
+  MshScanner(const std::string& path, const std::string& bytes, MshContent* content)
+      : path_(path), b_(bytes.data()), n_(bytes.size()), content_(content) {}
 
   void run() {
     std::string_view first = rawLine(0);
@@ -100,6 +100,7 @@ public:
       section();
     }
     if (!formatSeen_) failAt(0, "no $MeshFormat section");
+    if (keep()) content_->names = names_, content_->captured = true;
   }
 
 private:
@@ -300,10 +301,11 @@ private:
     return v;
   }
   template <class W>
-  void real(const W& what) {
-    if (binary_) bin<double>(what);
-    else readDouble(what);
+  double real(const W& what) {
+    return binary_ ? bin<double>(what) : readDouble(what);
   }
+  /// Records are kept for the reader (an MSH 4.1 file, content asked for).
+  bool keep() const { return content_ && version_ == 4; }
 
   // -- sections --------------------------------------------------------------
   void section() {
@@ -428,7 +430,11 @@ private:
                                                      std::to_string(d) + " declared twice");
         for (int k = 0; k < (d == 0 ? 3 : 6); ++k) real("bounding box of " + what);
         const unsigned long long nphys = count("number of physical tags of " + what, 4, 1);
-        for (unsigned long long k = 0; k < nphys; ++k) integer("physical tag of " + what, 1, INT_MAX);
+        std::vector<long long>* phys = keep() ? &content_->physicals[{d, t}] : nullptr;
+        for (unsigned long long k = 0; k < nphys; ++k) {
+          const long long p = integer("physical tag of " + what, 1, INT_MAX);
+          if (phys) phys->push_back(p);
+        }
         if (d > 0) {
           const unsigned long long nb = count("number of bounding entities of " + what, 4, 1);
           for (unsigned long long k = 0; k < nb; ++k)
@@ -479,8 +485,11 @@ private:
         eol("a node tag");
       }
       for (unsigned long long j = 0; j < nn; ++j) {
-        for (int c = 0; c < n; ++c)
-          real([&] { return "coordinate " + std::to_string(c + 1) + " of node " + std::to_string(nodeTags_[first + j]); });
+        for (int c = 0; c < n; ++c) {
+          const double x =
+              real([&] { return "coordinate " + std::to_string(c + 1) + " of node " + std::to_string(nodeTags_[first + j]); });
+          if (c < 3 && keep()) content_->coordinates.push_back(x);
+        }
         eol("node coordinates");
       }
     }
@@ -488,6 +497,7 @@ private:
       fail(pos_, "the node blocks hold " + std::to_string(seen) + " nodes, the header declares " +
                      std::to_string(total));
     finishNodes();
+    if (keep()) content_->nodeTags = nodeTags_;
     expectSectionEnd();
   }
 
@@ -557,6 +567,12 @@ private:
                      ", which is not declared");
       const unsigned long long ne = count("number of elements in " + what, 8ull * (1 + info.nodes), 1 + info.nodes);
       eol("an element block header");
+      MshContent::Block* block = nullptr;
+      if (keep()) {
+        content_->blocks.push_back({static_cast<int>(dim), etag, static_cast<int>(type), info.nodes, {}, {}});
+        block = &content_->blocks.back();
+      }
+      cellNodes_ = block ? &block->nodes : nullptr;
       if (ne > total - seen)
         fail(binary_ ? pos_ - 8 : tokenStart_, what + " goes past the " + std::to_string(total) +
                                                    " elements declared in the section header");
@@ -564,10 +580,13 @@ private:
       for (unsigned long long j = 0; j < ne; ++j) {
         const std::uint64_t e = tag([&] { return "element tag in " + what; });
         elementTags_.push_back(e);
+        if (block) block->cellTags.push_back(e);
         if (binary_) {
           for (int c = 0; c < info.nodes; ++c) {
             const std::size_t nat = pos_;
-            nodeRef(tag([&] { return "node tag of element " + std::to_string(e); }), e, nat);
+            const std::uint64_t node = tag([&] { return "node tag of element " + std::to_string(e); });
+            nodeRef(node, e, nat);
+            if (block) block->nodes.push_back(node);
           }
         } else {
           elementLine4(e, info.nodes);
@@ -601,7 +620,9 @@ private:
                            " is not a positive integer (node tags separated by spaces on the element's line)");
       if (++found > nodes)
         failAt(at, "element " + std::to_string(element) + " has more than " + std::to_string(nodes) + " nodes");
-      nodeRef(static_cast<std::uint64_t>(parseInt(t, "node tag", 1, INT_MAX, at + s)), element, at + s);
+      const auto node = static_cast<std::uint64_t>(parseInt(t, "node tag", 1, INT_MAX, at + s));
+      nodeRef(node, element, at + s);
+      if (cellNodes_) cellNodes_->push_back(node);
     }
     if (found != nodes)
       failAt(at, "element " + std::to_string(element) + " has " + std::to_string(found) +
@@ -717,12 +738,15 @@ private:
   std::set<std::pair<int, long long>> entities_;
   std::map<std::pair<long long, long long>, std::string> names_;
   std::vector<std::uint64_t> nodeTags_, sortedNodes_, elementTags_;
+  MshContent* content_ = nullptr;
+  std::vector<std::uint64_t>* cellNodes_ = nullptr;  ///< the kept block's node tags, while its cells are read
 };
 
 }  // namespace
 
-void checkMshStructure(const std::string& path, const std::string& bytes) {
-  MshScanner(path, bytes).run();
+void checkMshStructure(const std::string& path, const std::string& bytes, MshContent* content) {
+  if (content) *content = MshContent{};
+  MshScanner(path, bytes, content).run();
 }
 
 }  // namespace cms::mesh::detail
