@@ -49,6 +49,9 @@ namespace {
 // classic Lagrange cells) and the cubic and quartic quadrangles and
 // hexahedra (36, 37, 92, 93) of Lagrange-hex meshes, tags in [1, 2^31 - 1]. The cost is one pass over
 // the bytes, below Gmsh's own read (0.35 s of 1.2 s for 10^6 nodes, binary).
+// Asked to, the walk keeps an MSH 4.1 file's records (MshContent), from
+// which MshReader.cpp makes the mesh without Gmsh: only what passed the
+// checks is kept, so the reader needs none of its own.
 // ---------------------------------------------------------------------------
 
 struct MshType {
