@@ -58,6 +58,27 @@ void expectWellFormed(const Mesh& m) {
     }
 }
 
+/// The same groups in the same order, each with the same blocks, cells
+/// and node indices.
+void expectSameGroups(const Mesh& m, const Mesh& ref) {
+  ASSERT_EQ(m.groups.size(), ref.groups.size());
+  for (std::size_t g = 0; g < m.groups.size(); ++g) {
+    const auto &a = m.groups[g], &b = ref.groups[g];
+    SCOPED_TRACE(b.name);
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.dim, b.dim);
+    EXPECT_EQ(a.tag, b.tag);
+    ASSERT_EQ(a.blocks.size(), b.blocks.size());
+    for (std::size_t k = 0; k < a.blocks.size(); ++k) {
+      EXPECT_EQ(a.blocks[k].type, b.blocks[k].type);
+      EXPECT_EQ(a.blocks[k].gmshType, b.blocks[k].gmshType);
+      EXPECT_EQ(a.blocks[k].nodesPerCell, b.blocks[k].nodesPerCell);
+      EXPECT_EQ(a.blocks[k].cellTags, b.blocks[k].cellTags);
+      EXPECT_EQ(a.blocks[k].nodes, b.blocks[k].nodes);
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------
 // The test meshes.
 // ---------------------------------------------------------------------------
@@ -151,19 +172,7 @@ TEST(MeshReader, FourMshFormatsAgree) {
     for (std::size_t i = 0; i < m.coordinates.size(); ++i)
       EXPECT_NEAR(m.coordinates[i], ref.coordinates[i],
                   (5e-16 + std::numeric_limits<double>::epsilon()) * std::abs(ref.coordinates[i]));
-    ASSERT_EQ(m.groups.size(), ref.groups.size());
-    for (std::size_t g = 0; g < m.groups.size(); ++g) {
-      const auto &a = m.groups[g], &b = ref.groups[g];
-      EXPECT_EQ(a.name, b.name);
-      EXPECT_EQ(a.dim, b.dim);
-      EXPECT_EQ(a.tag, b.tag);
-      ASSERT_EQ(a.blocks.size(), b.blocks.size());
-      for (std::size_t k = 0; k < a.blocks.size(); ++k) {
-        EXPECT_EQ(a.blocks[k].type, b.blocks[k].type);
-        EXPECT_EQ(a.blocks[k].nodes, b.blocks[k].nodes);
-        EXPECT_EQ(a.blocks[k].cellTags, b.blocks[k].cellTags);
-      }
-    }
+    expectSameGroups(m, ref);
   }
 }
 
@@ -298,22 +307,7 @@ TEST(MeshReader, NativeAndGmshReadersAgree) {
     EXPECT_EQ(native.source, gmsh.source);
     EXPECT_EQ(native.nodeTags, gmsh.nodeTags);
     EXPECT_EQ(native.coordinates, gmsh.coordinates);
-    ASSERT_EQ(native.groups.size(), gmsh.groups.size());
-    for (std::size_t g = 0; g < native.groups.size(); ++g) {
-      const auto &a = native.groups[g], &b = gmsh.groups[g];
-      SCOPED_TRACE(b.name);
-      EXPECT_EQ(a.name, b.name);
-      EXPECT_EQ(a.dim, b.dim);
-      EXPECT_EQ(a.tag, b.tag);
-      ASSERT_EQ(a.blocks.size(), b.blocks.size());
-      for (std::size_t k = 0; k < a.blocks.size(); ++k) {
-        EXPECT_EQ(a.blocks[k].type, b.blocks[k].type);
-        EXPECT_EQ(a.blocks[k].gmshType, b.blocks[k].gmshType);
-        EXPECT_EQ(a.blocks[k].nodesPerCell, b.blocks[k].nodesPerCell);
-        EXPECT_EQ(a.blocks[k].cellTags, b.blocks[k].cellTags);
-        EXPECT_EQ(a.blocks[k].nodes, b.blocks[k].nodes);
-      }
-    }
+    expectSameGroups(native, gmsh);
   }
   ::setenv("CMS_MSH_READER", "neither", 1);
   expectInputErrorWith([&] { cms::mesh::readGmsh(files[0]); }, {"CMS_MSH_READER", "\"neither\"", "\"cms\" or \"gmsh\""});
