@@ -44,11 +44,6 @@ int vtkNode(fem::CellType t, int i) {
   return i;
 }
 
-/// The order of a Lagrange hexahedron (Hex27, Hex64, Hex125); 0 otherwise.
-int lagrangeHexOrder(fem::CellType t) {
-  return t == fem::CellType::Hex27 ? 2 : t == fem::CellType::Hex64 ? 3 : t == fem::CellType::Hex125 ? 4 : 0;
-}
-
 /// A distributed two-column vector gathered to every rank, by global row.
 std::vector<std::array<double, 2>> gather(const MultiVector& u) {
   const auto map = u.getMap();
@@ -138,7 +133,7 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
       for (const auto& h : structure.substructure(k).model->hinges) followHinge(mesh, h, base, re, im);
       for (const auto& es : structure.substructure(k).model->elementSets)
         for (const auto& b : mesh.group(es.group).blocks) {
-          if (const int p = lagrangeHexOrder(b.type)) {
+          if (const int p = mesh::lagrangeHexOrder(b.type)) {
             // Drawn as its p^3 sub-hexahedra between neighbouring nodes: every
             // node's value is written, and no reader has to agree with VTK
             // on the node order of its Lagrange cells (which changed in VTK 9).

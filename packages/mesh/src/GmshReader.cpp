@@ -29,18 +29,19 @@ using detail::GmshSession;
 using detail::firstError;
 
 using detail::cellTypeOfGmsh;
+using detail::NodeIndex;
 
 /// For a Lagrange hexahedron (Hex27, Hex64, Hex125): lexicographic[g] is
 /// the position in cms's order (Mesh.hpp) of Gmsh's node g, from Gmsh's own
 /// reference coordinates of its nodes (on the (k+1)^3 grid of [-1, 1]^3).
 /// Empty for every other type: those keep Gmsh's order.
 std::vector<int> lexicographicOrder(int gmshType, CellType type) {
-  if (type != CellType::Hex27 && type != CellType::Hex64 && type != CellType::Hex125) return {};
+  const int k = lagrangeHexOrder(type);
+  if (k == 0) return {};
   std::string name;
   int dim = 0, order = 0, count = 0, primary = 0;
   std::vector<double> reference;
   gmsh::model::mesh::getElementProperties(gmshType, name, dim, order, count, reference, primary);
-  const int k = type == CellType::Hex27 ? 2 : type == CellType::Hex64 ? 3 : 4;
   const int m = k + 1;
   if (dim != 3 || order != k || count != m * m * m || reference.size() != 3u * count)
     throw InputError("Gmsh reports element type " + std::to_string(gmshType) + " as \"" + name +
@@ -64,25 +65,6 @@ std::vector<int> lexicographicOrder(int gmshType, CellType type) {
   return to;
 }
 
-/// Node tag -> index: a table when tags are dense enough, else a search.
-class NodeIndex {
-public:
-  explicit NodeIndex(const std::vector<std::size_t>& sortedTags) : tags_(sortedTags) {
-    if (!tags_.empty() && tags_.back() <= 4 * tags_.size() + 1024) {
-      table_.assign(tags_.back() + 1, -1);
-      for (std::size_t i = 0; i < tags_.size(); ++i) table_[tags_[i]] = static_cast<std::int64_t>(i);
-    }
-  }
-  std::int64_t operator()(std::size_t tag) const {
-    if (!table_.empty()) return tag < table_.size() ? table_[tag] : -1;
-    auto it = std::lower_bound(tags_.begin(), tags_.end(), tag);
-    return it != tags_.end() && *it == tag ? static_cast<std::int64_t>(it - tags_.begin()) : -1;
-  }
-
-private:
-  const std::vector<std::size_t>& tags_;
-  std::vector<std::int64_t> table_;
-};
 
 void readNodes(Mesh& mesh) {
   std::vector<std::size_t> tags;

@@ -1,7 +1,13 @@
-// Gmsh's element type numbers as cms's cell types, shared by the reader that
-// uses Gmsh's SDK (GmshReader.cpp, the module) and the one that does not
-// (MshReader.cpp). Headers only: the module links nothing of cms's.
+// What the reader that uses Gmsh's SDK (GmshReader.cpp, the module) and the
+// one that does not (MshReader.cpp) share: Gmsh's element type numbers as
+// cms's cell types, and node tags to indices. Headers only: the module links
+// nothing of cms's.
 #pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "cms/mesh/Mesh.hpp"
 
@@ -26,5 +32,25 @@ inline CellType cellTypeOfGmsh(int gmshType) {
     default: return CellType::Other;
   }
 }
+
+/// Node tag -> index: a table when tags are dense enough, else a search.
+class NodeIndex {
+public:
+  explicit NodeIndex(const std::vector<std::size_t>& sortedTags) : tags_(sortedTags) {
+    if (!tags_.empty() && tags_.back() <= 4 * tags_.size() + 1024) {
+      table_.assign(tags_.back() + 1, -1);
+      for (std::size_t i = 0; i < tags_.size(); ++i) table_[tags_[i]] = static_cast<std::int64_t>(i);
+    }
+  }
+  std::int64_t operator()(std::size_t tag) const {
+    if (!table_.empty()) return tag < table_.size() ? table_[tag] : -1;
+    auto it = std::lower_bound(tags_.begin(), tags_.end(), tag);
+    return it != tags_.end() && *it == tag ? static_cast<std::int64_t>(it - tags_.begin()) : -1;
+  }
+
+private:
+  const std::vector<std::size_t>& tags_;
+  std::vector<std::int64_t> table_;
+};
 
 }  // namespace cms::mesh::detail

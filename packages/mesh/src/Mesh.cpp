@@ -228,9 +228,6 @@ void checkDistinctNodes(const Mesh& mesh) {
 
 detail::GmshReadMsh gmshReader();  // below, with the other files of libexec/cms
 
-/// Reads a .msh through Gmsh in this process (the file passed
-/// checkMshStructure), by the Gmsh reader module loaded on first use
-/// (gmshReader); every failure is an InputError naming `source`.
 /// Whether MSH 4.1 files are read without Gmsh (MshReader.cpp): yes unless
 /// CMS_MSH_READER=gmsh sends every file to the Gmsh reader module.
 bool readWithoutGmsh() {
@@ -242,10 +239,9 @@ bool readWithoutGmsh() {
   return reader == "cms";
 }
 
-/// A checked .msh (its bytes already scanned into `content`, or not): read
-/// without Gmsh when it is MSH 4.1, else by Gmsh's SDK in the reader module.
-Mesh readScannedMsh(detail::MshContent& content, const std::string& path, const std::string& source);
-
+/// Reads a .msh through Gmsh in this process (the file passed
+/// checkMshStructure), by the Gmsh reader module loaded on first use
+/// (gmshReader); every failure is an InputError naming `source`.
 Mesh readMshInProcess(const std::string& path, const std::string& source) {
   Mesh mesh;
   std::string message;
@@ -255,6 +251,13 @@ Mesh readMshInProcess(const std::string& path, const std::string& source) {
     default: throw InputError(message);
   }
   return mesh;
+}
+
+/// A checked .msh (its bytes already scanned into `content`, or not): read
+/// without Gmsh when it is MSH 4.1, else by Gmsh's SDK in the reader module.
+Mesh readScannedMsh(detail::MshContent& content, const std::string& path, const std::string& source) {
+  if (content.captured) return detail::meshFromMsh41(std::move(content), source, &checkDistinctNodes);
+  return readMshInProcess(path, source);
 }
 
 // ---------------------------------------------------------------------------
@@ -550,11 +553,6 @@ Mesh meshScriptInChild(const std::string& path, const std::map<std::string, doub
     throw InputError(path + ": the mesh Gmsh made from this script cannot be read back: " + e.what());
   }
   return readScannedMsh(content, out, path);
-}
-
-Mesh readScannedMsh(detail::MshContent& content, const std::string& path, const std::string& source) {
-  if (content.captured) return detail::meshFromMsh41(std::move(content), source, &checkDistinctNodes);
-  return readMshInProcess(path, source);
 }
 
 }  // namespace

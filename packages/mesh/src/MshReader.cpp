@@ -71,16 +71,8 @@ Mesh meshFromMsh41(MshContent&& c, const std::string& source, void (*checkNodes)
                       source << ": node " << mesh.nodeTags[i] << " has a non-finite coordinate " << "xyz"[k]
                              << " = " << mesh.coordinates[3 * i + k]);
   if (checkNodes) checkNodes(mesh);
-  // Tags are at most INT_MAX (the scan): a table when they are dense enough.
-  const auto indexOf = [&](std::uint64_t tag) -> std::int64_t {
-    auto it = std::lower_bound(mesh.nodeTags.begin(), mesh.nodeTags.end(), tag);
-    return static_cast<std::int64_t>(it - mesh.nodeTags.begin());
-  };
-  std::vector<std::int64_t> table;
-  if (mesh.nodeTags.back() <= 4 * mesh.nodeTags.size() + 1024) {
-    table.assign(mesh.nodeTags.back() + 1, -1);
-    for (std::size_t i = 0; i < mesh.nodeTags.size(); ++i) table[mesh.nodeTags[i]] = static_cast<std::int64_t>(i);
-  }
+  // Every element's node is in $Nodes (the scan refused the others).
+  const NodeIndex index(mesh.nodeTags);
   // Physical groups: (dim, tag) -> entities, both ascending, as Gmsh lists them.
   std::map<std::pair<int, long long>, std::vector<long long>> groups;
   for (const auto& [entity, tags] : c.physicals)
@@ -126,9 +118,7 @@ Mesh meshFromMsh41(MshContent&& c, const std::string& source, void (*checkNodes)
           const std::size_t first = block.nodes.size();
           block.nodes.resize(first + npc);
           for (std::size_t k = 0; k < npc; ++k) {
-            const std::uint64_t t = src->nodes[e * npc + k];
-            const std::int64_t i = table.empty() ? indexOf(t) : table[t];
-            block.nodes[first + (to ? static_cast<std::size_t>(to[k]) : k)] = i;
+            block.nodes[first + (to ? static_cast<std::size_t>(to[k]) : k)] = index(src->nodes[e * npc + k]);
           }
         }
       }

@@ -34,10 +34,18 @@ namespace cms::mesh {
 ///     3, 4): the reader does NOT keep Gmsh's order (corners, edges, faces,
 ///     interior, each recursively) but puts the nodes in lexicographic order
 ///     of their reference positions, node (i, j, l) of the (k+1)^3 grid of
-///     [-1, 1]^3 at i + (k+1) j + (k+1)^2 l, from Gmsh's own reference
-///     coordinates (getElementProperties); cms/fem/SolidElement.hpp uses
+///     [-1, 1]^3 at i + (k+1) j + (k+1)^2 l (the Gmsh reader module from
+///     Gmsh's own reference coordinates, getElementProperties; the reader
+///     without Gmsh from a table of them, held to the same result by
+///     MeshReader.NativeAndGmshReadersAgree); cms/fem/SolidElement.hpp uses
 ///     that order.
 enum class CellType { Point1, Line2, Line3, Tri3, Tri6, Quad4, Tet4, Tet10, Hex8, Hex20, Wedge15, Hex27, Hex64, Hex125, Other };
+
+/// The order k of a Lagrange hexahedron (Hex27 2, Hex64 3, Hex125 4); 0 for
+/// every other cell.
+inline int lagrangeHexOrder(CellType type) {
+  return type == CellType::Hex27 ? 2 : type == CellType::Hex64 ? 3 : type == CellType::Hex125 ? 4 : 0;
+}
 
 const char* cellTypeName(CellType type);
 /// Nodes per cell; 0 for Other.
