@@ -321,9 +321,22 @@ const Rule& ruleFor(SolidType type, Use use) {
     Rule hex2 = makeRule(Shape::Hex8, 2), hex3 = makeRule(Shape::Hex8, 3);
     Rule hex20x2 = makeRule(Shape::Hex20, 2), hex20x3 = makeRule(Shape::Hex20, 3);
     Rule wedge3 = makeRule(Shape::Wedge15, 3);
-    Rule hexQ2 = makeRule(Shape::HexQ2, 3), hexQ3 = makeRule(Shape::HexQ3, 4), hexQ4 = makeRule(Shape::HexQ4, 5);
   };
   static const Rules rules;
+  // The Lagrange bricks' rules (up to 125 x 125 values, 0.5 MB for Hex125)
+  // are made the first time such a brick is, not for every run.
+  static const auto lagrange = [](Shape s) -> const Rule& {
+    if (s == Shape::HexQ2) {
+      static const Rule q2 = makeRule(Shape::HexQ2, 3);
+      return q2;
+    }
+    if (s == Shape::HexQ3) {
+      static const Rule q3 = makeRule(Shape::HexQ3, 4);
+      return q3;
+    }
+    static const Rule q4 = makeRule(Shape::HexQ4, 5);
+    return q4;
+  };
   const bool k = use == Use::Stiffness;
   switch (type) {
     case SolidType::Tet4: return k ? rules.tet4K : rules.tet4M;
@@ -333,9 +346,9 @@ const Rule& ruleFor(SolidType type, Use use) {
     case SolidType::Hex20: return rules.hex20x3;
     case SolidType::Hex20Reduced: return k ? rules.hex20x2 : rules.hex20x3;
     case SolidType::Wedge15: return rules.wedge3;
-    case SolidType::Hex27: return rules.hexQ2;
-    case SolidType::Hex64: return rules.hexQ3;
-    case SolidType::Hex125: return rules.hexQ4;
+    case SolidType::Hex27:
+    case SolidType::Hex64:
+    case SolidType::Hex125: return lagrange(shapeOf(type));
   }
   throw std::logic_error("solid element: unknown SolidType");
 }
