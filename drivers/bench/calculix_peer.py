@@ -228,23 +228,21 @@ def parse_lagrange(text):
             raise ValueError(f"--cms-lagrange: '{item}' is not ORDER:NS:NX[:GRADE]")
         order, ns, nx = (int(p) for p in parts[:3])
         grade = float(parts[3]) if len(parts) == 4 else 1.0
-        if order not in (2, 3, 4) or ns < 1 or nx < 1 or not grade >= 1.0:
-            raise ValueError(f"--cms-lagrange: '{item}': order 2, 3 or 4, ns and nx >= 1, grade >= 1")
+        if order not in (3, 4) or ns < 1 or nx < 1 or not grade >= 1.0:
+            raise ValueError(f"--cms-lagrange: '{item}': order 3 or 4, ns and nx >= 1, grade >= 1")
         out.append((order, ns, nx, grade))
     return out
 
 
 def write_lagrange_mesh(work, order, ns, nx, grade):
-    """The bar in Lagrange bricks of `order` (bar.geo: 27, 64 or 125 nodes;
-    order 2 with SecondOrderIncomplete off), ns across, nx along growing by
-    `grade` from the root: a mesh for cms alone (no .inp element has these
-    nodes). Returns its file name in work."""
+    """The bar in Lagrange bricks of `order` 3 or 4 (bar.geo: 64 or 125
+    nodes), ns across, nx along growing by `grade` from the root: a mesh for
+    cms alone (no .inp element has these nodes). Returns its file name in
+    work."""
     name = f"bar-lagrange{order}-ns{ns}-nx{nx}-g{grade:g}.msh"
     cmd = ["gmsh", "-3", "-setnumber", "L", str(BAR_L), "-setnumber", "a", str(BAR_A), "-setnumber", "nx", str(nx),
            "-setnumber", "ns", str(ns), "-setnumber", "hex", "1", "-setnumber", "order", str(order),
            "-setnumber", "grade", str(grade), BAR_GEO, "-o", os.path.join(work, name)]
-    if order == 2:
-        cmd[-3:-3] = ["-setnumber", "Mesh.SecondOrderIncomplete", "0"]
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return name
 
