@@ -13,9 +13,9 @@ namespace cms {
 /// apply). When A needs no communication (no import or export: one rank,
 /// or rows and columns owned alike) and X and Y have constant stride, by
 /// cms's own kernel, which loads each entry of A once per four columns
-/// (Tpetra 13.2's serial apply was 1.2x slower on one thread on the bar of
-/// Lagrange bricks, doc/benchmarks.md "Elements of higher order against
-/// CalculiX"), on `threads` threads (0: blasThreads(), this rank's share of
+/// (with it on one thread instead of Tpetra 13.2's serial apply, a run on
+/// the bar of Lagrange bricks went from 1.74 to 1.55 s, doc/benchmarks.md
+/// "Elements of higher order against CalculiX"), on `threads` threads (0: blasThreads(), this rank's share of
 /// the cores, BlasThreads.hpp) when the product is large enough to pay for
 /// them, else on one. Otherwise Tpetra's apply. X and Y the same vectors go
 /// to Tpetra's apply, which copies X; distinct views whose memory overlaps
