@@ -7,7 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <string>
+
+#if defined(__linux__) && defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "cms/core/HugePageHeap.hpp"
 
@@ -32,6 +37,50 @@ TEST(HugePageHeap, CmsHugePagesZeroSkipsIt) {
   EXPECT_EQ(skipped, "CMS_HUGE_PAGES=0");
 #else
   EXPECT_FALSE(skipped.empty());
+#endif
+}
+
+// A block above glibc's own mmap ceiling (32 MiB) and below the kept size
+// comes from the heap, not from a mapping of its own that its free would
+// give back to the kernel: mallinfo2's bytes in mapped blocks do not grow.
+// Without hugePageHeap's thresholds glibc maps a 64 MiB block (checked with
+// CMS_KEEP_FREED=0: hblkhd grows by the block).
+TEST(HugePageHeap, FreedBlocksUpToTheKeptSizeComeFromTheHeap) {
+#if defined(__linux__) && defined(__GLIBC__)
+  const std::string skipped = freedBlocksKeptSkipped();
+  if (!skipped.empty()) GTEST_SKIP() << "skipped: " << skipped;
+  static_assert(kKeptBlockBytes > (64L << 20), "the block below must be within the kept size");
+  const std::size_t bytes = 64UL << 20;
+  const std::size_t mappedBefore = mallinfo2().hblkhd;
+  void* volatile block = std::malloc(bytes);
+  ASSERT_NE(block, nullptr);
+  std::memset(block, 1, 4096);
+  const std::size_t mappedWith = mallinfo2().hblkhd;
+  std::free(block);
+  EXPECT_LT(mappedWith, mappedBefore + bytes) << "a 64 MiB block was mapped on its own (freed, it goes back "
+                                                 "to the kernel)";
+#else
+  GTEST_SKIP() << "not Linux with glibc";
+#endif
+}
+
+TEST(HugePageHeap, CmsKeepFreedZeroOrTheUsersThresholdsSkipIt) {
+#if defined(__linux__) && defined(__GLIBC__)
+  auto skippedWith = [](const char* name, const char* value) {
+    const char* before = std::getenv(name);
+    const std::string saved = before != nullptr ? before : "";
+    setenv(name, value, 1);
+    const std::string skipped = freedBlocksKeptSkipped();
+    if (before != nullptr) setenv(name, saved.c_str(), 1);
+    else unsetenv(name);
+    return skipped;
+  };
+  EXPECT_EQ(skippedWith("CMS_KEEP_FREED", "0"), "CMS_KEEP_FREED=0");
+  EXPECT_EQ(skippedWith("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=65536"),
+            "GLIBC_TUNABLES sets the thresholds");
+  EXPECT_EQ(skippedWith("GLIBC_TUNABLES", "glibc.malloc.trim_threshold=65536"), "GLIBC_TUNABLES sets the thresholds");
+#else
+  EXPECT_FALSE(freedBlocksKeptSkipped().empty());
 #endif
 }
 

@@ -9,6 +9,7 @@
 #if defined(__linux__) && defined(__GLIBC__)
 #include <fcntl.h>
 #include <gnu/libc-version.h>
+#include <malloc.h>
 #include <unistd.h>
 #endif
 
@@ -84,6 +85,20 @@ void reexecute(char** argv, char** envp) {
 #endif
 }  // namespace
 
+std::string freedBlocksKeptSkipped() {
+#if defined(__linux__) && defined(__GLIBC__)
+  const char* given = std::getenv("GLIBC_TUNABLES");
+  if (given != nullptr && (std::strstr(given, "glibc.malloc.mmap_threshold") != nullptr ||
+                           std::strstr(given, "glibc.malloc.trim_threshold") != nullptr))
+    return "GLIBC_TUNABLES sets the thresholds";
+  if (const char* opt = std::getenv("CMS_KEEP_FREED"); opt != nullptr && std::strcmp(opt, "0") == 0)
+    return "CMS_KEEP_FREED=0";
+  return "";
+#else
+  return "not Linux with glibc";
+#endif
+}
+
 std::string hugePageHeapSkipped() {
 #if defined(__linux__) && defined(__GLIBC__)
   return skippedIn(environ);
@@ -95,6 +110,14 @@ std::string hugePageHeapSkipped() {
 void hugePageHeap(char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)
   reexecute(argv, environ);
+  // Blocks up to kKeptBlockBytes come from the heap and stay there when
+  // freed, for the next allocation to reuse (HugePageHeap.hpp). glibc's own
+  // rule raises its threshold to the largest block freed so far, up to 32
+  // MiB, and trims at twice that: the same rule with a higher ceiling.
+  if (freedBlocksKeptSkipped().empty()) {
+    mallopt(M_MMAP_THRESHOLD, static_cast<int>(kKeptBlockBytes));
+    mallopt(M_TRIM_THRESHOLD, static_cast<int>(2 * kKeptBlockBytes));
+  }
 #else
   (void)argv;
 #endif

@@ -7,8 +7,10 @@
 
 namespace cms {
 
-/// First thing in main: the process's heap on transparent huge pages.
-/// glibc (>= 2.35) advises its heap and mmap'd blocks as huge-page
+/// First thing in main: the process's heap on transparent huge pages, its
+/// freed blocks kept for reuse.
+///
+/// Huge pages. glibc (>= 2.35) advises its heap and mmap'd blocks as huge-page
 /// candidates when GLIBC_TUNABLES holds glibc.malloc.hugetlb=1, and reads
 /// its tunables only when a process starts; so a process started without it
 /// executes itself again (execv of /proc/self/exe: the same PID, arguments
@@ -25,7 +27,28 @@ namespace cms {
 /// calls it) executes itself again from its .preinit_array, before the
 /// shared libraries' initialisers run; the call in main is then a no-op
 /// kept for programs whose loader ignores .preinit_array.
+///
+/// Freed blocks kept. glibc returns a freed block of more than its mmap
+/// threshold (128 KiB at first, raised to the largest block freed, at most
+/// 32 MiB) to the kernel at once, so the next block of that size is fresh
+/// memory that faults and is zeroed again. A run assembles, copies and
+/// frees matrices of tens of MiB one after another: the 9,702-DOF Hex64 bar
+/// spent a fifth of its time zeroing fresh pages. Here blocks up to
+/// kKeptBlockBytes come from the heap, and its top is trimmed only past
+/// twice that: 1.42 s to 1.31 s on that bar, 63.0 s to 56.8 s on the
+/// 5.7e5-DOF rotor at the same peak (doc/benchmarks.md, "Freed blocks kept
+/// for reuse"). Larger blocks (a big model's factors) still go back to the
+/// kernel when freed, so a run's peak can grow by what fragmentation holds
+/// of at most that. Skipped (freedBlocksKeptSkipped) with CMS_KEEP_FREED=0
+/// or a GLIBC_TUNABLES that sets glibc.malloc.mmap_threshold or
+/// trim_threshold itself.
 void hugePageHeap(char** argv);
+
+/// The largest block the heap keeps for reuse when it is freed: 256 MiB.
+inline constexpr long kKeptBlockBytes = 256L << 20;
+
+/// Why hugePageHeap would not keep freed blocks ("" if it would, or did).
+std::string freedBlocksKeptSkipped();
 
 /// Why hugePageHeap would not re-execute this process ("" if it would, or
 /// did).
