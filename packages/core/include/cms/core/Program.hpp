@@ -31,13 +31,19 @@ using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 /// (ess_singleton_isolated) and the ob1 messaging layer instead of probing
 /// UCX and libfabric, which a single process never uses. MPI_Init alone
 /// took 0.45 s by default and 0.05 s so (doc/benchmarks.md, "Process
-/// start"), a fifth of a small scene's whole run. A launched run is left
+/// start"), a fifth of a small scene's whole run. Nor does it need the
+/// plugins hwloc loads to find devices (PCI, OpenGL and OpenCL devices) or
+/// read XML topologies with libxml2: they bring libX11, libOpenCL, libxml2
+/// and ICU, ~15 ms of the loader's time in every start (doc/benchmarks.md,
+/// "Freed blocks kept for reuse"); HWLOC_PLUGINS_BLACKLIST leaves them
+/// unloaded (hwloc's built-in XML reader remains). A launched run is left
 /// alone: a cluster's launcher and its fabric choose there.
 inline void singletonMpiDefaults() {
   for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "SLURM_PROCID"})
     if (std::getenv(launched) != nullptr) return;
   setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
   setenv("OMPI_MCA_pml", "ob1", 0);
+  setenv("HWLOC_PLUGINS_BLACKLIST", "hwloc_pci.so,hwloc_gl.so,hwloc_opencl.so,hwloc_xml_libxml.so", 0);
 }
 
 /// Runs `body(comm, root)` between MPI's start (hugePageHeap,
