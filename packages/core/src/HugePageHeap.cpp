@@ -7,8 +7,6 @@
 #include <vector>
 
 #if defined(__linux__) && defined(__GLIBC__)
-#include <fcntl.h>
-#include <gnu/libc-version.h>
 #include <malloc.h>
 #include <unistd.h>
 #endif
@@ -17,70 +15,12 @@ namespace cms {
 
 namespace {
 #if defined(__linux__) && defined(__GLIBC__)
-constexpr const char* kExecutedOnce = "CMS_HUGE_PAGES_EXECUTED";
-
-/// The value of `name` in the environment block `envp`, or nullptr. The
-/// block is passed explicitly: from the executable's .preinit_array this
-/// runs before libc has set `environ` (getenv there found nothing, and the
-/// process executed itself for ever).
-const char* lookup(char** envp, const char* name) {
-  const std::size_t n = std::strlen(name);
-  for (char** e = envp; e != nullptr && *e != nullptr; ++e)
-    if (std::strncmp(*e, name, n) == 0 && (*e)[n] == '=') return *e + n + 1;
-  return nullptr;
-}
-
-/// The first line of a small file, with POSIX calls only (no iostreams:
-/// libstdc++'s initialisers have not run yet from .preinit_array).
-std::string firstLine(const char* path) {
-  const int fd = open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return "";
-  char buffer[256];
-  const ssize_t got = read(fd, buffer, sizeof(buffer) - 1);
-  close(fd);
-  if (got <= 0) return "";
-  std::string line(buffer, static_cast<std::size_t>(got));
-  return line.substr(0, line.find('\n'));
-}
-
-std::string skippedIn(char** envp) {
-  if (const char* opt = lookup(envp, "CMS_HUGE_PAGES"); opt != nullptr && std::strcmp(opt, "0") == 0)
-    return "CMS_HUGE_PAGES=0";
-  // The tunable exists from glibc 2.35 (older ones ignore it).
-  int major = 0, minor = 0;
-  if (std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) != 2 || major < 2 || (major == 2 && minor < 35))
-    return std::string("glibc ") + gnu_get_libc_version() + " has no glibc.malloc.hugetlb";
-  const std::string modes = firstLine("/sys/kernel/mm/transparent_hugepage/enabled");
-  if (modes.find("[always]") == std::string::npos && modes.find("[madvise]") == std::string::npos)
-    return "transparent huge pages are off (" + (modes.empty() ? std::string("no THP") : modes) + ")";
-  // Under valgrind /proc/self/exe is valgrind's own tool.
-  if (const char* pre = lookup(envp, "LD_PRELOAD"); pre != nullptr && std::strstr(pre, "vgpreload") != nullptr)
-    return "under valgrind";
-  return "";
-}
-
-/// Executes /proc/self/exe again with `envp` plus glibc.malloc.hugetlb=1
-/// in GLIBC_TUNABLES, unless the tunable is there already or a reason skips
-/// it. Returns only when it did not (or the exec failed: the process then
-/// goes on as it is).
+/// Executes /proc/self/exe again with `envp` plus the heap's tunable
+/// (withHugePageTunable), unless it needs none. Returns only when it did
+/// not (or the exec failed: the process then goes on as it is).
 void reexecute(char** argv, char** envp) {
-  const char* given = lookup(envp, "GLIBC_TUNABLES");
-  const std::string tunables = given != nullptr ? given : "";
-  if (tunables.find("glibc.malloc.hugetlb") != std::string::npos) return;  // chosen already, by us or the user
-  // Executed once already, yet the tunable is gone (a loader that drops
-  // GLIBC_TUNABLES, as glibc does for set-user-ID programs): once only.
-  if (lookup(envp, kExecutedOnce) != nullptr) return;
-  if (!skippedIn(envp).empty()) return;
-  const std::string with =
-      "GLIBC_TUNABLES=" + (tunables.empty() ? std::string() : tunables + ":") + "glibc.malloc.hugetlb=1";
-  std::vector<char*> env;
-  for (char** e = envp; e != nullptr && *e != nullptr; ++e)
-    if (std::strncmp(*e, "GLIBC_TUNABLES=", 15) != 0) env.push_back(*e);
-  env.push_back(const_cast<char*>(with.c_str()));
-  std::string once = std::string(kExecutedOnce) + "=1";
-  env.push_back(once.data());
-  env.push_back(nullptr);
-  execve("/proc/self/exe", argv, env.data());
+  HugePageEnvironment env;
+  if (withHugePageTunable(envp, env)) execve("/proc/self/exe", argv, env.block.data());
 }
 #endif
 }  // namespace
@@ -99,13 +39,7 @@ std::string freedBlocksKeptSkipped() {
 #endif
 }
 
-std::string hugePageHeapSkipped() {
-#if defined(__linux__) && defined(__GLIBC__)
-  return skippedIn(environ);
-#else
-  return "not Linux with glibc";
-#endif
-}
+std::string hugePageHeapSkipped() { return hugePageHeapSkippedIn(environ); }
 
 void hugePageHeap(char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace cms {
 
@@ -53,5 +54,24 @@ std::string freedBlocksKeptSkipped();
 /// Why hugePageHeap would not re-execute this process ("" if it would, or
 /// did).
 std::string hugePageHeapSkipped();
+
+/// The same for a process started with the environment block `envp`.
+std::string hugePageHeapSkippedIn(char** envp);
+
+/// An environment block for execve: pointers into the one it was made from
+/// and into the two strings held here.
+struct HugePageEnvironment {
+  std::string tunables, marker;
+  std::vector<char*> block;
+};
+
+/// Whether a process started with `envp` should be started with the heap's
+/// tunable instead, and if so that environment in `out`: `envp` with
+/// glibc.malloc.hugetlb=1 added to GLIBC_TUNABLES and the marker
+/// CMS_HUGE_PAGES_EXECUTED=1. False when GLIBC_TUNABLES names the tunable
+/// already, the marker is there, or hugePageHeapSkippedIn gives a reason.
+/// libc only (HugePageEnvironment.cpp): what the cms launcher uses to start
+/// the engine once, with the tunable (drivers/cms/launcher.cpp).
+bool withHugePageTunable(char** envp, HugePageEnvironment& out);
 
 }  // namespace cms
