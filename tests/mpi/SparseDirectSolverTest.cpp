@@ -144,7 +144,7 @@ TEST(MatrixSum, OnASharedGraphTheSameEntriesAsMatrixMatrixAdd) {
 // cms::multiply against Tpetra's apply: Y = alpha A X + beta Y on a chain
 // large enough for threads (nnz x columns above multiply's threshold), with
 // 7 columns (a block of four and a remainder). On one rank it runs its own kernel on 1, 2 and 3 threads: the
-// same bits on all three (each row summed in its stored order),
+// same bits on all three (each row summed in an order fixed by the row),
 // and against Tpetra per column within 2 m eps (|alpha| ||A||_inf ||x||_inf
 // + |beta| ||y0||_inf), m the most entries in a row: both sums run over the
 // same m terms, each rounding at most m times. On two ranks A has an
