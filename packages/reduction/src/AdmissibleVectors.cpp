@@ -182,8 +182,8 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   // the error estimates' flexibility is the same matrix (theory §11.8).
   auto factored = std::make_unique<detail::HeldStiffness>(s, boundary.held);
   const detail::HeldStiffness& K = *factored;
-  MultiVector X(F->getMap(), F->getNumVectors());
-  K.solve(*F, X);
+  MultiVector X(F->getMap(), F->getNumVectors()), KX(F->getMap(), F->getNumVectors());
+  K.solve(*F, X, &KX);
 
   // 1. The static shapes under the children's interface loads come first and
   //    are always kept: they carry the coupling (attachment modes).
@@ -234,10 +234,14 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     double quotient = 0.0;     ///< Rayleigh quotient x^T K x / x^T M x after projection
     std::size_t projected = 0; ///< columns it is M-orthogonal to
   };
-  auto candidate = [&](const Vector& v, const std::string& label) {
+  // Kv, when the caller has it (a solve's own residual product), is taken
+  // as K v: only c.x^T c.Kx is read from it, and c.x vanishes on the held
+  // rows, where K_held and K differ.
+  auto candidate = [&](const Vector& v, const std::string& label, const Vector* Kv = nullptr) {
     Candidate c{Teuchos::rcp(new Vector(v, Teuchos::Copy)), Teuchos::rcp(new Vector(map)),
-                Teuchos::rcp(new Vector(map)), label};
-    multiply(*s.M(), *c.x, *c.Mx), multiply(*s.K(), *c.x, *c.Kx);
+                Kv != nullptr ? Teuchos::rcp(new Vector(*Kv, Teuchos::Copy)) : Teuchos::rcp(new Vector(map)), label};
+    multiply(*s.M(), *c.x, *c.Mx);
+    if (Kv == nullptr) multiply(*s.K(), *c.x, *c.Kx);
     c.norm0 = std::sqrt(std::max(0.0, c.x->dot(*c.Mx)));
     if (!(c.norm0 > 0.0)) basis.dropped.push_back(label + " (zero M-norm: the pattern has no mass on free DOFs)");
     return c;
@@ -266,9 +270,9 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   };
   std::vector<Candidate> continuations;  // in the order they were made
   auto enqueueContinuation = [&](std::size_t k, const std::string& of) {
-    Vector next(map);
-    K.solve(*Mkept[k], next);
-    Candidate c = candidate(next, "Krylov: K^-1 M (" + of + ")");
+    Vector next(map), Knext(map);
+    K.solve(*Mkept[k], next, &Knext);
+    Candidate c = candidate(next, "Krylov: K^-1 M (" + of + ")", &Knext);
     if (c.norm0 > 0.0) continuations.push_back(c);
   };
   for (std::size_t k = 0; k < kept.size(); ++k) enqueueContinuation(k, basis.labels[k]);  // interface shapes' first
@@ -279,7 +283,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   std::vector<Candidate> waiting;
   std::vector<std::pair<VectorPtr, VectorPtr>> Q;  // q and M q
   for (std::size_t j = interfaceColumns; j < labels.size(); ++j) {
-    Candidate c = candidate(*X.getVector(j), labels[j]);
+    Candidate c = candidate(*X.getVector(j), labels[j], KX.getVector(j).get());
     if (!(c.norm0 > 0.0)) continue;
     auto r = Teuchos::rcp(new Vector(*c.x, Teuchos::Copy)), Mr = Teuchos::rcp(new Vector(*c.Mx, Teuchos::Copy));
     for (int pass = 0; pass < 2; ++pass)

@@ -70,7 +70,7 @@ HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<Gl
                          "their section, stiffness ratios past 1e12) (" + solver_->failure() + ")");
 }
 
-void HeldStiffness::solve(const MultiVector& B, MultiVector& X) const {
+void HeldStiffness::solve(const MultiVector& B, MultiVector& X, MultiVector* KX) const {
   MultiVector b(B, Teuchos::Copy);
   zeroHeldRows(b, held_);
   solver_->solve(b, X);
@@ -84,6 +84,7 @@ void HeldStiffness::solve(const MultiVector& B, MultiVector& X) const {
   // were wrong with a converged status. Refuse instead (theory §11.7).
   MultiVector r(b.getMap(), b.getNumVectors());
   multiply(*K_, X, r);
+  if (KX != nullptr) KX->assign(r);
   r.update(-1.0, b, 1.0);
   Teuchos::Array<double> rn(b.getNumVectors()), bn(b.getNumVectors());
   r.norm2(rn());

@@ -70,7 +70,11 @@ public:
   /// fixed is not positive definite (an unrestrained substructure).
   HeldStiffness(const substructure::Substructure& s, std::vector<GlobalOrdinal> held);
   /// X = K_held^-1 B with B's held rows ignored (set to zero): X is zero there.
-  void solve(const MultiVector& B, MultiVector& X) const;
+  /// The solve checks its residual with the product K_held X; given `KX`
+  /// (X's shape), that product is left there: K X on the free rows, since X
+  /// vanishes on the held ones (admissibleVectors needs it, one sparse
+  /// product fewer per vector).
+  void solve(const MultiVector& B, MultiVector& X, MultiVector* KX = nullptr) const;
   const std::vector<GlobalOrdinal>& held() const { return held_; }
   Teuchos::RCP<const CrsMatrix> matrix() const { return K_; }
   /// The SparseDirectSolver method that factored it: "CHOLMOD" or "MUMPS-LDLT".
