@@ -1476,37 +1476,53 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
   std::vector<double> normK(parts.size(), 0.0);
   for (std::size_t k = 0; k < parts.size(); ++k)
     if (parts[k]->sub) normK[k] = parts[k]->sub->frobeniusNorm(substructure::Matrix::K);
+  // The modes a block at a time (as the error estimates): each part's M and
+  // K applied to the block's motions at once, one pass over a matrix per
+  // four columns, not two passes per mode.
   std::vector<ModeCharacter> out;
+  const int nm = static_cast<int>(modes.result.modes.size());
+  std::vector<std::vector<Teuchos::RCP<MultiVector>>> block;
+  std::vector<std::vector<double>> kinetic, strainOf;  // [mode in block][part]
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
-    const auto& mode = modes.result.modes[m];
-    ModeCharacter c;
-    const auto u = expand(modes, static_cast<int>(m));
-    double total = 0.0;
-    for (std::size_t k = 0; k < parts.size(); ++k) {
-      MultiVector Mu(u[k]->getMap(), 2);
-      if (parts[k]->sub) {
-        parts[k]->sub->apply(substructure::Matrix::M, *u[k], Mu);
-      } else {
-        const auto rmap = u[k]->getMap();
-        auto Mr = smallMatrix(rmap, parts[k]->rotor.M);
-        Mr->apply(*u[k], Mu);
+    const int inBlock = static_cast<int>(m) % kResidualBlockModes;
+    if (inBlock == 0) {
+      const int m0 = static_cast<int>(m), bm = std::min(kResidualBlockModes, nm - m0), nc = 2 * bm;
+      block.assign(static_cast<std::size_t>(bm), {});
+      for (int b = 0; b < bm; ++b) block[static_cast<std::size_t>(b)] = expand(modes, m0 + b);
+      kinetic.assign(static_cast<std::size_t>(bm), std::vector<double>(parts.size(), 0.0));
+      strainOf = kinetic;
+      for (std::size_t k = 0; k < parts.size(); ++k) {
+        const auto map = block[0][k]->getMap();
+        MultiVector U(map, static_cast<std::size_t>(nc)), MU(map, static_cast<std::size_t>(nc));
+        for (int b = 0; b < bm; ++b)
+          for (int c = 0; c < 2; ++c)
+            U.getVectorNonConst(static_cast<std::size_t>(2 * b + c))->update(1.0, *block[static_cast<std::size_t>(b)][k]->getVector(c), 0.0);
+        if (parts[k]->sub) parts[k]->sub->apply(substructure::Matrix::M, U, MU);
+        else smallMatrix(map, parts[k]->rotor.M)->apply(U, MU);
+        Teuchos::Array<double> d(nc);
+        U.dot(MU, d());
+        for (int b = 0; b < bm; ++b) kinetic[static_cast<std::size_t>(b)][k] = d[2 * b] + d[2 * b + 1];
+        if (parts[k]->sub) {
+          MultiVector KU(map, static_cast<std::size_t>(nc));
+          parts[k]->sub->apply(substructure::Matrix::K, U, KU);
+          Teuchos::Array<double> e(nc), uu(nc);
+          U.dot(KU, e());
+          U.dot(U, uu());
+          for (int b = 0; b < bm; ++b) {
+            const double size = uu[2 * b] + uu[2 * b + 1];
+            strainOf[static_cast<std::size_t>(b)][k] =
+                normK[k] > 0.0 && size > 0.0 ? std::abs(e[2 * b] + e[2 * b + 1]) / (normK[k] * size) : 0.0;
+          }
+        }
       }
-      Teuchos::Array<double> d(2);
-      u[k]->dot(Mu, d());
-      c.kineticShare.push_back(d[0] + d[1]);
-      total += d[0] + d[1];
-      double strain = 0.0;
-      if (parts[k]->sub) {
-        MultiVector Ku(u[k]->getMap(), 2);
-        parts[k]->sub->apply(substructure::Matrix::K, *u[k], Ku);
-        Teuchos::Array<double> e(2), uu(2);
-        u[k]->dot(Ku, e());
-        u[k]->dot(*u[k], uu());
-        const double size = uu[0] + uu[1];
-        strain = normK[k] > 0.0 && size > 0.0 ? std::abs(e[0] + e[1]) / (normK[k] * size) : 0.0;
-      }
-      c.relativeStrain.push_back(strain);
     }
+    const auto& mode = modes.result.modes[m];
+    const auto& u = block[static_cast<std::size_t>(inBlock)];
+    ModeCharacter c;
+    c.kineticShare = kinetic[static_cast<std::size_t>(inBlock)];
+    c.relativeStrain = strainOf[static_cast<std::size_t>(inBlock)];
+    double total = 0.0;
+    for (double v : c.kineticShare) total += v;
     for (double& v : c.kineticShare) v = total > 0.0 ? v / total : 0.0;
     c.cyclic = detail::cyclicContent(parts, u);  // §15.3
     if (structure_->freeFloating()) {
