@@ -353,6 +353,16 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     auto V = Teuchos::rcp(new MultiVector(map, kept.size()));
     for (std::size_t k = 0; k < kept.size(); ++k) V->getVectorNonConst(k)->assign(*kept[k]);
     basis.vectors = V;
+    // V^T K V and V^T M V from the products every column kept (each
+    // computed from the column as kept): the Rayleigh-Ritz estimates need
+    // no sparse product of their own.
+    const std::size_t k = kept.size();
+    basis.projectedK.assign(k * k, 0.0), basis.projectedM.assign(k * k, 0.0);
+    for (std::size_t i = 0; i < k; ++i)
+      for (std::size_t j = 0; j < k; ++j) {
+        basis.projectedK[i + j * k] = kept[i]->dot(*Kkept[j]);
+        basis.projectedM[i + j * k] = kept[i]->dot(*Mkept[j]);
+      }
   }
   basis.flexibility = std::make_shared<const StaticCorrection>(std::move(factored));
   return basis;

@@ -261,16 +261,20 @@ std::vector<double> estimateFrequencies(const substructure::Substructure& s, con
   if (basis.vectors.is_null()) return {};
   const MultiVector& V = *basis.vectors;
   const int k = static_cast<int>(V.getNumVectors());
-  MultiVector KV(V.getMap(), k), MV(V.getMap(), k);
-  multiply(*s.K(), V, KV);
-  multiply(*s.M(), V, MV);
-  // Small dense projections, replicated: column dot products.
-  std::vector<double> Kr(k * k), Mr(k * k);
-  for (int i = 0; i < k; ++i)
-    for (int j = 0; j < k; ++j) {
-      Kr[i + j * k] = V.getVector(i)->dot(*KV.getVector(j));
-      Mr[i + j * k] = V.getVector(i)->dot(*MV.getVector(j));
-    }
+  // Small dense projections, replicated: the construction's own, or column
+  // dot products.
+  std::vector<double> Kr = basis.projectedK, Mr = basis.projectedM;
+  if (Kr.size() != static_cast<std::size_t>(k) * k || Mr.size() != Kr.size()) {
+    MultiVector KV(V.getMap(), k), MV(V.getMap(), k);
+    multiply(*s.K(), V, KV);
+    multiply(*s.M(), V, MV);
+    Kr.assign(static_cast<std::size_t>(k) * k, 0.0), Mr.assign(static_cast<std::size_t>(k) * k, 0.0);
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) {
+        Kr[i + j * k] = V.getVector(i)->dot(*KV.getVector(j));
+        Mr[i + j * k] = V.getVector(i)->dot(*MV.getVector(j));
+      }
+  }
   std::vector<double> w;
   const int info = detail::symmetricEigen(Kr, Mr, k, false, w);
   if (info != 0) throw NumericalError(s.name() + ": Rayleigh-Ritz estimate failed (LAPACK dsygv info " +

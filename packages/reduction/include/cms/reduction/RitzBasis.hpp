@@ -72,6 +72,11 @@ struct RitzBasis {
   /// (admissible vectors), for the error estimates' flexibility (theory
   /// §11.8) instead of a second factorisation; null otherwise.
   std::shared_ptr<const StaticCorrection> flexibility;
+  /// V^T K V and V^T M V (size() x size(), column-major) when the
+  /// construction had K V and M V at hand (admissible vectors keep both for
+  /// every column): estimateFrequencies then multiplies nothing. Empty
+  /// otherwise.
+  std::vector<double> projectedK, projectedM;
 
   int size() const;  ///< columns (full: the non-held DOF count)
 };
