@@ -278,24 +278,6 @@ TEST(SparseSturmCount, AMissingModeIsDetectedOrRecovered) {
                     "the same verdicts on every rank");
 }
 
-// Auto refuses the simplicial count before ordering when even the best
-// ordering's flops exceed its limit (ldltFlopsLowerBound). The bound
-// against CHOLMOD's count sum_j c_j^2 where c_j is known exactly: a dense
-// matrix (c_j = n - j: n(n+1)(2n+1)/6, bound n(n+1)^2/4) and a tridiagonal
-// one in its own order (no fill: c_j = 2, the last 1), both at or below;
-// and equal when every column has the same count (a diagonal matrix).
-TEST(SparseSturmCount, TheSimplicialFlopBoundIsBelowKnownCounts) {
-  for (std::size_t n : {1UL, 2UL, 7UL, 100UL, 5000UL}) {
-    const double dn = static_cast<double>(n);
-    const double dense = dn * (dn + 1) * (2 * dn + 1) / 6;
-    EXPECT_LE(ldltFlopsLowerBound(n, n * (n - 1) / 2), dense) << n;
-    const double tridiagonal = 4 * (dn - 1) + 1;
-    EXPECT_LE(ldltFlopsLowerBound(n, n - 1), tridiagonal) << n;
-    EXPECT_EQ(ldltFlopsLowerBound(n, 0), dn) << n;
-  }
-  EXPECT_EQ(ldltFlopsLowerBound(0, 0), 0.0);
-}
-
 // Issue 18: the count's factorisation is chosen by its cost (cms::inertia,
 // InertiaMethod::Auto): CHOLMOD's simplicial L D L^T has no dense kernels
 // and took 46 s on the 5e4-DOF rotor's 1e5-row embedding, MUMPS's

@@ -133,22 +133,9 @@ SparseInertia ldltInertia(const UpperColumns& upper, double flopLimit, bool& too
   view.packed = 1;
   cholmod_sparse* S = &view;
   std::vector<double> diag(n, 0.0);
-  std::size_t offDiagonal = 0;
   for (std::size_t j = 0; j < n; ++j)
-    for (int k = upper.p()[j]; k < upper.p()[j + 1]; ++k) {
+    for (int k = upper.p()[j]; k < upper.p()[j + 1]; ++k)
       if (static_cast<std::size_t>(upper.i()[k]) == j) diag[j] += upper.x()[k];
-      else ++offDiagonal;
-    }
-  // Too costly whatever the ordering, known without one: CHOLMOD counts
-  // sum_j c_j^2 flops, c_j the entries of L's column j, and L holds the
-  // diagonal and every off-diagonal pair of A, so sum_j c_j >= n + pairs and
-  // (Cauchy-Schwarz) the flops >= (n + pairs)^2 / n. The 9,702-DOF Hex64
-  // bar's count spent 3% of its run on AMD's ordering only to be refused.
-  if (flopLimit > 0.0 && ldltFlopsLowerBound(n, offDiagonal) > flopLimit) {
-    tooCostly = true;
-    cholmod_finish(&common);
-    return out;
-  }
   cholmod_factor* L = cholmod_analyze(S, &common);
   if (L && flopLimit > 0.0 && common.fl > flopLimit) {
     tooCostly = true;

@@ -61,17 +61,6 @@ enum class InertiaMethod { Auto, Simplicial, Multifrontal };
 /// kernels; MUMPS's own start-up is a few hundredths).
 inline constexpr double kSimplicialInertiaFlops = 3e8;
 
-/// A lower bound on the flops of any simplicial L D L^T of an n-row
-/// symmetric matrix with `offDiagonalPairs` pairs (i, j), i != j, stored:
-/// (n + pairs)^2 / n, whatever the ordering (CHOLMOD's count is sum_j c_j^2
-/// over L's columns, which hold at least n + pairs entries in all). Auto
-/// refuses the simplicial count above kSimplicialInertiaFlops with it before
-/// ordering anything.
-inline double ldltFlopsLowerBound(std::size_t n, std::size_t offDiagonalPairs) {
-  const double total = static_cast<double>(n) + static_cast<double>(offDiagonalPairs);
-  return n == 0 ? 0.0 : total * total / static_cast<double>(n);
-}
-
 /// The inertia of the symmetric A (fill-complete; square, same row, range and
 /// domain maps). Collective.
 SparseInertia inertia(const CrsMatrix& A, InertiaMethod method = InertiaMethod::Auto);
