@@ -36,11 +36,12 @@ namespace cms {
 /// frees matrices of tens of MiB one after another: the 9,702-DOF Hex64 bar
 /// spent a fifth of its time zeroing fresh pages. Here blocks up to
 /// kKeptBlockBytes come from the heap, and its top is trimmed only past
-/// twice that: 1.42 s to 1.31 s on that bar, 63.0 s to 56.8 s on the
-/// 5.7e5-DOF rotor at the same peak (doc/benchmarks.md, "Freed blocks kept
-/// for reuse"). Larger blocks (a big model's factors) still go back to the
-/// kernel when freed, so a run's peak can grow by what fragmentation holds
-/// of at most that. Skipped (freedBlocksKeptSkipped) with CMS_KEEP_FREED=0
+/// twice that: 1.47 s to 1.39 s on that bar, 63.0 s to 56.8 s on the
+/// 5.7e5-DOF rotor at the same peak (doc/benchmarks.md, "Fewer sparse
+/// products, one start, freed blocks kept"). Larger blocks (a big model's
+/// factors) still go back to the kernel when freed. Kept blocks that a
+/// later, larger one cannot use add to the peak: the 1.3e5-DOF rotor's rose
+/// 2% (861 to 879 MiB). Skipped (freedBlocksKeptSkipped) with CMS_KEEP_FREED=0
 /// or a GLIBC_TUNABLES that sets glibc.malloc.mmap_threshold or
 /// trim_threshold itself.
 void hugePageHeap(char** argv);

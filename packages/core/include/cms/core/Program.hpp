@@ -35,7 +35,7 @@ using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 /// plugins hwloc loads to find devices (PCI, OpenGL and OpenCL devices) or
 /// read XML topologies with libxml2: they bring libX11, libOpenCL, libxml2
 /// and ICU, ~15 ms of the loader's time in every start (doc/benchmarks.md,
-/// "Freed blocks kept for reuse"); HWLOC_PLUGINS_BLACKLIST leaves them
+/// "Fewer sparse products, one start, freed blocks kept"); HWLOC_PLUGINS_BLACKLIST leaves them
 /// unloaded (hwloc's built-in XML reader remains). A launched run is left
 /// alone: a cluster's launcher and its fabric choose there.
 inline void singletonMpiDefaults() {
