@@ -379,3 +379,48 @@ TEST(SparseSturmCount, AMultifrontalCountThatCannotFitIsNotStarted) {
   EXPECT_EQ(counted.method, "MUMPS multifrontal L D L^T");
   EXPECT_EQ(counted.negative, inertia(*a.K, *B, InertiaMethod::Simplicial).negative);  // integers: no tolerance
 }
+
+// A forecast of the factorisation's flops (a factorisation of the same
+// pattern the caller made: coverage passes its flexibility's of K) sends
+// Auto to MUMPS without CHOLMOD's analysis when above the simplicial limit,
+// with the same count (integers: no tolerance), and leaves Auto as it is at
+// or below it or when 0; the memory guard still refuses a count that cannot
+// fit. On the frame chain Auto alone picks CHOLMOD, so the method tells
+// which path ran.
+TEST(SparseSturmCount, AFlopForecastAboveTheLimitGoesStraightToMumps) {
+  fem::BeamSection sec;
+  sec.A = 1e-3;
+  sec.Iy = sec.Iz = 1e-7;
+  sec.J = 2e-7;
+  sec.orientation = {0, 1, 0};
+  auto m = fixtures::frameModel(fixtures::lineMesh(2.0, 200), {2e11, 0.3, 7800.0}, sec);
+  m.fixed.push_back({"root", "root", {}, true});
+  const auto a = fem::assemble(m, world());
+  // A shift between frequencies: some negative, some positive eigenvalues.
+  MultiVector x(a.M->getRowMap(), 1), Kx(a.M->getRowMap(), 1), Mx(a.M->getRowMap(), 1);
+  x.putScalar(1.0);
+  a.K->apply(x, Kx);
+  a.M->apply(x, Mx);
+  Teuchos::Array<double> kk(1), mm(1);
+  x.dot(Kx, kk());
+  x.dot(Mx, mm());
+  const double w = 0.7 * std::sqrt(kk[0] / mm[0]);
+  auto shifted = [&] {
+    return Teuchos::RCP<const CrsMatrix>(Tpetra::MatrixMatrix::add(1.0, false, *a.K, -w * w, false, *a.M));
+  };
+  const SparseInertia plain = inertia(shifted(), InertiaMethod::Auto);
+  const SparseInertia below = inertia(shifted(), InertiaMethod::Auto, 0.5 * kSimplicialInertiaFlops);
+  const SparseInertia above = inertia(shifted(), InertiaMethod::Auto, 2.0 * kSimplicialInertiaFlops);
+  ASSERT_TRUE(plain.reliable() && below.reliable() && above.reliable()) << plain.failure << below.failure << above.failure;
+  EXPECT_EQ(plain.method, "CHOLMOD simplicial L D L^T");
+  EXPECT_EQ(below.method, "CHOLMOD simplicial L D L^T");
+  EXPECT_EQ(above.method, "MUMPS multifrontal L D L^T");
+  EXPECT_GT(plain.negative, 0);
+  EXPECT_EQ(above.negative, plain.negative);
+  EXPECT_EQ(above.positive, plain.positive);
+  setenv("CMS_MEMORY_LIMIT", "1e3", 1);  // 1 kB: no multifrontal preparation fits
+  const SparseInertia refused = inertia(shifted(), InertiaMethod::Auto, 2.0 * kSimplicialInertiaFlops);
+  unsetenv("CMS_MEMORY_LIMIT");
+  EXPECT_FALSE(refused.reliable());
+  EXPECT_NE(refused.failure.find("was not started"), std::string::npos) << refused.failure;
+}

@@ -293,9 +293,21 @@ SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
 }
 
 SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method) {
+  return inertia(std::move(owned), method, 0.0);
+}
+
+SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method, double patternFlops) {
   const CrsMatrix& A = *owned;
   checkSquare(A, "A");
   if (method == InertiaMethod::Multifrontal) return distributedInertia(std::move(owned));
+  if (method == InertiaMethod::Auto && patternFlops > kSimplicialInertiaFlops) {
+    // The upper triangle's entries, for the memory guard: the diagonal and
+    // half of the rest (symmetric), counted without gathering anything.
+    const double n = static_cast<double>(A.getGlobalNumRows());
+    const double upperEntries = 0.5 * (static_cast<double>(A.getGlobalNumEntries()) + n);
+    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries);
+    return refused.failure.empty() ? distributedInertia(std::move(owned)) : refused;
+  }
   SparseInertia r;
   bool tooCostly = false;
   double upperEntries = 0.0;

@@ -79,6 +79,8 @@ public:
   Teuchos::RCP<const CrsMatrix> matrix() const { return K_; }
   /// The SparseDirectSolver method that factored it: "CHOLMOD" or "MUMPS-LDLT".
   const std::string& method() const { return solver_->method(); }
+  /// The factorisation's flop count (CHOLMOD's analysis, or MUMPS's).
+  double factorFlops() const { return solver_->factorFlops(); }
   /// Whether it adopted an offered factorisation (OfferedFactorScope).
   bool adopted() const { return adopted_; }
 

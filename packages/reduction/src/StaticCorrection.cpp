@@ -44,4 +44,6 @@ StaticCorrection::~StaticCorrection() = default;
 
 void StaticCorrection::solve(const MultiVector& R, MultiVector& X) const { K_->solve(R, X); }
 
+double StaticCorrection::factorFlops() const { return K_->factorFlops(); }
+
 }  // namespace cms::reduction

@@ -497,9 +497,13 @@ struct SynthesizedStructure::Sums {
 /// mode, nor a second call, nor an enrichment step factorises again.
 struct SynthesizedStructure::Factorisations {
   explicit Factorisations(std::size_t n)
-      : flexibility(n), carriedRigidly(n, -1), constraintModes(n), heldK(n), heldM(n), turnedImage(n, -1) {}
+      : flexibility(n), flexibilityFlops(n, 0.0), carriedRigidly(n, -1), constraintModes(n), heldK(n), heldM(n),
+        turnedImage(n, -1) {}
   /// K_a,s with its attachment held, factored (the estimates' flexibility, §11.8).
   std::vector<std::shared_ptr<const reduction::StaticCorrection>> flexibility;
+  /// Its factorisation's flops, kept when it is released: the coverage's
+  /// count of K_a - w^2 M_a (the same pattern) forecasts its own with it.
+  std::vector<double> flexibilityFlops;
   /// K_s X_s = 0 to rounding (1), or the part is grounded (0); -1 not yet known.
   std::vector<int> carriedRigidly;
   /// A Boolean child's static constraint modes (reduced bases only).
@@ -1577,7 +1581,12 @@ const reduction::StaticCorrection& SynthesizedStructure::flexibility(std::size_t
 }
 
 void SynthesizedStructure::releaseFlexibilities() {
-  for (auto& f : factorisations_->flexibility) f.reset();
+  auto& f = *factorisations_;
+  for (std::size_t k = 0; k < f.flexibility.size(); ++k) {
+    const auto& held = f.flexibility[k] ? f.flexibility[k] : bases_[k].flexibility;
+    if (held) f.flexibilityFlops[k] = held->factorFlops();  // the same on every rank (broadcast by the solver)
+  }
+  for (auto& g : f.flexibility) g.reset();
   for (auto& b : bases_) b.flexibility.reset();
 }
 
@@ -2035,7 +2044,12 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
         // (A named: a temporary RCP<CrsMatrix> converted in the call would
         // hold it to the end of the statement.)
         Teuchos::RCP<const CrsMatrix> A = matrixSum(1.0, *f.heldK[src], -omega * omega, *f.heldM[src]);
-        known = f.counts.emplace(std::make_pair(src, omega), inertia(std::move(A))).first;
+        // The flexibility's factorisation of K_a (the same pattern) forecasts
+        // this one's cost: above the simplicial limit the count goes to
+        // MUMPS without CHOLMOD's analysis first (SparseInertia.hpp).
+        const auto& held = f.flexibility[src] ? f.flexibility[src] : bases_[src].flexibility;
+        const double forecast = held ? held->factorFlops() : f.flexibilityFlops[src];
+        known = f.counts.emplace(std::make_pair(src, omega), inertia(std::move(A), InertiaMethod::Auto, forecast)).first;
       }
       const auto& count = known->second;
       for (double w : rep.frequencyEstimates) c.represented += w < omega;

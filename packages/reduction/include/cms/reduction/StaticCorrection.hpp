@@ -41,6 +41,10 @@ public:
   StaticCorrection& operator=(const StaticCorrection&) = delete;
   /// X = K_b^-1 R with R's held and interface rows ignored; X is zero there.
   void solve(const MultiVector& R, MultiVector& X) const;
+  /// The flops its factorisation took (CHOLMOD's count with its chosen
+  /// ordering, or MUMPS's): a forecast for another factorisation of the
+  /// same pattern (SynthesizedStructure::coverage's Sturm count).
+  double factorFlops() const;
 
 private:
   std::unique_ptr<detail::HeldStiffness> K_;
