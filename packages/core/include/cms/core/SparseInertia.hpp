@@ -16,8 +16,10 @@
 //                  the ranks (cms::distributedInertia): dense kernels on the
 //                  fronts (8-10 s for the same count), but a fixed cost per
 //                  front that makes a chain of 1e5 rows take a minute.
-//   Auto           CHOLMOD's symbolic analysis predicts the simplicial flops;
-//                  above kSimplicialInertiaFlops the count goes to MUMPS.
+//   Auto           CHOLMOD's symbolic analysis predicts the simplicial flops
+//                  (or the caller's forecast from a factorisation of the
+//                  same pattern); above kSimplicialInertiaFlops the count
+//                  goes to MUMPS.
 // Every call is collective and returns the same result on every rank.
 #pragma once
 
