@@ -58,6 +58,20 @@ SparseGyroscopicSystem distributed(const GyroscopicSystem& s) {
   return {distributed(s.M), distributed(s.G), distributed(s.K)};
 }
 
+/// A steel frame chain from (0,0,0) to (2,0,0) in `elements` built-in
+/// Euler-Bernoulli beams, clamped at x = 0: E = 2e11, rho = 7800, A = 1e-3,
+/// Iy = Iz = 1e-7, J = 2e-7.
+fem::FiniteElementModel clampedFrameChain(int elements) {
+  fem::BeamSection sec;
+  sec.A = 1e-3;
+  sec.Iy = sec.Iz = 1e-7;
+  sec.J = 2e-7;
+  sec.orientation = {0, 1, 0};
+  auto model = fixtures::frameModel(fixtures::lineMesh(2.0, elements), {2e11, 0.3, 7800.0}, sec);
+  model.fixed.push_back({"root", "root", {}, true});
+  return model;
+}
+
 /// The structure: a clamped steel post from (0,0,0) to (1,0,0) and
 /// an arm from (1,0,0) to (2,0,0) attached end to start, both 8 built-in
 /// Euler-Bernoulli beam elements, E = 2e11, rho = 7800, A = 1e-3,
@@ -65,14 +79,7 @@ SparseGyroscopicSystem distributed(const GyroscopicSystem& s) {
 /// synthesised system is this one beam of 16 elements clamped at x = 0; with
 /// Iy = Iz every bending frequency is double.
 SparseGyroscopicSystem postWithArm() {
-  fem::BeamSection sec;
-  sec.A = 1e-3;
-  sec.Iy = sec.Iz = 1e-7;
-  sec.J = 2e-7;
-  sec.orientation = {0, 1, 0};
-  auto model = fixtures::frameModel(fixtures::lineMesh(2.0, 16), {2e11, 0.3, 7800.0}, sec);
-  model.fixed.push_back({"root", "root", {}, true});
-  const auto a = fem::assemble(model, world());
+  const auto a = fem::assemble(clampedFrameChain(16), world());
   auto G = Teuchos::rcp(new CrsMatrix(a.map, 0));  // at rest: G = 0
   G->fillComplete(a.map, a.map);
   return {a.M, G, a.K};
@@ -305,16 +312,7 @@ TEST(SparseSturmCount, AutoChoosesTheFactorisationByItsCostAndBothCountAlike) {
     m.fixed.push_back({"root", "root", {}, true});
     cases.push_back({"solid bar", fem::assemble(m, world()), "MUMPS multifrontal L D L^T"});
   }
-  {
-    fem::BeamSection sec;
-    sec.A = 1e-3;
-    sec.Iy = sec.Iz = 1e-7;
-    sec.J = 2e-7;
-    sec.orientation = {0, 1, 0};
-    auto m = fixtures::frameModel(fixtures::lineMesh(2.0, 1000), {2e11, 0.3, 7800.0}, sec);
-    m.fixed.push_back({"root", "root", {}, true});
-    cases.push_back({"frame chain", fem::assemble(m, world()), "CHOLMOD simplicial L D L^T"});
-  }
+  cases.push_back({"frame chain", fem::assemble(clampedFrameChain(1000), world()), "CHOLMOD simplicial L D L^T"});
   for (const auto& c : cases) {
     // A reference frequency: the Rayleigh quotient of the uniform x motion.
     MultiVector x(c.a.M->getRowMap(), 1), Kx(c.a.M->getRowMap(), 1), Mx(c.a.M->getRowMap(), 1);
@@ -388,14 +386,7 @@ TEST(SparseSturmCount, AMultifrontalCountThatCannotFitIsNotStarted) {
 // fit. On the frame chain Auto alone picks CHOLMOD, so the method tells
 // which path ran.
 TEST(SparseSturmCount, AFlopForecastAboveTheLimitGoesStraightToMumps) {
-  fem::BeamSection sec;
-  sec.A = 1e-3;
-  sec.Iy = sec.Iz = 1e-7;
-  sec.J = 2e-7;
-  sec.orientation = {0, 1, 0};
-  auto m = fixtures::frameModel(fixtures::lineMesh(2.0, 200), {2e11, 0.3, 7800.0}, sec);
-  m.fixed.push_back({"root", "root", {}, true});
-  const auto a = fem::assemble(m, world());
+  const auto a = fem::assemble(clampedFrameChain(200), world());
   // A shift between frequencies: some negative, some positive eigenvalues.
   MultiVector x(a.M->getRowMap(), 1), Kx(a.M->getRowMap(), 1), Mx(a.M->getRowMap(), 1);
   x.putScalar(1.0);
