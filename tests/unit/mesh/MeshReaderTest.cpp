@@ -487,6 +487,27 @@ TEST(MeshReaderErrors, DuplicatePhysicalNames) {
   EXPECT_EQ(m.groups.size(), 2u);
 }
 
+// A group without a name is called "dim:tag"; a group named so explicitly
+// collides with it. The structure check cannot see this (the name is made
+// later), so each reader refuses it, naming both tags: the curve here is in
+// groups 1 (named "1:5") and 5 (unnamed). Both readers, the same message.
+TEST(MeshReaderErrors, AGeneratedNameThatCollidesIsRefusedByBothReaders) {
+  TempDir dir("cms_mesh_test");
+  std::string text = replaced(kLine41, "1 1 \"beam\"", "1 1 \"1:5\"");
+  text = replaced(text, "1 0 0 0 1 0 0 1 1 2 1 -2", "1 0 0 0 1 0 0 2 1 5 2 1 -2");
+  const std::string msh = dir.write("generated.msh", text);
+  for (const char* reader : {"cms", "gmsh"}) {
+    setenv("CMS_MSH_READER", reader, 1);
+    expectInputErrorWith([&] { cms::mesh::readGmsh(msh); },
+                         {msh, "\"1:5\"", "dimension 1", "used by two groups", "tags 1 and 5"});
+  }
+  unsetenv("CMS_MSH_READER");
+  // Named otherwise, the two groups read.
+  const std::string ok = dir.write("ok.msh", replaced(text, "1 1 \"1:5\"", "1 1 \"beam\""));
+  const Mesh m = cms::mesh::readGmsh(ok);
+  EXPECT_EQ(m.groups.size(), 3u);
+}
+
 TEST(MeshReaderErrors, UnknownNodeInElement) {
   TempDir dir("cms_mesh_test");
   const std::string msh = dir.write("unknown.msh", replaced(kLine41, "3 3 2\n", "3 3 9\n"));
