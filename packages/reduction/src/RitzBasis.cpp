@@ -130,6 +130,8 @@ void appendOrthonormal(const CrsMatrix& M, const MultiVector& candidates, const 
   auto V = Teuchos::rcp(new MultiVector(map, kept.size()));
   for (std::size_t k = 0; k < kept.size(); ++k) V->getVectorNonConst(k)->assign(*kept[k]);
   basis.vectors = V;
+  // Projections of the columns before are not those of these.
+  basis.projectedK.clear(), basis.projectedM.clear();
 }
 
 bool adoptsStiffnessFactor(const substructure::Substructure& s, const SubstructureBoundary& boundary,
