@@ -1485,86 +1485,78 @@ std::vector<ModeCharacter> SynthesizedStructure::characterise(const StructureMod
   // four columns, not two passes per mode.
   std::vector<ModeCharacter> out;
   const int nm = static_cast<int>(modes.result.modes.size());
-  std::vector<std::vector<Teuchos::RCP<MultiVector>>> block;
-  std::vector<std::vector<double>> kinetic, strainOf;  // [mode in block][part]
-  for (std::size_t m = 0; m < modes.result.modes.size(); ++m) {
-    const int inBlock = static_cast<int>(m) % kResidualBlockModes;
-    if (inBlock == 0) {
-      const int m0 = static_cast<int>(m), bm = std::min(kResidualBlockModes, nm - m0), nc = 2 * bm;
-      block.assign(static_cast<std::size_t>(bm), {});
-      for (int b = 0; b < bm; ++b) block[static_cast<std::size_t>(b)] = expand(modes, m0 + b);
-      kinetic.assign(static_cast<std::size_t>(bm), std::vector<double>(parts.size(), 0.0));
-      strainOf = kinetic;
-      for (std::size_t k = 0; k < parts.size(); ++k) {
-        const auto map = block[0][k]->getMap();
-        MultiVector U(map, static_cast<std::size_t>(nc)), MU(map, static_cast<std::size_t>(nc));
-        for (int b = 0; b < bm; ++b)
-          for (int c = 0; c < 2; ++c)
-            U.getVectorNonConst(static_cast<std::size_t>(2 * b + c))->update(1.0, *block[static_cast<std::size_t>(b)][k]->getVector(c), 0.0);
-        if (parts[k]->sub) parts[k]->sub->apply(substructure::Matrix::M, U, MU);
-        else smallMatrix(map, parts[k]->rotor.M)->apply(U, MU);
-        Teuchos::Array<double> d(nc);
-        U.dot(MU, d());
-        for (int b = 0; b < bm; ++b) kinetic[static_cast<std::size_t>(b)][k] = d[2 * b] + d[2 * b + 1];
-        if (parts[k]->sub) {
-          MultiVector KU(map, static_cast<std::size_t>(nc));
-          parts[k]->sub->apply(substructure::Matrix::K, U, KU);
-          Teuchos::Array<double> e(nc), uu(nc);
-          U.dot(KU, e());
-          U.dot(U, uu());
-          for (int b = 0; b < bm; ++b) {
-            const double size = uu[2 * b] + uu[2 * b + 1];
-            strainOf[static_cast<std::size_t>(b)][k] =
-                normK[k] > 0.0 && size > 0.0 ? std::abs(e[2 * b] + e[2 * b + 1]) / (normK[k] * size) : 0.0;
-          }
+  for (int m0 = 0; m0 < nm; m0 += kResidualBlockModes) {
+    const std::size_t bm = static_cast<std::size_t>(std::min(kResidualBlockModes, nm - m0)), nc = 2 * bm;
+    std::vector<std::vector<Teuchos::RCP<MultiVector>>> block(bm);
+    for (std::size_t b = 0; b < bm; ++b) block[b] = expand(modes, m0 + static_cast<int>(b));
+    // Per part and mode: u^H M u, and |u^H K u| / (||K||_F u^H u).
+    std::vector<std::vector<double>> kinetic(bm, std::vector<double>(parts.size(), 0.0)), strain = kinetic;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const auto map = block[0][k]->getMap();
+      MultiVector U(map, nc), AU(map, nc);
+      for (std::size_t b = 0; b < bm; ++b)
+        for (std::size_t c = 0; c < 2; ++c) U.getVectorNonConst(2 * b + c)->update(1.0, *block[b][k]->getVector(c), 0.0);
+      Teuchos::Array<double> d(nc), uu(nc);
+      if (parts[k]->sub) parts[k]->sub->apply(substructure::Matrix::M, U, AU);
+      else smallMatrix(map, parts[k]->rotor.M)->apply(U, AU);
+      U.dot(AU, d());
+      for (std::size_t b = 0; b < bm; ++b) kinetic[b][k] = d[2 * b] + d[2 * b + 1];
+      if (!parts[k]->sub) continue;
+      parts[k]->sub->apply(substructure::Matrix::K, U, AU);
+      U.dot(AU, d());
+      U.dot(U, uu());
+      for (std::size_t b = 0; b < bm; ++b) {
+        const double size = uu[2 * b] + uu[2 * b + 1];
+        strain[b][k] = normK[k] > 0.0 && size > 0.0 ? std::abs(d[2 * b] + d[2 * b + 1]) / (normK[k] * size) : 0.0;
+      }
+    }
+    for (std::size_t b = 0; b < bm; ++b) {
+      const auto& mode = modes.result.modes[static_cast<std::size_t>(m0) + b];
+      const auto& u = block[b];
+      ModeCharacter c;
+      c.kineticShare = kinetic[b];
+      c.relativeStrain = strain[b];
+      double total = 0.0;
+      for (double v : c.kineticShare) total += v;
+      for (double& v : c.kineticShare) v = total > 0.0 ? v / total : 0.0;
+      c.cyclic = detail::cyclicContent(parts, u);  // §15.3
+      if (structure_->freeFloating()) {
+        // a = q_r^H M_rr q_r and the elastic part e = q_e^H M_ee q_e =
+        // q^H M q - 2 Re(q_r^H (M q)_r) + a: both non-negative, unlike the
+        // cross terms, so a / (a + e) is a share.
+        MultiVector x(map_, 2), Mx(map_, 2);
+        const bool replicated = static_cast<long long>(mode.q.size()) == size();
+        for (std::size_t l = 0; l < map_->getNodeNumElements(); ++l) {
+          const std::size_t i = replicated ? static_cast<std::size_t>(map_->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
+          x.replaceLocalValue(l, 0, mode.q[i].real());
+          x.replaceLocalValue(l, 1, mode.q[i].imag());
         }
+        M_->apply(x, Mx);
+        double local[24] = {0}, global[24] = {0};
+        for (GlobalOrdinal g = 0; g < 6; ++g) {
+          const auto l = map_->getLocalElement(g);
+          if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+          local[4 * g] = x.getData(0)[l], local[4 * g + 1] = x.getData(1)[l];
+          local[4 * g + 2] = Mx.getData(0)[l], local[4 * g + 3] = Mx.getData(1)[l];
+        }
+        Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, 24, local, global);
+        Teuchos::Array<double> qMq(2);
+        x.dot(Mx, qMq());
+        std::complex<double> qr[6], aa = 0.0, rMq = 0.0;
+        for (int g = 0; g < 6; ++g) {
+          qr[g] = {global[4 * g], global[4 * g + 1]};
+          rMq += std::conj(qr[g]) * std::complex<double>(global[4 * g + 2], global[4 * g + 3]);
+        }
+        for (const auto& [i, row] : Mrr)
+          for (auto [j, v] : row)
+            if (j < 6) aa += std::conj(qr[i]) * v * qr[j];
+        const double rigid = aa.real(), elastic = std::max(0.0, qMq[0] + qMq[1] - 2.0 * rMq.real() + rigid);
+        c.rigidShare = rigid + elastic > 0.0 ? rigid / (rigid + elastic) : 0.0;
+        c.frameArtefact = frameRate > 0.0 && c.rigidShare > 0.99 &&
+                          std::abs(mode.omega - frameRate) <= 1e-4 * frameRate;
       }
+      out.push_back(c);
     }
-    const auto& mode = modes.result.modes[m];
-    const auto& u = block[static_cast<std::size_t>(inBlock)];
-    ModeCharacter c;
-    c.kineticShare = kinetic[static_cast<std::size_t>(inBlock)];
-    c.relativeStrain = strainOf[static_cast<std::size_t>(inBlock)];
-    double total = 0.0;
-    for (double v : c.kineticShare) total += v;
-    for (double& v : c.kineticShare) v = total > 0.0 ? v / total : 0.0;
-    c.cyclic = detail::cyclicContent(parts, u);  // §15.3
-    if (structure_->freeFloating()) {
-      // a = q_r^H M_rr q_r and the elastic part e = q_e^H M_ee q_e =
-      // q^H M q - 2 Re(q_r^H (M q)_r) + a: both non-negative, unlike the
-      // cross terms, so a / (a + e) is a share.
-      MultiVector x(map_, 2), Mx(map_, 2);
-      const bool replicated = static_cast<long long>(mode.q.size()) == size();
-      for (std::size_t l = 0; l < map_->getNodeNumElements(); ++l) {
-        const std::size_t i = replicated ? static_cast<std::size_t>(map_->getGlobalElement(static_cast<LocalOrdinal>(l))) : l;
-        x.replaceLocalValue(l, 0, mode.q[i].real());
-        x.replaceLocalValue(l, 1, mode.q[i].imag());
-      }
-      M_->apply(x, Mx);
-      double local[24] = {0}, global[24] = {0};
-      for (GlobalOrdinal g = 0; g < 6; ++g) {
-        const auto l = map_->getLocalElement(g);
-        if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
-        local[4 * g] = x.getData(0)[l], local[4 * g + 1] = x.getData(1)[l];
-        local[4 * g + 2] = Mx.getData(0)[l], local[4 * g + 3] = Mx.getData(1)[l];
-      }
-      Teuchos::reduceAll(*map_->getComm(), Teuchos::REDUCE_SUM, 24, local, global);
-      Teuchos::Array<double> qMq(2);
-      x.dot(Mx, qMq());
-      std::complex<double> qr[6], aa = 0.0, rMq = 0.0;
-      for (int g = 0; g < 6; ++g) {
-        qr[g] = {global[4 * g], global[4 * g + 1]};
-        rMq += std::conj(qr[g]) * std::complex<double>(global[4 * g + 2], global[4 * g + 3]);
-      }
-      for (const auto& [i, row] : Mrr)
-        for (auto [j, v] : row)
-          if (j < 6) aa += std::conj(qr[i]) * v * qr[j];
-      const double rigid = aa.real(), elastic = std::max(0.0, qMq[0] + qMq[1] - 2.0 * rMq.real() + rigid);
-      c.rigidShare = rigid + elastic > 0.0 ? rigid / (rigid + elastic) : 0.0;
-      c.frameArtefact = frameRate > 0.0 && c.rigidShare > 0.99 &&
-                        std::abs(mode.omega - frameRate) <= 1e-4 * frameRate;
-    }
-    out.push_back(c);
   }
   return out;
 }
@@ -1580,12 +1572,15 @@ const reduction::StaticCorrection& SynthesizedStructure::flexibility(std::size_t
   return *f;
 }
 
+double SynthesizedStructure::flexibilityFlops(std::size_t k) const {
+  const auto& f = *factorisations_;
+  const auto& held = f.flexibility[k] ? f.flexibility[k] : bases_[k].flexibility;
+  return held ? held->factorFlops() : f.flexibilityFlops[k];  // the same on every rank (broadcast by the solver)
+}
+
 void SynthesizedStructure::releaseFlexibilities() {
   auto& f = *factorisations_;
-  for (std::size_t k = 0; k < f.flexibility.size(); ++k) {
-    const auto& held = f.flexibility[k] ? f.flexibility[k] : bases_[k].flexibility;
-    if (held) f.flexibilityFlops[k] = held->factorFlops();  // the same on every rank (broadcast by the solver)
-  }
+  for (std::size_t k = 0; k < f.flexibility.size(); ++k) f.flexibilityFlops[k] = flexibilityFlops(k);
   for (auto& g : f.flexibility) g.reset();
   for (auto& b : bases_) b.flexibility.reset();
 }
@@ -2047,9 +2042,8 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
         // The flexibility's factorisation of K_a (the same pattern) forecasts
         // this one's cost: above the simplicial limit the count goes to
         // MUMPS without CHOLMOD's analysis first (SparseInertia.hpp).
-        const auto& held = f.flexibility[src] ? f.flexibility[src] : bases_[src].flexibility;
-        const double forecast = held ? held->factorFlops() : f.flexibilityFlops[src];
-        known = f.counts.emplace(std::make_pair(src, omega), inertia(std::move(A), InertiaMethod::Auto, forecast)).first;
+        known = f.counts.emplace(std::make_pair(src, omega),
+                                 inertia(std::move(A), InertiaMethod::Auto, flexibilityFlops(src))).first;
       }
       const auto& count = known->second;
       for (double w : rep.frequencyEstimates) c.represented += w < omega;

@@ -371,6 +371,9 @@ public:
 
 private:
   using SparseRow = std::vector<std::pair<GlobalOrdinal, double>>;
+  /// The flops of part k's flexibility factorisation (K_a held), live or
+  /// recorded when released; 0 if it never had one. Collective-consistent.
+  double flexibilityFlops(std::size_t k) const;
   struct Sums;            ///< the projected matrices as they accumulate (synthesize, step 4)
   struct Factorisations;  ///< per substructure, built once and shared by copies and later syntheses
   // synthesize, in the order it runs:
