@@ -7,7 +7,8 @@
 // so an engine started without the tunable executes itself again from its
 // .preinit_array, after the loader has mapped and relocated its 56 shared
 // libraries (Trilinos, Open MPI, MUMPS, OpenBLAS): ~40 ms of a start, a
-// tenth of a small scene's run (doc/benchmarks.md, "Fewer sparse products, one start, freed blocks kept").
+// tenth of a small scene's run (doc/benchmarks.md, "Fewer sparse products,
+// one start, freed blocks kept").
 // This program maps libc and libstdc++ only. cms-engine run directly still
 // works as before: it executes itself again.
 //

@@ -35,14 +35,15 @@ using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 /// plugins hwloc loads to find devices (PCI, OpenGL and OpenCL devices) or
 /// read XML topologies with libxml2: they bring libX11, libOpenCL, libxml2
 /// and ICU, ~15 ms of the loader's time in every start (doc/benchmarks.md,
-/// "Fewer sparse products, one start, freed blocks kept"); HWLOC_PLUGINS_BLACKLIST leaves them
-/// unloaded (hwloc's built-in XML reader remains). Nor the transports to
+/// "Fewer sparse products, one start, freed blocks kept");
+/// HWLOC_PLUGINS_BLACKLIST leaves them unloaded (hwloc's built-in XML
+/// reader remains). Nor the transports to
 /// other processes, the collectives' algorithms for many ranks or one-sided
 /// communication across nodes: the components Open MPI opens for them
 /// (tcp, vader, sm; tuned, han, adapt, ...; rdma) are left unopened
 /// (btl self; coll self, basic and libnbc; osc sm): 4-5 ms of a start,
-/// `cms-engine --version` 92 to 88 ms, medians of 15. A launched run is left alone: a cluster's launcher and
-/// its fabric choose there.
+/// `cms-engine --version` 92 to 88 ms, medians of 15. A launched run is
+/// left alone: a cluster's launcher and its fabric choose there.
 inline void singletonMpiDefaults() {
   for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "SLURM_PROCID"})
     if (std::getenv(launched) != nullptr) return;

@@ -15,8 +15,9 @@ namespace cms {
 /// cms's own kernel, which loads each entry of A once per four columns
 /// (with it on one thread instead of Tpetra 13.2's serial apply, a run on
 /// the bar of Lagrange bricks went from 1.74 to 1.55 s, doc/benchmarks.md
-/// "Elements of higher order against CalculiX"), on `threads` threads (0: blasThreads(), this rank's share of
-/// the cores, BlasThreads.hpp) when the product is large enough to pay for
+/// "Elements of higher order against CalculiX"), on `threads` threads (0:
+/// blasThreads(), this rank's share of the cores, BlasThreads.hpp) when the
+/// product is large enough to pay for
 /// them, else on one. Otherwise Tpetra's apply. X and Y the same vectors go
 /// to Tpetra's apply, which copies X; distinct views whose memory overlaps
 /// are multiplied from a copy of X (Tpetra 13.2's apply got them wrong).
