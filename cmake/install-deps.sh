@@ -8,6 +8,7 @@ packages=(
   build-essential cmake ccache pkg-config
   trilinos-all-dev libptscotch-dev libscotch-dev   # Tpetra, Anasazi, Amesos2, Belos, Teuchos
   libopenmpi-dev openmpi-bin                        # MPI (Trilinos is built against Open MPI)
+  libhwloc-dev                                      # hwloc, as Open MPI loads it (the process-start test)
   libsuitesparse-dev                                # CHOLMOD
   libmumps-dev                                      # MUMPS: distributed factorisations
   libarpack2-dev libparpack2-dev                    # ARPACK and its MPI version PARPACK

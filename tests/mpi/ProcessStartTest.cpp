@@ -2,14 +2,18 @@
 // singletonMpiDefaults, called by MpiGTestMain before MPI starts): MPI's
 // defaults for a lone process (no daemon, only the MPI components one
 // process uses), and hwloc's device plugins left unloaded
-// (they bring libX11, libOpenCL, libxml2 and ICU into every start). Run
+// (they bring libX11, libOpenCL, libxml2 and ICU into every start), nor its
+// reading of every PCI, block and network device in /sys (18 ms). Run
 // without mpiexec by the test process_start_singleton; under a launcher
 // the environment is left to it.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <iostream>
 #include <fstream>
 #include <string>
+
+#include <hwloc.h>
 
 namespace {
 bool launched() {
@@ -37,4 +41,35 @@ TEST(ProcessStart, ALoneProcessMapsNoDevicePluginOfHwloc) {
       EXPECT_EQ(line.find(plugin), std::string::npos) << line;
   }
   EXPECT_GT(lines, 0);
+}
+
+namespace {
+/// PCI and OS devices in a topology hwloc loads now, asked to keep every one.
+int devicesFound() {
+  hwloc_topology_t topology;
+  if (hwloc_topology_init(&topology) != 0) return -1;
+  hwloc_topology_set_io_types_filter(topology, HWLOC_TYPE_FILTER_KEEP_ALL);
+  int n = -1;
+  if (hwloc_topology_load(topology) == 0)
+    n = hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PCI_DEVICE) + hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_OS_DEVICE);
+  hwloc_topology_destroy(topology);
+  return n;
+}
+}  // namespace
+
+TEST(ProcessStart, ALoneProcessLeavesHwlocsDeviceDiscoveryOut) {
+  if (launched()) GTEST_SKIP() << "started by a launcher: its environment is left as it is";
+  const char* components = std::getenv("HWLOC_COMPONENTS");
+  ASSERT_NE(components, nullptr);
+  // hwloc reads HWLOC_COMPONENTS at every load, as Open MPI's load read it.
+  EXPECT_EQ(devicesFound(), 0) << "HWLOC_COMPONENTS=" << components;
+  // The control: the same load without the setting finds this machine's
+  // devices (where /sys shows any: otherwise the check above is vacuous here).
+  const std::string kept(components);
+  unsetenv("HWLOC_COMPONENTS");
+  const int withDiscovery = devicesFound();
+  setenv("HWLOC_COMPONENTS", kept.c_str(), 1);
+  EXPECT_GE(withDiscovery, 0);
+  if (withDiscovery == 0) std::cout << "note: hwloc finds no PCI or OS device on this machine even with discovery\n";
+  else std::cout << "hwloc's device discovery finds " << withDiscovery << " PCI and OS devices here\n";
 }

@@ -37,7 +37,11 @@ using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 /// and ICU, ~15 ms of the loader's time in every start (doc/benchmarks.md,
 /// "Fewer sparse products, one start, freed blocks kept");
 /// HWLOC_PLUGINS_BLACKLIST leaves them unloaded (hwloc's built-in XML
-/// reader remains). Nor the transports to
+/// reader remains). Nor hwloc's reading of every PCI, block and network
+/// device from /sys (its linuxio component; the cores and caches come from
+/// its linux component): HWLOC_COMPONENTS=-linuxio, `cms --help` 98 to 80
+/// ms, 20 runs each (doc/benchmarks.md, "Process start without device
+/// discovery"). Nor the transports to
 /// other processes, the collectives' algorithms for many ranks or one-sided
 /// communication across nodes: the components Open MPI opens for them
 /// (tcp, vader, sm; tuned, han, adapt, ...; rdma) are left unopened
@@ -53,6 +57,7 @@ inline void singletonMpiDefaults() {
   setenv("OMPI_MCA_coll", "self,basic,libnbc", 0);
   setenv("OMPI_MCA_osc", "sm", 0);
   setenv("HWLOC_PLUGINS_BLACKLIST", "hwloc_pci.so,hwloc_gl.so,hwloc_opencl.so,hwloc_xml_libxml.so", 0);
+  setenv("HWLOC_COMPONENTS", "-linuxio", 0);
 }
 
 /// Runs `body(comm, root)` between MPI's start (hugePageHeap,
