@@ -10,7 +10,8 @@ when its heap's tunable is missing (it executes itself again from its
 launcher, which passes the tunable, it must map it once whatever the
 machine. The engine's own count is printed, to show what the launcher
 saves here. Also: a launcher without the engine beside it fails with exit
-code 5 and a message naming the engine, having started nothing.
+code 5 and a message naming the engine, having started nothing; and it
+maps glibc alone (its C++ runtime linked in, drivers/CMakeLists.txt).
 """
 import os
 import shutil
@@ -45,6 +46,14 @@ def main():
             sys.exit(f"check_one_start: a launcher without its engine gave {r.returncode}: {r.stdout!r} {r.stderr!r}")
         if r.stdout:
             sys.exit(f"check_one_start: a launcher without its engine wrote {r.stdout!r}")
+        # Its own start maps glibc alone (the C++ runtime is linked in).
+        env = dict(os.environ, LD_DEBUG="files")
+        r = subprocess.run([lone, "--version"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        mapped = sorted({line.split("file=")[1].split()[0] for line in r.stderr.splitlines()
+                         if "file=" in line and "generating link map" in line})
+        if not mapped or any(not name.startswith(("libc.so", "libm.so")) for name in mapped):
+            sys.exit(f"check_one_start: the launcher maps {mapped}, not glibc alone")
+        print(f"the launcher maps {', '.join(mapped)}")
     print("check_one_start: ok")
 
 
