@@ -251,7 +251,7 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
     const auto ret = mgr.solve();
     const auto& sol = problem->getSolution();
     report << "Anasazi Block Krylov-Schur (K^-1 M, block 2): " << sol.numVecs << " of " << nev
-           << " converged in " << mgr.getNumIters() << " restarts";
+           << " converged in " << mgr.getNumIters() << " block iterations";  // Anasazi counts block steps, not restarts
     if (ret != Anasazi::Converged || sol.numVecs < nev)
       throw NumericalError(s.name() + ": fixed-interface modes did not converge (" + report.str() + ")");
     // Lowest frequencies first: largest 1 / omega^2.
