@@ -243,14 +243,24 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
     Teuchos::ParameterList pl;
     pl.set("Which", std::string("LM"));
     pl.set("Block Size", bs);
-    pl.set("Num Blocks", static_cast<int>(std::min<long long>(std::max(2 * count / bs + 10, 20), nfree / bs - 1)));
+    // The Krylov space: five times the wanted count (within 100 vectors of
+    // twice it; never less than the 2 count + 20 it was), its Ritz values
+    // checked every 5 block steps. With 2 count + 20 the rotor hub's 16
+    // modes (clustered pairs of a hexagonal part) took 88-92 block steps,
+    // four restarts; with 5 nev, 35 steps and none, 4.2-5.3 s -> 1.8-2.3 s
+    // on 35,000 DOFs (doc/benchmarks.md, "The fixed-interface modes' Krylov
+    // space"). The check every 5 steps stops a small part once converged,
+    // not when its larger space is full.
+    const long long dim = std::max<long long>(2LL * count + 20, std::min<long long>(5LL * nev, 2LL * nev + 100));
+    pl.set("Num Blocks", static_cast<int>(std::min<long long>((dim + bs - 1) / bs, nfree / bs - 1)));
+    pl.set("Step Size", 5);
     pl.set("Maximum Restarts", 300);
     pl.set("Convergence Tolerance", eigTol);
     pl.set("Verbosity", static_cast<int>(Anasazi::Errors));
     Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
     const auto ret = mgr.solve();
     const auto& sol = problem->getSolution();
-    report << "Anasazi Block Krylov-Schur (K^-1 M, block 2): " << sol.numVecs << " of " << nev
+    report << "Anasazi Block Krylov-Schur (K^-1 M, block " << bs << "): " << sol.numVecs << " of " << nev
            << " converged in " << mgr.getNumIters() << " block iterations";  // Anasazi counts block steps, not restarts
     if (ret != Anasazi::Converged || sol.numVecs < nev)
       throw NumericalError(s.name() + ": fixed-interface modes did not converge (" + report.str() + ")");
