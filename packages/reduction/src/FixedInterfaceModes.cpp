@@ -248,9 +248,9 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
     // checked every 5 block steps. With 2 count + 20 the rotor hub's 16
     // modes (clustered pairs of a hexagonal part) took 88-92 block steps,
     // four restarts; with 5 nev, 35 steps and none, 4.2-5.3 s -> 1.8-2.3 s
-    // on 35,000 DOFs (doc/benchmarks.md, "The fixed-interface modes' Krylov
-    // space"). The check every 5 steps stops a small part once converged,
-    // not when its larger space is full.
+    // on 35,000 DOFs (doc/benchmarks.md, fifth session of 2026-11-29, "The
+    // fixed-interface modes' Krylov space"). The check every 5 steps stops
+    // a small part once converged, not when its larger space is full.
     const long long dim = std::max<long long>(2LL * count + 20, std::min<long long>(5LL * nev, 2LL * nev + 100));
     pl.set("Num Blocks", static_cast<int>(std::min<long long>((dim + bs - 1) / bs, nfree / bs - 1)));
     pl.set("Step Size", 5);

@@ -40,8 +40,8 @@ using CommPtr = Teuchos::RCP<const Teuchos::Comm<int>>;
 /// reader remains). Nor hwloc's reading of every PCI, block and network
 /// device from /sys (its linuxio component; the cores and caches come from
 /// its linux component): HWLOC_COMPONENTS=-linuxio, `cms --help` 98 to 80
-/// ms, 20 runs each (doc/benchmarks.md, "Process start without device
-/// discovery"). Nor the transports to
+/// ms, 20 runs each (doc/benchmarks.md, "Libraries from the working
+/// directory, hwloc's devices, ..."). Nor the transports to
 /// other processes, the collectives' algorithms for many ranks or one-sided
 /// communication across nodes: the components Open MPI opens for them
 /// (tcp, vader, sm; tuned, han, adapt, ...; rdma) are left unopened
