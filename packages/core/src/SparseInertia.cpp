@@ -286,6 +286,15 @@ SparseInertia multifrontalCannotFit(const Teuchos::Comm<int>& comm, Tpetra::glob
   refused.failure = os.str();
   return refused;
 }
+
+/// The multifrontal count `run()` if its preparation fits
+/// (multifrontalCannotFit), else the refusal; the same on every rank.
+template <class Run>
+SparseInertia multifrontalIfItFits(const Teuchos::Comm<int>& comm, Tpetra::global_size_t n, double upperEntries,
+                                   Run&& run) {
+  SparseInertia refused = multifrontalCannotFit(comm, n, upperEntries);
+  return refused.failure.empty() ? run() : refused;
+}
 }  // namespace
 
 SparseInertia inertia(const CrsMatrix& A, InertiaMethod method) {
@@ -305,8 +314,8 @@ SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method,
     // half of the rest (symmetric), counted without gathering anything.
     const double n = static_cast<double>(A.getGlobalNumRows());
     const double upperEntries = 0.5 * (static_cast<double>(A.getGlobalNumEntries()) + n);
-    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries);
-    return refused.failure.empty() ? distributedInertia(std::move(owned)) : refused;
+    return multifrontalIfItFits(*A.getComm(), A.getGlobalNumRows(), upperEntries,
+                                [&] { return distributedInertia(std::move(owned)); });
   }
   SparseInertia r;
   bool tooCostly = false;
@@ -328,8 +337,8 @@ SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method,
     }
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
-    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), A.getGlobalNumRows(), upperEntries);
-    return refused.failure.empty() ? distributedInertia(std::move(owned)) : refused;
+    return multifrontalIfItFits(*A.getComm(), A.getGlobalNumRows(), upperEntries,
+                                [&] { return distributedInertia(std::move(owned)); });
   }
   return broadcast(*A.getComm(), r);
 }
@@ -385,8 +394,7 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
   }
   }
   if (agreeTooCostly(*A.getComm(), tooCostly)) {
-    const SparseInertia refused = multifrontalCannotFit(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries);
-    return refused.failure.empty() ? multifrontal() : refused;
+    return multifrontalIfItFits(*A.getComm(), 2 * A.getGlobalNumRows(), upperEntries, multifrontal);
   }
   return broadcast(*A.getComm(), r);
 }
