@@ -2,12 +2,16 @@
 // matrix and multivector gathered whole onto one rank and re-expressed on a
 // one-rank communicator, and a multivector scattered back, against the
 // distributed originals; a mismatch on the owner raises on every rank (no
-// hang), and a map whose ids are not 0 .. n-1 is refused everywhere.
+// hang), and a map whose ids are not 0 .. n-1 is refused everywhere. A
+// matrix's rows gathered for a factorisation (gatherRows, GatheredRows) in
+// the gather map's order, with every entry where its ids say.
 #include <gtest/gtest.h>
 
+#include <set>
 #include <stdexcept>
 
 #include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_ComputeGatherMap.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
@@ -84,4 +88,89 @@ TEST(Redistribution, MismatchesRaiseOnEveryRank) {
   auto shifted = Teuchos::rcp(new Map(12, 5, world()));
   MultiVector X(shifted, 1);
   EXPECT_THROW(gatherToRank(X, owner, self), std::invalid_argument);
+}
+
+namespace {
+
+/// A symmetric matrix whose rows are dealt out cyclically (row k on rank
+/// k mod P), with ids offset by `base` and either a hole every 7th id
+/// (stride 1) or `stride` apart: neither a slab nor 0 .. n-1, so that the
+/// gathered order and the positions are the map's and not the ids'; stride
+/// 100 spreads the ids beyond GatheredRows's table (its sorted search).
+/// Entry (i, j) = 1 + i + j + i j / 100 at the ids of a pentadiagonal
+/// pattern.
+Teuchos::RCP<CrsMatrix> dealtOut(int n, GlobalOrdinal base, GlobalOrdinal stride) {
+  const int P = world()->getSize(), me = world()->getRank();
+  const auto id = [&](int k) { return stride == 1 ? base + k + k / 6 : base + stride * k; };
+  Teuchos::Array<GlobalOrdinal> mine;
+  for (int k = 0; k < n; ++k)
+    if (k % P == me) mine.push_back(id(k));
+  auto map = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), mine(), 0, world()));
+  auto A = Teuchos::rcp(new CrsMatrix(map, 5));
+  for (int k = 0; k < n; ++k) {
+    if (k % P != me) continue;
+    for (int c = std::max(0, k - 2); c <= std::min(n - 1, k + 2); ++c) {
+      const double i = static_cast<double>(id(k)), j = static_cast<double>(id(c));
+      A->insertGlobalValues(id(k), Teuchos::tuple(id(c)), Teuchos::tuple(1.0 + i + j + i * j / 100.0));
+    }
+  }
+  A->fillComplete();
+  return A;
+}
+
+}  // namespace
+
+// gatherRows and GatheredRows (what every gathered factorisation reads):
+// the rows in computeGatherMap's order with their ids, every entry with its
+// column's id (gatherRows) or its row's position there (GatheredRows), on
+// rank 0 and, for gatherRows, on the last rank; nothing elsewhere.
+TEST(Redistribution, GatheredRowsFollowTheGatherMapsOrder) {
+  for (const GlobalOrdinal stride : {1, 100}) {
+    SCOPED_TRACE("ids " + std::to_string(stride) + " apart");
+    const int n = 41;
+    const auto A = dealtOut(n, 1000, stride);
+    const auto order = Tpetra::Details::computeGatherMap(A->getRowMap(), Teuchos::null);
+    const auto ids = order->getNodeElementList();  // rank 0: every id in the gathered order
+    const auto value = [](GlobalOrdinal i, GlobalOrdinal j) {
+      const double x = static_cast<double>(i), y = static_cast<double>(j);
+      return 1.0 + x + y + x * y / 100.0;
+    };
+    for (int owner : {0, world()->getSize() - 1}) {
+      const RowsOnRank g = gatherRows(*A, owner);
+      if (world()->getRank() != owner) {
+        EXPECT_EQ(g.size(), 0u);
+        continue;
+      }
+      ASSERT_EQ(g.size(), static_cast<std::size_t>(n));
+      ASSERT_EQ(g.offsets.size(), static_cast<std::size_t>(n) + 1);
+      EXPECT_EQ(g.offsets.back(), A->getGlobalNumEntries());
+      std::set<GlobalOrdinal> seen;
+      for (std::size_t r = 0; r < g.size(); ++r) {
+        if (owner == 0) EXPECT_EQ(g.rows[r], ids[r]) << "row " << r;  // computeGatherMap's order
+        seen.insert(g.rows[r]);
+        for (std::size_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
+          EXPECT_EQ(g.values[e], value(g.rows[r], g.columns[e]))
+              << "row id " << g.rows[r] << ", column id " << g.columns[e];
+      }
+      EXPECT_EQ(seen.size(), static_cast<std::size_t>(n));
+    }
+    const GatheredRows rows(A, 0);
+    if (world()->getRank() != 0) {
+      EXPECT_EQ(rows.size(), 0u);
+      continue;
+    }
+    ASSERT_EQ(rows.size(), static_cast<std::size_t>(n));
+    EXPECT_EQ(rows.entries(), A->getGlobalNumEntries());
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      int count = 0;
+      rows.forEach(r, [&](int position, double v) {
+        ASSERT_GE(position, 0);
+        ASSERT_LT(position, n);
+        EXPECT_EQ(v, value(ids[r], ids[position])) << "row " << r << ", position " << position;
+        ++count;
+      });
+      EXPECT_GE(count, 3);  // the pentadiagonal pattern: 3 to 5 a row
+      EXPECT_LE(count, 5);
+    }
+  }
 }

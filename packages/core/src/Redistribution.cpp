@@ -1,9 +1,16 @@
 #include "cms/core/Redistribution.hpp"
 
+#include <algorithm>
+#include <climits>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
+
+#include <mpi.h>
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_Map.hpp>
@@ -23,23 +30,181 @@ Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
   return Teuchos::rcp(new Map(n, comm->getRank() == owner ? n : 0, 0, comm));
 }
 
+MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
+  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
+  return mpi ? (*mpi->getRawMpiComm())() : MPI_COMM_SELF;
+}
+
+static_assert(std::is_same<GlobalOrdinal, long long>::value, "gatherRows sends global ids as MPI_LONG_LONG");
+
+/// One array's pieces concatenated on `owner` in rank order: `counts` and
+/// `offsets` are the owner's (from gatherCounts), empty elsewhere.
+template <class T>
+void gatherArray(const std::vector<T>& mine, std::vector<T>& all, MPI_Datatype type, const std::vector<int>& counts,
+                 const std::vector<int>& offsets, int owner, MPI_Comm c) {
+  MPI_Gatherv(mine.data(), static_cast<int>(mine.size()), type, all.data(), counts.data(), offsets.data(), type,
+              owner, c);
+}
+
+/// Every rank's `mine` on the owner, with their offsets; throws
+/// std::length_error on every rank when the sum exceeds an int.
+std::pair<std::vector<int>, std::vector<int>> gatherCounts(std::size_t mine, int owner, MPI_Comm c, int ranks,
+                                                           bool isOwner, const char* what) {
+  long long m = static_cast<long long>(mine), total = 0;
+  std::vector<long long> all(isOwner ? ranks : 0);
+  MPI_Gather(&m, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, owner, c);
+  for (long long v : all) total += v;
+  MPI_Bcast(&total, 1, MPI_LONG_LONG, owner, c);
+  if (total > INT_MAX)
+    throw std::length_error(std::string("gatherRows: ") + std::to_string(total) + " " + what +
+                            " on one rank exceed MPI's int counts");
+  std::vector<int> counts(all.begin(), all.end()), offsets(counts.size(), 0);
+  for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  return {counts, offsets};
+}
+
 }  // namespace
+
+RowsOnRank gatherRows(const CrsMatrix& A, int owner) {
+  const auto& comm = *A.getComm();
+  const bool isOwner = comm.getRank() == owner;
+  const auto rowMap = A.getRowMap(), colMap = A.getColMap();
+  const std::size_t nLocal = A.getNodeNumRows();
+  // This rank's rows in global ids.
+  RowsOnRank local;
+  local.rows.resize(nLocal);
+  std::vector<int> lengths(nLocal);
+  local.columns.reserve(A.getNodeNumEntries());
+  local.values.reserve(A.getNodeNumEntries());
+  const auto columnIds = colMap->getNodeElementList();
+  CrsMatrix::local_inds_host_view_type cols;
+  CrsMatrix::values_host_view_type vals;
+  for (std::size_t i = 0; i < nLocal; ++i) {
+    A.getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
+    local.rows[i] = rowMap->getGlobalElement(static_cast<LocalOrdinal>(i));
+    lengths[i] = static_cast<int>(cols.extent(0));
+    for (std::size_t e = 0; e < cols.extent(0); ++e)
+      local.columns.push_back(columnIds[cols(e)]), local.values.push_back(vals(e));
+  }
+  RowsOnRank out;
+  if (comm.getSize() == 1) {
+    out = std::move(local);
+  } else {
+    const MPI_Comm c = rawComm(comm);
+    const int ranks = comm.getSize();
+    const auto [rowCounts, rowOffsets] = gatherCounts(nLocal, owner, c, ranks, isOwner, "rows");
+    const auto [entryCounts, entryOffsets] = gatherCounts(local.columns.size(), owner, c, ranks, isOwner, "entries");
+    if (isOwner) {
+      out.rows.resize(static_cast<std::size_t>(rowOffsets.back() + rowCounts.back()));
+      out.columns.resize(static_cast<std::size_t>(entryOffsets.back() + entryCounts.back()));
+      out.values.resize(out.columns.size());
+    }
+    std::vector<int> allLengths(out.rows.size());
+    gatherArray(local.rows, out.rows, MPI_LONG_LONG, rowCounts, rowOffsets, owner, c);
+    gatherArray(lengths, allLengths, MPI_INT, rowCounts, rowOffsets, owner, c);
+    gatherArray(local.columns, out.columns, MPI_LONG_LONG, entryCounts, entryOffsets, owner, c);
+    gatherArray(local.values, out.values, MPI_DOUBLE, entryCounts, entryOffsets, owner, c);
+    lengths = std::move(allLengths);
+  }
+  if (!isOwner) return RowsOnRank{};
+  out.offsets.assign(out.rows.size() + 1, 0);
+  for (std::size_t r = 0; r < out.rows.size(); ++r)
+    out.offsets[r + 1] = out.offsets[r] + static_cast<std::size_t>(lengths[r]);
+  return out;
+}
+
+GatheredRows::GatheredRows(const Teuchos::RCP<const CrsMatrix>& A, int owner) {
+  const auto& comm = *A->getComm();
+  const auto rowMap = A->getRowMap();
+  if (comm.getSize() == 1) {  // A's own arrays; columns renumbered through the row map
+    A_ = A;
+    n_ = A->getNodeNumRows();
+    const auto local = A->getLocalMatrixHost();
+    static_assert(sizeof(local.graph.row_map(0)) == sizeof(std::size_t), "a local matrix's row offsets are size_t");
+    static_assert(sizeof(local.graph.entries(0)) == sizeof(int), "a local matrix's column indices are int");
+    ptr_ = reinterpret_cast<const std::size_t*>(local.graph.row_map.data());
+    col_ = reinterpret_cast<const int*>(local.graph.entries.data());
+    val_ = local.values.data();
+    const auto colMap = A->getColMap();
+    position_.resize(colMap->getNodeNumElements());
+    for (std::size_t c = 0; c < position_.size(); ++c) {
+      const auto l = rowMap->getLocalElement(colMap->getGlobalElement(static_cast<LocalOrdinal>(c)));
+      if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid())
+        throw std::invalid_argument("GatheredRows: a column that is no row (the matrix is not square)");
+      position_[c] = static_cast<int>(l);
+    }
+    return;
+  }
+  RowsOnRank g = gatherRows(*A, owner);
+  if (comm.getRank() != owner) return;
+  n_ = g.size();
+  if (n_ > static_cast<std::size_t>(INT_MAX))
+    throw std::length_error("GatheredRows: " + std::to_string(n_) + " rows exceed int positions");
+  // Global id -> position: a table over the ids' span when it is at most a
+  // few times the rows (the layouts' ids are 0 .. n-1), else a sorted search.
+  GlobalOrdinal lo = 0, hi = -1;
+  if (n_ > 0) {
+    const auto [a, b] = std::minmax_element(g.rows.begin(), g.rows.end());
+    lo = *a, hi = *b;
+  }
+  std::vector<int> table;
+  std::vector<std::pair<GlobalOrdinal, int>> sorted;
+  const bool dense = n_ > 0 && static_cast<double>(hi - lo) < 4.0 * static_cast<double>(n_) + 1024.0;
+  if (dense) {
+    table.assign(static_cast<std::size_t>(hi - lo + 1), -1);
+    for (std::size_t r = 0; r < n_; ++r) table[static_cast<std::size_t>(g.rows[r] - lo)] = static_cast<int>(r);
+  } else {
+    sorted.reserve(n_);
+    for (std::size_t r = 0; r < n_; ++r) sorted.emplace_back(g.rows[r], static_cast<int>(r));
+    std::sort(sorted.begin(), sorted.end());
+  }
+  const auto positionOf = [&](GlobalOrdinal id) {
+    if (dense) return id < lo || id > hi ? -1 : table[static_cast<std::size_t>(id - lo)];
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(id, INT_MIN));
+    return it != sorted.end() && it->first == id ? it->second : -1;
+  };
+  ownCol_.resize(g.columns.size());
+  for (std::size_t e = 0; e < g.columns.size(); ++e) {
+    ownCol_[e] = positionOf(g.columns[e]);
+    if (ownCol_[e] < 0) throw std::invalid_argument("GatheredRows: a column that is no row (the matrix is not square)");
+  }
+  std::vector<GlobalOrdinal>().swap(g.columns);
+  ownPtr_ = std::move(g.offsets);
+  ownVal_ = std::move(g.values);
+  ptr_ = ownPtr_.data();
+  col_ = ownCol_.data();
+  val_ = ownVal_.data();
+}
 
 Teuchos::RCP<CrsMatrix> gatherToRank(const CrsMatrix& A, int owner,
                                      const Teuchos::RCP<const Teuchos::Comm<int>>& self) {
-  const auto cmap = concentrated(*A.getRowMap(), owner);
-  Tpetra::Import<> imp(A.getRowMap(), cmap);
-  CrsMatrix Ac(cmap, 0);
-  Ac.doImport(A, imp, Tpetra::INSERT);
-  Ac.fillComplete(cmap, cmap);
-  if (cmap->getComm()->getRank() != owner) return Teuchos::null;
-  // The local arrays are already those of a one-rank matrix: the same
-  // contiguous row map and column ids, re-expressed on `self`.
-  const auto n = cmap->getGlobalNumElements();
+  concentrated(*A.getRowMap(), owner);  // the ids 0 .. n-1, checked on every rank
+  const auto n = A.getRowMap()->getGlobalNumElements();
+  const RowsOnRank g = gatherRows(A, owner);
+  if (A.getComm()->getRank() != owner) return Teuchos::null;
+  // Row i of the one-rank matrix is global id i; its columns are sorted by
+  // id, which is their local index on a column map of 0 .. n-1 (a square
+  // matrix's columns are among its rows' ids).
+  using LocalMatrix = CrsMatrix::local_matrix_device_type;
+  typename LocalMatrix::row_map_type::non_const_type ptr("rows", n + 1);
+  typename LocalMatrix::index_type::non_const_type ind("columns", g.columns.size());
+  typename LocalMatrix::values_type::non_const_type val("values", g.values.size());
+  std::vector<std::size_t> at(n, 0);
+  for (std::size_t r = 0; r < g.size(); ++r) at[static_cast<std::size_t>(g.rows[r])] = r;
+  std::vector<std::pair<GlobalOrdinal, double>> row;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ptr(i) = k;
+    const std::size_t r = at[i];
+    row.clear();
+    for (std::size_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e) row.emplace_back(g.columns[e], g.values[e]);
+    std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [cId, v] : row) ind(k) = static_cast<LocalOrdinal>(cId), val(k) = v, ++k;
+  }
+  ptr(n) = k;
   auto rows = Teuchos::rcp(new Map(n, n, 0, self));
-  auto cols = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                   Ac.getColMap()->getNodeElementList(), 0, self));
-  return Teuchos::rcp(new CrsMatrix(Ac.getLocalMatrixDevice(), rows, cols, rows, rows));
+  LocalMatrix local("gathered", static_cast<LocalOrdinal>(n), static_cast<LocalOrdinal>(n), k, val, ptr, ind);
+  return Teuchos::rcp(new CrsMatrix(local, rows, rows, rows, rows));
 }
 
 Teuchos::RCP<MultiVector> gatherToRank(const MultiVector& X, int owner,

@@ -2,6 +2,7 @@
 
 #include <cholmod.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <Amesos2.hpp>
@@ -15,6 +16,7 @@
 
 #include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/Redistribution.hpp"  // GatheredRows
 
 namespace cms {
 
@@ -118,22 +120,17 @@ struct SparseDirectSolver::Impl {
     if (commonStarted) cholmod_finish(&common);
   }
 
-  /// All of A on rank 0 (an empty matrix elsewhere). On one rank A itself:
-  /// the import into a new matrix was a full copy of A built entry by entry
-  /// (issue 18: a sixth of the page faults of a factorisation).
-  Teuchos::RCP<const CrsMatrix> gather() {
+  /// A's rows on rank 0 in rootMap's order (GatheredRows: on one rank A's
+  /// own arrays), and the maps the solves move right-hand sides by.
+  GatheredRows gather() {
     rootMap = rootMapOf(A->getRowMap());
     toRoot = Teuchos::rcp(new Tpetra::Import<>(A->getRowMap(), rootMap));
-    if (A->getComm()->getSize() == 1 && rootMap->isSameAs(*A->getRowMap())) return A;
-    auto rootA = Teuchos::rcp(new CrsMatrix(rootMap, 0));
-    rootA->doImport(*A, *toRoot, Tpetra::INSERT);
-    rootA->fillComplete(rootMap, rootMap);
-    return rootA;
+    return GatheredRows(A, 0);
   }
 
   Outcome factorAmesos(const std::string& method, std::string& failure) {
     const auto comm = A->getComm();
-    const auto rootA = gather();
+    const GatheredRows rootA = gather();
     int ok = 1;
     if (comm->getRank() == 0) {
       try {
@@ -143,18 +140,18 @@ struct SparseDirectSolver::Impl {
         // contiguous global ids ("IsContiguous") and mis-solves blocks of
         // right-hand sides otherwise.
         serialMap = Teuchos::rcp(new Map(n, 0, self));
-        serialA = Teuchos::rcp(new CrsMatrix(serialMap, rootA->getNodeMaxNumRowEntries()));
-        const auto colMap = rootA->getColMap();
-        CrsMatrix::local_inds_host_view_type cols;
-        CrsMatrix::values_host_view_type vals;
+        size_t longest = 0;
         for (size_t i = 0; i < n; ++i) {
-          rootA->getLocalRowView(static_cast<LocalOrdinal>(i), cols, vals);
-          Teuchos::Array<GlobalOrdinal> gc(cols.extent(0));
-          Teuchos::Array<double> v(cols.extent(0));
-          for (size_t e = 0; e < cols.extent(0); ++e) {
-            gc[e] = rootMap->getLocalElement(colMap->getGlobalElement(cols(e)));
-            v[e] = vals(e);
-          }
+          size_t length = 0;
+          rootA.forEach(i, [&](int, double) { ++length; });
+          longest = std::max(longest, length);
+        }
+        serialA = Teuchos::rcp(new CrsMatrix(serialMap, longest));
+        Teuchos::Array<GlobalOrdinal> gc;
+        Teuchos::Array<double> v;
+        for (size_t i = 0; i < n; ++i) {
+          gc.clear(), v.clear();
+          rootA.forEach(i, [&](int c, double x) { gc.push_back(c), v.push_back(x); });
           serialA->insertGlobalValues(static_cast<GlobalOrdinal>(i), gc(), v());
         }
         serialA->fillComplete(serialMap, serialMap);
@@ -194,36 +191,25 @@ struct SparseDirectSolver::Impl {
 
   Outcome factorCholmod(std::string& failure) {
     const auto comm = A->getComm();
-    const auto rootAp = gather();
-    const CrsMatrix& rootA = *rootAp;
+    const GatheredRows rootA = gather();
     int status = 0;  // 0 factored, 1 not positive definite, 2 other failure
     if (comm->getRank() == 0) {
       cholmod_start(&common);
       commonStarted = true;
       common.print = 0;  // failures are reported through Outcome and failure()
-      const size_t n = rootMap->getNodeNumElements();
-      const auto colMap = rootA.getColMap();
+      const size_t n = rootA.size();
       // CSR of a symmetric matrix is its CSC; keep the upper triangle (stype 1).
-      size_t nnz = 0;
-      for (size_t i = 0; i < n; ++i) nnz += rootA.getNumEntriesInLocalRow(i);
-      cholmod_sparse* S = cholmod_allocate_sparse(n, n, nnz, /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1, CHOLMOD_REAL, &common);
+      cholmod_sparse* S = cholmod_allocate_sparse(n, n, rootA.entries(), /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1,
+                                                  CHOLMOD_REAL, &common);
       auto* Sp = static_cast<int*>(S->p);
       auto* Si = static_cast<int*>(S->i);
       auto* Sx = static_cast<double*>(S->x);
       size_t k = 0;
-      CrsMatrix::local_inds_host_view_type cols;
-      CrsMatrix::values_host_view_type vals;
       for (size_t j = 0; j < n; ++j) {
         Sp[j] = static_cast<int>(k);
-        rootA.getLocalRowView(static_cast<LocalOrdinal>(j), cols, vals);
-        for (size_t e = 0; e < cols.extent(0); ++e) {
-          const GlobalOrdinal i = rootMap->getLocalElement(colMap->getGlobalElement(cols(e)));
-          if (i <= static_cast<GlobalOrdinal>(j)) {
-            Si[k] = static_cast<int>(i);
-            Sx[k] = vals(e);
-            ++k;
-          }
-        }
+        rootA.forEach(j, [&](int i, double v) {
+          if (static_cast<size_t>(i) <= j) Si[k] = i, Sx[k] = v, ++k;
+        });
       }
       Sp[n] = static_cast<int>(k);
       common.quick_return_if_not_posdef = 1;

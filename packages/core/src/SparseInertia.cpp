@@ -10,63 +10,16 @@
 #include <vector>
 
 #include <Teuchos_CommHelpers.hpp>
-#include <Tpetra_ComputeGatherMap.hpp>
 #include <Tpetra_CrsMatrix.hpp>
-#include <Tpetra_Import.hpp>
 
 #include "cms/core/DistributedDirectSolver.hpp"  // distributedInertia
 #include "cms/core/Error.hpp"
 #include "cms/core/PeakMemory.hpp"  // availableMemoryBytes
+#include "cms/core/Redistribution.hpp"  // GatheredRows
 
 namespace cms {
 
 namespace {
-
-/// Rows of a symmetric (or skew) matrix on rank 0, read in place: the
-/// matrix itself on one rank, an imported copy on rank 0 otherwise, with
-/// each column renumbered to its row's position there (empty elsewhere).
-/// Copying the rows into flat arrays first was 85 of the 217 MiB the 54,000-
-/// DOF bar's Sturm count held at its peak; a vector per row before that made
-/// ~2.6e5 allocations (issue 18).
-struct RootRows {
-  std::size_t n = 0;
-  std::size_t entries = 0;
-  Teuchos::RCP<const CrsMatrix> A;
-  std::vector<int> position;  ///< A's column-map index -> row position on rank 0
-
-  /// f(i, a_ji) for every stored entry of row j.
-  template <class F>
-  void forEach(std::size_t j, F&& f) const {
-    CrsMatrix::local_inds_host_view_type cols;
-    CrsMatrix::values_host_view_type vals;
-    A->getLocalRowView(static_cast<LocalOrdinal>(j), cols, vals);
-    for (std::size_t e = 0; e < cols.extent(0); ++e) f(position[cols(e)], vals(e));
-  }
-};
-
-RootRows gatherRows(const CrsMatrix& A) {
-  const auto rootMap = Tpetra::Details::computeGatherMap(A.getRowMap(), Teuchos::null);
-  RootRows r;
-  r.A = Teuchos::rcpFromRef(A);
-  if (!(A.getComm()->getSize() == 1 && rootMap->isSameAs(*A.getRowMap()))) {
-    Tpetra::Import<> toRoot(A.getRowMap(), rootMap);
-    auto imported = Teuchos::rcp(new CrsMatrix(rootMap, 0));
-    imported->doImport(A, toRoot, Tpetra::INSERT);
-    imported->fillComplete(rootMap, rootMap);
-    r.A = imported;
-  }
-  if (A.getComm()->getRank() != 0) {
-    r.A = Teuchos::null;
-    return r;
-  }
-  r.n = rootMap->getNodeNumElements();
-  r.entries = r.A->getNodeNumEntries();
-  const auto colMap = r.A->getColMap();
-  r.position.resize(colMap->getNodeNumElements());
-  for (std::size_t c = 0; c < r.position.size(); ++c)
-    r.position[c] = static_cast<int>(rootMap->getLocalElement(colMap->getGlobalElement(static_cast<LocalOrdinal>(c))));
-  return r;
-}
 
 /// The upper triangle of a symmetric matrix by columns (CSC), filled a
 /// column at a time: begin(j), then add(i, v) for its entries i <= j.
@@ -321,11 +274,11 @@ SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method,
   bool tooCostly = false;
   double upperEntries = 0.0;
   {  // the gathered copy released before the multifrontal path
-    const RootRows a = gatherRows(A);
+    const GatheredRows a(Teuchos::rcpFromRef(A), 0);
     if (A.getComm()->getRank() == 0) {
       // Symmetric: row j is column j; keep its upper part (i <= j).
-      UpperColumns cols(a.n, a.entries / 2 + a.n);
-      for (std::size_t j = 0; j < a.n; ++j) {
+      UpperColumns cols(a.size(), a.entries() / 2 + a.size());
+      for (std::size_t j = 0; j < a.size(); ++j) {
         cols.begin(j);
         a.forEach(j, [&](int i, double v) {
           if (static_cast<std::size_t>(i) <= j) cols.add(i, v);
@@ -367,13 +320,13 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
   bool tooCostly = false;
   double upperEntries = 0.0;
   {  // the gathered copies released before the multifrontal path
-  const RootRows a = gatherRows(A), b = gatherRows(B);
+  const GatheredRows a(Teuchos::rcpFromRef(A), 0), b(Teuchos::rcpFromRef(B), 0);
   if (A.getComm()->getRank() == 0) {
     // Upper triangle of E = [[A, -B], [B, A]] by columns. Column j < n: A's
     // (i, j), i <= j. Column n + j: the block -B, whose column j is row j of
     // B (B^T = -B), then A's (i, j), i <= j, at rows n + i.
-    const std::size_t n = a.n;
-    UpperColumns cols(2 * n, a.entries + b.entries + 2 * n);
+    const std::size_t n = a.size();
+    UpperColumns cols(2 * n, a.entries() + b.entries() + 2 * n);
     for (std::size_t j = 0; j < n; ++j) {
       cols.begin(j);
       a.forEach(j, [&](int i, double v) {
