@@ -9,6 +9,7 @@
 
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_ComputeGatherMap.hpp>
@@ -97,18 +98,20 @@ namespace {
 /// (stride 1) or `stride` apart: neither a slab nor 0 .. n-1, so that the
 /// gathered order and the positions are the map's and not the ids'; stride
 /// 100 spreads the ids beyond GatheredRows's table (its sorted search).
-/// Entry (i, j) = 1 + i + j + i j / 100 at the ids of a pentadiagonal
-/// pattern.
-Teuchos::RCP<CrsMatrix> dealtOut(int n, GlobalOrdinal base, GlobalOrdinal stride) {
+/// With `lastOnly` every row is the last rank's instead (the others,
+/// rank 0 among them, hold none). Entry (i, j) = 1 + i + j + i j / 100 at
+/// the ids of a pentadiagonal pattern.
+Teuchos::RCP<CrsMatrix> dealtOut(int n, GlobalOrdinal base, GlobalOrdinal stride, bool lastOnly = false) {
   const int P = world()->getSize(), me = world()->getRank();
   const auto id = [&](int k) { return stride == 1 ? base + k + k / 6 : base + stride * k; };
+  const auto ownerOf = [&](int k) { return lastOnly ? P - 1 : k % P; };
   Teuchos::Array<GlobalOrdinal> mine;
   for (int k = 0; k < n; ++k)
-    if (k % P == me) mine.push_back(id(k));
+    if (ownerOf(k) == me) mine.push_back(id(k));
   auto map = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), mine(), 0, world()));
   auto A = Teuchos::rcp(new CrsMatrix(map, 5));
   for (int k = 0; k < n; ++k) {
-    if (k % P != me) continue;
+    if (ownerOf(k) != me) continue;
     for (int c = std::max(0, k - 2); c <= std::min(n - 1, k + 2); ++c) {
       const double i = static_cast<double>(id(k)), j = static_cast<double>(id(c));
       A->insertGlobalValues(id(k), Teuchos::tuple(id(c)), Teuchos::tuple(1.0 + i + j + i * j / 100.0));
@@ -123,12 +126,13 @@ Teuchos::RCP<CrsMatrix> dealtOut(int n, GlobalOrdinal base, GlobalOrdinal stride
 // gatherRows and GatheredRows (what every gathered factorisation reads):
 // the rows in computeGatherMap's order with their ids, every entry with its
 // column's id (gatherRows) or its row's position there (GatheredRows), on
-// rank 0 and, for gatherRows, on the last rank; nothing elsewhere.
+// rank 0 and, for gatherRows, on the last rank; nothing elsewhere. Also
+// when the rows are all another rank's.
 TEST(Redistribution, GatheredRowsFollowTheGatherMapsOrder) {
-  for (const GlobalOrdinal stride : {1, 100}) {
-    SCOPED_TRACE("ids " + std::to_string(stride) + " apart");
+  for (const auto& [stride, lastOnly] : {std::pair<GlobalOrdinal, bool>{1, false}, {100, false}, {1, true}}) {
+    SCOPED_TRACE("ids " + std::to_string(stride) + " apart" + (lastOnly ? ", every row on the last rank" : ""));
     const int n = 41;
-    const auto A = dealtOut(n, 1000, stride);
+    const auto A = dealtOut(n, 1000, stride, lastOnly);
     const auto order = Tpetra::Details::computeGatherMap(A->getRowMap(), Teuchos::null);
     const auto ids = order->getNodeElementList();  // rank 0: every id in the gathered order
     const auto value = [](GlobalOrdinal i, GlobalOrdinal j) {
