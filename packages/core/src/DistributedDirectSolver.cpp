@@ -12,7 +12,6 @@
 #include <vector>
 
 #include <Teuchos_CommHelpers.hpp>
-#include <Teuchos_DefaultMpiComm.hpp>
 #include <Teuchos_Time.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -21,6 +20,7 @@
 #include <Tpetra_Vector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/MpiComm.hpp"
 #include "cms/core/PeakMemory.hpp"
 
 namespace cms {
@@ -36,11 +36,6 @@ inline MUMPS_INT info(const DMUMPS_STRUC_C& id, int k) { return id.info[k - 1]; 
 /// MUMPS reports large counts negative, in millions (INFOG(29), INFO(2) ...).
 double countOf(MUMPS_INT v) { return v >= 0 ? double(v) : -1e6 * double(v); }
 
-MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  return mpi ? (*mpi->getRawMpiComm())() : MPI_COMM_SELF;
-}
-
 bool isWorkspaceShortfall(int code) {
   return code == -8 || code == -9 || code == -14 || code == -17 || code == -20;
 }
@@ -53,7 +48,7 @@ bool isWorkspaceShortfall(int code) {
 /// orders by itself). Collective.
 std::vector<MUMPS_INT> nestedDissection(const Teuchos::Comm<int>& comm, MUMPS_INT n,
                                         const std::vector<MUMPS_INT>& irn, const std::vector<MUMPS_INT>& jcn) {
-  const MPI_Comm c = rawComm(comm);
+  const MPI_Comm c = rawMpiComm(comm);
   const int ranks = comm.getSize(), rank = comm.getRank();
   int mine = static_cast<int>(irn.size());
   std::vector<int> counts(ranks), offsets(ranks, 0);
@@ -338,7 +333,7 @@ void DistributedDirectSolver::refuseWhatCannotFit(Impl& m, const Teuchos::Comm<i
   const double needMB = growth * countOf(info(m.id, estimate)), availableMB = availableMemoryBytes() / 1e6 / onNode;
   double worst[2] = {needMB > 0.9 * availableMB ? needMB : 0.0, availableMB};
   double all[2] = {0.0, 0.0};
-  MPI_Allreduce(worst, all, 1, MPI_DOUBLE, MPI_MAX, rawComm(comm));
+  MPI_Allreduce(worst, all, 1, MPI_DOUBLE, MPI_MAX, rawMpiComm(comm));
   if (all[0] == 0.0) return;
   std::ostringstream os;
   os << name_ << ": the factorisation of " << n_ << " rows needs about " << std::fixed << std::setprecision(0)
@@ -367,7 +362,7 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   id = DMUMPS_STRUC_C{};
   id.par = 1;  // the host works too
   id.sym = m.kind == Kind::General ? 0 : (m.kind == Kind::PositiveDefinite ? 1 : 2);
-  id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(rawComm(*comm)));
+  id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(rawMpiComm(*comm)));
   m.call(-1);
   m.started = true;
   auto check = [&](const char* phase) {
@@ -409,7 +404,7 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   if (ordering_ == Ordering::NestedDissection && m.kind != Kind::General) {
     perm = nestedDissection(*comm, id.n, m.irn, m.jcn);
     int given = comm->getRank() == 0 ? !perm.empty() : 0;
-    MPI_Bcast(&given, 1, MPI_INT, 0, rawComm(*comm));
+    MPI_Bcast(&given, 1, MPI_INT, 0, rawMpiComm(*comm));
     if (given) {
       icntl(id, 7) = 1;  // the ordering in PERM_IN (host)
       id.perm_in = perm.empty() ? nullptr : perm.data();
@@ -518,7 +513,7 @@ void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const 
 
 int ranksOnNode(const Teuchos::Comm<int>& comm) {
   MPI_Comm node;
-  MPI_Comm_split_type(rawComm(comm), MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  MPI_Comm_split_type(rawMpiComm(comm), MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   int onNode = 1;
   MPI_Comm_size(node, &onNode);
   MPI_Comm_free(&node);

@@ -10,11 +10,12 @@
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_CommHelpers.hpp>
-#include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
+
+#include "cms/core/MpiComm.hpp"
 
 namespace cms {
 
@@ -28,11 +29,6 @@ Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
     throw std::invalid_argument("gatherToRank: the row ids are not 0 .. n-1");
   const auto comm = like.getComm();
   return Teuchos::rcp(new Map(n, comm->getRank() == owner ? n : 0, 0, comm));
-}
-
-MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  return mpi ? (*mpi->getRawMpiComm())() : MPI_COMM_SELF;
 }
 
 static_assert(std::is_same<GlobalOrdinal, long long>::value, "gatherRows sends global ids as MPI_LONG_LONG");
@@ -90,7 +86,7 @@ RowsOnRank gatherRows(const CrsMatrix& A, int owner) {
   if (comm.getSize() == 1) {
     out = std::move(local);
   } else {
-    const MPI_Comm c = rawComm(comm);
+    const MPI_Comm c = rawMpiComm(comm);
     const int ranks = comm.getSize();
     const auto [rowCounts, rowOffsets] = gatherCounts(nLocal, owner, c, ranks, isOwner, "rows");
     const auto [entryCounts, entryOffsets] = gatherCounts(local.columns.size(), owner, c, ranks, isOwner, "entries");

@@ -7,19 +7,14 @@
 #include <random>
 #include <vector>
 
-#include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/HashRandom.hpp"
+#include "cms/core/MpiComm.hpp"
 
 namespace cms::eigen::detail {
 
 namespace {
-
-MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  return mpi ? (*mpi->getRawMpiComm())() : MPI_COMM_SELF;
-}
 
 /// y = A x on raw local arrays, through Tpetra vectors on the operator's map.
 void applyRaw(const Operator& A, const double* x, double* y) {
@@ -52,7 +47,7 @@ ArpackOutcome arpackSolve(const Operator& op, const Operator* inner, bool symmet
                           int ncv, double tol, int maxIterations) {
   const auto map = op.getDomainMap();
   const auto comm = map->getComm();
-  const MPI_Fint fcomm = MPI_Comm_c2f(rawComm(*comm));
+  const MPI_Fint fcomm = MPI_Comm_c2f(rawMpiComm(*comm));
   const int n = static_cast<int>(map->getNodeNumElements());
   const bool generalised = symmetric && inner != nullptr;
   const char* bmat = generalised ? "G" : "I";

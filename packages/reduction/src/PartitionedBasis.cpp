@@ -33,7 +33,6 @@
 
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_CommHelpers.hpp>
-#include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
@@ -42,6 +41,7 @@
 #include "LoadPatterns.hpp"
 #include "SymmetricEigen.hpp"
 #include "cms/core/MatrixSum.hpp"
+#include "cms/core/MpiComm.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/Redistribution.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
@@ -53,11 +53,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-MPI_Comm rawComm(const Teuchos::Comm<int>& c) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&c);
-  return mpi ? (*mpi->getRawMpiComm())() : MPI_COMM_SELF;
-}
 
 /// A serial symmetric matrix by rows (both triangles), columns sorted.
 struct Csr {
@@ -519,7 +514,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   auto gatherTriplets = [&](std::vector<std::pair<long long, double>>& t) {
     int count = static_cast<int>(t.size());
     std::vector<int> counts(ranks), displs(ranks, 0);
-    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, rawComm(*comm));
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, rawMpiComm(*comm));
     std::vector<long long> keys(t.size());
     std::vector<double> values(t.size());
     for (std::size_t k = 0; k < t.size(); ++k) keys[k] = t[k].first, values[k] = t[k].second;
@@ -529,9 +524,9 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
     std::vector<long long> allKeys(rank == 0 ? total : 0);
     std::vector<double> allValues(rank == 0 ? total : 0);
     MPI_Gatherv(keys.data(), count, MPI_LONG_LONG, allKeys.data(), counts.data(), displs.data(), MPI_LONG_LONG, 0,
-                rawComm(*comm));
+                rawMpiComm(*comm));
     MPI_Gatherv(values.data(), count, MPI_DOUBLE, allValues.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
-                rawComm(*comm));
+                rawMpiComm(*comm));
     t.clear();
     if (rank == 0)
       for (long long k = 0; k < total; ++k) t.emplace_back(allKeys[k], allValues[k]);
