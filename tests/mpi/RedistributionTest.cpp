@@ -178,3 +178,21 @@ TEST(Redistribution, GatheredRowsFollowTheGatherMapsOrder) {
     }
   }
 }
+
+// A matrix with a column that is no row (ids 0 .. n-1 as rows, a coupling
+// to id n beyond them) is refused by GatheredRows on every rank, the owner
+// and the others alike, instead of leaving the others waiting in their next
+// collective.
+TEST(Redistribution, GatheredRowsRefuseAColumnThatIsNoRowOnEveryRank) {
+  const GlobalOrdinal n = 9;
+  auto rows = Teuchos::rcp(new Map(n, 0, world()));
+  auto columns = Teuchos::rcp(new Map(n + 1, 0, world()));
+  auto A = Teuchos::rcp(new CrsMatrix(rows, 2));
+  for (std::size_t l = 0; l < rows->getNodeNumElements(); ++l) {
+    const GlobalOrdinal g = rows->getGlobalElement(static_cast<LocalOrdinal>(l));
+    A->insertGlobalValues(g, Teuchos::tuple(g, g + 1), Teuchos::tuple(2.0, -1.0));  // row n - 1 reaches id n
+  }
+  A->fillComplete(columns, rows);
+  EXPECT_THROW(GatheredRows(A, 0), std::invalid_argument);
+  EXPECT_THROW(GatheredRows(A, world()->getSize() - 1), std::invalid_argument);
+}

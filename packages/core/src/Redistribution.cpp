@@ -31,6 +31,8 @@ Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
   return Teuchos::rcp(new Map(n, comm->getRank() == owner ? n : 0, 0, comm));
 }
 
+const char* const notSquare = "GatheredRows: a column that is no row (the matrix is not square in its ids)";
+
 static_assert(std::is_same<GlobalOrdinal, long long>::value, "gatherRows sends global ids as MPI_LONG_LONG");
 
 /// One array's pieces concatenated on `owner` in rank order: `counts` and
@@ -125,17 +127,22 @@ GatheredRows::GatheredRows(const Teuchos::RCP<const CrsMatrix>& A, int owner) {
     position_.resize(colMap->getNodeNumElements());
     for (std::size_t c = 0; c < position_.size(); ++c) {
       const auto l = rowMap->getLocalElement(colMap->getGlobalElement(static_cast<LocalOrdinal>(c)));
-      if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid())
-        throw std::invalid_argument("GatheredRows: a column that is no row (the matrix is not square)");
+      if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) throw std::invalid_argument(notSquare);
       position_[c] = static_cast<int>(l);
     }
     return;
   }
   RowsOnRank g = gatherRows(*A, owner);
-  if (comm.getRank() != owner) return;
-  n_ = g.size();
-  if (n_ > static_cast<std::size_t>(INT_MAX))
-    throw std::length_error("GatheredRows: " + std::to_string(n_) + " rows exceed int positions");
+  // The owner's verdict on the columns, to every rank: a refusal on the
+  // owner alone would leave the others waiting in their next collective.
+  int square = 1;
+  if (comm.getRank() == owner) square = positionColumns(g) ? 1 : 0;
+  Teuchos::broadcast(comm, owner, Teuchos::outArg(square));
+  if (!square) throw std::invalid_argument(notSquare);
+}
+
+bool GatheredRows::positionColumns(RowsOnRank& g) {
+  n_ = g.size();  // at most INT_MAX: gatherRows refused more on every rank
   // Global id -> position: a table over the ids' span when it is at most a
   // few times the rows (the layouts' ids are 0 .. n-1), else a sorted search.
   GlobalOrdinal lo = 0, hi = -1;
@@ -162,7 +169,10 @@ GatheredRows::GatheredRows(const Teuchos::RCP<const CrsMatrix>& A, int owner) {
   ownCol_.resize(g.columns.size());
   for (std::size_t e = 0; e < g.columns.size(); ++e) {
     ownCol_[e] = positionOf(g.columns[e]);
-    if (ownCol_[e] < 0) throw std::invalid_argument("GatheredRows: a column that is no row (the matrix is not square)");
+    if (ownCol_[e] < 0) {
+      n_ = 0;
+      return false;
+    }
   }
   std::vector<GlobalOrdinal>().swap(g.columns);
   ownPtr_ = std::move(g.offsets);
@@ -170,6 +180,7 @@ GatheredRows::GatheredRows(const Teuchos::RCP<const CrsMatrix>& A, int owner) {
   ptr_ = ownPtr_.data();
   col_ = ownCol_.data();
   val_ = ownVal_.data();
+  return true;
 }
 
 Teuchos::RCP<CrsMatrix> gatherToRank(const CrsMatrix& A, int owner,

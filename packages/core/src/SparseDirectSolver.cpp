@@ -141,11 +141,7 @@ struct SparseDirectSolver::Impl {
         // right-hand sides otherwise.
         serialMap = Teuchos::rcp(new Map(n, 0, self));
         size_t longest = 0;
-        for (size_t i = 0; i < n; ++i) {
-          size_t length = 0;
-          rootA.forEach(i, [&](int, double) { ++length; });
-          longest = std::max(longest, length);
-        }
+        for (size_t i = 0; i < n; ++i) longest = std::max(longest, rootA.length(i));
         serialA = Teuchos::rcp(new CrsMatrix(serialMap, longest));
         Teuchos::Array<GlobalOrdinal> gc;
         Teuchos::Array<double> v;

@@ -41,12 +41,16 @@ RowsOnRank gatherRows(const CrsMatrix& A, int owner);
 /// A's own arrays are read in place: a copy was a sixth of a factorisation's
 /// page faults, and copying the rows into flat arrays 85 of the 217 MiB the
 /// 54,000-DOF bar's Sturm count held at its peak (issue 18). Collective;
-/// empty (size() 0) on the other ranks.
+/// empty (size() 0) on the other ranks. Throws std::invalid_argument on
+/// every rank when a column is not among the rows (a matrix that is not
+/// square in its ids).
 class GatheredRows {
 public:
   GatheredRows(const Teuchos::RCP<const CrsMatrix>& A, int owner);
   std::size_t size() const { return n_; }
   std::size_t entries() const { return n_ == 0 ? 0 : ptr_[n_]; }
+  /// Stored entries of row j.
+  std::size_t length(std::size_t j) const { return ptr_[j + 1] - ptr_[j]; }
   /// f(position, value) for every stored entry of row j.
   template <class F>
   void forEach(std::size_t j, F&& f) const {
@@ -54,6 +58,10 @@ public:
   }
 
 private:
+  /// The owner's part: the columns renumbered to row positions; false (and
+  /// empty) when one is not a row.
+  bool positionColumns(RowsOnRank& g);
+
   std::size_t n_ = 0;
   const std::size_t* ptr_ = nullptr;
   const int* col_ = nullptr;
