@@ -200,7 +200,8 @@ TEST(RitzBasis, AdmissibleProjectionsGiveTheRecomputedEstimates) {
       }
     return std::sqrt(f);
   };
-  const double dK = gamma * absProjected(fixtures::denseOf(*c.sub.K())), dM = gamma * absProjected(fixtures::denseOf(*c.sub.M()));
+  const double dK = gamma * absProjected(fixtures::denseOf(*c.sub.K()));
+  const double dM = gamma * absProjected(fixtures::denseOf(*c.sub.M()));
   for (std::size_t r = 0; r < shortcut.size(); ++r) {
     const double lambda = recomputed[r] * recomputed[r], bound = 4.0 * 0.5 * (dK / lambda + dM);
     EXPECT_LE(std::abs(shortcut[r] / recomputed[r] - 1.0), bound) << "mode " << r;
