@@ -275,7 +275,8 @@ void readLumpedItems(const ParameterList& params, const std::string& path, Finit
   });
 }
 
-FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir) {
+FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir,
+                                                      const MeshReader& readMesh) {
   // Teuchos names sublists "Parent->Child"; messages use "Parent/Child".
   std::string path = params.name();
   if (path.empty() || path == "ANONYMOUS") path = "Finite Element Model";
@@ -375,7 +376,8 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     CMS_INPUT_CHECK(!meshParameters.empty() && mesh.extension() != ".geo",
                     path << "/Mesh Parameters: apply to a .geo script only, not " << mesh.filename().string());
   }
-  m.mesh = std::make_shared<mesh::Mesh>(mesh::readMesh(mesh.string(), meshParameters));
+  m.mesh = std::make_shared<mesh::Mesh>(readMesh ? readMesh(mesh.string(), meshParameters)
+                                                 : mesh::readMesh(mesh.string(), meshParameters));
   m.validate();
   return m;
 }

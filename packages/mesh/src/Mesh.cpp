@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -10,11 +11,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <regex>
@@ -40,6 +43,7 @@
 #include "MesherSocket.hpp"
 #include "MshReader.hpp"
 #include "MshStructureCheck.hpp"
+#include "ScriptRun.hpp"
 
 extern char** environ;
 
@@ -348,8 +352,12 @@ detail::GmshReadMsh gmshReader() {
 class GeoMesherServer {
 public:
   /// Sends a request, returns the answer line ("T" or "S <status>"), or ""
-  /// when the server died without answering.
-  std::string ask(const std::vector<std::string>& fields, double seconds) {
+  /// when the server died without answering, or "C" when `cancel` was set
+  /// meanwhile (the server then killed). One request at a time: a second
+  /// caller waits for the first.
+  std::string ask(const std::vector<std::string>& fields, double seconds,
+                  const std::atomic<bool>* cancel = nullptr) {
+    const std::lock_guard<std::mutex> one(busy_);
     std::string request;
     for (const std::string& f : fields) request += f + '\0';
     request += '\0';
@@ -368,8 +376,14 @@ public:
         stop();
         return "T";
       }
+      if (cancel && cancel->load()) {
+        stop();
+        return "C";
+      }
       pollfd p{fd_, POLLIN, 0};
-      const int r = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000000)));
+      // A cancellable request looks at its flag every 50 ms.
+      const long long wait = std::min<long long>(left.count(), cancel ? 50 : 1000000);
+      const int r = ::poll(&p, 1, static_cast<int>(wait));
       if (r < 0 && errno == EINTR) continue;
       if (r == 0) continue;
       char c = 0;
@@ -429,9 +443,23 @@ private:
     pid_ = -1;
   }
   bool sendAll(const std::string& s) { return detail::sendAll(fd_, s); }
+  friend void detail::stopMesher(std::size_t);
+  std::mutex busy_;
   int fd_ = -1;
   pid_t pid_ = -1, owner_ = -1;
 };
+
+/// Mesher server number `slot` of this process, started on its first
+/// request: readGmsh uses slot 0, each ScriptMeshes worker a slot of its own
+/// (detail::newMesherSlot).
+std::mutex serversLock;
+std::deque<GeoMesherServer> servers;  // a deque: references stay valid as it grows
+
+GeoMesherServer& mesherServer(std::size_t slot) {
+  const std::lock_guard<std::mutex> guard(serversLock);
+  while (servers.size() <= slot) servers.emplace_back();
+  return servers[slot];
+}
 
 /// A private directory for the helper's files, removed with this object.
 class TemporaryDirectory {
@@ -484,14 +512,29 @@ long exitCommandLine(const std::string& script) {
   return 0;
 }
 
-Mesh meshScriptInChild(const std::string& path, const std::map<std::string, double>& parameters) {
+/// The .msh a mesher server made from a script, in its private directory.
+struct MadeScript {
+  std::unique_ptr<TemporaryDirectory> dir;
+  std::string msh;
+};
+
+/// Thrown by runScript when its request was cancelled (ScriptMeshes' end).
+struct ScriptCancelled {};
+
+/// Runs a .geo script in `server`: the .msh's file, or an InputError naming
+/// the script (died, timed out, crashed, Gmsh's error, an Exit command).
+/// Thread-safe with another server per thread; reads nothing through Gmsh.
+MadeScript runScript(const std::string& path, const std::map<std::string, double>& parameters,
+                     GeoMesherServer& server, const std::atomic<bool>* cancel = nullptr) {
   const double seconds = positiveFromEnvironment("CMS_GEO_TIME_LIMIT", 600);
   // Default: the machine's memory (no swapping storm); in MB.
   const double physicalMb =
       static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE)) / 1048576.0;
   const double memoryMb = positiveFromEnvironment("CMS_GEO_MEMORY_LIMIT", physicalMb > 0 ? physicalMb : 0x1p30);
-  const TemporaryDirectory dir;
+  MadeScript made{std::make_unique<TemporaryDirectory>(), {}};
+  const TemporaryDirectory& dir = *made.dir;
   const std::string out = dir.file("mesh.msh"), verdict = dir.file("verdict"), log = dir.file("gmsh.log");
+  made.msh = out;
   std::ostringstream limit;
   limit << std::setprecision(17) << seconds;
   // Fields travel NUL-terminated, an empty one ending the request.
@@ -510,8 +553,8 @@ Mesh meshScriptInChild(const std::string& path, const std::map<std::string, doub
     fields.push_back(name);
     fields.push_back(number);
   }
-  static GeoMesherServer server;
-  const std::string answer = server.ask(fields, seconds);
+  const std::string answer = server.ask(fields, seconds, cancel);
+  if (answer == "C") throw ScriptCancelled{};
   const bool timedOut = answer == "T";
   int status = 0;
   if (answer.compare(0, 2, "S ") == 0) status = std::atoi(answer.c_str() + 2);
@@ -545,32 +588,86 @@ Mesh meshScriptInChild(const std::string& path, const std::map<std::string, doub
     CMS_INPUT_CHECK(true, path << ": Gmsh ended (exit status " << code << ") before the mesh was made"
                                << lastActivity(log));
   }
-  // Gmsh's own output: scanned all the same (cheap next to meshing).
-  detail::MshContent content;
-  try {
-    detail::checkMshStructure(out, readFile(out), readWithoutGmsh() ? &content : nullptr);
-  } catch (const InputError& e) {
-    throw InputError(path + ": the mesh Gmsh made from this script cannot be read back: " + e.what());
-  }
-  return readScannedMsh(content, out, path);
+  return made;
 }
+
+/// The mesh of the .msh bytes Gmsh made from the script `source`, read as
+/// any .msh is: scanned all the same (cheap next to meshing), then read
+/// without Gmsh, or by its module from a file of those bytes.
+Mesh meshFromMadeScript(const std::string& bytes, const std::string& source) {
+  detail::MshContent content;
+  const bool withoutGmsh = readWithoutGmsh();
+  std::unique_ptr<TemporaryDirectory> dir;
+  std::string path = "mesh.msh";  // names it in messages
+  if (!withoutGmsh) {
+    dir = std::make_unique<TemporaryDirectory>();
+    path = dir->file("mesh.msh");
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    CMS_INPUT_CHECK(!out.flush(), path << ": cannot write the mesh made from " << source << " for Gmsh's reader");
+  }
+  try {
+    detail::checkMshStructure(path, bytes, withoutGmsh ? &content : nullptr);
+  } catch (const InputError& e) {
+    throw InputError(source + ": the mesh Gmsh made from this script cannot be read back: " + e.what());
+  }
+  return readScannedMsh(content, path, source);
+}
+
+/// The bytes of the .msh a script made; an InputError naming the script if
+/// they cannot be read.
+std::string madeBytes(const MadeScript& made, const std::string& source) {
+  try {
+    return readFile(made.msh);
+  } catch (const InputError& e) {
+    throw InputError(source + ": the mesh Gmsh made from this script cannot be read back: " + e.what());
+  }
+}
+
 
 }  // namespace
 
+namespace detail {
+
+std::size_t newMesherSlot() {
+  static std::atomic<std::size_t> next{1};
+  return next++;
+}
+
+void stopMesher(std::size_t slot) {
+  GeoMesherServer& server = mesherServer(slot);
+  const std::lock_guard<std::mutex> one(server.busy_);
+  if (server.owner_ == ::getpid()) server.stop();
+}
+
+std::string makeGmshBytes(const std::string& path, const std::map<std::string, double>& parameters, std::size_t slot,
+                          const std::atomic<bool>* cancel, bool& script) {
+  std::string bytes = readFile(path);
+  script = bytes.compare(0, 11, "$MeshFormat") != 0;
+  if (!script) return bytes;
+  CMS_INPUT_CHECK(!endsWith(path, ".geo"), path << ": not a Gmsh mesh (a .msh file starts with $MeshFormat) nor a "
+                                                   ".geo script");
+  try {
+    const MadeScript made = runScript(path, parameters, mesherServer(slot), cancel);
+    return madeBytes(made, path);
+  } catch (const ScriptCancelled&) {
+    throw MeshingCancelled();
+  }
+}
+
+Mesh meshFromGmshBytes(const std::string& bytes, bool script, const std::string& path) {
+  if (script) return meshFromMadeScript(bytes, path);
+  detail::MshContent content;
+  detail::checkMshStructure(path, bytes, readWithoutGmsh() ? &content : nullptr);
+  return readScannedMsh(content, path, path);
+}
+
+}  // namespace detail
+
 Mesh readGmsh(const std::string& path, const std::map<std::string, double>& parameters) {
   bool script = false;
-  detail::MshContent content;
-  {
-    const std::string bytes = readFile(path);
-    if (bytes.compare(0, 11, "$MeshFormat") == 0) {
-      detail::checkMshStructure(path, bytes, readWithoutGmsh() ? &content : nullptr);
-    } else {
-      script = endsWith(path, ".geo");
-      CMS_INPUT_CHECK(!script, path << ": not a Gmsh mesh (a .msh file starts with $MeshFormat) nor a "
-                                       ".geo script");
-    }
-  }
-  return script ? meshScriptInChild(path, parameters) : readScannedMsh(content, path, path);
+  const std::string bytes = detail::makeGmshBytes(path, parameters, 0, nullptr, script);
+  return detail::meshFromGmshBytes(bytes, script, path);
 }
 
 Mesh readMesh(const std::string& path, const std::map<std::string, double>& parameters) {

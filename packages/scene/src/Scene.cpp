@@ -22,6 +22,7 @@
 #include "cms/core/ParameterReading.hpp"
 #include "cms/fem/LumpedItemParameters.hpp"
 #include "cms/fem/RigidPlacement.hpp"
+#include "cms/mesh/ScriptMeshes.hpp"
 #include "cms/reduction/RitzBasis.hpp"
 
 namespace cms::scene {
@@ -259,7 +260,7 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
 }
 
 SubstructureSpec substructure(const ParameterList& p, const std::string& name, const std::string& path,
-                              const std::string& baseDir) {
+                              const std::string& baseDir, const fem::FiniteElementModel::MeshReader& readMesh) {
   checkKeys(p, substructureKeys(), path);
   SubstructureSpec s;
   s.name = name;
@@ -293,7 +294,7 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
   if (p.isSublist("Beam")) s.model = beamModel(p.sublist("Beam"), name, path + "/Beam");
   if (p.isSublist("Finite Element Model")) {
     try {
-      auto m = fem::FiniteElementModel::fromParameters(p.sublist("Finite Element Model"), baseDir);
+      auto m = fem::FiniteElementModel::fromParameters(p.sublist("Finite Element Model"), baseDir, readMesh);
       m.name = name;
       s.model = std::make_shared<fem::FiniteElementModel>(m);
     } catch (const InputError& e) {
@@ -361,6 +362,47 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
 
 }  // namespace
 
+namespace {
+
+/// The .geo scripts the substructures' "Finite Element Model"s name, with
+/// their "Mesh Parameters", as FiniteElementModel::fromParameters will ask
+/// for them: the scene makes them ahead, side by side (mesh/ScriptMeshes.hpp).
+/// Anything malformed is left out, for that reader to report in its place.
+std::vector<mesh::ScriptRequest> scriptRequests(const ParameterList& subs, const std::string& baseDir) {
+  std::vector<mesh::ScriptRequest> out;
+  for (auto it = subs.begin(); it != subs.end(); ++it) {
+    const std::string& name = subs.name(it);
+    if (!subs.isSublist(name) || !subs.sublist(name).isSublist("Finite Element Model")) continue;
+    const auto& fe = subs.sublist(name).sublist("Finite Element Model");
+    if (!fe.isType<std::string>("Mesh")) continue;
+    std::filesystem::path mesh = fe.get<std::string>("Mesh");
+    if (mesh.extension() != ".geo") continue;
+    if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
+    mesh::ScriptRequest r{mesh.string(), {}};
+    if (fe.isParameter("Mesh Parameters")) {
+      if (!fe.isSublist("Mesh Parameters")) continue;
+      const auto& mp = fe.sublist("Mesh Parameters");
+      try {
+        for (auto m = mp.begin(); m != mp.end(); ++m) r.parameters[mp.name(m)] = getNumber(mp, mp.name(m), "");
+      } catch (const std::exception&) {
+        continue;
+      }
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+/// MPI_COMM_WORLD while MPI runs (every rank reads the scene), else none.
+MPI_Comm sceneComm() {
+  int initialized = 0, finalized = 0;
+  MPI_Initialized(&initialized);
+  MPI_Finalized(&finalized);
+  return initialized && !finalized ? MPI_COMM_WORLD : MPI_COMM_NULL;
+}
+
+}  // namespace
+
 Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   const std::string top = path + ": Scene";
   checkKeys(p, sceneKeys(), top);
@@ -373,11 +415,21 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   const std::string baseDir = std::filesystem::path(path).parent_path().string();
   CMS_INPUT_CHECK(!p.isSublist("Substructures"), top << ": missing \"Substructures\"");
   const auto& subs = p.sublist("Substructures");
+  // The scripts meshed ahead, each once over the ranks and side by side
+  // (Gmsh runs in a child process per script); the substructures below take
+  // them in their turn. Those not taken are stopped when this returns.
+  const std::string dir = baseDir.empty() ? "." : baseDir;
+  mesh::ScriptMeshes ahead(scriptRequests(subs, dir), sceneComm());
+  const fem::FiniteElementModel::MeshReader readMesh = [&](const std::string& file,
+                                                           const std::map<std::string, double>& parameters) {
+    auto m = ahead.take(file, parameters);
+    return m ? std::move(*m) : mesh::readMesh(file, parameters);
+  };
   for (auto it = subs.begin(); it != subs.end(); ++it) {
     const std::string name = subs.name(it);
     CMS_INPUT_CHECK(!subs.isSublist(name), top << "/Substructures/" << name << ": must be a list of keys");
     scene.structure.substructures.push_back(
-        substructure(subs.sublist(name), name, top + "/Substructures/" + name, baseDir.empty() ? "." : baseDir));
+        substructure(subs.sublist(name), name, top + "/Substructures/" + name, dir, readMesh));
   }
   scene.structure.freeReference = getString(p, "Free Reference", top, std::string());
   if (p.isSublist("Analysis")) {
@@ -450,10 +502,7 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   // The least over the ranks, so that every rank (all read the scene)
   // decides alike; no MPI: this process alone.
   double available = availableMemoryBytes();
-  int initialized = 0, finalized = 0;
-  MPI_Initialized(&initialized);
-  MPI_Finalized(&finalized);
-  if (initialized && !finalized) MPI_Allreduce(MPI_IN_PLACE, &available, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  if (sceneComm() != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, &available, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
   CMS_INPUT_CHECK(scene.estimatedBytes > available,
                   largest << ": " << largestDofs << " DOFs (" << scene.estimatedDofs
                           << " in the model), which need at least " << std::setprecision(3) << scene.estimatedBytes / 1e9

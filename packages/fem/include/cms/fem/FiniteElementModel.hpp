@@ -6,6 +6,7 @@
 // validated against validParameters(), as Anasazi and Belos solver managers do.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -133,8 +134,11 @@ struct FiniteElementModel {
   /// Reads and validates `params` (unknown keys, wrong types, bad values:
   /// cms::InputError naming the key path) and the mesh it names ("Mesh",
   /// resolved against baseDir when relative).
+  /// `readMesh` reads it (mesh::readMesh when empty): the scene passes the
+  /// meshes it made ahead (mesh/ScriptMeshes.hpp).
+  using MeshReader = std::function<mesh::Mesh(const std::string& path, const std::map<std::string, double>& parameters)>;
   static FiniteElementModel fromParameters(const Teuchos::ParameterList& params,
-                                           const std::string& baseDir = ".");
+                                           const std::string& baseDir = ".", const MeshReader& readMesh = {});
   /// Checks the model against its mesh: element sets name existing groups of
   /// supported cell types (Solid: Tet4, Tet10, Hex8, Hex20, Wedge15; Frame: Line2), materials
   /// exist and are valid, node sets exist. Throws cms::InputError.

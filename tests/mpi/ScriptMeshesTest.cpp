@@ -1,0 +1,150 @@
+// The scene's .geo scripts made ahead (mesh/ScriptMeshes.hpp): each distinct
+// script meshed on one rank only, side by side, its .msh sent to every rank,
+// which reads the same mesh readMesh reads (node for node, group for group)
+// or throws the same cms::InputError; a request taken out of order, twice,
+// or not at all; a script still running when the scene is refused is
+// stopped. Run on 1, 2 and 3 ranks (three scripts: one each, or several on
+// one rank's threads).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <mpi.h>
+
+#include "ExpectError.hpp"
+#include "TempFiles.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/mesh/ScriptMeshes.hpp"
+
+#ifndef CMS_TEST_DATA_DIR
+#define CMS_TEST_DATA_DIR "tests/data"
+#endif
+
+using cms::mesh::Mesh;
+using cms::mesh::ScriptMeshes;
+using cms::mesh::ScriptRequest;
+
+namespace {
+
+const std::string kMeshes = std::string(CMS_TEST_DATA_DIR) + "/meshes/";
+
+int rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+/// Rank 0's folder, its path sent to every rank (requests must be alike).
+class SharedDir {
+public:
+  SharedDir() {
+    if (rank() == 0) dir_.emplace("cms_script_meshes");
+    std::string p = dir_ ? dir_->path().string() : std::string();
+    unsigned long n = p.size();
+    MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG, 0, MPI_COMM_WORLD);
+    p.resize(n);
+    MPI_Bcast(p.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+    path_ = p;
+  }
+  ~SharedDir() { MPI_Barrier(MPI_COMM_WORLD); }  // every rank done with the files
+  /// Rank 0 writes; every rank gets the path once it is there.
+  std::string write(const std::string& name, const std::string& text) const {
+    if (dir_) dir_->write(name, text);
+    MPI_Barrier(MPI_COMM_WORLD);
+    return path_ + "/" + name;
+  }
+
+private:
+  std::optional<cms::fixtures::TempDir> dir_;
+  std::string path_;
+};
+
+void expectSameMesh(const Mesh& a, const Mesh& b) {
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.nodeTags, b.nodeTags);
+  EXPECT_EQ(a.coordinates, b.coordinates);  // the same bytes read: bit for bit
+  ASSERT_EQ(a.groups.size(), b.groups.size());
+  for (std::size_t g = 0; g < a.groups.size(); ++g) {
+    EXPECT_EQ(a.groups[g].name, b.groups[g].name);
+    EXPECT_EQ(a.groups[g].dim, b.groups[g].dim);
+    ASSERT_EQ(a.groups[g].blocks.size(), b.groups[g].blocks.size());
+    for (std::size_t k = 0; k < a.groups[g].blocks.size(); ++k) {
+      EXPECT_EQ(a.groups[g].blocks[k].type, b.groups[g].blocks[k].type);
+      EXPECT_EQ(a.groups[g].blocks[k].nodes, b.groups[g].blocks[k].nodes);
+    }
+  }
+}
+
+}  // namespace
+
+TEST(ScriptMeshes, EachScriptMeshedOnceTheSameMeshOnEveryRank) {
+  const std::map<std::string, double> fine{{"nx", 30}}, none;
+  const std::vector<ScriptRequest> requests = {{kMeshes + "bar_hex.geo", none},
+                                               {kMeshes + "bar_tet10.geo", none},
+                                               {kMeshes + "bar_hex.geo", fine},
+                                               {kMeshes + "bar_hex.geo", none}};  // a repeat: made once
+  ScriptMeshes ahead(requests, MPI_COMM_WORLD);
+  // Out of order: the third first (the two before it are sent on the way).
+  const auto third = ahead.take(kMeshes + "bar_hex.geo", fine);
+  const auto first = ahead.take(kMeshes + "bar_hex.geo", none);
+  const auto again = ahead.take(kMeshes + "bar_hex.geo", none);
+  const auto second = ahead.take(kMeshes + "bar_tet10.geo", none);
+  // Collectives before any assertion that could return early on one rank.
+  int made = ahead.madeHere(), total = 0;
+  MPI_Allreduce(&made, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(total, 3) << "each distinct script meshed once over the ranks";
+  ASSERT_TRUE(first && second && third && again);
+  expectSameMesh(*first, cms::mesh::readMesh(kMeshes + "bar_hex.geo"));
+  expectSameMesh(*again, *first);
+  expectSameMesh(*second, cms::mesh::readMesh(kMeshes + "bar_tet10.geo"));
+  expectSameMesh(*third, cms::mesh::readMesh(kMeshes + "bar_hex.geo", fine));
+  EXPECT_EQ(third->nodeCount(), 31u * 9);  // the parameter reached the script
+  // Not requested: left to the caller, no collective (only rank 0 asks).
+  if (rank() == 0) EXPECT_FALSE(ahead.take(kMeshes + "beam_line.geo", none));
+}
+
+TEST(ScriptMeshes, AScriptsErrorIsThrownOnEveryRankAsReadMeshThrowsIt) {
+  SharedDir dir;
+  const std::string broken = dir.write("broken.geo", "Point(1) = {0, 0, 0};\nLine(1) = {1, ;\n");
+  const std::string missing = dir.write("placeholder", "") + "-missing.geo";
+  std::string expected;
+  try {
+    cms::mesh::readMesh(broken);
+  } catch (const cms::InputError& e) {
+    expected = e.what();
+  }
+  ASSERT_FALSE(expected.empty());
+  ScriptMeshes ahead({{broken, {}}, {missing, {}}, {kMeshes + "beam_line.geo", {}}}, MPI_COMM_WORLD);
+  try {
+    ahead.take(broken, {});
+    ADD_FAILURE() << "no cms::InputError on rank " << rank();
+  } catch (const cms::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), expected);
+  }
+  cms::fixtures::expectInputErrorWith([&] { ahead.take(missing, {}); }, {missing, "does not exist"});
+  // The requests after a refused one are still there.
+  const auto beam = ahead.take(kMeshes + "beam_line.geo", {});
+  EXPECT_TRUE(beam);
+  if (beam) expectSameMesh(*beam, cms::mesh::readMesh(kMeshes + "beam_line.geo"));
+}
+
+TEST(ScriptMeshes, AScriptNotTakenIsStopped) {
+  // Gmsh's parser runs this loop for minutes; a scene refused after
+  // starting it (a bad key further on) must not wait for it.
+  SharedDir dir;
+  const std::string slow = dir.write("slow.geo", "For i In {1:2000000000}\n  x = i;\nEndFor\nPoint(1) = {0, 0, 0};\n");
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    ScriptMeshes ahead({{slow, {}}}, MPI_COMM_WORLD);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the mesher is busy by now
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // The worker looks at its flag every 50 ms; 10 s is the mesher's kill and
+  // the machine's noise, where the script itself runs for minutes.
+  EXPECT_LT(seconds, 10.0);
+}
