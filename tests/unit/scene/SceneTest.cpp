@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -114,6 +115,35 @@ TEST(Scene, MalformedScenesNameTheKey) {
 
 // Issue 14 item 9: a repeated key was a Teuchos parser trace whose caret
 // pointed at the line after it; now one line naming both.
+// The scene makes its .geo scripts ahead (mesh/ScriptMeshes.hpp): a scene
+// refused before a script's mesh is taken must not wait for it. The hub's
+// misspelt key is read first; the blade's script runs for minutes.
+TEST(Scene, ARefusedSceneStopsTheScriptsItStarted) {
+  const std::string yaml = R"(
+Scene:
+  Substructures:
+    hub:
+      Kind: C
+      Beem: {}
+    blade:
+      Kind: E
+      Parent: hub
+      Finite Element Model:
+        Mesh: slow_loop.geo
+)";
+  const auto t0 = std::chrono::steady_clock::now();
+  fixtures::expectInputError(
+      [&] {
+        scene::Scene::fromParameters(*Teuchos::getParametersFromYamlString(yaml),
+                                     std::string(CMS_TEST_DATA_DIR) + "/meshes/slow-loop-scene.yaml");
+      },
+      "unknown key \"Beem\"");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Stopping is a flag looked at every 50 ms and the mesher killed; 10 s is
+  // the machine's noise, where the script runs for minutes.
+  EXPECT_LT(seconds, 10.0);
+}
+
 TEST(Scene, DuplicateKeysNameBothLines) {
   using fixtures::expectInputError;
   const std::string twice = edit("        Area: 0.01\n", "        Area: 0.01\n        Area: 0.02\n");
