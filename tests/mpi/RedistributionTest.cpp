@@ -175,6 +175,18 @@ TEST(Redistribution, GatheredRowsFollowTheGatherMapsOrder) {
       });
       EXPECT_GE(count, 3);  // the pentadiagonal pattern: 3 to 5 a row
       EXPECT_LE(count, 5);
+      // forEachUpper: exactly those at positions <= r (a column's upper
+      // triangle, what CHOLMOD and the Sturm count take).
+      int upper = 0, below = 0;
+      rows.forEach(r, [&](int position, double) { (static_cast<std::size_t>(position) <= r ? upper : below)++; });
+      int visited = 0;
+      rows.forEachUpper(r, [&](int position, double v) {
+        EXPECT_LE(static_cast<std::size_t>(position), r);
+        EXPECT_EQ(v, value(ids[r], ids[position]));
+        ++visited;
+      });
+      EXPECT_EQ(visited, upper);
+      EXPECT_EQ(visited + below, count);
     }
   }
 }

@@ -203,9 +203,7 @@ struct SparseDirectSolver::Impl {
       size_t k = 0;
       for (size_t j = 0; j < n; ++j) {
         Sp[j] = static_cast<int>(k);
-        rootA.forEach(j, [&](int i, double v) {
-          if (static_cast<size_t>(i) <= j) Si[k] = i, Sx[k] = v, ++k;
-        });
+        rootA.forEachUpper(j, [&](int i, double v) { Si[k] = i, Sx[k] = v, ++k; });
       }
       Sp[n] = static_cast<int>(k);
       common.quick_return_if_not_posdef = 1;

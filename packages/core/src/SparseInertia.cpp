@@ -280,9 +280,7 @@ SparseInertia inertia(Teuchos::RCP<const CrsMatrix> owned, InertiaMethod method,
       UpperColumns cols(a.size(), a.entries() / 2 + a.size());
       for (std::size_t j = 0; j < a.size(); ++j) {
         cols.begin(j);
-        a.forEach(j, [&](int i, double v) {
-          if (static_cast<std::size_t>(i) <= j) cols.add(i, v);
-        });
+        a.forEachUpper(j, [&](int i, double v) { cols.add(i, v); });
       }
       cols.finish();
       upperEntries = static_cast<double>(cols.i().size());
@@ -329,15 +327,11 @@ SparseInertia inertia(const CrsMatrix& A, const CrsMatrix& B, InertiaMethod meth
     UpperColumns cols(2 * n, a.entries() + b.entries() + 2 * n);
     for (std::size_t j = 0; j < n; ++j) {
       cols.begin(j);
-      a.forEach(j, [&](int i, double v) {
-        if (static_cast<std::size_t>(i) <= j) cols.add(i, v);
-      });
+      a.forEachUpper(j, [&](int i, double v) { cols.add(i, v); });
     }
     for (std::size_t j = 0; j < n; ++j) {
       cols.begin(n + j);
-      a.forEach(j, [&](int i, double v) {
-        if (static_cast<std::size_t>(i) <= j) cols.add(static_cast<int>(n) + i, v);
-      });
+      a.forEachUpper(j, [&](int i, double v) { cols.add(static_cast<int>(n) + i, v); });
       b.forEach(j, [&](int i, double v) { cols.add(i, v); });
     }
     cols.finish();

@@ -56,6 +56,15 @@ public:
   void forEach(std::size_t j, F&& f) const {
     for (std::size_t e = ptr_[j]; e < ptr_[j + 1]; ++e) f(position_.empty() ? col_[e] : position_[col_[e]], val_[e]);
   }
+  /// f(position, value) for the entries of row j at positions <= j: of a
+  /// symmetric matrix, row j is column j, and these its upper triangle
+  /// (CHOLMOD's stype 1 input: the factorisations and the Sturm count).
+  template <class F>
+  void forEachUpper(std::size_t j, F&& f) const {
+    forEach(j, [&](int i, double v) {
+      if (static_cast<std::size_t>(i) <= j) f(i, v);
+    });
+  }
 
 private:
   /// The owner's part: the columns renumbered to row positions; false (and
