@@ -148,3 +148,15 @@ TEST(ScriptMeshes, AScriptNotTakenIsStopped) {
   // the machine's noise, where the script itself runs for minutes.
   EXPECT_LT(seconds, 10.0);
 }
+
+TEST(ScriptMeshes, TheHelpersServeTheNextScenesAfterAStop) {
+  // The helper slots are kept from one ScriptMeshes to the next; the one the
+  // test above stopped (killed mid-script) must start afresh.
+  for (int round = 0; round < 3; ++round) {
+    ScriptMeshes ahead({{kMeshes + "beam_line.geo", {}}, {kMeshes + "bar_hex.geo", {}}}, MPI_COMM_WORLD);
+    const auto beam = ahead.take(kMeshes + "beam_line.geo", {});
+    const auto bar = ahead.take(kMeshes + "bar_hex.geo", {});
+    EXPECT_TRUE(beam && bar) << "round " << round;
+    if (bar) EXPECT_EQ(bar->nodeCount(), 21u * 9) << "round " << round;
+  }
+}

@@ -431,6 +431,7 @@ private:
     fd_ = sv[0];
     pid_ = pid;
     owner_ = ::getpid();
+    spawner_ = std::this_thread::get_id();
   }
   void stop() {
     if (fd_ >= 0) ::close(fd_);
@@ -443,10 +444,12 @@ private:
     pid_ = -1;
   }
   bool sendAll(const std::string& s) { return detail::sendAll(fd_, s); }
-  friend void detail::stopMesher(std::size_t);
+  friend std::vector<std::size_t> detail::acquireMeshers(std::size_t);
+  friend void detail::releaseMeshers(const std::vector<std::size_t>&);
   std::mutex busy_;
   int fd_ = -1;
   pid_t pid_ = -1, owner_ = -1;
+  std::thread::id spawner_;  ///< the thread whose end kills the helper (PR_SET_PDEATHSIG)
 };
 
 /// Mesher server number `slot` of this process, started on its first
@@ -629,15 +632,45 @@ std::string madeBytes(const MadeScript& made, const std::string& source) {
 
 namespace detail {
 
-std::size_t newMesherSlot() {
-  static std::atomic<std::size_t> next{1};
-  return next++;
+namespace {
+std::vector<std::size_t> freeSlots;  // under serversLock
+}  // namespace
+
+std::vector<std::size_t> acquireMeshers(std::size_t count) {
+  std::vector<std::size_t> slots;
+  {
+    const std::lock_guard<std::mutex> guard(serversLock);
+    while (slots.size() < count && !freeSlots.empty()) slots.push_back(freeSlots.back()), freeSlots.pop_back();
+    if (servers.empty()) servers.emplace_back();  // slot 0 stays readGmsh's
+    while (slots.size() < count) {
+      slots.push_back(servers.size());
+      servers.emplace_back();
+    }
+  }
+  // Started here, on the caller's thread, so that they outlive the workers;
+  // a failure to start is left for the worker's request to report.
+  for (std::size_t slot : slots) {
+    GeoMesherServer& server = mesherServer(slot);
+    const std::lock_guard<std::mutex> one(server.busy_);
+    try {
+      server.start();
+    } catch (const std::exception&) {
+    }
+  }
+  return slots;
 }
 
-void stopMesher(std::size_t slot) {
-  GeoMesherServer& server = mesherServer(slot);
-  const std::lock_guard<std::mutex> one(server.busy_);
-  if (server.owner_ == ::getpid()) server.stop();
+void releaseMeshers(const std::vector<std::size_t>& slots) {
+  for (std::size_t slot : slots) {
+    GeoMesherServer& server = mesherServer(slot);
+    {
+      const std::lock_guard<std::mutex> one(server.busy_);
+      // A helper a worker restarted dies with that worker: not kept.
+      if (server.owner_ == ::getpid() && server.spawner_ != std::this_thread::get_id()) server.stop();
+    }
+    const std::lock_guard<std::mutex> guard(serversLock);
+    freeSlots.push_back(slot);
+  }
 }
 
 std::string makeGmshBytes(const std::string& path, const std::map<std::string, double>& parameters, std::size_t slot,

@@ -51,14 +51,14 @@ ScriptMeshes::ScriptMeshes(std::vector<ScriptRequest> requests, MPI_Comm comm) :
     jobs_.push_back(std::move(job));
   }
   const std::size_t threads = std::min<std::size_t>(mine_.size(), static_cast<std::size_t>(coresPerRank(nodeRanks)));
-  for (std::size_t w = 0; w < threads; ++w) slots_.push_back(detail::newMesherSlot());
+  slots_ = detail::acquireMeshers(threads);
   for (std::size_t w = 0; w < threads; ++w) workers_.emplace_back(&ScriptMeshes::work, this, slots_[w]);
 }
 
 ScriptMeshes::~ScriptMeshes() {
   cancel_ = true;
   for (auto& t : workers_) t.join();
-  for (std::size_t slot : slots_) detail::stopMesher(slot);  // their threads are gone (ScriptRun.hpp)
+  detail::releaseMeshers(slots_);  // kept for the next scene (ScriptRun.hpp)
 }
 
 void ScriptMeshes::work(std::size_t slot) {

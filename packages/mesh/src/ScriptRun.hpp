@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cms/mesh/Mesh.hpp"
 
@@ -17,13 +18,14 @@ struct MeshingCancelled : std::runtime_error {
   MeshingCancelled() : std::runtime_error("meshing cancelled") {}
 };
 
-/// A mesher server slot of this process's own (readGmsh has slot 0). The
-/// helper dies with the thread that started it (PR_SET_PDEATHSIG follows the
-/// thread, not the process): a slot serves one worker thread, and
-/// stopMesher ends its helper once that thread is done, so that nothing sends
-/// to a helper about to die.
-std::size_t newMesherSlot();
-void stopMesher(std::size_t slot);
+/// `count` mesher server slots for worker threads (readGmsh has slot 0),
+/// kept across ScriptMeshes: their helpers started on the calling thread. A
+/// helper dies with the thread that started it (PR_SET_PDEATHSIG follows
+/// the thread, not the process), so one a worker had to restart is stopped
+/// by releaseMeshers (called on the same thread once the workers are done),
+/// and nothing sends a request to a helper about to die.
+std::vector<std::size_t> acquireMeshers(std::size_t count);
+void releaseMeshers(const std::vector<std::size_t>& slots);
 
 /// readGmsh's first half: the bytes of `path` when it is a .msh (`script`
 /// false), else of the .msh its .geo script made in mesher server `slot`

@@ -360,10 +360,6 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
   return s;
 }
 
-}  // namespace
-
-namespace {
-
 /// The .geo scripts the substructures' "Finite Element Model"s name, with
 /// their "Mesh Parameters", as FiniteElementModel::fromParameters will ask
 /// for them: the scene makes them ahead, side by side (mesh/ScriptMeshes.hpp).

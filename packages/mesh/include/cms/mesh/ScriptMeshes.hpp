@@ -26,8 +26,8 @@ struct ScriptRequest {
 
 /// Every rank of `comm` holds the same requests. Request i (duplicates
 /// dropped) is made on rank i mod size only; a rank's requests run side by
-/// side, one cms-geo-mesher each, on as many threads as the cores its
-/// binding leaves it (usableCores). Each made .msh is sent to every rank,
+/// side, one cms-geo-mesher each, on as many threads as its share of the
+/// node's cores (coresPerRank). Each made .msh is sent to every rank,
 /// which reads it as readMesh reads that script's mesh: the same mesh, or
 /// the same cms::InputError naming the script, thrown on every rank.
 ///
