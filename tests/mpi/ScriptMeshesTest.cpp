@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <map>
 #include <optional>
 #include <string>
@@ -159,4 +160,19 @@ TEST(ScriptMeshes, TheHelpersServeTheNextScenesAfterAStop) {
     EXPECT_TRUE(beam && bar) << "round " << round;
     if (bar) EXPECT_EQ(bar->nodeCount(), 21u * 9) << "round " << round;
   }
+}
+
+TEST(ScriptMeshes, ReadByGmshsReaderTooWhenAsked) {
+  // CMS_MSH_READER=gmsh: every .msh through Gmsh's reader module, which
+  // reads a file; a rank that received the bytes writes them to one first.
+  ASSERT_EQ(::setenv("CMS_MSH_READER", "gmsh", 1), 0);
+  {
+    ScriptMeshes ahead({{kMeshes + "bar_tet10.geo", {}}, {kMeshes + "beam_line.geo", {}}}, MPI_COMM_WORLD);
+    const auto bar = ahead.take(kMeshes + "bar_tet10.geo", {});
+    const auto beam = ahead.take(kMeshes + "beam_line.geo", {});
+    EXPECT_TRUE(bar && beam);
+    if (bar) expectSameMesh(*bar, cms::mesh::readMesh(kMeshes + "bar_tet10.geo"));
+    if (beam) expectSameMesh(*beam, cms::mesh::readMesh(kMeshes + "beam_line.geo"));
+  }
+  ASSERT_EQ(::unsetenv("CMS_MSH_READER"), 0);
 }
