@@ -176,3 +176,31 @@ TEST(ScriptMeshes, ReadByGmshsReaderTooWhenAsked) {
   }
   ASSERT_EQ(::unsetenv("CMS_MSH_READER"), 0);
 }
+
+TEST(ScriptMeshes, AFailureOnOneRankAloneIsAFailureOnEveryRank) {
+  // With Gmsh's reader the receiving ranks write the bytes to a file; the
+  // last rank's temporary directory made impossible, it alone fails, and
+  // every rank must throw rather than go on to a collective it left.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) GTEST_SKIP() << "needs a rank that receives the mesh";
+  const char* old = std::getenv("TMPDIR");
+  const std::string keep = old ? old : "";
+  ASSERT_EQ(::setenv("CMS_MSH_READER", "gmsh", 1), 0);
+  {
+    ScriptMeshes ahead({{kMeshes + "beam_line.geo", {}}}, MPI_COMM_WORLD);  // made on rank 0
+    if (rank() == size - 1) ::setenv("TMPDIR", "/nonexistent/cms-test", 1);
+    bool threw = false;
+    try {
+      ahead.take(kMeshes + "beam_line.geo", {});
+    } catch (const std::exception& e) {
+      threw = true;
+      if (rank() != size - 1)
+        EXPECT_NE(std::string(e.what()).find("rank " + std::to_string(size - 1)), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(threw) << "rank " << rank();
+    if (old) ::setenv("TMPDIR", keep.c_str(), 1);
+    else ::unsetenv("TMPDIR");
+  }
+  ASSERT_EQ(::unsetenv("CMS_MSH_READER"), 0);
+}

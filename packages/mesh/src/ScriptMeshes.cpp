@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <mutex>
 #include <new>
 #include <stdexcept>
@@ -114,11 +115,33 @@ std::optional<Mesh> ScriptMeshes::take(const std::string& path, const std::map<s
   if (i >= delivered_) deliver(i);
   const Job& j = *jobs_[i];
   switch (j.kind) {
-    case Job::Bytes: return detail::meshFromGmshBytes(j.text, j.script, path);
+    case Job::Bytes: break;
     case Job::Input: throw InputError(j.text);
     case Job::Memory: throw std::bad_alloc();
     default: throw std::runtime_error(j.text);  // Runtime; Cancelled cannot be sent (only the destructor cancels)
   }
+  // The same bytes give the same mesh or the same InputError on every rank;
+  // what can fail on one rank alone (memory, the file Gmsh's reader needs)
+  // is agreed on, so that no rank goes on to a collective the others left.
+  std::optional<Mesh> mesh;
+  std::exception_ptr failure;
+  bool input = false;
+  try {
+    mesh = detail::meshFromGmshBytes(j.text, j.script, path);
+  } catch (const InputError&) {
+    failure = std::current_exception(), input = true;
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  if (size_ > 1) {
+    int local = failure && !input ? rank_ : size_, first = size_;
+    MPI_Allreduce(&local, &first, 1, MPI_INT, MPI_MIN, comm_);
+    if (first < size_ && !(failure && !input))
+      throw std::runtime_error(path + ": rank " + std::to_string(first) +
+                               " could not read the mesh made from this script (its own message says why)");
+  }
+  if (failure) std::rethrow_exception(failure);
+  return mesh;
 }
 
 int ScriptMeshes::madeHere() const {
