@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include <Teuchos_CommHelpers.hpp>
@@ -49,18 +50,16 @@ bool isWorkspaceShortfall(int code) {
 std::vector<MUMPS_INT> nestedDissection(const Teuchos::Comm<int>& comm, MUMPS_INT n,
                                         const std::vector<MUMPS_INT>& irn, const std::vector<MUMPS_INT>& jcn) {
   const MPI_Comm c = rawMpiComm(comm);
-  const int ranks = comm.getSize(), rank = comm.getRank();
-  int mine = static_cast<int>(irn.size());
-  std::vector<int> counts(ranks), offsets(ranks, 0);
-  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, c);
-  long long total = 0;
-  if (rank == 0)
-    for (int r = 0; r < ranks; ++r) offsets[r] = static_cast<int>(total), total += counts[r];
-  std::vector<MUMPS_INT> I(rank == 0 ? total : 0), J(rank == 0 ? total : 0);
-  MPI_Gatherv(irn.data(), mine, MPI_INT, I.data(), counts.data(), offsets.data(), MPI_INT, 0, c);
-  MPI_Gatherv(jcn.data(), mine, MPI_INT, J.data(), counts.data(), offsets.data(), MPI_INT, 0, c);
-  std::vector<MUMPS_INT> perm;
-  if (rank != 0) return perm;
+  static_assert(std::is_same<MUMPS_INT, int>::value, "MUMPS_INT gathered as int");
+  std::vector<MUMPS_INT> I, J, perm;
+  try {
+    I = gatherOnRank(irn, 0, c, "the nested dissection's pattern entries");
+    J = gatherOnRank(jcn, 0, c, "the nested dissection's pattern entries");
+  } catch (const std::length_error&) {  // refused on every rank: MUMPS orders by itself
+    return perm;
+  }
+  const long long total = static_cast<long long>(I.size());
+  if (comm.getRank() != 0) return perm;
   // The pattern by columns, upper triangle (stype 1), duplicates allowed.
   cholmod_common common;
   cholmod_start(&common);

@@ -22,11 +22,18 @@ namespace cms {
 namespace {
 
 /// All of 0 .. n-1 on `owner`, nothing elsewhere (world communicator).
-Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
+/// Throws std::invalid_argument (on every rank: the extremes are global)
+/// unless the map's ids are 0 .. n-1, each on one rank.
+void checkZeroToN(const Map& like) {
   const auto n = like.getGlobalNumElements();
   if (n > 0 && (!like.isOneToOne() || like.getMinAllGlobalIndex() != 0 ||
                 like.getMaxAllGlobalIndex() != static_cast<GlobalOrdinal>(n) - 1))
     throw std::invalid_argument("gatherToRank: the row ids are not 0 .. n-1");
+}
+
+Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
+  checkZeroToN(like);
+  const auto n = like.getGlobalNumElements();
   const auto comm = like.getComm();
   return Teuchos::rcp(new Map(n, comm->getRank() == owner ? n : 0, 0, comm));
 }
@@ -34,32 +41,6 @@ Teuchos::RCP<const Map> concentrated(const Map& like, int owner) {
 const char* const notSquare = "GatheredRows: a column that is no row (the matrix is not square in its ids)";
 
 static_assert(std::is_same<GlobalOrdinal, long long>::value, "gatherRows sends global ids as MPI_LONG_LONG");
-
-/// One array's pieces concatenated on `owner` in rank order: `counts` and
-/// `offsets` are the owner's (from gatherCounts), empty elsewhere.
-template <class T>
-void gatherArray(const std::vector<T>& mine, std::vector<T>& all, MPI_Datatype type, const std::vector<int>& counts,
-                 const std::vector<int>& offsets, int owner, MPI_Comm c) {
-  MPI_Gatherv(mine.data(), static_cast<int>(mine.size()), type, all.data(), counts.data(), offsets.data(), type,
-              owner, c);
-}
-
-/// Every rank's `mine` on the owner, with their offsets; throws
-/// std::length_error on every rank when the sum exceeds an int.
-std::pair<std::vector<int>, std::vector<int>> gatherCounts(std::size_t mine, int owner, MPI_Comm c, int ranks,
-                                                           bool isOwner, const char* what) {
-  long long m = static_cast<long long>(mine), total = 0;
-  std::vector<long long> all(isOwner ? ranks : 0);
-  MPI_Gather(&m, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, owner, c);
-  for (long long v : all) total += v;
-  MPI_Bcast(&total, 1, MPI_LONG_LONG, owner, c);
-  if (total > INT_MAX)
-    throw std::length_error(std::string("gatherRows: ") + std::to_string(total) + " " + what +
-                            " on one rank exceed MPI's int counts");
-  std::vector<int> counts(all.begin(), all.end()), offsets(counts.size(), 0);
-  for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  return {counts, offsets};
-}
 
 }  // namespace
 
@@ -89,20 +70,10 @@ RowsOnRank gatherRows(const CrsMatrix& A, int owner) {
     out = std::move(local);
   } else {
     const MPI_Comm c = rawMpiComm(comm);
-    const int ranks = comm.getSize();
-    const auto [rowCounts, rowOffsets] = gatherCounts(nLocal, owner, c, ranks, isOwner, "rows");
-    const auto [entryCounts, entryOffsets] = gatherCounts(local.columns.size(), owner, c, ranks, isOwner, "entries");
-    if (isOwner) {
-      out.rows.resize(static_cast<std::size_t>(rowOffsets.back() + rowCounts.back()));
-      out.columns.resize(static_cast<std::size_t>(entryOffsets.back() + entryCounts.back()));
-      out.values.resize(out.columns.size());
-    }
-    std::vector<int> allLengths(out.rows.size());
-    gatherArray(local.rows, out.rows, MPI_LONG_LONG, rowCounts, rowOffsets, owner, c);
-    gatherArray(lengths, allLengths, MPI_INT, rowCounts, rowOffsets, owner, c);
-    gatherArray(local.columns, out.columns, MPI_LONG_LONG, entryCounts, entryOffsets, owner, c);
-    gatherArray(local.values, out.values, MPI_DOUBLE, entryCounts, entryOffsets, owner, c);
-    lengths = std::move(allLengths);
+    out.rows = gatherOnRank(local.rows, owner, c, "gatherRows' rows");
+    lengths = gatherOnRank(lengths, owner, c, "gatherRows' rows");
+    out.columns = gatherOnRank(local.columns, owner, c, "gatherRows' entries");
+    out.values = gatherOnRank(local.values, owner, c, "gatherRows' entries");
   }
   if (!isOwner) return RowsOnRank{};
   out.offsets.assign(out.rows.size() + 1, 0);
@@ -185,7 +156,7 @@ bool GatheredRows::positionColumns(RowsOnRank& g) {
 
 Teuchos::RCP<CrsMatrix> gatherToRank(const CrsMatrix& A, int owner,
                                      const Teuchos::RCP<const Teuchos::Comm<int>>& self) {
-  concentrated(*A.getRowMap(), owner);  // the ids 0 .. n-1, checked on every rank
+  checkZeroToN(*A.getRowMap());
   const auto n = A.getRowMap()->getGlobalNumElements();
   const RowsOnRank g = gatherRows(A, owner);
   if (A.getComm()->getRank() != owner) return Teuchos::null;

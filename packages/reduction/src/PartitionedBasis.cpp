@@ -512,24 +512,17 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   // 4. The interface problem on rank 0: S, M^ gathered and their modes below the cut-off.
   const auto tInterface = Clock::now();
   auto gatherTriplets = [&](std::vector<std::pair<long long, double>>& t) {
-    int count = static_cast<int>(t.size());
-    std::vector<int> counts(ranks), displs(ranks, 0);
-    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, rawMpiComm(*comm));
     std::vector<long long> keys(t.size());
     std::vector<double> values(t.size());
     for (std::size_t k = 0; k < t.size(); ++k) keys[k] = t[k].first, values[k] = t[k].second;
-    long long total = 0;
-    for (int r = 0; r < ranks; ++r) displs[r] = static_cast<int>(total), total += counts[r];
-    if (rank == 0 && total > INT_MAX) failure = s.name() + ": the interface problem is too large to gather";
-    std::vector<long long> allKeys(rank == 0 ? total : 0);
-    std::vector<double> allValues(rank == 0 ? total : 0);
-    MPI_Gatherv(keys.data(), count, MPI_LONG_LONG, allKeys.data(), counts.data(), displs.data(), MPI_LONG_LONG, 0,
-                rawMpiComm(*comm));
-    MPI_Gatherv(values.data(), count, MPI_DOUBLE, allValues.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
-                rawMpiComm(*comm));
     t.clear();
-    if (rank == 0)
-      for (long long k = 0; k < total; ++k) t.emplace_back(allKeys[k], allValues[k]);
+    try {
+      const auto allKeys = gatherOnRank(keys, 0, rawMpiComm(*comm), "the interface problem's entries");
+      const auto allValues = gatherOnRank(values, 0, rawMpiComm(*comm), "the interface problem's entries");
+      for (std::size_t k = 0; k < allKeys.size(); ++k) t.emplace_back(allKeys[k], allValues[k]);
+    } catch (const std::length_error&) {  // refused on every rank
+      if (rank == 0) failure = s.name() + ": the interface problem is too large to gather";
+    }
   };
   gatherTriplets(Sk);
   gatherTriplets(Sm);
