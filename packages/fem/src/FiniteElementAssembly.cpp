@@ -607,15 +607,22 @@ class Assembler {
     ownedLocal_ = ownedGraph_->getLocalGraphHost();
   }
 
-  /// Positions of a local item's entries: found once per item (a binary
-  /// search per entry) and reused by every matrix of that item. p >= 0:
-  /// entry p of the owned arrays; p <= -2: entry -p-2 of the ghost arrays;
-  /// -1: fixed DOF.
+  /// Positions of a local item's entries: found once per item and reused by
+  /// every matrix of that item. p >= 0: entry p of the owned arrays; p <= -2:
+  /// entry -p-2 of the ghost arrays; -1: fixed DOF. A row's columns are
+  /// sorted and distinct, so an offset that holds the column is its place:
+  /// each column's offset in the previous row (the rows of one node share
+  /// their layout), then the place after the previous column (a node's
+  /// columns are consecutive), are tried with one comparison each before a
+  /// binary search. The searches alone, one per entry, took half of the
+  /// element phase of the rotor's hub (doc/benchmarks.md, "Assembly: the
+  /// entries' places").
   void locate(std::size_t local) {
     const auto& owned = ownedLocal_;
     const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
     const int n = static_cast<int>(e - b);
     positions_.assign(static_cast<std::size_t>(n) * n, -1);
+    offsets_.assign(static_cast<std::size_t>(n), -1);
     for (int i = 0; i < n; ++i) {
       const LO r = itemLids_[b + i];
       if (r < 0) continue;
@@ -623,10 +630,17 @@ class Assembler {
       const LO* base = mine ? owned.entries.data() : cols_.data();
       const LO* rb = base + (mine ? owned.row_map(r) : rowPtr_[r]);
       const LO* re = base + (mine ? owned.row_map(r + 1) : rowPtr_[r + 1]);
+      const std::int64_t length = re - rb;
+      auto holds = [&](std::int64_t off, LO c) { return off >= 0 && off < length && rb[off] == c; };
+      std::int64_t previous = -1;
       for (int j = 0; j < n; ++j) {
         const LO c = itemLids_[b + j];
         if (c < 0) continue;
-        const std::int64_t at = std::lower_bound(rb, re, c) - base;
+        std::int64_t off = offsets_[j];
+        if (!holds(off, c)) off = previous + 1;
+        if (!holds(off, c)) off = std::lower_bound(rb, re, c) - rb;
+        offsets_[j] = previous = off;
+        const std::int64_t at = (rb - base) + off;
         positions_[static_cast<std::size_t>(i) * n + j] =
             mine ? at : -2 - (at - static_cast<std::int64_t>(ghostBegin_));
       }
@@ -1160,6 +1174,7 @@ class Assembler {
   bool damped_ = false;  ///< some spring item has damping: D is assembled
   double freeHingeStiffness_ = 0.0;  ///< k_s of holdFreeHinges (0: no free hinge)
   std::vector<std::int64_t> positions_;
+  std::vector<std::int64_t> offsets_;  ///< locate()'s offsets within the previous row
   std::vector<double> xyz_ = std::vector<double>(3 * kMaxItemNodes);
   Target vM_, vK_, vG_, vKT_, vD_;
   std::vector<double> vf_;
