@@ -659,6 +659,22 @@ class Assembler {
       else if (p <= -2) t.ghost(-2 - p) += A.a[k];
     }
   }
+  /// The same for `count` matrices at once (the positions read once).
+  void scatter(const ElementMatrix* const* from, Target* const* to, int count) const {
+    double* owned[5];
+    double* ghost[5];
+    const double* a[5];
+    for (int q = 0; q < count; ++q) owned[q] = to[q]->owned.data(), ghost[q] = to[q]->ghost.data(), a[q] = from[q]->a.data();
+    const std::size_t nn = positions_.size();
+    for (std::size_t k = 0; k < nn; ++k) {
+      const std::int64_t p = positions_[k];
+      if (p >= 0) {
+        for (int q = 0; q < count; ++q) owned[q][p] += a[q][k];
+      } else if (p <= -2) {
+        for (int q = 0; q < count; ++q) ghost[q][-2 - p] += a[q][k];
+      }
+    }
+  }
   void scatterVector(std::size_t local, const std::vector<double>& f, std::vector<double>& v) const {
     const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
     for (auto p = b; p < e; ++p)
@@ -813,11 +829,26 @@ class Assembler {
       try {
         const ItemMatrices m = itemMatrices(it);
         locate(local);
-        scatterItem(local, m.K, vK_);
-        if (m.M.n) scatterItem(local, m.M, vM_);
-        if (m.D.n) scatterItem(local, m.D, vD_);
-        if (m.spin.G1.n) scatterItem(local, m.spin.G1, vG_);
-        if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatterItem(local, m.spin.KT1, vKT_);
+        if (transforms_.empty() || !transforms_.count(local)) {
+          // Every matrix in one pass over the positions: the item's place
+          // in each target is the same.
+          const ElementMatrix* from[5];
+          Target* to[5];
+          int count = 0;
+          auto add = [&](const ElementMatrix& A, Target& t) { from[count] = &A, to[count++] = &t; };
+          add(m.K, vK_);
+          if (m.M.n) add(m.M, vM_);
+          if (m.D.n) add(m.D, vD_);
+          if (m.spin.G1.n) add(m.spin.G1, vG_);
+          if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) add(m.spin.KT1, vKT_);
+          scatter(from, to, count);
+        } else {
+          scatterItem(local, m.K, vK_);
+          if (m.M.n) scatterItem(local, m.M, vM_);
+          if (m.D.n) scatterItem(local, m.D, vD_);
+          if (m.spin.G1.n) scatterItem(local, m.spin.G1, vG_);
+          if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatterItem(local, m.spin.KT1, vKT_);
+        }
         if (rotatingFrame_ && !m.spin.f1.empty()) {
           if (transforms_.count(local)) scatterVector(local, constrained(local, m.spin.f1), vf_);
           else scatterVector(local, m.spin.f1, vf_);
