@@ -17,6 +17,7 @@
 #include "ExpectError.hpp"
 #include "BeamModels.hpp"
 #include "SubstructureModes.hpp"
+#include "cms/core/BlasThreads.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HashRandom.hpp"
 #include "cms/fem/FiniteElementAssembly.hpp"
@@ -266,6 +267,76 @@ TEST(Assembly, MalformedMatrixMarketFilesAreReportedOnEveryRank) {
   expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "_K.mtx");
   rewrite("%%MatrixMarket matrix coordinate real general\n3 3 0\n");
   expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "lays out");
+}
+
+/// Every stored value of A and B (the same rows on this rank) identical.
+void expectIdenticalValues(const CrsMatrix& A, const CrsMatrix& B, const char* name) {
+  const auto a = A.getLocalMatrixHost(), b = B.getLocalMatrixHost();
+  ASSERT_EQ(a.values.extent(0), b.values.extent(0)) << name;
+  std::size_t differ = 0;
+  for (std::size_t k = 0; k < a.values.extent(0); ++k) differ += a.values(k) != b.values(k);
+  EXPECT_EQ(differ, 0u) << name << ": entries not bit-identical";
+}
+
+// The element loop makes items on this rank's threads and scatters them in
+// item order on one (FiniteElementAssembly.cpp, forLocalItems): M, K, G1
+// and KT1 are bit-identical whatever the thread count, and a bad element is reported as the one-thread loop
+// reports it: the first in item order, whichever thread made it. The blade
+// (~1,100 Tet10 items) spans several of the loop's chunks.
+TEST(Assembly, ThreadsGiveBitIdenticalMatricesAndTheSameFirstError) {
+  const int before = blasThreads();
+  if (!setBlasThreads(1)) GTEST_SKIP() << "the BLAS has no thread control: the element loop runs on one thread";
+  const auto model = spinningSolidBlade();
+  const auto one = fem::assemble(model, world());
+  std::vector<std::pair<int, fem::AssembledMatrices>> runs;
+  for (int threads : {2, 3}) {
+    setBlasThreads(threads);
+    runs.emplace_back(threads, fem::assemble(model, world()));
+  }
+  for (const auto& [threads, many] : runs) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    ASSERT_EQ(one.elementCount, many.elementCount);
+    expectIdenticalValues(*one.M, *many.M, "M");
+    expectIdenticalValues(*one.K, *many.K, "K");
+    expectIdenticalValues(*one.G1, *many.G1, "G1");
+    expectIdenticalValues(*one.KT1, *many.KT1, "KT1");
+    // KS1 is made from the prestress solve's u1, whose factorisation runs
+    // its BLAS on these threads too: the same to round-off amplified by
+    // cond(K), as in SameMatricesOnOneRankAndOnAllRanks.
+    expectSameMatrix(*many.KS1, *one.KS1, "KS1", 1e-10);
+  }
+  EXPECT_GT(one.elementCount * 30 * 30 * 48, 4 * (8 << 20)) << "the blade no longer spans several chunks";
+
+  // Two inverted elements (two corners swapped), the first in item order
+  // made by a helper thread (on one rank: position 350 of the set, 155 into
+  // the loop's second chunk of 195 Tet10 items, whose parts are 97 or 65
+  // items long).
+  auto bad = spinningSolidBlade();
+  auto mesh = std::make_shared<mesh::Mesh>(*bad.mesh);
+  std::size_t firstTag = 0;
+  for (auto& g : mesh->groups) {
+    if (g.name != "blade") continue;
+    auto& block = g.blocks.at(0);
+    ASSERT_GT(block.size(), 360u);
+    for (std::size_t c : {350u, 352u}) std::swap(block.nodes[c * block.nodesPerCell], block.nodes[c * block.nodesPerCell + 1]);
+    firstTag = block.cellTags[350];
+  }
+  ASSERT_NE(firstTag, 0u);
+  bad.mesh = mesh;
+  std::vector<std::string> messages;
+  for (int threads : {1, 2, 3}) {
+    setBlasThreads(threads);
+    try {
+      fem::assemble(bad, world());
+      messages.push_back("no error");
+    } catch (const NumericalError& e) {
+      messages.push_back(e.what());
+    }
+  }
+  setBlasThreads(before);
+  EXPECT_NE(messages[0].find("element " + std::to_string(firstTag) + " "), std::string::npos) << messages[0];
+  EXPECT_EQ(messages[1], messages[0]);
+  EXPECT_EQ(messages[2], messages[0]);
 }
 
 TEST(Assembly, ModelErrorsNameTheSetNodeOrElement) {

@@ -13,8 +13,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
 #include <numeric>
 #include <sstream>
+#include <system_error>
+#include <thread>
 #include <unordered_map>
 #include <utility>
 
@@ -27,6 +33,7 @@
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/BlasThreads.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
@@ -138,6 +145,74 @@ int itemNodeDofs(const Item& it, const FiniteElementModel& model) {
     }
   }
 }
+
+/// Helper threads kept for a whole loop, each running its part of every job
+/// the caller hands them (part 0 runs on the caller's thread). Threads
+/// started per chunk instead re-faulted their stacks and heaps each time and
+/// made their parts half again as slow as the caller's.
+class PartWorkers {
+public:
+  /// Up to `helpers` threads: fewer when the system refuses one.
+  explicit PartWorkers(std::size_t helpers) {
+    for (std::size_t t = 1; t <= helpers; ++t) {
+      try {
+        threads_.emplace_back(&PartWorkers::loop, this, t);
+      } catch (const std::system_error&) {
+        break;
+      }
+    }
+  }
+  ~PartWorkers() {
+    {
+      const std::lock_guard<std::mutex> g(lock_);
+      stop_ = true;
+    }
+    start_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+  PartWorkers(const PartWorkers&) = delete;
+  PartWorkers& operator=(const PartWorkers&) = delete;
+
+  std::size_t parts() const { return threads_.size() + 1; }
+  /// job(part) for every part, returning when all have; job must not throw.
+  void run(const std::function<void(std::size_t)>& job) {
+    {
+      const std::lock_guard<std::mutex> g(lock_);
+      job_ = &job;
+      ++generation_;
+      pending_ = threads_.size();
+    }
+    start_.notify_all();
+    job(0);
+    std::unique_lock<std::mutex> g(lock_);
+    finished_.wait(g, [&] { return pending_ == 0; });
+  }
+
+private:
+  void loop(std::size_t part) {
+    std::size_t seen = 0;
+    for (;;) {
+      const std::function<void(std::size_t)>* job = nullptr;
+      {
+        std::unique_lock<std::mutex> g(lock_);
+        start_.wait(g, [&] { return stop_ || generation_ != seen; });
+        if (stop_) return;
+        seen = generation_;
+        job = job_;
+      }
+      (*job)(part);
+      const std::lock_guard<std::mutex> g(lock_);
+      if (--pending_ == 0) finished_.notify_one();
+    }
+  }
+
+  std::vector<std::thread> threads_;
+  std::mutex lock_;
+  std::condition_variable start_, finished_;
+  const std::function<void(std::size_t)>* job_ = nullptr;
+  std::size_t generation_ = 0, pending_ = 0;
+  bool stop_ = false;
+};
 
 /// The item's element matrices (only those the model needs) in a fixed order.
 struct ItemMatrices {
@@ -607,6 +682,12 @@ class Assembler {
     ownedLocal_ = ownedGraph_->getLocalGraphHost();
   }
 
+  /// Where an item's entries go (locate()): p >= 0, entry p of the owned
+  /// arrays; p <= -2, entry -p-2 of the ghost arrays; -1, a fixed DOF. And
+  /// the offsets locate() keeps from row to row.
+  struct Places {
+    std::vector<std::int64_t> positions, offsets;
+  };
   /// Positions of a local item's entries: found once per item and reused by
   /// every matrix of that item. p >= 0: entry p of the owned arrays; p <= -2:
   /// entry -p-2 of the ghost arrays; -1: fixed DOF. A row's columns are
@@ -617,12 +698,14 @@ class Assembler {
   /// binary search. The searches alone, one per entry, took half of the
   /// element phase of the rotor's hub (doc/benchmarks.md, "Assembly: the
   /// entries' places").
-  void locate(std::size_t local) {
+  void locate(std::size_t local, Places& at) const {
     const auto& owned = ownedLocal_;
     const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
     const int n = static_cast<int>(e - b);
-    positions_.assign(static_cast<std::size_t>(n) * n, -1);
-    offsets_.assign(static_cast<std::size_t>(n), -1);
+    std::vector<std::int64_t>& positions = at.positions;
+    std::vector<std::int64_t>& offsets = at.offsets;
+    positions.assign(static_cast<std::size_t>(n) * n, -1);
+    offsets.assign(static_cast<std::size_t>(n), -1);
     for (int i = 0; i < n; ++i) {
       const LO r = itemLids_[b + i];
       if (r < 0) continue;
@@ -636,13 +719,13 @@ class Assembler {
       for (int j = 0; j < n; ++j) {
         const LO c = itemLids_[b + j];
         if (c < 0) continue;
-        std::int64_t off = offsets_[j];
+        std::int64_t off = offsets[j];
         if (!holds(off, c)) off = previous + 1;
         if (!holds(off, c)) off = std::lower_bound(rb, re, c) - rb;
-        offsets_[j] = previous = off;
-        const std::int64_t at = (rb - base) + off;
-        positions_[static_cast<std::size_t>(i) * n + j] =
-            mine ? at : -2 - (at - static_cast<std::int64_t>(ghostBegin_));
+        offsets[j] = previous = off;
+        const std::int64_t p = (rb - base) + off;
+        positions[static_cast<std::size_t>(i) * n + j] =
+            mine ? p : -2 - (p - static_cast<std::int64_t>(ghostBegin_));
       }
     }
   }
@@ -650,24 +733,24 @@ class Assembler {
     return Target{Values(std::string(name) + " owned", ownedNnz_),
                   Values(std::string(name) + " ghost", cols_.size() - ghostBegin_)};
   }
-  /// Adds an element matrix at the positions the last locate() found.
-  void scatter(const ElementMatrix& A, Target& t) const {
-    const std::size_t nn = positions_.size();
+  /// Adds an element matrix at the positions locate() found.
+  void scatter(const ElementMatrix& A, const Places& at, Target& t) const {
+    const std::size_t nn = at.positions.size();
     for (std::size_t k = 0; k < nn; ++k) {
-      const std::int64_t p = positions_[k];
+      const std::int64_t p = at.positions[k];
       if (p >= 0) t.owned(p) += A.a[k];
       else if (p <= -2) t.ghost(-2 - p) += A.a[k];
     }
   }
   /// The same for `count` matrices at once (the positions read once).
-  void scatter(const ElementMatrix* const* from, Target* const* to, int count) const {
+  void scatter(const ElementMatrix* const* from, const Places& at, Target* const* to, int count) const {
     double* owned[5];
     double* ghost[5];
     const double* a[5];
     for (int q = 0; q < count; ++q) owned[q] = to[q]->owned.data(), ghost[q] = to[q]->ghost.data(), a[q] = from[q]->a.data();
-    const std::size_t nn = positions_.size();
+    const std::size_t nn = at.positions.size();
     for (std::size_t k = 0; k < nn; ++k) {
-      const std::int64_t p = positions_[k];
+      const std::int64_t p = at.positions[k];
       if (p >= 0) {
         for (int q = 0; q < count; ++q) owned[q][p] += a[q][k];
       } else if (p <= -2) {
@@ -692,11 +775,14 @@ class Assembler {
     fe.theory = set.theory;
     return fe;
   }
-  SolidElement solidOf(const Item& it) {
+  /// The solid element of an item, its node coordinates copied into `xyz`
+  /// (the caller's: items are made on several threads).
+  SolidElement solidOf(const Item& it, std::vector<double>& xyz) const {
     const auto& set = model_.elementSets[it.set];
     const std::int64_t* cn = &it.block->nodes[it.cell * it.block->nodesPerCell];
-    for (int a = 0; a < it.block->nodesPerCell; ++a) std::copy_n(mesh_.x(cn[a]), 3, &xyz_[3 * a]);
-    return SolidElement{solidTypeOf(set, *it.block), xyz_.data(), model_.materials.at(set.material)};
+    xyz.resize(3 * static_cast<std::size_t>(it.block->nodesPerCell));
+    for (int a = 0; a < it.block->nodesPerCell; ++a) std::copy_n(mesh_.x(cn[a]), 3, &xyz[3 * a]);
+    return SolidElement{solidTypeOf(set, *it.block), xyz.data(), model_.materials.at(set.material)};
   }
   PointMass pointMassOf(const Item& it) const {
     PointMass p;
@@ -709,7 +795,8 @@ class Assembler {
   /// The item's element matrices: K and M, and the spin terms the model's
   /// frame needs (rotating: G1, KT1, f1; stationary: G1, and the tilt
   /// stiffness in KT1 when the frame itself turns).
-  ItemMatrices itemMatrices(const Item& it) {
+  /// `xyz`: scratch for a solid's coordinates (solidOf).
+  ItemMatrices itemMatrices(const Item& it, std::vector<double>& xyz) const {
     const int nd = itemNodeDofs(it, model_);
     const Spin spin = spinning_ ? model_.spin->spin : Spin{};
     ItemMatrices m;
@@ -724,10 +811,9 @@ class Assembler {
         break;
       }
       case Item::Kind::Solid: {
-        const SolidElement se = solidOf(it);
+        const SolidElement se = solidOf(it, xyz);
         m.K = solidStiffness(se);
-        m.M = solidMass(se);
-        if (rotatingFrame_) m.spin = solidSpinMatrices(se, spin);
+        m.M = rotatingFrame_ ? solidMassWithSpin(se, spin, m.spin) : solidMass(se);
         break;
       }
       case Item::Kind::PointMass: {
@@ -768,12 +854,12 @@ class Assembler {
     return m;
   }
 
-  /// Adds local item's matrix A at the positions the last locate() found:
-  /// A itself, or T^T A T for an item at a hinge's second node (no copy of
-  /// A for the others: most items).
-  void scatterItem(std::size_t local, const ElementMatrix& A, Target& t) const {
-    if (transforms_.empty() || !transforms_.count(local)) scatter(A, t);
-    else scatter(constrained(local, A), t);
+  /// Adds local item's matrix A at the positions locate() found: A itself,
+  /// or T^T A T for an item at a hinge's second node (no copy of A for the
+  /// others: most items).
+  void scatterItem(std::size_t local, const ElementMatrix& A, const Places& at, Target& t) const {
+    if (transforms_.empty() || !transforms_.count(local)) scatter(A, at, t);
+    else scatter(constrained(local, A), at, t);
   }
   /// T^T A T for an item with a transform (theory §17).
   ElementMatrix constrained(std::size_t local, const ElementMatrix& A) const {
@@ -807,6 +893,70 @@ class Assembler {
     return out;
   }
 
+  /// One local item's matrices and places, made on any thread.
+  struct Made {
+    ItemMatrices m;
+    Places at;
+    std::vector<double> work, xyz;  ///< the maker's own scratch
+    bool skip = false;         ///< nothing to add for this item
+    std::exception_ptr error;
+  };
+
+  /// The local items in order. `make` (the item's matrices, into a Made)
+  /// and locate() run on this rank's threads (its share of the node's
+  /// cores: blasThreads(), one under OPENBLAS_NUM_THREADS=1 or two ranks on
+  /// two cores), a chunk of items at a time; `add` then scatters the chunk
+  /// on this thread, item after item, so every entry is the same sum in the
+  /// same order as on one thread. The first item whose make or add throws
+  /// goes to `fail` and the loop ends there, as the one-thread loop did.
+  /// Element matrices and their places were two thirds of the element
+  /// phase, their scatter the rest (doc/benchmarks.md, "Assembly: the
+  /// entries' places").
+  template <class Make, class Add, class Fail>
+  void forLocalItems(Make make, Add add, Fail fail) {
+    constexpr double kChunkBytes = 8.0 * (1 << 20);
+    const std::size_t count = localItems_.size();
+    const std::size_t threads = static_cast<std::size_t>(std::max(1, blasThreads()));
+    std::vector<Made> made;
+    PartWorkers workers(threads - 1);
+    for (std::size_t first = 0; first < count && failure_.empty();) {
+      // At least an item per thread, at most ~kChunkBytes of matrices and places.
+      std::size_t last = first;
+      for (double bytes = 0.0; last < count && (last - first < threads || bytes < kChunkBytes); ++last) {
+        const double n = static_cast<double>(itemDofStart_[last + 1] - itemDofStart_[last]);
+        bytes += 6.0 * 8.0 * n * n;
+      }
+      if (made.size() < last - first) made.resize(last - first);
+      auto work = [&](std::size_t part) {
+        const std::size_t parts = workers.parts();
+        const std::size_t size = last - first;
+        for (std::size_t k = first + size * part / parts; k < first + size * (part + 1) / parts; ++k) {
+          Made& d = made[k - first];
+          d.skip = false;
+          d.error = nullptr;
+          try {
+            make(k, d);
+            if (!d.skip) locate(k, d.at);
+          } catch (...) {
+            d.error = std::current_exception();
+          }
+        }
+      };
+      workers.run(work);
+      for (std::size_t k = first; k < last; ++k) {
+        const Made& d = made[k - first];
+        try {
+          if (d.error) std::rethrow_exception(d.error);
+          if (!d.skip) add(k, d);
+        } catch (const std::exception& e) {
+          fail(k, e);
+          break;
+        }
+      }
+      first = last;
+    }
+  }
+
   // 7. Element matrices into the owned and ghost arrays. Errors are collected
   // and reduced so every rank throws together (a rank's own elements may be
   // the only bad ones). Collective: that reduction.
@@ -824,46 +974,46 @@ class Assembler {
     if (rotatingFrame_) { vKT_ = target("KT1"); vf_.assign(numOverlap_, 0.0); }
     if (tilt_) vKT_ = target("KX1");
 
-    for (std::size_t local = 0; local < localItems_.size() && failure_.empty(); ++local) {
-      const Item& it = items_[localItems_[local]];
-      try {
-        const ItemMatrices m = itemMatrices(it);
-        locate(local);
-        if (transforms_.empty() || !transforms_.count(local)) {
-          // Every matrix in one pass over the positions: the item's place
-          // in each target is the same.
-          const ElementMatrix* from[5];
-          Target* to[5];
-          int count = 0;
-          auto add = [&](const ElementMatrix& A, Target& t) { from[count] = &A, to[count++] = &t; };
-          add(m.K, vK_);
-          if (m.M.n) add(m.M, vM_);
-          if (m.D.n) add(m.D, vD_);
-          if (m.spin.G1.n) add(m.spin.G1, vG_);
-          if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) add(m.spin.KT1, vKT_);
-          scatter(from, to, count);
-        } else {
-          scatterItem(local, m.K, vK_);
-          if (m.M.n) scatterItem(local, m.M, vM_);
-          if (m.D.n) scatterItem(local, m.D, vD_);
-          if (m.spin.G1.n) scatterItem(local, m.spin.G1, vG_);
-          if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatterItem(local, m.spin.KT1, vKT_);
-        }
-        if (rotatingFrame_ && !m.spin.f1.empty()) {
-          if (transforms_.count(local)) scatterVector(local, constrained(local, m.spin.f1), vf_);
-          else scatterVector(local, m.spin.f1, vf_);
-        }
-      } catch (const std::exception& e) {
-        std::ostringstream os;
-        os << model_.name << ": ";
-        if (it.block) os << "element " << it.block->cellTags[it.cell] << " of set '"
-                         << model_.elementSets[it.set].group << "'";
-        else os << nodeName(mesh_, it.cell);
-        os << ": " << e.what();
-        failure_ = os.str();
-        failureIsInput_ = dynamic_cast<const InputError*>(&e) != nullptr;
-      }
-    }
+    forLocalItems(
+        [&](std::size_t local, Made& made) { made.m = itemMatrices(items_[localItems_[local]], made.xyz); },
+        [&](std::size_t local, const Made& made) {
+          const ItemMatrices& m = made.m;
+          if (transforms_.empty() || !transforms_.count(local)) {
+            // Every matrix in one pass over the positions: the item's place
+            // in each target is the same.
+            const ElementMatrix* from[5];
+            Target* to[5];
+            int count = 0;
+            auto add = [&](const ElementMatrix& A, Target& t) { from[count] = &A, to[count++] = &t; };
+            add(m.K, vK_);
+            if (m.M.n) add(m.M, vM_);
+            if (m.D.n) add(m.D, vD_);
+            if (m.spin.G1.n) add(m.spin.G1, vG_);
+            if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) add(m.spin.KT1, vKT_);
+            scatter(from, made.at, to, count);
+          } else {
+            scatterItem(local, m.K, made.at, vK_);
+            if (m.M.n) scatterItem(local, m.M, made.at, vM_);
+            if (m.D.n) scatterItem(local, m.D, made.at, vD_);
+            if (m.spin.G1.n) scatterItem(local, m.spin.G1, made.at, vG_);
+            if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatterItem(local, m.spin.KT1, made.at, vKT_);
+          }
+          if (rotatingFrame_ && !m.spin.f1.empty()) {
+            if (transforms_.count(local)) scatterVector(local, constrained(local, m.spin.f1), vf_);
+            else scatterVector(local, m.spin.f1, vf_);
+          }
+        },
+        [&](std::size_t local, const std::exception& e) {
+          const Item& it = items_[localItems_[local]];
+          std::ostringstream os;
+          os << model_.name << ": ";
+          if (it.block) os << "element " << it.block->cellTags[it.cell] << " of set '"
+                           << model_.elementSets[it.set].group << "'";
+          else os << nodeName(mesh_, it.cell);
+          os << ": " << e.what();
+          failure_ = os.str();
+          failureIsInput_ = dynamic_cast<const InputError*>(&e) != nullptr;
+        });
     throwIfAnyFailed();
   }
 
@@ -1129,40 +1279,41 @@ class Assembler {
     auto u = uOverlap.getData(0);
     const Spin spin = model_.spin->spin;
     Target vKS = target("KS1");
-    std::vector<double> ue(6 * kMaxItemNodes), ur(6 * kMaxItemNodes * 3);
-    for (std::size_t local = 0; local < localItems_.size() && failure_.empty(); ++local) {
-      const Item& it = items_[localItems_[local]];
-      if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) continue;
-      const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
-      for (auto p = b; p < e; ++p) ur[p - b] = itemLids_[p] >= 0 ? u[itemLids_[p]] : 0.0;
-      // The element's DOFs: the rows themselves, or T u for an element at a
-      // hinge's second node (its slaved DOFs follow the hinge, theory §17).
-      const auto t = transforms_.find(local);
-      if (t == transforms_.end()) {
-        std::copy(ur.begin(), ur.begin() + (e - b), ue.begin());
-      } else {
-        const ItemTransform& tr = t->second;
-        for (int i = 0; i < tr.n; ++i) {
-          ue[i] = 0.0;
-          for (int j = 0; j < tr.m; ++j) ue[i] += tr.T[static_cast<std::size_t>(i) * tr.m + j] * ur[j];
-        }
-      }
-      try {
-        if (it.kind == Item::Kind::Frame) {
-          const FrameElement fe = frameOf(it);
-          locate(local);
-          // N(x) from the element's equilibrium under its own
-          // centrifugal load: quadratic along it (theory §10).
-          scatterItem(local, frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin)), vKS);
-        } else {
-          locate(local);
-          scatterItem(local, solidGeometricStiffness(solidOf(it), ue.data()), vKS);
-        }
-      } catch (const std::exception& ex) {
-        failureIsInput_ = dynamic_cast<const InputError*>(&ex) != nullptr;
-        failure_ = model_.name + ": element " + std::to_string(it.block->cellTags[it.cell]) + ": " + ex.what();
-      }
-    }
+    forLocalItems(
+        [&](std::size_t local, Made& made) {
+          const Item& it = items_[localItems_[local]];
+          if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) { made.skip = true; return; }
+          const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
+          std::vector<double>& ur = made.work;
+          ur.assign(static_cast<std::size_t>(e - b), 0.0);
+          for (auto p = b; p < e; ++p) ur[p - b] = itemLids_[p] >= 0 ? u[itemLids_[p]] : 0.0;
+          // The element's DOFs: the rows themselves, or T u for an element at a
+          // hinge's second node (its slaved DOFs follow the hinge, theory §17).
+          const auto t = transforms_.find(local);
+          std::vector<double> ue;
+          if (t == transforms_.end()) {
+            ue = ur;
+          } else {
+            const ItemTransform& tr = t->second;
+            ue.assign(static_cast<std::size_t>(tr.n), 0.0);
+            for (int i = 0; i < tr.n; ++i)
+              for (int j = 0; j < tr.m; ++j) ue[i] += tr.T[static_cast<std::size_t>(i) * tr.m + j] * ur[j];
+          }
+          if (it.kind == Item::Kind::Frame) {
+            const FrameElement fe = frameOf(it);
+            // N(x) from the element's equilibrium under its own
+            // centrifugal load: quadratic along it (theory §10).
+            made.m.K = frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin));
+          } else {
+            made.m.K = solidGeometricStiffness(solidOf(it, made.xyz), ue.data());
+          }
+        },
+        [&](std::size_t local, const Made& made) { scatterItem(local, made.m.K, made.at, vKS); },
+        [&](std::size_t local, const std::exception& ex) {
+          const Item& it = items_[localItems_[local]];
+          failureIsInput_ = dynamic_cast<const InputError*>(&ex) != nullptr;
+          failure_ = model_.name + ": element " + std::to_string(it.block->cellTags[it.cell]) + ": " + ex.what();
+        });
     throwIfAnyFailed();
     out_.KS1 = finish(vKS);
   }
@@ -1204,9 +1355,6 @@ class Assembler {
   bool spinning_ = false, rotatingFrame_ = false, tilt_ = false;
   bool damped_ = false;  ///< some spring item has damping: D is assembled
   double freeHingeStiffness_ = 0.0;  ///< k_s of holdFreeHinges (0: no free hinge)
-  std::vector<std::int64_t> positions_;
-  std::vector<std::int64_t> offsets_;  ///< locate()'s offsets within the previous row
-  std::vector<double> xyz_ = std::vector<double>(3 * kMaxItemNodes);
   Target vM_, vK_, vG_, vKT_, vD_;
   std::vector<double> vf_;
   std::string failure_;

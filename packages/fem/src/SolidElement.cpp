@@ -705,13 +705,11 @@ double solidVolume(const SolidElement& e) {
   return v;
 }
 
-SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin) {
-  const int nn = solidNodeCount(e.type);
-  SpinMatrices out;
-  out.f1.assign(3 * nn, 0.0);
-  NodeMatrix m = scalarMass(e, &spin, out.f1.data());
+namespace {
+/// G1 and KT1 from the scalar mass m (theory §9.1): blocks 2 m_ab [n]x
+/// (skew) and m_ab [n]x^T [n]x = m_ab (I - n n^T).
+void spinFromScalarMass(int nn, NodeMatrix& m, const Spin& spin, SpinMatrices& out) {
   const Vec3& n = spin.axis;
-  // G1 blocks 2 m_ab [n]x (skew); KT1 blocks m_ab [n]x^T [n]x = m_ab (I - n n^T).
   const double cross2[3][3] = {{0.0, -2.0 * n[2], 2.0 * n[1]},
                                {2.0 * n[2], 0.0, -2.0 * n[0]},
                                {-2.0 * n[1], 2.0 * n[0], 0.0}};
@@ -720,7 +718,25 @@ SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin) {
     for (int j = 0; j < 3; ++j) P[i][j] = (i == j ? 1.0 : 0.0) - n[i] * n[j];
   out.G1 = expand(nn, m, cross2);
   out.KT1 = expand(nn, m, P);
+}
+}  // namespace
+
+SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin) {
+  const int nn = solidNodeCount(e.type);
+  SpinMatrices out;
+  out.f1.assign(3 * nn, 0.0);
+  NodeMatrix m = scalarMass(e, &spin, out.f1.data());
+  spinFromScalarMass(nn, m, spin, out);
   return out;
+}
+
+ElementMatrix solidMassWithSpin(const SolidElement& e, const Spin& spin, SpinMatrices& out) {
+  const int nn = solidNodeCount(e.type);
+  out.f1.assign(3 * nn, 0.0);
+  NodeMatrix m = scalarMass(e, &spin, out.f1.data());
+  spinFromScalarMass(nn, m, spin, out);
+  const double I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  return expand(nn, m, I);
 }
 
 ElementMatrix solidGeometricStiffness(const SolidElement& e, const double* ue) {

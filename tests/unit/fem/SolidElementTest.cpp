@@ -692,6 +692,24 @@ TEST(SolidSpin, CentrifugalLoadSumsToRhoVTimesCentroidOffset) {
   }
 }
 
+// The assembler takes M and the spin matrices from one integration of the
+// scalar mass (solidMassWithSpin): the same values as solidMass and
+// solidSpinMatrices, bit for bit (the mass is summed in the same order).
+TEST(SolidSpin, MassWithSpinIsMassAndSpinMatricesBitForBit) {
+  for (SolidType t : kTypes) {
+    SCOPED_TRACE(typeName(t));
+    const std::vector<double> x = distorted(t);
+    const SolidElement e{t, x.data(), material()};
+    SpinMatrices both;
+    const ElementMatrix M = solidMassWithSpin(e, kSpin, both);
+    const SpinMatrices s = solidSpinMatrices(e, kSpin);
+    EXPECT_EQ(M.a, solidMass(e).a);
+    EXPECT_EQ(both.G1.a, s.G1.a);
+    EXPECT_EQ(both.KT1.a, s.KT1.a);
+    EXPECT_EQ(both.f1, s.f1);
+  }
+}
+
 // ---- geometric stiffness ------------------------------------------------------------
 
 // A (linearised) rigid rotation ue = w x x strains nothing, so Kg(ue) = 0;

@@ -49,6 +49,10 @@ double solidVolume(const SolidElement& e);
 /// KT1 = ∫ rho N^T [n]x^T [n]x N dV, f1 = ∫ rho N^T r_perp dV with
 /// r_perp = (I - n n^T)(x - origin).
 SpinMatrices solidSpinMatrices(const SolidElement& e, const Spin& spin);
+/// solidMass and solidSpinMatrices from one integration of the scalar mass
+/// (each integrates it on its own): the same M, G1, KT1 and f1, bit for
+/// bit. Returns M; `out` takes the rest.
+ElementMatrix solidMassWithSpin(const SolidElement& e, const Spin& spin, SpinMatrices& out);
 
 /// Geometric stiffness of the linear-elastic stress sigma = D B ue at each
 /// integration point of the stiffness rule: K_ab = ∫ (grad N_a^T sigma
