@@ -13,10 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <exception>
-#include <functional>
-#include <mutex>
 #include <numeric>
 #include <sstream>
 #include <system_error>
@@ -145,74 +142,6 @@ int itemNodeDofs(const Item& it, const FiniteElementModel& model) {
     }
   }
 }
-
-/// Helper threads kept for a whole loop, each running its part of every job
-/// the caller hands them (part 0 runs on the caller's thread). Threads
-/// started per chunk instead re-faulted their stacks and heaps each time and
-/// made their parts half again as slow as the caller's.
-class PartWorkers {
-public:
-  /// Up to `helpers` threads: fewer when the system refuses one.
-  explicit PartWorkers(std::size_t helpers) {
-    for (std::size_t t = 1; t <= helpers; ++t) {
-      try {
-        threads_.emplace_back(&PartWorkers::loop, this, t);
-      } catch (const std::system_error&) {
-        break;
-      }
-    }
-  }
-  ~PartWorkers() {
-    {
-      const std::lock_guard<std::mutex> g(lock_);
-      stop_ = true;
-    }
-    start_.notify_all();
-    for (auto& t : threads_) t.join();
-  }
-  PartWorkers(const PartWorkers&) = delete;
-  PartWorkers& operator=(const PartWorkers&) = delete;
-
-  std::size_t parts() const { return threads_.size() + 1; }
-  /// job(part) for every part, returning when all have; job must not throw.
-  void run(const std::function<void(std::size_t)>& job) {
-    {
-      const std::lock_guard<std::mutex> g(lock_);
-      job_ = &job;
-      ++generation_;
-      pending_ = threads_.size();
-    }
-    start_.notify_all();
-    job(0);
-    std::unique_lock<std::mutex> g(lock_);
-    finished_.wait(g, [&] { return pending_ == 0; });
-  }
-
-private:
-  void loop(std::size_t part) {
-    std::size_t seen = 0;
-    for (;;) {
-      const std::function<void(std::size_t)>* job = nullptr;
-      {
-        std::unique_lock<std::mutex> g(lock_);
-        start_.wait(g, [&] { return stop_ || generation_ != seen; });
-        if (stop_) return;
-        seen = generation_;
-        job = job_;
-      }
-      (*job)(part);
-      const std::lock_guard<std::mutex> g(lock_);
-      if (--pending_ == 0) finished_.notify_one();
-    }
-  }
-
-  std::vector<std::thread> threads_;
-  std::mutex lock_;
-  std::condition_variable start_, finished_;
-  const std::function<void(std::size_t)>* job_ = nullptr;
-  std::size_t generation_ = 0, pending_ = 0;
-  bool stop_ = false;
-};
 
 /// The item's element matrices (only those the model needs) in a fixed order.
 struct ItemMatrices {
@@ -695,8 +624,8 @@ class Assembler {
   /// each column's offset in the previous row (the rows of one node share
   /// their layout), then the place after the previous column (a node's
   /// columns are consecutive), are tried with one comparison each before a
-  /// binary search. The searches alone, one per entry, took half of the
-  /// element phase of the rotor's hub (doc/benchmarks.md, "Assembly: the
+  /// binary search. The searches alone, one per entry, took two fifths of
+  /// the element phase of the rotor's hub (doc/benchmarks.md, "Assembly: the
   /// entries' places").
   void locate(std::size_t local, Places& at) const {
     const auto& owned = ownedLocal_;
@@ -909,7 +838,7 @@ class Assembler {
   /// on this thread, item after item, so every entry is the same sum in the
   /// same order as on one thread. The first item whose make or add throws
   /// goes to `fail` and the loop ends there, as the one-thread loop did.
-  /// Element matrices and their places were two thirds of the element
+  /// Element matrices and their places were three fifths of the element
   /// phase, their scatter the rest (doc/benchmarks.md, "Assembly: the
   /// entries' places").
   template <class Make, class Add, class Fail>
@@ -918,7 +847,6 @@ class Assembler {
     const std::size_t count = localItems_.size();
     const std::size_t threads = static_cast<std::size_t>(std::max(1, blasThreads()));
     std::vector<Made> made;
-    PartWorkers workers(threads - 1);
     for (std::size_t first = 0; first < count && failure_.empty();) {
       // At least an item per thread, at most ~kChunkBytes of matrices and places.
       std::size_t last = first;
@@ -927,8 +855,8 @@ class Assembler {
         bytes += 6.0 * 8.0 * n * n;
       }
       if (made.size() < last - first) made.resize(last - first);
+      const std::size_t parts = std::min(threads, last - first);
       auto work = [&](std::size_t part) {
-        const std::size_t parts = workers.parts();
         const std::size_t size = last - first;
         for (std::size_t k = first + size * part / parts; k < first + size * (part + 1) / parts; ++k) {
           Made& d = made[k - first];
@@ -942,7 +870,16 @@ class Assembler {
           }
         }
       };
-      workers.run(work);
+      std::vector<std::thread> pool;
+      for (std::size_t t = 1; t < parts; ++t) {
+        try {
+          pool.emplace_back(work, t);
+        } catch (const std::system_error&) {  // no thread to be had: its part here
+          work(t);
+        }
+      }
+      work(0);
+      for (auto& th : pool) th.join();
       for (std::size_t k = first; k < last; ++k) {
         const Made& d = made[k - first];
         try {
