@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <map>
 #include <optional>
+#include <pthread.h>
+#include <system_error>
 #include <string>
 #include <thread>
 #include <vector>
@@ -203,4 +205,54 @@ TEST(ScriptMeshes, AFailureOnOneRankAloneIsAFailureOnEveryRank) {
     else ::unsetenv("TMPDIR");
   }
   ASSERT_EQ(::unsetenv("CMS_MSH_READER"), 0);
+}
+
+TEST(ScriptMeshes, AStartFailingOnOneRankAloneIsAFailureOnEveryRank) {
+  // The last rank cannot start its worker thread: its default stack made
+  // larger than any address space (pthread_setattr_default_np), so
+  // std::thread throws there alone. Every rank must throw from the
+  // constructor instead of going on to take(), where the others would wait
+  // for a rank that left; and the meshers must serve the next scene.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) GTEST_SKIP() << "needs a second rank";
+  const bool last = rank() == size - 1;
+  pthread_attr_t before;
+  ASSERT_EQ(pthread_getattr_default_np(&before), 0);
+  std::size_t stack = 0;
+  ASSERT_EQ(pthread_attr_getstacksize(&before, &stack), 0);
+  std::vector<ScriptRequest> requests;  // one script a rank: the last rank owns one
+  for (int r = 0; r < size; ++r) requests.push_back({kMeshes + "beam_line.geo", {{"n", 4.0 + r}}});
+  std::string message;
+  bool threw = false;
+  {
+    pthread_attr_t huge;
+    ASSERT_EQ(pthread_attr_init(&huge), 0);
+    if (last) {
+      ASSERT_EQ(pthread_attr_setstacksize(&huge, std::size_t{1} << 50), 0);
+      ASSERT_EQ(pthread_setattr_default_np(&huge), 0);
+    }
+    try {
+      ScriptMeshes ahead(requests, MPI_COMM_WORLD);
+    } catch (const std::system_error& e) {
+      threw = true, message = std::string("system_error: ") + e.what();
+    } catch (const std::exception& e) {
+      threw = true, message = e.what();
+    }
+    if (last) {
+      pthread_attr_t normal;
+      ASSERT_EQ(pthread_attr_init(&normal), 0);
+      ASSERT_EQ(pthread_attr_setstacksize(&normal, stack), 0);
+      ASSERT_EQ(pthread_setattr_default_np(&normal), 0);
+      pthread_attr_destroy(&normal);
+    }
+    pthread_attr_destroy(&huge);
+  }
+  pthread_attr_destroy(&before);
+  EXPECT_TRUE(threw) << "rank " << rank();
+  if (last) EXPECT_EQ(message.rfind("system_error: ", 0), 0u) << message;
+  else EXPECT_NE(message.find("rank " + std::to_string(size - 1)), std::string::npos) << message;
+  // Nothing is left behind: the next scene's scripts are made and taken.
+  ScriptMeshes next(requests, MPI_COMM_WORLD);
+  for (const auto& r : requests) EXPECT_TRUE(next.take(r.path, r.parameters).has_value());
 }

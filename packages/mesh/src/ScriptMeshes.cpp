@@ -40,27 +40,51 @@ ScriptMeshes::ScriptMeshes(std::vector<ScriptRequest> requests, MPI_Comm comm) :
     MPI_Comm_size(node, &nodeRanks);
     MPI_Comm_free(&node);
   }
-  for (auto& r : requests) {
-    const bool seen = std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) {
-      return j->request.path == r.path && j->request.parameters == r.parameters;
-    });
-    if (seen) continue;
-    auto job = std::make_unique<Job>();
-    job->request = std::move(r);
-    job->owner = static_cast<int>(jobs_.size() % static_cast<std::size_t>(size_));
-    if (job->owner == rank_) mine_.push_back(jobs_.size());
-    jobs_.push_back(std::move(job));
+  // What can fail here fails on one rank alone (memory, a thread the system
+  // refuses): agreed on, so that no rank goes on to take() while another
+  // left, and every rank throws.
+  std::exception_ptr failure;
+  try {
+    for (auto& r : requests) {
+      const bool seen = std::any_of(jobs_.begin(), jobs_.end(), [&](const auto& j) {
+        return j->request.path == r.path && j->request.parameters == r.parameters;
+      });
+      if (seen) continue;
+      auto job = std::make_unique<Job>();
+      job->request = std::move(r);
+      job->owner = static_cast<int>(jobs_.size() % static_cast<std::size_t>(size_));
+      if (job->owner == rank_) mine_.push_back(jobs_.size());
+      jobs_.push_back(std::move(job));
+    }
+    const std::size_t threads =
+        std::min<std::size_t>(mine_.size(), static_cast<std::size_t>(coresPerRank(nodeRanks)));
+    slots_ = detail::acquireMeshers(threads);
+    for (std::size_t w = 0; w < threads; ++w) workers_.emplace_back(&ScriptMeshes::work, this, slots_[w]);
+  } catch (...) {
+    failure = std::current_exception();
   }
-  const std::size_t threads = std::min<std::size_t>(mine_.size(), static_cast<std::size_t>(coresPerRank(nodeRanks)));
-  slots_ = detail::acquireMeshers(threads);
-  for (std::size_t w = 0; w < threads; ++w) workers_.emplace_back(&ScriptMeshes::work, this, slots_[w]);
+  if (size_ > 1) {
+    int local = failure ? rank_ : size_, first = size_;
+    MPI_Allreduce(&local, &first, 1, MPI_INT, MPI_MIN, comm_);
+    if (first < size_ && !failure)
+      failure = std::make_exception_ptr(std::runtime_error(
+          "rank " + std::to_string(first) + " could not start meshing the scene's scripts (its own message says why)"));
+  }
+  if (failure) {
+    stop();  // no destructor runs for an object whose constructor throws
+    std::rethrow_exception(failure);
+  }
 }
 
-ScriptMeshes::~ScriptMeshes() {
+void ScriptMeshes::stop() {
   cancel_ = true;
   for (auto& t : workers_) t.join();
+  workers_.clear();
   detail::releaseMeshers(slots_);  // kept for the next scene (ScriptRun.hpp)
+  slots_.clear();
 }
+
+ScriptMeshes::~ScriptMeshes() { stop(); }
 
 void ScriptMeshes::work(std::size_t slot) {
   for (std::size_t k = nextMine_++; k < mine_.size(); k = nextMine_++) {

@@ -36,7 +36,9 @@ struct ScriptRequest {
 class ScriptMeshes {
 public:
   /// Starts the meshing and returns. `comm`: MPI_COMM_NULL for this process
-  /// alone (no MPI calls at all).
+  /// alone (no MPI calls at all). Collective otherwise: a rank that cannot
+  /// start (memory, a thread refused) throws its error, and the others a
+  /// std::runtime_error naming it.
   ScriptMeshes(std::vector<ScriptRequest> requests, MPI_Comm comm);
   /// Stops the meshing not yet taken: its meshers are killed, its threads
   /// joined (a scene refused partway does not wait for them).
@@ -58,6 +60,7 @@ private:
   struct Job;
   void deliver(std::size_t upTo);
   void work(std::size_t slot);
+  void stop();  ///< cancel, join the workers, release their meshers
 
   std::vector<std::unique_ptr<Job>> jobs_;
   std::vector<std::size_t> mine_;  ///< this rank's jobs, in order
