@@ -17,6 +17,7 @@
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include "cms/core/MpiComm.hpp"
 #include "cms/core/Redistribution.hpp"
 
 using namespace cms;
@@ -207,4 +208,38 @@ TEST(Redistribution, GatheredRowsRefuseAColumnThatIsNoRowOnEveryRank) {
   A->fillComplete(columns, rows);
   EXPECT_THROW(GatheredRows(A, 0), std::invalid_argument);
   EXPECT_THROW(GatheredRows(A, world()->getSize() - 1), std::invalid_argument);
+}
+
+// gatherOnRank (MpiComm.hpp), which gatherRows, MUMPS's ordering and the
+// partitioned basis's interface call: every rank's entries in rank order on
+// the owner; past its limit (MPI's int counts, here lowered so that a test
+// reaches the refusal without 2^31 entries) a std::length_error naming the
+// array on every rank, the owner's total agreed on before any rank decides.
+TEST(Redistribution, GatherOnRankConcatenatesInRankOrderAndRefusesPastItsLimitOnEveryRank) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const int owner = size - 1;
+  std::vector<long long> mine(static_cast<std::size_t>(rank + 2));  // rank r holds r + 2 entries
+  for (std::size_t k = 0; k < mine.size(); ++k) mine[k] = 1000LL * rank + static_cast<long long>(k);
+  long long total = 0;
+  std::vector<long long> expected;
+  for (int r = 0; r < size; ++r)
+    for (int k = 0; k < r + 2; ++k) expected.push_back(1000LL * r + k), ++total;
+  const auto all = gatherOnRank(mine, owner, MPI_COMM_WORLD, "test entries", total);
+  if (rank == owner) EXPECT_EQ(all, expected);
+  else EXPECT_TRUE(all.empty());
+
+  bool refused = false;
+  try {
+    gatherOnRank(mine, owner, MPI_COMM_WORLD, "test entries", total - 1);
+  } catch (const std::length_error& e) {
+    refused = true;
+    EXPECT_NE(std::string(e.what()).find("test entries: " + std::to_string(total)), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(refused) << "rank " << rank;
+  // Still in step: a collective after the refusal completes on every rank.
+  int one = 1, sum = 0;
+  MPI_Allreduce(&one, &sum, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(sum, size);
 }

@@ -4,6 +4,7 @@
 // gathered factorisations, MUMPS's ordering and the partitioned basis share.
 #pragma once
 
+#include <algorithm>
 #include <climits>
 #include <stdexcept>
 #include <string>
@@ -26,9 +27,11 @@ MPI_Comm rawMpiComm(const Teuchos::Comm<int>& comm);
 /// Every rank's `mine` concatenated in rank order on rank `owner` of `c`
 /// (empty elsewhere), by one MPI_Gatherv. Collective; throws
 /// std::length_error on every rank, naming `what`, when the total exceeds
-/// MPI's int counts. For int, long long and double.
+/// `limit`: MPI's int counts (a test passes a smaller one to reach the
+/// refusal without 2^31 entries). For int, long long and double.
 template <class T>
-std::vector<T> gatherOnRank(const std::vector<T>& mine, int owner, MPI_Comm c, const char* what) {
+std::vector<T> gatherOnRank(const std::vector<T>& mine, int owner, MPI_Comm c, const char* what,
+                            long long limit = INT_MAX) {
   static_assert(std::is_same<T, int>::value || std::is_same<T, long long>::value || std::is_same<T, double>::value,
                 "gatherOnRank: int, long long or double");
   const MPI_Datatype type = std::is_same<T, int>::value         ? MPI_INT
@@ -43,7 +46,7 @@ std::vector<T> gatherOnRank(const std::vector<T>& mine, int owner, MPI_Comm c, c
   MPI_Gather(&m, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, owner, c);
   for (long long v : all) total += v;
   MPI_Bcast(&total, 1, MPI_LONG_LONG, owner, c);  // every rank refuses alike
-  if (total > INT_MAX)
+  if (total > std::min<long long>(limit, INT_MAX))
     throw std::length_error(std::string(what) + ": " + std::to_string(total) + " on one rank exceed MPI's int counts");
   std::vector<int> counts(all.begin(), all.end()), offsets(counts.size(), 0);
   for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
