@@ -33,38 +33,16 @@ using detail::NodeIndex;
 
 /// For a Lagrange hexahedron (Hex27, Hex64, Hex125): lexicographic[g] is
 /// the position in cms's order (Mesh.hpp) of Gmsh's node g, from Gmsh's own
-/// reference coordinates of its nodes (on the (k+1)^3 grid of [-1, 1]^3).
+/// reference coordinates of its nodes (detail::lexicographicFromReference).
 /// Empty for every other type: those keep Gmsh's order.
 std::vector<int> lexicographicOrder(int gmshType, CellType type) {
-  const int k = lagrangeHexOrder(type);
-  if (k == 0) return {};
+  if (lagrangeHexOrder(type) == 0) return {};
   std::string name;
   int dim = 0, order = 0, count = 0, primary = 0;
   std::vector<double> reference;
   gmsh::model::mesh::getElementProperties(gmshType, name, dim, order, count, reference, primary);
-  const int m = k + 1;
-  if (dim != 3 || order != k || count != m * m * m || reference.size() != 3u * count)
-    throw InputError("Gmsh reports element type " + std::to_string(gmshType) + " as \"" + name +
-                     "\" of order " + std::to_string(order) + " with " + std::to_string(count) +
-                     " nodes; cms expects the " + std::to_string(m * m * m) + "-node Lagrange hexahedron");
-  std::vector<int> to(count), seen(count, 0);
-  for (int g = 0; g < count; ++g) {
-    int ijk[3];
-    for (int d = 0; d < 3; ++d) {
-      const double t = 0.5 * (reference[3 * g + d] + 1.0) * k;  // 0..k
-      ijk[d] = static_cast<int>(std::lround(t));
-      if (std::abs(t - ijk[d]) > 1e-6 || ijk[d] < 0 || ijk[d] > k)
-        throw InputError("Gmsh's reference node " + std::to_string(g) + " of element type " +
-                         std::to_string(gmshType) + " is not on the equispaced grid of order " + std::to_string(k));
-    }
-    to[g] = ijk[0] + m * (ijk[1] + m * ijk[2]);
-    if (seen[to[g]]++)
-      throw InputError("Gmsh's reference nodes of element type " + std::to_string(gmshType) +
-                       " repeat a grid point");
-  }
-  return to;
+  return detail::lexicographicFromReference(gmshType, type, name, dim, order, count, reference);
 }
-
 
 void readNodes(Mesh& mesh) {
   std::vector<std::size_t> tags;

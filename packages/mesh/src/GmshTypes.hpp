@@ -5,10 +5,13 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "cms/core/InputError.hpp"
 #include "cms/mesh/Mesh.hpp"
 
 namespace cms::mesh::detail {
@@ -31,6 +34,38 @@ inline CellType cellTypeOfGmsh(int gmshType) {
     case 93: return CellType::Hex125;
     default: return CellType::Other;
   }
+}
+
+/// A Lagrange hexahedron of order k (Hex27, Hex64, Hex125) as Gmsh's SDK
+/// describes its type (getElementProperties: name, dimension, order, node
+/// count, reference coordinates on [-1, 1]^3): lexicographic[g] is the
+/// position in cms's order (Mesh.hpp) of Gmsh's node g. Throws InputError
+/// naming the type when the description is not the (k+1)^3-node brick with
+/// its nodes on the equispaced grid, each once: a Gmsh whose numbering
+/// differs is refused rather than read into scrambled elements.
+inline std::vector<int> lexicographicFromReference(int gmshType, CellType type, const std::string& name, int dim,
+                                                   int order, int count, const std::vector<double>& reference) {
+  const int k = lagrangeHexOrder(type);
+  const int m = k + 1;
+  if (k == 0 || dim != 3 || order != k || count != m * m * m || reference.size() != 3u * static_cast<std::size_t>(count))
+    throw InputError("Gmsh reports element type " + std::to_string(gmshType) + " as \"" + name + "\" of order " +
+                     std::to_string(order) + " with " + std::to_string(count) + " nodes; cms expects the " +
+                     std::to_string(m * m * m) + "-node Lagrange hexahedron");
+  std::vector<int> to(count), seen(count, 0);
+  for (int g = 0; g < count; ++g) {
+    int ijk[3];
+    for (int d = 0; d < 3; ++d) {
+      const double t = 0.5 * (reference[3 * g + d] + 1.0) * k;  // 0..k
+      ijk[d] = static_cast<int>(std::lround(t));
+      if (!(std::abs(t - ijk[d]) <= 1e-6) || ijk[d] < 0 || ijk[d] > k)
+        throw InputError("Gmsh's reference node " + std::to_string(g) + " of element type " +
+                         std::to_string(gmshType) + " is not on the equispaced grid of order " + std::to_string(k));
+    }
+    to[g] = ijk[0] + m * (ijk[1] + m * ijk[2]);
+    if (seen[to[g]]++)
+      throw InputError("Gmsh's reference nodes of element type " + std::to_string(gmshType) + " repeat a grid point");
+  }
+  return to;
 }
 
 /// Node tag -> index: a table when tags are dense enough, else a search.

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "ExpectError.hpp"
+#include "GmshTypes.hpp"
 #include "TempFiles.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/mesh/Mesh.hpp"
@@ -708,3 +709,50 @@ TEST(GeoMesherLookup, ABadOverrideIsNamed) {
 }
 
 }  // namespace
+
+// The module reads Gmsh's own description of its Lagrange bricks (types 12,
+// 92, 93: getElementProperties) to put their nodes in cms's order. Fed the
+// descriptions a Gmsh with another numbering would give, it must refuse
+// naming the type, never return a scrambled order: wrong order, node count
+// or dimension; a node off the equispaced grid (or not a number); a grid
+// point twice. The right description gives a permutation that maps Gmsh's
+// corners to cms's (lexicographic: node i + 3 (j + 3 l) for Hex27).
+TEST(MeshReader, GmshsLagrangeBrickDescriptionsAreCheckedBeforeUse) {
+  using cms::mesh::detail::lexicographicFromReference;
+  // Hex27's 27 nodes on [-1, 1]^3, listed in a scrambled order (node g at
+  // grid point (7 g) mod 27, a permutation since 7 and 27 are coprime).
+  std::vector<double> ref;
+  for (int g = 0; g < 27; ++g) {
+    const int p = (7 * g) % 27;
+    ref.insert(ref.end(), {static_cast<double>(p % 3) - 1.0, static_cast<double>((p / 3) % 3) - 1.0,
+                           static_cast<double>(p / 9) - 1.0});
+  }
+  const auto to = lexicographicFromReference(12, CellType::Hex27, "Hexahedron 27", 3, 2, 27, ref);
+  ASSERT_EQ(to.size(), 27u);
+  for (int g = 0; g < 27; ++g) EXPECT_EQ(to[g], (7 * g) % 27) << "node " << g;
+
+  auto refused = [&](int order, int count, int dim, const std::vector<double>& r, const std::string& part) {
+    expectInputError([&] { lexicographicFromReference(12, CellType::Hex27, "Hexahedron 27", dim, order, count, r); },
+                     part);
+  };
+  refused(3, 27, 3, ref, "element type 12");                   // order
+  refused(2, 26, 3, std::vector<double>(ref.begin(), ref.end() - 3), "27-node Lagrange hexahedron");  // count
+  refused(2, 27, 2, ref, "element type 12");                   // dimension
+  auto off = ref;
+  off[3 * 5 + 1] = 0.3;  // between grid points
+  refused(2, 27, 3, off, "not on the equispaced grid");
+  off = ref;
+  off[3 * 5 + 2] = std::numeric_limits<double>::quiet_NaN();
+  refused(2, 27, 3, off, "not on the equispaced grid");
+  off = ref;
+  off[3 * 5 + 0] = 3.0;  // beyond the cube
+  refused(2, 27, 3, off, "not on the equispaced grid");
+  auto twice = ref;
+  std::copy_n(&ref[0], 3, &twice[3 * 5]);  // node 5 at node 0's point
+  refused(2, 27, 3, twice, "repeat a grid point");
+  // Hex64 and Hex125 take their own orders.
+  expectInputError([&] { lexicographicFromReference(92, CellType::Hex64, "Hexahedron 64", 3, 2, 27, ref); },
+                   "64-node Lagrange hexahedron");
+  expectInputError([&] { lexicographicFromReference(93, CellType::Hex125, "Hexahedron 125", 3, 4, 27, ref); },
+                   "125-node Lagrange hexahedron");
+}
