@@ -826,7 +826,7 @@ class Assembler {
   struct Made {
     ItemMatrices m;
     Places at;
-    std::vector<double> work, xyz;  ///< the maker's own scratch
+    std::vector<double> rows, dofs, xyz;  ///< the maker's own scratch (KS1: u at its rows and DOFs)
     bool skip = false;         ///< nothing to add for this item
     std::exception_ptr error;
   };
@@ -915,26 +915,22 @@ class Assembler {
         [&](std::size_t local, Made& made) { made.m = itemMatrices(items_[localItems_[local]], made.xyz); },
         [&](std::size_t local, const Made& made) {
           const ItemMatrices& m = made.m;
-          if (transforms_.empty() || !transforms_.count(local)) {
-            // Every matrix in one pass over the positions: the item's place
-            // in each target is the same.
-            const ElementMatrix* from[5];
-            Target* to[5];
-            int count = 0;
-            auto add = [&](const ElementMatrix& A, Target& t) { from[count] = &A, to[count++] = &t; };
-            add(m.K, vK_);
-            if (m.M.n) add(m.M, vM_);
-            if (m.D.n) add(m.D, vD_);
-            if (m.spin.G1.n) add(m.spin.G1, vG_);
-            if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) add(m.spin.KT1, vKT_);
-            scatter(from, made.at, to, count);
-          } else {
-            scatterItem(local, m.K, made.at, vK_);
-            if (m.M.n) scatterItem(local, m.M, made.at, vM_);
-            if (m.D.n) scatterItem(local, m.D, made.at, vD_);
-            if (m.spin.G1.n) scatterItem(local, m.spin.G1, made.at, vG_);
-            if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) scatterItem(local, m.spin.KT1, made.at, vKT_);
-          }
+          // Every matrix in one pass over the places (the item's place in
+          // each target is the same); T^T A T for an item at a hinge's
+          // second node.
+          const ElementMatrix* from[5];
+          Target* to[5];
+          int count = 0;
+          auto put = [&](const ElementMatrix& A, Target& t) { from[count] = &A, to[count++] = &t; };
+          put(m.K, vK_);
+          if (m.M.n) put(m.M, vM_);
+          if (m.D.n) put(m.D, vD_);
+          if (m.spin.G1.n) put(m.spin.G1, vG_);
+          if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) put(m.spin.KT1, vKT_);
+          ElementMatrix hinged[5];
+          if (!transforms_.empty() && transforms_.count(local))
+            for (int q = 0; q < count; ++q) hinged[q] = constrained(local, *from[q]), from[q] = &hinged[q];
+          scatter(from, made.at, to, count);
           if (rotatingFrame_ && !m.spin.f1.empty()) {
             if (transforms_.count(local)) scatterVector(local, constrained(local, m.spin.f1), vf_);
             else scatterVector(local, m.spin.f1, vf_);
@@ -1221,28 +1217,27 @@ class Assembler {
           const Item& it = items_[localItems_[local]];
           if (it.kind != Item::Kind::Frame && it.kind != Item::Kind::Solid) { made.skip = true; return; }
           const auto b = itemDofStart_[local], e = itemDofStart_[local + 1];
-          std::vector<double>& ur = made.work;
+          std::vector<double>& ur = made.rows;
           ur.assign(static_cast<std::size_t>(e - b), 0.0);
           for (auto p = b; p < e; ++p) ur[p - b] = itemLids_[p] >= 0 ? u[itemLids_[p]] : 0.0;
           // The element's DOFs: the rows themselves, or T u for an element at a
           // hinge's second node (its slaved DOFs follow the hinge, theory §17).
           const auto t = transforms_.find(local);
-          std::vector<double> ue;
-          if (t == transforms_.end()) {
-            ue = ur;
-          } else {
+          const double* ue = ur.data();
+          if (t != transforms_.end()) {
             const ItemTransform& tr = t->second;
-            ue.assign(static_cast<std::size_t>(tr.n), 0.0);
+            made.dofs.assign(static_cast<std::size_t>(tr.n), 0.0);
             for (int i = 0; i < tr.n; ++i)
-              for (int j = 0; j < tr.m; ++j) ue[i] += tr.T[static_cast<std::size_t>(i) * tr.m + j] * ur[j];
+              for (int j = 0; j < tr.m; ++j) made.dofs[i] += tr.T[static_cast<std::size_t>(i) * tr.m + j] * ur[j];
+            ue = made.dofs.data();
           }
           if (it.kind == Item::Kind::Frame) {
             const FrameElement fe = frameOf(it);
             // N(x) from the element's equilibrium under its own
             // centrifugal load: quadratic along it (theory §10).
-            made.m.K = frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue.data(), spin));
+            made.m.K = frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue, spin));
           } else {
-            made.m.K = solidGeometricStiffness(solidOf(it, made.xyz), ue.data());
+            made.m.K = solidGeometricStiffness(solidOf(it, made.xyz), ue);
           }
         },
         [&](std::size_t local, const Made& made) { scatterItem(local, made.m.K, made.at, vKS); },
