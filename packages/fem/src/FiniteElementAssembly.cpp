@@ -662,16 +662,8 @@ class Assembler {
     return Target{Values(std::string(name) + " owned", ownedNnz_),
                   Values(std::string(name) + " ghost", cols_.size() - ghostBegin_)};
   }
-  /// Adds an element matrix at the positions locate() found.
-  void scatter(const ElementMatrix& A, const Places& at, Target& t) const {
-    const std::size_t nn = at.positions.size();
-    for (std::size_t k = 0; k < nn; ++k) {
-      const std::int64_t p = at.positions[k];
-      if (p >= 0) t.owned(p) += A.a[k];
-      else if (p <= -2) t.ghost(-2 - p) += A.a[k];
-    }
-  }
-  /// The same for `count` matrices at once (the positions read once).
+  /// Adds `count` element matrices at the positions locate() found, in one
+  /// pass over them (the positions read once).
   void scatter(const ElementMatrix* const* from, const Places& at, Target* const* to, int count) const {
     double* owned[5];
     double* ghost[5];
@@ -787,8 +779,15 @@ class Assembler {
   /// or T^T A T for an item at a hinge's second node (no copy of A for the
   /// others: most items).
   void scatterItem(std::size_t local, const ElementMatrix& A, const Places& at, Target& t) const {
-    if (transforms_.empty() || !transforms_.count(local)) scatter(A, at, t);
-    else scatter(constrained(local, A), at, t);
+    Target* to[1] = {&t};
+    if (transforms_.empty() || !transforms_.count(local)) {
+      const ElementMatrix* from[1] = {&A};
+      scatter(from, at, to, 1);
+    } else {
+      const ElementMatrix hinged = constrained(local, A);
+      const ElementMatrix* from[1] = {&hinged};
+      scatter(from, at, to, 1);
+    }
   }
   /// T^T A T for an item with a transform (theory §17).
   ElementMatrix constrained(std::size_t local, const ElementMatrix& A) const {
