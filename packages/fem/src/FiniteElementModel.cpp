@@ -275,12 +275,39 @@ void readLumpedItems(const ParameterList& params, const std::string& path, Finit
   });
 }
 
-FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir,
-                                                      const MeshReader& readMesh) {
-  // Teuchos names sublists "Parent->Child"; messages use "Parent/Child".
+namespace {
+/// The key path of a "Finite Element Model" list in messages: Teuchos names
+/// sublists "Parent->Child"; messages use "Parent/Child".
+std::string keyPath(const ParameterList& params) {
   std::string path = params.name();
   if (path.empty() || path == "ANONYMOUS") path = "Finite Element Model";
   for (std::size_t at; (at = path.find("->")) != std::string::npos;) path.replace(at, 2, "/");
+  return path;
+}
+}  // namespace
+
+FiniteElementModel::MeshSource FiniteElementModel::meshSource(const ParameterList& params,
+                                                              const std::string& baseDir) {
+  const std::string path = keyPath(params);
+  std::filesystem::path mesh = getString(params, "Mesh", path);
+  CMS_INPUT_CHECK(mesh.empty(), path << "/Mesh: must name a mesh file");
+  if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
+  MeshSource out{mesh.string(), {}};
+  if (params.isSublist("Mesh Parameters")) {
+    const auto& mp = params.sublist("Mesh Parameters");
+    for (auto it = mp.begin(); it != mp.end(); ++it) {
+      const std::string& name = mp.name(it);
+      out.parameters[name] = getNumber(mp, name, path + "/Mesh Parameters");
+    }
+    CMS_INPUT_CHECK(!out.parameters.empty() && mesh.extension() != ".geo",
+                    path << "/Mesh Parameters: apply to a .geo script only, not " << mesh.filename().string());
+  }
+  return out;
+}
+
+FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& params, const std::string& baseDir,
+                                                      const MeshReader& readMesh) {
+  const std::string path = keyPath(params);
   ParameterList top = *validParameters();
   checkKeys(params, top, path);
 
@@ -363,21 +390,9 @@ FiniteElementModel FiniteElementModel::fromParameters(const ParameterList& param
     m.spin = s;
   }
 
-  std::filesystem::path mesh = getString(params, "Mesh", path);
-  CMS_INPUT_CHECK(mesh.empty(), path << "/Mesh: must name a mesh file");
-  if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
-  std::map<std::string, double> meshParameters;
-  if (params.isSublist("Mesh Parameters")) {
-    const auto& mp = params.sublist("Mesh Parameters");
-    for (auto it = mp.begin(); it != mp.end(); ++it) {
-      const std::string& name = mp.name(it);
-      meshParameters[name] = getNumber(mp, name, path + "/Mesh Parameters");
-    }
-    CMS_INPUT_CHECK(!meshParameters.empty() && mesh.extension() != ".geo",
-                    path << "/Mesh Parameters: apply to a .geo script only, not " << mesh.filename().string());
-  }
-  m.mesh = std::make_shared<mesh::Mesh>(readMesh ? readMesh(mesh.string(), meshParameters)
-                                                 : mesh::readMesh(mesh.string(), meshParameters));
+  const MeshSource source = meshSource(params, baseDir);
+  m.mesh = std::make_shared<mesh::Mesh>(readMesh ? readMesh(source.file, source.parameters)
+                                                 : mesh::readMesh(source.file, source.parameters));
   m.validate();
   return m;
 }

@@ -362,29 +362,20 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
 
 /// The .geo scripts the substructures' "Finite Element Model"s name, with
 /// their "Mesh Parameters", as FiniteElementModel::fromParameters will ask
-/// for them: the scene makes them ahead, side by side (mesh/ScriptMeshes.hpp).
-/// Anything malformed is left out, for that reader to report in its place.
+/// for them (FiniteElementModel::meshSource): the scene makes them ahead,
+/// side by side (mesh/ScriptMeshes.hpp). Anything malformed is left out, for
+/// that reader to report in its place.
 std::vector<mesh::ScriptRequest> scriptRequests(const ParameterList& subs, const std::string& baseDir) {
   std::vector<mesh::ScriptRequest> out;
   for (auto it = subs.begin(); it != subs.end(); ++it) {
     const std::string& name = subs.name(it);
     if (!subs.isSublist(name) || !subs.sublist(name).isSublist("Finite Element Model")) continue;
-    const auto& fe = subs.sublist(name).sublist("Finite Element Model");
-    if (!fe.isType<std::string>("Mesh")) continue;
-    std::filesystem::path mesh = fe.get<std::string>("Mesh");
-    if (mesh.extension() != ".geo") continue;
-    if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
-    mesh::ScriptRequest r{mesh.string(), {}};
-    if (fe.isParameter("Mesh Parameters")) {
-      if (!fe.isSublist("Mesh Parameters")) continue;
-      const auto& mp = fe.sublist("Mesh Parameters");
-      try {
-        for (auto m = mp.begin(); m != mp.end(); ++m) r.parameters[mp.name(m)] = getNumber(mp, mp.name(m), "");
-      } catch (const std::exception&) {
-        continue;
-      }
+    try {
+      auto source = fem::FiniteElementModel::meshSource(subs.sublist(name).sublist("Finite Element Model"), baseDir);
+      if (std::filesystem::path(source.file).extension() == ".geo")
+        out.push_back({std::move(source.file), std::move(source.parameters)});
+    } catch (const InputError&) {
     }
-    out.push_back(std::move(r));
   }
   return out;
 }

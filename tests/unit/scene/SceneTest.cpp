@@ -11,12 +11,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 #include <vector>
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
@@ -113,8 +115,6 @@ TEST(Scene, MalformedScenesNameTheKey) {
       "has 2 nodes, not one");
 }
 
-// Issue 14 item 9: a repeated key was a Teuchos parser trace whose caret
-// pointed at the line after it; now one line naming both.
 // The scene makes its .geo scripts ahead (mesh/ScriptMeshes.hpp): a scene
 // refused before a script's mesh is taken must not wait for it. The hub's
 // misspelt key is read first; the blade's script runs for minutes.
@@ -144,6 +144,67 @@ Scene:
   EXPECT_LT(seconds, 10.0);
 }
 
+// Each script a scene names is meshed once: made ahead, over the ranks, and
+// taken by its substructure, not meshed again by the model's reader. The
+// script counts its own runs (Gmsh's Printf appends to a file beside it):
+// three substructures name two distinct requests (one repeated with the same
+// Mesh Parameters), so two runs in all, whatever the rank count. Before
+// the scene and the model shared FiniteElementModel::meshSource, a path or a
+// parameter read differently would have meshed silently twice.
+TEST(Scene, EachScriptIsMeshedOnce) {
+  const auto comm = Teuchos::DefaultComm<int>::getComm();
+  std::string dir;
+  if (comm->getRank() == 0) {
+    dir = testing::TempDir() + "cms_scene_scripts_" + std::to_string(::getpid());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/counted.geo") << R"(DefineConstant[ n = {4, Name "Parameters/n"} ];
+Printf("made") >> "runs.txt";
+Point(1) = {0, 0, 0};
+Point(2) = {1, 0, 0};
+Line(1) = {1, 2};
+Transfinite Curve{1} = n + 1;
+Physical Curve("beam") = {1};
+Physical Point("root") = {1};
+Physical Point("tip") = {2};
+)";
+  }
+  int length = static_cast<int>(dir.size());
+  Teuchos::broadcast(*comm, 0, &length);
+  dir.resize(static_cast<std::size_t>(length));
+  Teuchos::broadcast(*comm, 0, length, dir.data());
+  auto model = [](const std::string& mesh, int n) {
+    return "      Finite Element Model:\n        Mesh: " + mesh + "\n        Mesh Parameters: {n: " +
+           std::to_string(n) +
+           "}\n        Materials: {steel: {Young's Modulus: 2.0e11, Poisson's Ratio: 0.3, Density: 7800.0}}\n"
+           "        Element Sets:\n          beam: {Type: Frame, Material: steel, Area: 1.0e-3, Iy: 1.0e-7, "
+           "Iz: 1.0e-7, Torsion Constant: 2.0e-7, Orientation: [0, 0, 1]}\n";
+  };
+  const std::string yaml = "Scene:\n  Substructures:\n    hub:\n      Kind: C\n" + model("counted.geo", 4) +
+                           "        Boundary Conditions: {root: {Node Set: root, Fixed: all}}\n"
+                           "    arm:\n      Kind: E\n      Parent: hub\n"
+                           "      Attachment: {Parent Nodes: tip, Nodes: root}\n" + model("counted.geo", 6) +
+                           "    other:\n      Kind: E\n      Parent: hub\n"
+                           "      Attachment: {Parent Nodes: tip, Nodes: root}\n" + model(dir + "/counted.geo", 6);
+  const auto scene = scene::Scene::fromParameters(*Teuchos::getParametersFromYamlString(yaml), dir + "/scene.yaml");
+  ASSERT_EQ(scene.structure.substructures.size(), 3u);
+  EXPECT_EQ(scene.structure.substructures[0].model->mesh->nodeCount(), 5u);
+  EXPECT_EQ(scene.structure.substructures[1].model->mesh->nodeCount(), 7u);
+  EXPECT_EQ(scene.structure.substructures[2].model->mesh->nodeCount(), 7u);
+  comm->barrier();  // every rank's meshing done before the count
+  if (comm->getRank() == 0) {
+    std::ifstream in(dir + "/runs.txt");
+    int runs = 0;
+    for (std::string line; std::getline(in, line);) runs += line == "made";
+    std::filesystem::remove_all(dir);
+    // Two requests: {n: 4}, and {n: 6} named twice (relative to the scene
+    // and absolute: the same path once resolved).
+    EXPECT_EQ(runs, 2) << "runs of the script";
+  }
+}
+
+// Issue 14 item 9: a repeated key was a Teuchos parser trace whose caret
+// pointed at the line after it; now one line naming both.
 TEST(Scene, DuplicateKeysNameBothLines) {
   using fixtures::expectInputError;
   const std::string twice = edit("        Area: 0.01\n", "        Area: 0.01\n        Area: 0.02\n");

@@ -137,6 +137,15 @@ struct FiniteElementModel {
   /// `readMesh` reads it (mesh::readMesh when empty): the scene passes the
   /// meshes it made ahead (mesh/ScriptMeshes.hpp).
   using MeshReader = std::function<mesh::Mesh(const std::string& path, const std::map<std::string, double>& parameters)>;
+  /// The mesh file `params` names ("Mesh", resolved against baseDir when
+  /// relative) and its "Mesh Parameters", as fromParameters reads them (the
+  /// same cms::InputError for a bad one): the scene asks for its scripts
+  /// ahead with these, so that each is taken, not meshed again.
+  struct MeshSource {
+    std::string file;
+    std::map<std::string, double> parameters;
+  };
+  static MeshSource meshSource(const Teuchos::ParameterList& params, const std::string& baseDir);
   static FiniteElementModel fromParameters(const Teuchos::ParameterList& params,
                                            const std::string& baseDir = ".", const MeshReader& readMesh = {});
   /// Checks the model against its mesh: element sets name existing groups of
