@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <pthread.h>
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
@@ -306,6 +308,32 @@ TEST(Assembly, ThreadsGiveBitIdenticalMatricesAndTheSameFirstError) {
     expectSameMatrix(*many.KS1, *one.KS1, "KS1", 1e-10);
   }
   EXPECT_GT(one.elementCount * 30 * 30 * 48, 4 * (8 << 20)) << "the blade no longer spans several chunks";
+
+  // A thread the system refuses (the default stack made larger than any
+  // address space): its part is made on this thread, the same matrices.
+  {
+    pthread_attr_t before, huge;
+    ASSERT_EQ(pthread_getattr_default_np(&before), 0);
+    ASSERT_EQ(pthread_attr_init(&huge), 0);
+    ASSERT_EQ(pthread_attr_setstacksize(&huge, std::size_t{1} << 50), 0);
+    ASSERT_EQ(pthread_setattr_default_np(&huge), 0);
+    setBlasThreads(2);
+    std::optional<fem::AssembledMatrices> refused;
+    std::string error;
+    try {
+      refused = fem::assemble(model, world());
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    ASSERT_EQ(pthread_setattr_default_np(&before), 0);
+    pthread_attr_destroy(&huge);
+    pthread_attr_destroy(&before);
+    ASSERT_TRUE(refused.has_value()) << error;
+    expectIdenticalValues(*one.M, *refused->M, "M, threads refused");
+    expectIdenticalValues(*one.K, *refused->K, "K, threads refused");
+    expectIdenticalValues(*one.G1, *refused->G1, "G1, threads refused");
+    expectIdenticalValues(*one.KT1, *refused->KT1, "KT1, threads refused");
+  }
 
   // Two inverted elements (two corners swapped), the first in item order
   // made by a helper thread (on one rank: position 350 of the set, 155 into
