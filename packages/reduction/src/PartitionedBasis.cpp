@@ -11,19 +11,26 @@
 //      the cut-off (counted by a Sturm sequence, found by ARPACK's
 //      shift-invert Lanczos with the same factor, or LAPACK when small);
 //   4. on rank 0: S and M^ assembled, their modes below the cut-off (the
-//      characteristic constraint modes);
+//      characteristic constraint modes); on every separator DOF, or (with
+//      Interface: Polynomial) projected on low-degree polynomials over
+//      each piece of the separator, made on rank 0
+//      before step 3;
 //   5. the columns [Phi_p; X Psi] laid out on the substructure's map and
 //      M-orthonormalised in order like every Ritz basis.
 #include "cms/reduction/PartitionedBasis.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <memory>
 #include <numeric>
+#include <set>
 #include <tuple>
 #include <sstream>
 
@@ -33,6 +40,7 @@
 
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_LAPACK.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
@@ -213,14 +221,197 @@ struct PartWork {
   int part = -1;
   std::vector<GlobalOrdinal> rows;   ///< interior rows, ascending
   std::vector<int> boundary;         ///< separator indices (0 .. nB-1) it touches, ascending
-  std::vector<double> X;             ///< n_p x n_Bp, column-major: the static extension
+  std::vector<int> coords;           ///< its interface coordinates (0 .. nI-1), ascending: X's columns
+  std::vector<double> X;             ///< n_p x coords, column-major: the static extension
   Modes modes;
   Teuchos::RCP<CrsMatrix> Mpp;       ///< the part's interior mass
   std::shared_ptr<SparseDirectSolver> factor;  ///< K_pp, kept for the residual vectors
   std::vector<std::tuple<int, int, double>> MpB;  ///< mass coupling to the separator (i, separator index)
+  std::vector<std::tuple<int, int, double>> KpB;  ///< stiffness coupling, kept for the separator's static solve
   std::vector<double> Yf;            ///< n_p x n_f: K_pp^-1 f_p for the static load patterns
   double seconds = 0.0;
 };
+
+
+/// The separator's values of the static shapes, S u_B = g (nB x k), for an
+/// interface whose Schur complement S is never formed: conjugate gradients
+/// preconditioned by balancing (Mandel's balancing domain decomposition:
+/// the coarse problem on the interface polynomials Phi, S_c = Phi^T S Phi,
+/// and the separator's own stiffness K_BB as the fine solve; doc/theory.md
+/// §18.4). Collective: rank 0 runs the iteration and holds g, Phi, S Phi,
+/// S_c's Cholesky factor and K_BB; every rank applies its parts' share of
+/// S = K_BB - sum_p K_Bp K_pp^-1 K_pB. Returns u_B on every rank; throws
+/// NumericalError on every rank when a column does not reach `tolerance`
+/// (relative residual) within the iteration limit.
+struct SeparatorSolve {
+  std::vector<double> u;  ///< nB x k
+  int iterations = 0;
+  double residual = 0.0;  ///< the largest final relative residual
+};
+
+SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<PartWork>& work, int nB, int k,
+                              const std::vector<double>& g, const std::vector<double>& Phi, int nI,
+                              const std::vector<double>& SPhi, const std::vector<double>& coarseFactor,
+                              const SparseDirectSolver* KBBfactor, const CrsMatrix* KBB, double tolerance,
+                              int maxIterations, const std::string& what) {
+  const int rank = comm.getRank();
+  const auto at = [nB](int b, int j) { return b + static_cast<std::size_t>(j) * nB; };
+  // This rank's share of S V (V: nB x m, the same on every rank). A rank
+  // whose solve fails adds NaN, which rank 0's iteration then meets.
+  auto share = [&](const std::vector<double>& V, int m) {
+    std::vector<double> mine(V.size(), 0.0);
+    try {
+      for (const auto& w : work) {
+        const auto map = w.Mpp->getRowMap();
+        const int n = static_cast<int>(map->getNodeNumElements());
+        std::vector<double> f(static_cast<std::size_t>(n) * m, 0.0), z(f.size());
+        for (const auto& [i, b, v] : w.KpB)
+          for (int j = 0; j < m; ++j) f[i + static_cast<std::size_t>(j) * n] -= v * V[at(b, j)];
+        const MultiVector F(map, Teuchos::ArrayView<const double>(f), n, m);
+        MultiVector Z(map, m);
+        w.factor->solve(F, Z);
+        Z.get1dCopy(Teuchos::ArrayView<double>(z), n);
+        for (const auto& [i, b, v] : w.KpB)
+          for (int j = 0; j < m; ++j) mine[at(b, j)] += v * z[i + static_cast<std::size_t>(j) * n];
+      }
+      if (rank == 0) {
+        const MultiVector Vm(KBB->getRowMap(), Teuchos::ArrayView<const double>(V), nB, m);
+        MultiVector KV(KBB->getRowMap(), m);
+        KBB->apply(Vm, KV);
+        for (int j = 0; j < m; ++j) {
+          const auto d = KV.getData(j);
+          for (int b = 0; b < nB; ++b) mine[at(b, j)] += d[b];
+        }
+      }
+    } catch (const std::exception&) {
+      std::fill(mine.begin(), mine.end(), std::numeric_limits<double>::quiet_NaN());
+    }
+    return mine;
+  };
+  // S V on every rank, V sent by rank 0 (m columns, m already sent).
+  auto collective = [&](std::vector<double>& V, int m) {
+    V.resize(static_cast<std::size_t>(nB) * m);
+    Teuchos::broadcast(comm, 0, static_cast<int>(V.size()), V.data());
+    const std::vector<double> mine = share(V, m);
+    std::vector<double> all(mine.size(), 0.0);
+    Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, static_cast<int>(mine.size()), mine.data(), all.data());
+    return all;
+  };
+  SeparatorSolve out;
+  out.u.assign(static_cast<std::size_t>(nB) * k, 0.0);
+  std::string failure;
+  if (rank != 0) {
+    for (;;) {
+      int m = 0;
+      Teuchos::broadcast(comm, 0, &m);
+      if (m == 0) break;
+      std::vector<double> V;
+      collective(V, m);
+    }
+  } else {
+    try {
+      Teuchos::BLAS<int, double> blas;
+      Teuchos::LAPACK<int, double> lapack;
+      auto applyS = [&](std::vector<double> V, int m) {
+        Teuchos::broadcast(comm, 0, &m);
+        return collective(V, m);
+      };
+      // y (nI x m) <- S_c^-1 y.
+      auto coarse = [&](std::vector<double>& y, int m) {
+        int info = 0;
+        lapack.POTRS('L', nI, m, coarseFactor.data(), nI, y.data(), nI, &info);
+        if (info != 0) throw NumericalError(what + ": LAPACK dpotrs failed (info " + std::to_string(info) + ")");
+      };
+      // The balancing preconditioner on R (nB x m):
+      //   c1 = S_c^-1 Phi^T R,  W = K_BB^-1 (R - S Phi c1),  c2 = S_c^-1 (S Phi)^T W,
+      //   Z = W + Phi (c1 - c2).
+      auto precondition = [&](const std::vector<double>& R, int m) {
+        std::vector<double> c1(static_cast<std::size_t>(nI) * m), c2(c1.size()), T(R);
+        blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nI, m, nB, 1.0, Phi.data(), nB, R.data(), nB, 0.0, c1.data(), nI);
+        coarse(c1, m);
+        blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nB, m, nI, -1.0, SPhi.data(), nB, c1.data(), nI, 1.0, T.data(), nB);
+        const MultiVector Tm(KBB->getRowMap(), Teuchos::ArrayView<const double>(T), nB, m);
+        MultiVector Wm(KBB->getRowMap(), m);
+        KBBfactor->solve(Tm, Wm);
+        std::vector<double> W(T.size());
+        Wm.get1dCopy(Teuchos::ArrayView<double>(W), nB);
+        blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nI, m, nB, 1.0, SPhi.data(), nB, W.data(), nB, 0.0, c2.data(), nI);
+        coarse(c2, m);
+        for (std::size_t e = 0; e < c1.size(); ++e) c1[e] -= c2[e];
+        blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nB, m, nI, 1.0, Phi.data(), nB, c1.data(), nI, 1.0, W.data(), nB);
+        return W;
+      };
+      auto dot = [&](const std::vector<double>& a, int ja, const std::vector<double>& b, int jb) {
+        return blas.DOT(nB, &a[at(0, ja)], 1, &b[at(0, jb)], 1);
+      };
+      // Columns of a block, and a block of some columns.
+      auto pick = [&](const std::vector<double>& A, const std::vector<int>& cols) {
+        std::vector<double> out(static_cast<std::size_t>(nB) * cols.size());
+        for (std::size_t c = 0; c < cols.size(); ++c) std::copy_n(&A[at(0, cols[c])], nB, &out[at(0, static_cast<int>(c))]);
+        return out;
+      };
+      // The coarse start x = Phi S_c^-1 Phi^T g leaves Phi^T r = 0.
+      std::vector<double> c(static_cast<std::size_t>(nI) * k);
+      blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nI, k, nB, 1.0, Phi.data(), nB, g.data(), nB, 0.0, c.data(), nI);
+      coarse(c, k);
+      std::vector<double>& x = out.u;
+      blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nB, k, nI, 1.0, Phi.data(), nB, c.data(), nI, 0.0, x.data(), nB);
+      std::vector<double> r = applyS(x, k);
+      for (std::size_t e = 0; e < r.size(); ++e) r[e] = g[e] - r[e];
+      std::vector<double> gNorm(k), rNorm(k), rz(k);
+      for (int j = 0; j < k; ++j) gNorm[j] = std::sqrt(dot(g, j, g, j)), rNorm[j] = std::sqrt(dot(r, j, r, j));
+      std::vector<double> z = precondition(r, k), p = z;
+      for (int j = 0; j < k; ++j) rz[j] = dot(r, j, z, j);
+      auto converged = [&](int j) { return !(rNorm[j] > tolerance * gNorm[j]); };
+      for (;;) {
+        std::vector<int> active;
+        for (int j = 0; j < k; ++j) {
+          if (!std::isfinite(rNorm[j]))
+            throw NumericalError(what + ": the separator's static solve met a non-finite residual (a part's solve failed)");
+          if (!converged(j)) active.push_back(j);
+        }
+        if (active.empty()) break;
+        if (out.iterations == maxIterations) {
+          double worst = 0.0;
+          for (int j : active) worst = std::max(worst, rNorm[j] / gNorm[j]);
+          std::ostringstream os;
+          os << what << ": the static shapes' separator values (conjugate gradients on the Schur complement) reached "
+             << worst << " relative residual after " << maxIterations << " iterations, not " << tolerance
+             << " (Partition/Static Solve Tolerance, Static Solve Iterations): raise Partition/Interface Degree "
+                "or the iterations, or use Interface: Exact";
+          throw NumericalError(os.str());
+        }
+        ++out.iterations;
+        const int m = static_cast<int>(active.size());
+        const std::vector<double> Q = applyS(pick(p, active), m);
+        for (int a = 0; a < m; ++a) {
+          const int j = active[a];
+          const double pq = blas.DOT(nB, &p[at(0, j)], 1, &Q[at(0, a)], 1), alpha = rz[j] / pq;
+          blas.AXPY(nB, alpha, &p[at(0, j)], 1, &x[at(0, j)], 1);
+          blas.AXPY(nB, -alpha, &Q[at(0, a)], 1, &r[at(0, j)], 1);
+          rNorm[j] = std::sqrt(dot(r, j, r, j));
+        }
+        const std::vector<double> Z = precondition(pick(r, active), m);
+        for (int a = 0; a < m; ++a) {
+          const int j = active[a];
+          const double rzNew = blas.DOT(nB, &r[at(0, j)], 1, &Z[at(0, a)], 1), beta = rzNew / rz[j];
+          rz[j] = rzNew;
+          for (int b = 0; b < nB; ++b) p[at(b, j)] = Z[at(b, a)] + beta * p[at(b, j)];
+        }
+      }
+      for (int j = 0; j < k; ++j) out.residual = std::max(out.residual, gNorm[j] > 0 ? rNorm[j] / gNorm[j] : 0.0);
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+    int stop = 0;
+    Teuchos::broadcast(comm, 0, &stop);
+  }
+  agreeOnFailure(comm, failure);
+  Teuchos::broadcast(comm, 0, static_cast<int>(out.u.size()), out.u.data());
+  Teuchos::broadcast(comm, 0, &out.iterations);
+  Teuchos::broadcast(comm, 0, &out.residual);
+  return out;
+}
 
 }  // namespace
 
@@ -241,6 +432,13 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   CMS_INPUT_CHECK(!(options.interfaceCutoffFactor >= 1.0) || !std::isfinite(options.interfaceCutoffFactor),
                   where << "/Partition/Interface Cutoff Factor = " << options.interfaceCutoffFactor << " must be >= 1");
   CMS_INPUT_CHECK(options.parts < 0, where << "/Partition/Parts = " << options.parts << " must be >= 0");
+  CMS_INPUT_CHECK(!(options.staticTolerance > 0.0 && options.staticTolerance < 1.0),
+                  where << "/Partition/Static Solve Tolerance = " << options.staticTolerance << " must be in (0, 1)");
+  CMS_INPUT_CHECK(options.staticIterations < 1,
+                  where << "/Partition/Static Solve Iterations = " << options.staticIterations << " must be >= 1");
+  CMS_INPUT_CHECK(options.polynomialInterface && options.interfaceDegree < 0,
+                  where << "/Partition/Interface Degree = " << options.interfaceDegree
+                        << " must be >= 0 (the polynomials' highest degree)");
   CMS_INPUT_CHECK(options.parts == 0 && options.maxDofs < 1,
                   where << "/Partition/Max DOFs = " << options.maxDofs << " must be >= 1");
   const double lambdaCut = std::pow(2.0 * M_PI * options.cutoffHz, 2);
@@ -372,13 +570,118 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   MultiVector F(layout, std::max(nf, 1));
   if (nf > 0) F.doImport(*loads, toLayout, Tpetra::INSERT);
   loads = Teuchos::null;
+  const auto self = comm->split(rank, 0);
+
+  // 2b. The interface's coordinates (§18.4). Exact: every separator DOF, so
+  // the interface problem is the whole Schur complement. Polynomial: per
+  // connected piece of the separator (a cut, or the face a child is
+  // attached to) and per component (UX .. RZ), the monomials of degree
+  // <= d in the piece's centred, scaled coordinates: the piece's rigid
+  // motions (d >= 1, so a child's rigid attachment coordinates too),
+  // stretching, bending and warping of its surface. The interface problem
+  // is projected on their span (Rayleigh-Ritz, so from above). Phi (nB x
+  // nI, column-major) maps interface coordinates to separator values;
+  // built on rank 0, which holds the separator's rows, sent to every rank.
+  const bool reduced = options.polynomialInterface && nB > 0;
+  int nI = nB;
+  std::vector<double> Phi;
+  std::string shapesNote;
+  const auto tShapes = Clock::now();
+  if (reduced) {
+    int pieces = 0;
+    if (rank == 0) {
+      // The separator's pieces: its nodes joined by K's pattern (union-find).
+      std::vector<std::int64_t> root(nodes);
+      std::iota(root.begin(), root.end(), 0);
+      const auto find = [&](std::int64_t a) {
+        while (root[a] != a) a = root[a] = root[root[a]];
+        return a;
+      };
+      {
+        CrsMatrix::local_inds_host_view_type cols;
+        CrsMatrix::values_host_view_type vals;
+        const auto colMap = K->getColMap();
+        for (int b = 0; b < nB; ++b) {
+          K->getLocalRowView(layout->getLocalElement(separatorRows[b]), cols, vals);
+          for (std::size_t e = 0; e < cols.extent(0); ++e) {
+            const GlobalOrdinal g = colMap->getGlobalElement(cols(e));
+            if (rowClass[g] == -1) root[find(rowNode[separatorRows[b]])] = find(rowNode[g]);
+          }
+        }
+      }
+      // Groups: (piece, component) -> its separator indices.
+      std::map<std::pair<std::int64_t, int>, std::vector<int>> groups;
+      for (int b = 0; b < nB; ++b)
+        groups[{find(rowNode[separatorRows[b]]), static_cast<int>(dofs.components[separatorRows[b]])}].push_back(b);
+      std::vector<std::array<int, 3>> powers;  // every monomial of degree <= d
+      for (int total = 0; total <= options.interfaceDegree; ++total)
+        for (int a = total; a >= 0; --a)
+          for (int b = total - a; b >= 0; --b) powers.push_back({a, b, total - a - b});
+      std::vector<std::vector<double>> columns;  // each nB long
+      for (const auto& [key, members] : groups) {
+        // Centred on the piece's nodes in this group, scaled to unit radius:
+        // monomials stay O(1), so their dependence is judged by rounding.
+        double centre[3] = {0, 0, 0}, radius = 0;
+        auto at = [&](int b, int i) { return dofs.coordinates[3 * rowNode[separatorRows[b]] + i]; };
+        for (int b : members)
+          for (int i = 0; i < 3; ++i) centre[i] += at(b, i) / members.size();
+        for (int b : members) {
+          double r2 = 0;
+          for (int i = 0; i < 3; ++i) r2 += std::pow(at(b, i) - centre[i], 2);
+          radius = std::max(radius, std::sqrt(r2));
+        }
+        if (!(radius > 0)) radius = 1;
+        const std::size_t first = columns.size();
+        for (const auto& pw : powers) {
+          std::vector<double> v(nB, 0.0);
+          for (int b : members) {
+            double x = 1;
+            for (int i = 0; i < 3; ++i) x *= std::pow((at(b, i) - centre[i]) / radius, pw[i]);
+            v[b] = x;
+          }
+          // Modified Gram-Schmidt, twice, against this group's kept columns
+          // (other groups' have disjoint supports); dropped when dependent.
+          const double norm0 = std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
+          for (int pass = 0; pass < 2; ++pass)
+            for (std::size_t c = first; c < columns.size(); ++c) {
+              double d = 0;
+              for (int b : members) d += columns[c][b] * v[b];
+              for (int b : members) v[b] -= d * columns[c][b];
+            }
+          const double norm = std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
+          if (!(norm > options.dependenceTolerance * norm0)) continue;
+          for (int b : members) v[b] /= norm;
+          columns.push_back(std::move(v));
+        }
+      }
+      nI = static_cast<int>(columns.size());
+      Phi.resize(static_cast<std::size_t>(nB) * nI);
+      for (int k = 0; k < nI; ++k) std::copy(columns[k].begin(), columns[k].end(), Phi.begin() + static_cast<std::size_t>(k) * nB);
+      std::set<std::int64_t> distinct;
+      for (const auto& [key, members] : groups) distinct.insert(key.first);
+      pieces = static_cast<int>(distinct.size());
+    }
+    Teuchos::broadcast(*comm, 0, &nI);
+    Teuchos::broadcast(*comm, 0, &pieces);
+    std::ostringstream os;
+    os << "interface reduced to " << nI << " coordinates (polynomials of degree <= " << options.interfaceDegree << " on "
+       << pieces << " separator piece" << (pieces == 1 ? "" : "s") << ")";
+    shapesNote = os.str();
+    Phi.resize(static_cast<std::size_t>(nB) * nI);
+    if (!Phi.empty()) Teuchos::broadcast(*comm, 0, static_cast<int>(Phi.size()), Phi.data());
+  }
+  const double shapesSeconds = since(tShapes);
   std::vector<double> cB(static_cast<std::size_t>(nB) * nf, 0.0);  // sum_p K_Bp K_pp^-1 f_p, this rank's parts
+  // Polynomial: S Phi = K_BB Phi + sum_p K_Bp X_p (this rank's share), the
+  // separator's static solve's coarse space (§18.4).
+  std::vector<double> SPhi(reduced ? static_cast<std::size_t>(nB) * nI : 0, 0.0);
+  Teuchos::RCP<CrsMatrix> KBB;  // Polynomial, rank 0: the separator's own stiffness
 
   // 3. The parts, each on its rank alone.
   const auto tParts = Clock::now();
-  const auto self = comm->split(rank, 0);
   std::vector<PartWork> work;
-  std::vector<std::pair<long long, double>> Sk, Sm;  // this rank's contributions to S and M^ (i * nB + j)
+  std::vector<std::pair<long long, double>> Sk, Sm;  // this rank's contributions to S and M^ (i * nI + j)
+  Teuchos::BLAS<int, double> blas;
   try {
     for (int p = 0; p < parts; ++p) {
       if (ownerOf(p) != rank || partRows[p].empty()) continue;
@@ -433,7 +736,6 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         throw NumericalError(what + ": its stiffness with the separator held is not positive definite (" +
                              factor.failure() + "): the part is not restrained by the rest; fewer parts, or "
                              "check the substructure's supports");
-      // The static extension X_p = -K_pp^-1 K_pB on the separator rows it touches.
       for (const auto& [i, b, v] : KpB) w.boundary.push_back(b);
       for (const auto& [i, b, v] : MpB) w.boundary.push_back(b);
       std::sort(w.boundary.begin(), w.boundary.end());
@@ -442,37 +744,87 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       auto local = [&](int b) {
         return static_cast<int>(std::lower_bound(w.boundary.begin(), w.boundary.end(), b) - w.boundary.begin());
       };
+      // The part's interface coordinates: exact, the separator DOFs it
+      // touches; reduced, all nI, through Phi_p (its touched rows of Phi,
+      // row-major nb x nI).
       if (nb > 0) {
-        MultiVector F(Kt->getRowMap(), nb), X(Kt->getRowMap(), nb), MX(Kt->getRowMap(), nb);
-        for (const auto& [i, b, v] : KpB) F.sumIntoLocalValue(i, local(b), -v);
-        factor.solve(F, X);
+        if (reduced) w.coords.resize(nI), std::iota(w.coords.begin(), w.coords.end(), 0);
+        else w.coords = w.boundary;
+      }
+      const int c = static_cast<int>(w.coords.size());
+      std::vector<double> PhiRows;
+      if (reduced && nb > 0) {
+        PhiRows.resize(static_cast<std::size_t>(nb) * nI);
+        for (int bl = 0; bl < nb; ++bl)
+          for (int k = 0; k < nI; ++k) PhiRows[k + static_cast<std::size_t>(bl) * nI] = Phi[w.boundary[bl] + static_cast<std::size_t>(k) * nB];
+      }
+      // sign A_pB Phi_p added to `out` (dense n x c, column-major) from the
+      // coupling triplets; exact: Phi_p = I, one entry per triplet.
+      auto addCoupled = [&](const std::vector<std::tuple<int, int, double>>& t, double sign, std::vector<double>& out) {
+        if (!reduced) {
+          for (const auto& [i, b, v] : t) out[i + static_cast<std::size_t>(local(b)) * n] += sign * v;
+          return;
+        }
+        std::vector<double> rowMajor(static_cast<std::size_t>(n) * c, 0.0);
+        for (const auto& [i, b, v] : t) {
+          double* to = &rowMajor[static_cast<std::size_t>(i) * c];
+          const double* from = &PhiRows[static_cast<std::size_t>(local(b)) * nI];
+          for (int k = 0; k < c; ++k) to[k] += sign * v * from[k];
+        }
+        for (int i = 0; i < n; ++i)
+          for (int k = 0; k < c; ++k) out[i + static_cast<std::size_t>(k) * n] += rowMajor[k + static_cast<std::size_t>(i) * c];
+      };
+      if (c > 0) {
+        // The static extension X_p = -K_pp^-1 K_pB Phi_p; its contributions
+        // S_p = Phi_p^T K_Bp X_p (= -Phi_p^T K_Bp K_pp^-1 K_pB Phi_p) and
+        // M^_p = X^T (M_pp X + M_pB Phi_p) + Phi_p^T M_Bp X.
+        std::vector<double> Fd(static_cast<std::size_t>(n) * c, 0.0), Gd;
+        addCoupled(KpB, -1.0, Fd);
+        MultiVector X(Kt->getRowMap(), c), MX(Kt->getRowMap(), c);
+        {
+          const MultiVector Fm(Kt->getRowMap(), Teuchos::ArrayView<const double>(Fd), n, c);
+          factor.solve(Fm, X);
+        }
         Mt->apply(X, MX);
-        for (const auto& [i, b, v] : MpB) MX.sumIntoLocalValue(i, local(b), v);
-        w.X.resize(static_cast<std::size_t>(n) * nb);
+        w.X.resize(static_cast<std::size_t>(n) * c);
         std::vector<double> MXd(w.X.size());
         X.get1dCopy(Teuchos::ArrayView<double>(w.X), n);
         MX.get1dCopy(Teuchos::ArrayView<double>(MXd), n);
-        // S_p = K_Bp X_p (= -K_Bp K_pp^-1 K_pB); M^_p = X^T (M_pp X + M_pB) + M_Bp X.
-        std::vector<double> S(static_cast<std::size_t>(nb) * nb, 0.0), Mh(S.size(), 0.0);
-        for (const auto& [i, b, v] : KpB) {
-          const int bl = local(b);
-          for (int j = 0; j < nb; ++j) S[bl + static_cast<std::size_t>(j) * nb] += v * w.X[i + static_cast<std::size_t>(j) * n];
+        if (reduced) {
+          Gd.assign(w.X.size(), 0.0);
+          addCoupled(MpB, 1.0, Gd);
+          for (std::size_t e = 0; e < MXd.size(); ++e) MXd[e] += Gd[e];
+        } else {
+          std::vector<double>().swap(Fd);  // exact: S from the triplets, below
+          addCoupled(MpB, 1.0, MXd);
         }
-        Teuchos::BLAS<int, double>().GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nb, nb, n, 1.0, w.X.data(), n,
-                                          MXd.data(), n, 0.0, Mh.data(), nb);
-        for (const auto& [i, b, v] : MpB) {
-          const int bl = local(b);
-          for (int j = 0; j < nb; ++j) Mh[bl + static_cast<std::size_t>(j) * nb] += v * w.X[i + static_cast<std::size_t>(j) * n];
+        std::vector<double> S(static_cast<std::size_t>(c) * c, 0.0), Mh(S.size(), 0.0);
+        blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, c, c, n, 1.0, w.X.data(), n, MXd.data(), n, 0.0, Mh.data(), c);
+        if (!reduced) {  // Phi_p = I: the sparse coupling times X (c = nb may be thousands)
+          for (const auto& [i, b, v] : KpB) {
+            const int bl = local(b);
+            for (int j = 0; j < nb; ++j) S[bl + static_cast<std::size_t>(j) * nb] += v * w.X[i + static_cast<std::size_t>(j) * n];
+          }
+          for (const auto& [i, b, v] : MpB) {
+            const int bl = local(b);
+            for (int j = 0; j < nb; ++j) Mh[bl + static_cast<std::size_t>(j) * nb] += v * w.X[i + static_cast<std::size_t>(j) * n];
+          }
+        } else {  // S_p = -F^T X with F = -K_pB Phi_p; Phi_p^T M_Bp X = G^T X with G = M_pB Phi_p
+          blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, c, c, n, -1.0, Fd.data(), n, w.X.data(), n, 0.0, S.data(), c);
+          blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, c, c, n, 1.0, Gd.data(), n, w.X.data(), n, 1.0, Mh.data(), c);
+          for (const auto& [i, b, v] : KpB)
+            for (int k = 0; k < nI; ++k) SPhi[b + static_cast<std::size_t>(k) * nB] += v * w.X[i + static_cast<std::size_t>(k) * n];
+          w.KpB = KpB;
         }
-        for (int j = 0; j < nb; ++j)
-          for (int i = 0; i < nb; ++i) {
-            const long long key = static_cast<long long>(w.boundary[i]) * nB + w.boundary[j];
-            Sk.emplace_back(key, S[i + static_cast<std::size_t>(j) * nb]);
-            Sm.emplace_back(key, Mh[i + static_cast<std::size_t>(j) * nb]);
+        for (int j = 0; j < c; ++j)
+          for (int i = 0; i < c; ++i) {
+            const long long key = static_cast<long long>(w.coords[i]) * nI + w.coords[j];
+            Sk.emplace_back(key, S[i + static_cast<std::size_t>(j) * c]);
+            Sm.emplace_back(key, Mh[i + static_cast<std::size_t>(j) * c]);
           }
       }
       w.modes = modesBelow(*Kt, *Mt, Kc, Mc, lambdaCut, factor, options.eigensolverTolerance, what);
-      if (nf > 0) {  // the loads' particular part, separator held, and its reaction on the separator
+      if (nf > 0) {  // the loads' particular part, separator held, and its reaction K_Bp K_pp^-1 f_p
         MultiVector Fp(Kt->getRowMap(), nf), Y(Kt->getRowMap(), nf);
         for (int k = 0; k < nf; ++k) {
           const auto from = F.getData(k);
@@ -487,26 +839,53 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       w.seconds = since(tp);
       work.push_back(std::move(w));
     }
-    if (rank == 0) {  // the separator's own block K_BB, M_BB
+    if (rank == 0) {  // the separator's own block Phi^T K_BB Phi, Phi^T M_BB Phi (exact: Phi = I)
       auto addSeparatorBlock = [&](const CrsMatrix& A, std::vector<std::pair<long long, double>>& into) {
         CrsMatrix::local_inds_host_view_type cols;
         CrsMatrix::values_host_view_type vals;
         const auto colMap = A.getColMap();
+        Csr block;  // A_BB (Polynomial)
+        block.n = nB;
+        std::vector<std::pair<int, double>> row;
         for (int i = 0; i < nB; ++i) {
           A.getLocalRowView(layout->getLocalElement(separatorRows[i]), cols, vals);
+          row.clear();
           for (std::size_t e = 0; e < cols.extent(0); ++e) {
             const GlobalOrdinal g = colMap->getGlobalElement(cols(e));
-            if (rowClass[g] == -1) into.emplace_back(static_cast<long long>(i) * nB + separatorIndex[g], vals(e));
+            if (rowClass[g] != -1) continue;
+            if (!reduced) into.emplace_back(static_cast<long long>(i) * nB + separatorIndex[g], vals(e));
+            else row.emplace_back(separatorIndex[g], vals(e));
           }
+          std::sort(row.begin(), row.end());
+          for (const auto& [j, v] : row) block.col.push_back(j), block.val.push_back(v);
+          block.endRow();
         }
+        if (!reduced) return Teuchos::RCP<CrsMatrix>();
+        std::vector<double> AP(static_cast<std::size_t>(nB) * nI, 0.0);  // A_BB Phi, column-major
+        for (int i = 0; i < nB; ++i)
+          for (int e = block.ptr[i]; e < block.ptr[i + 1]; ++e)
+            for (int k = 0; k < nI; ++k)
+              AP[i + static_cast<std::size_t>(k) * nB] += block.val[e] * Phi[block.col[e] + static_cast<std::size_t>(k) * nB];
+        std::vector<double> P(static_cast<std::size_t>(nI) * nI);
+        blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nI, nI, nB, 1.0, Phi.data(), nB, AP.data(), nB, 0.0, P.data(), nI);
+        for (int j = 0; j < nI; ++j)
+          for (int i = 0; i < nI; ++i) into.emplace_back(static_cast<long long>(i) * nI + j, P[i + static_cast<std::size_t>(j) * nI]);
+        if (&into == &Sk)
+          for (std::size_t e = 0; e < AP.size(); ++e) SPhi[e] += AP[e];
+        return toTpetra(block, self);
       };
-      addSeparatorBlock(*K, Sk);
+      KBB = addSeparatorBlock(*K, Sk);
       addSeparatorBlock(*M, Sm);
     }
   } catch (const std::exception& e) {
     failure = e.what();
   }
   agreeOnFailure(*comm, failure);
+  if (reduced) {
+    std::vector<double> all(SPhi.size(), 0.0);
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(SPhi.size()), SPhi.data(), all.data());
+    SPhi.swap(all);
+  }
   const double partsSeconds = since(tParts);
 
   // 4. The interface problem on rank 0: S, M^ gathered and their modes below the cut-off.
@@ -526,31 +905,52 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   };
   gatherTriplets(Sk);
   gatherTriplets(Sm);
-  std::vector<double> uB(cB.size(), 0.0);  // the static shapes on the separator: S^-1 (f_B - sum_p K_Bp K_pp^-1 f_p)
+  // The static shapes on the separator: u_B = S^-1 g, g = f_B - sum_p K_Bp K_pp^-1 f_p
+  // (exact: by the Schur complement's factor; Polynomial: by conjugate
+  // gradients, below). g on rank 0.
+  std::vector<double> g(cB.size(), 0.0);
   if (!cB.empty())
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(cB.size()), cB.data(), uB.data());
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(cB.size()), cB.data(), g.data());
+  if (rank == 0)
+    for (int k = 0; k < nf; ++k) {
+      const auto from = F.getData(k);
+      for (int b = 0; b < nB; ++b) {
+        double& e = g[b + static_cast<std::size_t>(k) * nB];
+        e = from[layout->getLocalElement(separatorRows[b])] - e;
+      }
+    }
+  std::vector<double> uB(g.size(), 0.0);
+  std::vector<double> coarseFactor;  // Polynomial, rank 0: S_c = Phi^T S Phi, its Cholesky factor (lower)
   Modes interface;
-  if (rank == 0 && nB > 0 && failure.empty()) {
+  if (rank == 0 && nI > 0 && failure.empty()) {
     try {
-      const Csr S = fromTriplets(nB, Sk), Mh = fromTriplets(nB, Sm);
+      const Csr S = fromTriplets(nI, Sk), Mh = fromTriplets(nI, Sm);
       std::vector<std::pair<long long, double>>().swap(Sk);
       std::vector<std::pair<long long, double>>().swap(Sm);
       const auto St = toTpetra(S, self), Mt = toTpetra(Mh, self);
       SparseDirectSolver factor(St, "CHOLMOD");
       if (factor.factor() != SparseDirectSolver::Outcome::Factored)
-        throw NumericalError(s.name() + ": the interface's Schur complement (" + std::to_string(nB) +
-                             " separator DOFs) is not positive definite (" + factor.failure() + ")");
+        throw NumericalError(s.name() + ": the interface's Schur complement (" + std::to_string(nI) +
+                             (reduced ? " interface coordinates" : " separator DOFs") + ") is not positive definite (" +
+                             factor.failure() + ")");
       interface = modesBelow(*St, *Mt, S, Mh, lambdaCut * std::pow(options.interfaceCutoffFactor, 2), factor,
-                             options.eigensolverTolerance, s.name() + ": interface (" + std::to_string(nB) + " separator DOFs)");
-      if (nf > 0) {
-        MultiVector g(St->getRowMap(), nf), u(St->getRowMap(), nf);
-        for (int k = 0; k < nf; ++k) {
-          const auto from = F.getData(k);
-          for (int b = 0; b < nB; ++b)
-            g.replaceLocalValue(b, k, from[layout->getLocalElement(separatorRows[b])] - uB[b + static_cast<std::size_t>(k) * nB]);
-        }
-        factor.solve(g, u);
+                             options.eigensolverTolerance,
+                             s.name() + ": interface (" + std::to_string(nI) + (reduced ? " coordinates)" : " separator DOFs)"));
+      if (nf > 0 && !reduced) {
+        const MultiVector gm(St->getRowMap(), Teuchos::ArrayView<const double>(g), nB, nf);
+        MultiVector u(St->getRowMap(), nf);
+        factor.solve(gm, u);
         u.get1dCopy(Teuchos::ArrayView<double>(uB), nB);
+      }
+      if (nf > 0 && reduced) {
+        coarseFactor.assign(static_cast<std::size_t>(nI) * nI, 0.0);
+        for (int i = 0; i < nI; ++i)
+          for (int e = S.ptr[i]; e < S.ptr[i + 1]; ++e) coarseFactor[i + static_cast<std::size_t>(S.col[e]) * nI] = S.val[e];
+        int info = 0;
+        Teuchos::LAPACK<int, double>().POTRF('L', nI, coarseFactor.data(), nI, &info);
+        if (info != 0)
+          throw NumericalError(s.name() + ": the interface polynomials' Schur complement is not positive definite "
+                                          "(LAPACK dpotrf, info " + std::to_string(info) + ")");
       }
     } catch (const std::exception& e) {
       failure = e.what();
@@ -558,10 +958,36 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   }
   agreeOnFailure(*comm, failure);
   Teuchos::broadcast(*comm, 0, &interface.m);
-  interface.vectors.resize(static_cast<std::size_t>(nB) * interface.m);
+  interface.vectors.resize(static_cast<std::size_t>(nI) * interface.m);
   if (!interface.vectors.empty())
     Teuchos::broadcast(*comm, 0, static_cast<int>(interface.vectors.size()), interface.vectors.data());
-  if (!uB.empty()) Teuchos::broadcast(*comm, 0, static_cast<int>(uB.size()), uB.data());
+  std::string staticNote;
+  if (nf > 0 && reduced) {
+    std::unique_ptr<SparseDirectSolver> KBBfactor;
+    if (rank == 0 && failure.empty()) {
+      KBBfactor = std::make_unique<SparseDirectSolver>(KBB, "CHOLMOD");
+      if (KBBfactor->factor() != SparseDirectSolver::Outcome::Factored)
+        failure = s.name() + ": the separator's own stiffness K_BB is not positive definite (" + KBBfactor->failure() + ")";
+    }
+    agreeOnFailure(*comm, failure);
+    const SeparatorSolve solved =
+        separatorSolve(*comm, work, nB, nf, g, Phi, nI, SPhi, coarseFactor, KBBfactor.get(), KBB.get(),
+                       options.staticTolerance, options.staticIterations, s.name() + ": static shapes");
+    uB = solved.u;
+    std::ostringstream os;
+    os << "static shapes' separator values by conjugate gradients in " << solved.iterations
+       << " iterations (relative residual " << solved.residual << ")";
+    staticNote = os.str();
+  } else if (nf > 0) {
+    Teuchos::broadcast(*comm, 0, static_cast<int>(uB.size()), uB.data());
+  }
+  // The interface modes on the separator's DOFs: Phi times their coordinates.
+  std::vector<double> PsiSep = interface.vectors;
+  if (reduced && interface.m > 0) {
+    PsiSep.assign(static_cast<std::size_t>(nB) * interface.m, 0.0);
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nB, interface.m, nI, 1.0, Phi.data(), nB, interface.vectors.data(),
+              nI, 0.0, PsiSep.data(), nB);
+  }
   const double interfaceSeconds = since(tInterface);
 
   // 5. The columns on the substructure's map: each part's modes, then the
@@ -582,14 +1008,30 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   if (columns > 0) {
     MultiVector C(layout, columns);
     for (const auto& w : work) {
-      const int n = static_cast<int>(w.rows.size()), nb = static_cast<int>(w.boundary.size());
-      if (nf > 0) {  // u_p = K_pp^-1 f_p + X_p u_B
-        std::vector<double> uBp(static_cast<std::size_t>(nb) * nf), u(w.Yf);
-        for (int k = 0; k < nf; ++k)
-          for (int b = 0; b < nb; ++b) uBp[b + static_cast<std::size_t>(k) * nb] = uB[w.boundary[b] + static_cast<std::size_t>(k) * nB];
-        if (nb > 0)
-          Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, nf, nb, 1.0, w.X.data(), n,
-                                            uBp.data(), nb, 1.0, u.data(), n);
+      const int n = static_cast<int>(w.rows.size()), c = static_cast<int>(w.coords.size());
+      // Interface coordinates (nI x k) restricted to the part's (c x k).
+      auto partCoords = [&](const std::vector<double>& all, int k) {
+        std::vector<double> out(static_cast<std::size_t>(c) * k);
+        for (int j = 0; j < k; ++j)
+          for (int l = 0; l < c; ++l) out[l + static_cast<std::size_t>(j) * c] = all[w.coords[l] + static_cast<std::size_t>(j) * nI];
+        return out;
+      };
+      if (nf > 0) {  // u_p = K_pp^-1 (f_p - K_pB u_B): exact, X_p u_B; Polynomial, one more solve (u_B is not in Phi's span)
+        std::vector<double> u(w.Yf);
+        if (c > 0 && !reduced) {
+          const std::vector<double> uc = partCoords(uB, nf);
+          blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, nf, c, 1.0, w.X.data(), n, uc.data(), c, 1.0, u.data(), n);
+        } else if (c > 0) {
+          const auto map = w.Mpp->getRowMap();
+          std::vector<double> fb(static_cast<std::size_t>(n) * nf, 0.0), zb(fb.size());
+          for (const auto& [i, b, v] : w.KpB)
+            for (int k = 0; k < nf; ++k) fb[i + static_cast<std::size_t>(k) * n] -= v * uB[b + static_cast<std::size_t>(k) * nB];
+          const MultiVector Fb(map, Teuchos::ArrayView<const double>(fb), n, nf);
+          MultiVector Zb(map, nf);
+          w.factor->solve(Fb, Zb);
+          Zb.get1dCopy(Teuchos::ArrayView<double>(zb), n);
+          for (std::size_t e = 0; e < u.size(); ++e) u[e] += zb[e];
+        }
         for (int k = 0; k < nf; ++k)
           for (int i = 0; i < n; ++i)
             C.replaceLocalValue(layout->getLocalElement(w.rows[i]), k, u[i + static_cast<std::size_t>(k) * n]);
@@ -598,12 +1040,11 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         for (int i = 0; i < n; ++i)
           C.replaceLocalValue(layout->getLocalElement(w.rows[i]), offset[w.part] + k,
                               w.modes.vectors[i + static_cast<std::size_t>(k) * n]);
-      if (interface.m > 0 && nb > 0) {
-        std::vector<double> PsiB(static_cast<std::size_t>(nb) * interface.m), Y(static_cast<std::size_t>(n) * interface.m);
-        for (int k = 0; k < interface.m; ++k)
-          for (int b = 0; b < nb; ++b) PsiB[b + static_cast<std::size_t>(k) * nb] = interface.vectors[w.boundary[b] + static_cast<std::size_t>(k) * nB];
-        Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, interface.m, nb, 1.0, w.X.data(), n,
-                                          PsiB.data(), nb, 0.0, Y.data(), n);
+      if (interface.m > 0 && c > 0) {
+        const std::vector<double> Psic = partCoords(interface.vectors, interface.m);
+        std::vector<double> Y(static_cast<std::size_t>(n) * interface.m);
+        blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, interface.m, c, 1.0, w.X.data(), n, Psic.data(), c, 0.0,
+                  Y.data(), n);
         for (int k = 0; k < interface.m; ++k)
           for (int i = 0; i < n; ++i)
             C.replaceLocalValue(layout->getLocalElement(w.rows[i]), offset[parts] + k, Y[i + static_cast<std::size_t>(k) * n]);
@@ -612,15 +1053,13 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
           // load of each interface mode's extension: -K_pp^-1 (M_pp Y +
           // M_pB Psi_B) up to sign, one load-dependent Ritz step (§18.2).
           const auto map = w.Mpp->getRowMap();
-          MultiVector Ym(map, interface.m), F(map, interface.m), Z(map, interface.m);
+          MultiVector Ym(map, interface.m), Fr(map, interface.m), Z(map, interface.m);
           for (int k = 0; k < interface.m; ++k)
             for (int i = 0; i < n; ++i) Ym.replaceLocalValue(i, k, Y[i + static_cast<std::size_t>(k) * n]);
-          w.Mpp->apply(Ym, F);
-          std::vector<int> at(nB, -1);
-          for (int b = 0; b < nb; ++b) at[w.boundary[b]] = b;
+          w.Mpp->apply(Ym, Fr);
           for (const auto& [i, b, v] : w.MpB)
-            for (int k = 0; k < interface.m; ++k) F.sumIntoLocalValue(i, k, v * PsiB[at[b] + static_cast<std::size_t>(k) * nb]);
-          w.factor->solve(F, Z);
+            for (int k = 0; k < interface.m; ++k) Fr.sumIntoLocalValue(i, k, v * PsiSep[b + static_cast<std::size_t>(k) * nB]);
+          w.factor->solve(Fr, Z);
           for (int k = 0; k < interface.m; ++k) {
             const auto z = Z.getData(k);
             for (int i = 0; i < n; ++i)
@@ -636,7 +1075,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       for (int k = 0; k < interface.m; ++k)
         for (int b = 0; b < nB; ++b)
           C.replaceLocalValue(layout->getLocalElement(separatorRows[b]), offset[parts] + k,
-                              interface.vectors[b + static_cast<std::size_t>(k) * nB]);
+                              PsiSep[b + static_cast<std::size_t>(k) * nB]);
     }
     MultiVector candidates(s.map(), columns);
     candidates.doImport(C, Tpetra::Import<>(layout, s.map()), Tpetra::INSERT);
@@ -662,6 +1101,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
      << (anyArpack ? "ARPACK" : "LAPACK") << ") below " << options.cutoffHz << " Hz, "
      << interface.m << " interface modes below " << options.interfaceCutoffFactor * options.cutoffHz << " Hz" << (residuals > 0 ? " and their residual vectors" : "") << "; partition " << partitionSeconds << " s, parts " << partsSeconds
      << " s (slowest part " << slowest << " s), interface " << interfaceSeconds << " s";
+  if (reduced) os << "; " << shapesNote << " in " << shapesSeconds << " s" << (staticNote.empty() ? "" : "; ") << staticNote;
   basis.eigensolverReport = os.str();
   basis.seconds = since(t0);
   return basis;

@@ -66,6 +66,19 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
       part.set("Max DOFs", 20000, "parts of at most about this many free DOFs (when \"Parts\" is 0)");
       part.set("Interface Cutoff Factor", 2.0,
                "the interface keeps its modes below this multiple of \"Cutoff Frequency\" (>= 1)");
+      Teuchos::setStringToIntegralParameter<int>(
+          "Interface", "Exact",
+          "the interface problem's coordinates: Exact (every separator DOF: its exact Schur complement, as many "
+          "solves per part as separator DOFs it touches) or Polynomial (per connected piece of the separator, "
+          "children's attachment faces included, polynomials of degree <= \"Interface Degree\" in its coordinates: "
+          "the problem projected on them, from above; far fewer solves where the separator is large; "
+          "doc/theory.md §18.4)",
+          Teuchos::tuple<std::string>("Exact", "Polynomial"), &part);
+      part.set("Interface Degree", 3, "Polynomial interface: the highest degree of its polynomials (>= 0)");
+      part.set("Static Solve Tolerance", 1e-12,
+               "Polynomial interface: the static shapes' separator values are solved by conjugate gradients on the "
+               "Schur complement (never formed) to this relative residual");
+      part.set("Static Solve Iterations", 500, "Polynomial interface: at most this many conjugate-gradient iterations");
       part.set("Residual Vectors", true,
                "per interface mode, the parts' static response to its inertia load (one load-dependent "
                "Ritz step; measured: 20x smaller errors for 1.7x the vectors)");
@@ -225,6 +238,10 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     options.maxDofs = part.get<int>("Max DOFs");
     options.interfaceCutoffFactor = part.get<double>("Interface Cutoff Factor");
     options.residualVectors = part.get<bool>("Residual Vectors");
+    options.polynomialInterface = part.get<std::string>("Interface") == "Polynomial";
+    options.interfaceDegree = part.get<int>("Interface Degree");
+    options.staticTolerance = part.get<double>("Static Solve Tolerance");
+    options.staticIterations = part.get<int>("Static Solve Iterations");
     const auto patterns = p.get<Teuchos::Array<std::string>>("Load Patterns");
     options.loadPatterns.assign(patterns.begin(), patterns.end());
     options.cutoffHz = cutoffHz;

@@ -9,7 +9,9 @@
 // and Psi the modes of the interface's own problem (S, M^) below it: S the
 // Schur complement K_BB - sum_p K_Bp K_pp^-1 K_pB, M^ the mass of the
 // static extensions (Craig & Chang's characteristic constraint modes; the
-// first level of Bennighof & Lehoucq's AMLS). Each part is factored and
+// first level of Bennighof & Lehoucq's AMLS). With polynomialInterface,
+// u_B = Phi_B xi with Phi_B low-degree polynomials over the separator, and
+// S, M^ are formed on their span only (§18.4). Each part is factored and
 // solved on its own, the parts spread over the ranks, so nothing of the
 // size of the whole substructure is ever factored. The basis is a Ritz
 // basis like the others: M-orthonormalised in order, zero on the held rows;
@@ -31,6 +33,21 @@ struct PartitionOptions {
   /// statically condensed (S, M^) is stiffer than the structure it stands
   /// for, so its modes need a higher cut-off than the parts' (§18.3).
   double interfaceCutoffFactor = 2.0;
+  /// false: the interface problem on every separator DOF (the exact Schur
+  /// complement: per part n_B_p solves and n_p n_B_p^2 flops). true: per
+  /// connected piece of the separator (children's attachment faces
+  /// included) and per component, the monomials of degree <=
+  /// interfaceDegree in its coordinates: the interface problem projected on
+  /// their span
+  /// (Rayleigh-Ritz, from above; §18.4), per part as many solves as
+  /// coordinates.
+  bool polynomialInterface = false;
+  int interfaceDegree = 3;
+  /// Polynomial: the static shapes' separator values solve S u_B = g by
+  /// conjugate gradients (balancing preconditioner, §18.4) to this relative
+  /// residual, within this many iterations (else NumericalError).
+  double staticTolerance = 1e-12;
+  int staticIterations = 500;
   /// Per interface mode, the interiors' static response (separator held)
   /// to its inertia load: one load-dependent Ritz step (§18.2).
   bool residualVectors = true;
