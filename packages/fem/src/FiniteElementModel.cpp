@@ -292,6 +292,10 @@ FiniteElementModel::MeshSource FiniteElementModel::meshSource(const ParameterLis
   std::filesystem::path mesh = getString(params, "Mesh", path);
   CMS_INPUT_CHECK(mesh.empty(), path << "/Mesh: must name a mesh file");
   if (mesh.is_relative()) mesh = std::filesystem::path(baseDir) / mesh;
+  // "a.geo", "./a.geo" and "sub/../a.geo" are one script, made once
+  // (mesh/ScriptMeshes.hpp compares paths as given); lexically, so links
+  // are left as named.
+  mesh = mesh.lexically_normal();
   MeshSource out{mesh.string(), {}};
   if (params.isSublist("Mesh Parameters")) {
     const auto& mp = params.sublist("Mesh Parameters");

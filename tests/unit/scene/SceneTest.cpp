@@ -147,8 +147,9 @@ Scene:
 // Each script a scene names is meshed once: made ahead, over the ranks, and
 // taken by its substructure, not meshed again by the model's reader. The
 // script counts its own runs (Gmsh's Printf appends to a file beside it):
-// three substructures name two distinct requests (one repeated with the same
-// Mesh Parameters), so two runs in all, whatever the rank count. Before
+// four substructures name two distinct requests (one repeated with the same
+// Mesh Parameters, its path written three ways), so two runs in all,
+// whatever the rank count. Before
 // the scene and the model shared FiniteElementModel::meshSource, a path or a
 // parameter read differently would have meshed silently twice.
 TEST(Scene, EachScriptIsMeshedOnce) {
@@ -185,20 +186,24 @@ Physical Point("tip") = {2};
                            "    arm:\n      Kind: E\n      Parent: hub\n"
                            "      Attachment: {Parent Nodes: tip, Nodes: root}\n" + model("counted.geo", 6) +
                            "    other:\n      Kind: E\n      Parent: hub\n"
-                           "      Attachment: {Parent Nodes: tip, Nodes: root}\n" + model(dir + "/counted.geo", 6);
+                           "      Attachment: {Parent Nodes: tip, Nodes: root}\n" + model(dir + "/counted.geo", 6) +
+                           "    again:\n      Kind: E\n      Parent: hub\n"
+                           "      Attachment: {Parent Nodes: tip, Nodes: root}\n" + model("./counted.geo", 6);
   const auto scene = scene::Scene::fromParameters(*Teuchos::getParametersFromYamlString(yaml), dir + "/scene.yaml");
-  ASSERT_EQ(scene.structure.substructures.size(), 3u);
+  ASSERT_EQ(scene.structure.substructures.size(), 4u);
   EXPECT_EQ(scene.structure.substructures[0].model->mesh->nodeCount(), 5u);
   EXPECT_EQ(scene.structure.substructures[1].model->mesh->nodeCount(), 7u);
   EXPECT_EQ(scene.structure.substructures[2].model->mesh->nodeCount(), 7u);
+  EXPECT_EQ(scene.structure.substructures[3].model->mesh->nodeCount(), 7u);
   comm->barrier();  // every rank's meshing done before the count
   if (comm->getRank() == 0) {
     std::ifstream in(dir + "/runs.txt");
     int runs = 0;
     for (std::string line; std::getline(in, line);) runs += line == "made";
     std::filesystem::remove_all(dir);
-    // Two requests: {n: 4}, and {n: 6} named twice (relative to the scene
-    // and absolute: the same path once resolved).
+    // Two requests: {n: 4}, and {n: 6} named three times (relative to the
+    // scene, absolute, and as "./counted.geo": the same path once resolved
+    // and normalised; three runs before the normalisation).
     EXPECT_EQ(runs, 2) << "runs of the script";
   }
 }
