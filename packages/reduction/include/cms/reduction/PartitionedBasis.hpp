@@ -62,8 +62,9 @@ struct PartitionOptions {
 /// Collective over the substructure's communicator. The children's
 /// interface rows join the separator (their motion is an interface
 /// coordinate, as in Craig-Bampton). The partition is made on rank 0 from
-/// the whole graph, so the basis does not depend on the rank count beyond
-/// rounding. Throws NumericalError naming the part when its stiffness
+/// the whole graph of K's nonzero entries (not its stored pattern, which
+/// depends on how K was assembled), so the basis does not depend on the
+/// rank count beyond rounding. Throws NumericalError naming the part when its stiffness
 /// with the separator held is not positive definite, or when an
 /// eigensolve fails; InputError for options out of range.
 RitzBasis partitionedBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary,
