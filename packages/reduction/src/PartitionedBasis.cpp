@@ -233,6 +233,10 @@ struct PartWork {
 };
 
 
+/// Past this many separator DOFs the report points to the polynomial
+/// interface: the benchmark hub's 2,535 took 15 s exactly, 2.3 s so (§18.4).
+constexpr int kLargeSeparator = 2000;
+
 /// The separator's values of the static shapes, S u_B = g (nB x k), for an
 /// interface whose Schur complement S is never formed: block conjugate
 /// gradients preconditioned by balancing (Mandel's balancing domain decomposition:
@@ -243,10 +247,6 @@ struct PartWork {
 /// S = K_BB - sum_p K_Bp K_pp^-1 K_pB. Returns u_B on every rank; throws
 /// NumericalError on every rank when a column does not reach `tolerance`
 /// (relative residual) within the iteration limit.
-/// Past this many separator DOFs the report points to the polynomial
-/// interface: the benchmark hub's 2,535 took 15 s exactly, 2.3 s so (§18.4).
-constexpr int kLargeSeparator = 2000;
-
 struct SeparatorSolve {
   std::vector<double> u;  ///< nB x k
   int iterations = 0;
@@ -646,7 +646,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   if (reduced) {
     int pieces = 0;
     if (rank == 0) {
-      // The separator's pieces: its nodes joined by K's pattern (union-find).
+      // The separator's pieces: its nodes joined by K's nonzero entries (union-find).
       std::vector<std::int64_t> root(nodes);
       std::iota(root.begin(), root.end(), 0);
       const auto find = [&](std::int64_t a) {
@@ -661,7 +661,8 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
           K->getLocalRowView(layout->getLocalElement(separatorRows[b]), cols, vals);
           for (std::size_t e = 0; e < cols.extent(0); ++e) {
             const GlobalOrdinal g = colMap->getGlobalElement(cols(e));
-            if (rowClass[g] == -1) root[find(rowNode[separatorRows[b]])] = find(rowNode[g]);
+            if (rowClass[g] == -1 && vals(e) != 0.0)  // a stored zero joins nothing (as in the partition)
+              root[find(rowNode[separatorRows[b]])] = find(rowNode[g]);
           }
         }
       }
@@ -963,8 +964,8 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   gatherTriplets(Sk);
   gatherTriplets(Sm);
   // The static shapes on the separator: u_B = S^-1 g, g = f_B - sum_p K_Bp K_pp^-1 f_p
-  // (exact: by the Schur complement's factor; Polynomial: by conjugate
-  // gradients, below). g on rank 0.
+  // (exact: by the Schur complement's factor; Polynomial: by block
+  // conjugate gradients, below). g on rank 0.
   std::vector<double> g(cB.size(), 0.0);
   if (!cB.empty())
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(cB.size()), cB.data(), g.data());

@@ -38,14 +38,13 @@ struct PartitionOptions {
   /// connected piece of the separator (children's attachment faces
   /// included) and per component, the monomials of degree <=
   /// interfaceDegree in its coordinates: the interface problem projected on
-  /// their span
-  /// (Rayleigh-Ritz, from above; §18.4), per part as many solves as
-  /// coordinates.
+  /// their span (Rayleigh-Ritz, from above; §18.4), per part as many solves
+  /// as coordinates.
   bool polynomialInterface = false;
   int interfaceDegree = 3;
   /// Polynomial: the static shapes' separator values solve S u_B = g by
-  /// conjugate gradients (balancing preconditioner, §18.4) to this relative
-  /// residual, within this many iterations (else NumericalError).
+  /// block conjugate gradients (balancing preconditioner, §18.4) to this
+  /// relative residual, within this many iterations (else NumericalError).
   double staticTolerance = 1e-12;
   int staticIterations = 500;
   /// Per interface mode, the interiors' static response (separator held)
@@ -64,9 +63,10 @@ struct PartitionOptions {
 /// coordinate, as in Craig-Bampton). The partition is made on rank 0 from
 /// the whole graph of K's nonzero entries (not its stored pattern, which
 /// depends on how K was assembled), so the basis does not depend on the
-/// rank count beyond rounding. Throws NumericalError naming the part when its stiffness
-/// with the separator held is not positive definite, or when an
-/// eigensolve fails; InputError for options out of range.
+/// rank count beyond rounding. Throws NumericalError naming the part when
+/// its stiffness with the separator held is not positive definite, when an
+/// eigensolve fails, or when the polynomial interface's static solve does
+/// not converge (on every rank); InputError for options out of range.
 RitzBasis partitionedBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary,
                            const PartitionOptions& options);
 
