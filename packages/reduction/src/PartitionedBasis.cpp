@@ -233,10 +233,6 @@ struct PartWork {
 };
 
 
-/// Past this many separator DOFs the report points to the polynomial
-/// interface: the benchmark hub's 2,535 took 15 s exactly, 2.3 s so (§18.4).
-constexpr int kLargeSeparator = 2000;
-
 /// The separator's values of the static shapes, S u_B = g (nB x k), for an
 /// interface whose Schur complement S is never formed: block conjugate
 /// gradients preconditioned by balancing (Mandel's balancing domain decomposition:
@@ -489,7 +485,9 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
                   where << "/Partition/Static Solve Tolerance = " << options.staticTolerance << " must be in (0, 1)");
   CMS_INPUT_CHECK(options.staticIterations < 1,
                   where << "/Partition/Static Solve Iterations = " << options.staticIterations << " must be >= 1");
-  CMS_INPUT_CHECK(options.polynomialInterface && options.interfaceDegree < 0,
+  CMS_INPUT_CHECK(options.exactInterfaceLimit < 0, where << "/Partition/Exact Interface Limit = "
+                                                          << options.exactInterfaceLimit << " must be >= 0");
+  CMS_INPUT_CHECK(options.interface != PartitionOptions::Interface::Exact && options.interfaceDegree < 0,
                   where << "/Partition/Interface Degree = " << options.interfaceDegree
                         << " must be >= 0 (the polynomials' highest degree)");
   CMS_INPUT_CHECK(options.parts == 0 && options.maxDofs < 1,
@@ -638,7 +636,13 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
   // is projected on their span (Rayleigh-Ritz, so from above). Phi (nB x
   // nI, column-major) maps interface coordinates to separator values;
   // built on rank 0, which holds the separator's rows, sent to every rank.
-  const bool reduced = options.polynomialInterface && nB > 0;
+  // Auto: the exact interface costs n_B^2 memory and n_p n_B^2 flops per
+  // part; the benchmark hub's 2,535 separator DOFs took 15 s and 1.8 GB so,
+  // 2.3 s and 0.5 GB with polynomials of degree 2, at the same frequencies
+  // to 2.4e-9 (doc/benchmarks.md).
+  const bool reduced = nB > 0 && (options.interface == PartitionOptions::Interface::Polynomial ||
+                                  (options.interface == PartitionOptions::Interface::Auto &&
+                                   nB > options.exactInterfaceLimit));
   int nI = nB;
   std::vector<double> Phi;
   std::string shapesNote;
@@ -1160,10 +1164,10 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
      << interface.m << " interface modes below " << options.interfaceCutoffFactor * options.cutoffHz << " Hz" << (residuals > 0 ? " and their residual vectors" : "") << "; partition " << partitionSeconds << " s, parts " << partsSeconds
      << " s (slowest part " << slowest << " s), interface " << interfaceSeconds << " s";
   if (reduced) os << "; " << shapesNote << " in " << shapesSeconds << " s" << (staticNote.empty() ? "" : "; ") << staticNote;
-  // A large exact interface: its dense Schur complement grows as n_B^2 (§18.4).
-  if (!options.polynomialInterface && nB > kLargeSeparator)
-    os << "; the exact interface on " << nB << " separator DOFs (Partition/Interface: Polynomial forms no Schur "
-          "complement: doc/theory.md §18.4)";
+  // Which interface, and why when Auto chose.
+  if (options.interface == PartitionOptions::Interface::Auto && nB > 0)
+    os << "; " << (reduced ? "polynomial" : "exact") << " interface: " << nB << " separator DOFs "
+       << (reduced ? ">" : "<=") << " Partition/Exact Interface Limit " << options.exactInterfaceLimit;
   basis.eigensolverReport = os.str();
   basis.seconds = since(t0);
   return basis;

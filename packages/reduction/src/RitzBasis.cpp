@@ -67,13 +67,14 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
       part.set("Interface Cutoff Factor", 2.0,
                "the interface keeps its modes below this multiple of \"Cutoff Frequency\" (>= 1)");
       Teuchos::setStringToIntegralParameter<int>(
-          "Interface", "Exact",
+          "Interface", "Auto",
           "the interface problem's coordinates: Exact (every separator DOF: its exact Schur complement, as many "
-          "solves per part as separator DOFs it touches) or Polynomial (per connected piece of the separator, "
-          "children's attachment faces included, polynomials of degree <= \"Interface Degree\" in its coordinates: "
-          "the problem projected on them, from above; far fewer solves where the separator is large; "
-          "doc/theory.md §18.4)",
-          Teuchos::tuple<std::string>("Exact", "Polynomial"), &part);
+          "solves per part as separator DOFs it touches, n_B^2 memory), Polynomial (per connected piece of the "
+          "separator, children's attachment faces included, polynomials of degree <= \"Interface Degree\" in its "
+          "coordinates: the problem projected on them, from above; the static shapes still exact; doc/theory.md "
+          "§18.4), or Auto (Exact up to \"Exact Interface Limit\" separator DOFs, Polynomial beyond)",
+          Teuchos::tuple<std::string>("Auto", "Exact", "Polynomial"), &part);
+      part.set("Exact Interface Limit", 2000, "Interface Auto: the exact interface up to this many separator DOFs");
       part.set("Interface Degree", 3, "Polynomial interface: the highest degree of its polynomials (>= 0)");
       part.set("Static Solve Tolerance", 1e-12,
                "Polynomial interface: the static shapes' separator values are solved by conjugate gradients on the "
@@ -238,7 +239,11 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     options.maxDofs = part.get<int>("Max DOFs");
     options.interfaceCutoffFactor = part.get<double>("Interface Cutoff Factor");
     options.residualVectors = part.get<bool>("Residual Vectors");
-    options.polynomialInterface = part.get<std::string>("Interface") == "Polynomial";
+    const std::string interface = part.get<std::string>("Interface");
+    options.interface = interface == "Exact"        ? PartitionOptions::Interface::Exact
+                        : interface == "Polynomial" ? PartitionOptions::Interface::Polynomial
+                                                    : PartitionOptions::Interface::Auto;
+    options.exactInterfaceLimit = part.get<int>("Exact Interface Limit");
     options.interfaceDegree = part.get<int>("Interface Degree");
     options.staticTolerance = part.get<double>("Static Solve Tolerance");
     options.staticIterations = part.get<int>("Static Solve Iterations");

@@ -252,6 +252,8 @@ Teuchos::ParameterList everyInterfaceMode(double cutoffHz, int parts, int degree
   if (degree >= 0) {
     p.sublist("Partition").set("Interface", "Polynomial");
     p.sublist("Partition").set("Interface Degree", degree);
+  } else {
+    p.sublist("Partition").set("Interface", "Exact");
   }
   return p;
 }
@@ -410,6 +412,28 @@ TEST(PartitionedBasis, AChildsRigidAttachmentIsRepresentedFromDegreeOne) {
   EXPECT_LT(one[1], 1e6 * eps);
 }
 
+TEST(PartitionedBasis, AutoTakesThePolynomialInterfacePastTheLimit) {
+  // Interface: Auto (the default) keeps the exact interface up to "Exact
+  // Interface Limit" separator DOFs and takes polynomials beyond; the report
+  // says which and why. The bar's separator has 144 DOFs.
+  const auto s = clampedBar(40, 4, 2);
+  const auto b = heldSet(s, "root");
+  auto p = partitioned(2000.0, 4);
+  const auto exact = buildRitzBasis(s, b, p);
+  EXPECT_NE(exact.eigensolverReport.find("exact interface: 144 separator DOFs <= Partition/Exact Interface Limit 2000"),
+            std::string::npos)
+      << exact.eigensolverReport;
+  EXPECT_EQ(exact.eigensolverReport.find("interface reduced to"), std::string::npos) << exact.eigensolverReport;
+  p.sublist("Partition").set("Exact Interface Limit", 144);
+  EXPECT_EQ(buildRitzBasis(s, b, p).eigensolverReport.find("interface reduced to"), std::string::npos);
+  p.sublist("Partition").set("Exact Interface Limit", 143);
+  const auto poly = buildRitzBasis(s, b, p);
+  EXPECT_NE(poly.eigensolverReport.find("polynomial interface: 144 separator DOFs > Partition/Exact Interface Limit 143"),
+            std::string::npos)
+      << poly.eigensolverReport;
+  EXPECT_NE(poly.eigensolverReport.find("polynomials of degree <= 3"), std::string::npos) << poly.eigensolverReport;
+}
+
 TEST(PartitionedBasis, AStaticSolveThatDoesNotConvergeIsAnErrorOnEveryRank) {
   // Degree 0 needs 21 iterations on this bar (measured): 3 are too few,
   // and the error says which keys to change, on every rank (the iteration
@@ -510,6 +534,9 @@ TEST(PartitionedBasis, BadOptionsNameTheKey) {
   auto loose = everyInterfaceMode(1e3, 2, 1);
   loose.sublist("Partition").set("Static Solve Tolerance", 0.0);
   fixtures::expectInputError([&] { buildRitzBasis(s, b, loose); }, "Partition/Static Solve Tolerance");
+  auto limit = partitioned(1e3, 2);
+  limit.sublist("Partition").set("Exact Interface Limit", -1);
+  fixtures::expectInputError([&] { buildRitzBasis(s, b, limit); }, "Partition/Exact Interface Limit");
   auto none = everyInterfaceMode(1e3, 2, 1);
   none.sublist("Partition").set("Static Solve Iterations", 0);
   fixtures::expectInputError([&] { buildRitzBasis(s, b, none); }, "Partition/Static Solve Iterations");

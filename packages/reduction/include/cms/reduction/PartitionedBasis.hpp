@@ -9,9 +9,10 @@
 // and Psi the modes of the interface's own problem (S, M^) below it: S the
 // Schur complement K_BB - sum_p K_Bp K_pp^-1 K_pB, M^ the mass of the
 // static extensions (Craig & Chang's characteristic constraint modes; the
-// first level of Bennighof & Lehoucq's AMLS). With polynomialInterface,
-// u_B = Phi_B xi with Phi_B low-degree polynomials over the separator, and
-// S, M^ are formed on their span only (§18.4). Each part is factored and
+// first level of Bennighof & Lehoucq's AMLS). With a polynomial interface
+// (on request, or past a separator size), u_B = Phi_B xi with Phi_B
+// low-degree polynomials over the separator, and S, M^ are formed on their
+// span only (§18.4). Each part is factored and
 // solved on its own, the parts spread over the ranks, so nothing of the
 // size of the whole substructure is ever factored. The basis is a Ritz
 // basis like the others: M-orthonormalised in order, zero on the held rows;
@@ -33,14 +34,17 @@ struct PartitionOptions {
   /// statically condensed (S, M^) is stiffer than the structure it stands
   /// for, so its modes need a higher cut-off than the parts' (§18.3).
   double interfaceCutoffFactor = 2.0;
-  /// false: the interface problem on every separator DOF (the exact Schur
-  /// complement: per part n_B_p solves and n_p n_B_p^2 flops). true: per
-  /// connected piece of the separator (children's attachment faces
-  /// included) and per component, the monomials of degree <=
-  /// interfaceDegree in its coordinates: the interface problem projected on
-  /// their span (Rayleigh-Ritz, from above; §18.4), per part as many solves
-  /// as coordinates.
-  bool polynomialInterface = false;
+  /// The interface problem's coordinates. Exact: every separator DOF (the
+  /// exact Schur complement: per part n_B_p solves and n_p n_B_p^2 flops).
+  /// Polynomial: per connected piece of the separator (children's
+  /// attachment faces included) and per component, the monomials of degree
+  /// <= interfaceDegree in its coordinates: the interface problem projected
+  /// on their span (Rayleigh-Ritz, from above; §18.4), per part as many
+  /// solves as coordinates. Auto: Exact up to exactInterfaceLimit separator
+  /// DOFs, Polynomial beyond.
+  enum class Interface { Auto, Exact, Polynomial };
+  Interface interface = Interface::Auto;
+  long long exactInterfaceLimit = 2000;
   int interfaceDegree = 3;
   /// Polynomial: the static shapes' separator values solve S u_B = g by
   /// block conjugate gradients (balancing preconditioner, §18.4) to this
