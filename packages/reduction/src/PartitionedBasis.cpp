@@ -216,6 +216,28 @@ void agreeOnFailure(const Teuchos::Comm<int>& comm, const std::string& failure) 
   throw NumericalError(message);
 }
 
+/// Orthonormalises the m columns of W (rows x m, column-major) in order, by
+/// modified Gram-Schmidt twice; a column with no more than `drop` of its
+/// norm left is dependent on those before it and removed. Returns how many
+/// are kept: the first columns of W on return.
+int orthonormalColumns(std::vector<double>& W, int rows, int m, double drop) {
+  Teuchos::BLAS<int, double> blas;
+  const auto column = [&](int j) { return &W[static_cast<std::size_t>(j) * rows]; };
+  int kept = 0;
+  for (int j = 0; j < m; ++j) {
+    double* w = column(j);
+    const double before = blas.NRM2(rows, w, 1);
+    for (int pass = 0; pass < 2; ++pass)
+      for (int i = 0; i < kept; ++i) blas.AXPY(rows, -blas.DOT(rows, column(i), 1, w, 1), column(i), 1, w, 1);
+    const double after = blas.NRM2(rows, w, 1);
+    if (!(after > drop * before)) continue;
+    blas.SCAL(rows, 1.0 / after, w, 1);
+    if (kept != j) std::copy_n(w, rows, column(kept));
+    ++kept;
+  }
+  return kept;
+}
+
 /// What one part contributes (kept on the rank that owns it).
 struct PartWork {
   int part = -1;
@@ -383,22 +405,10 @@ SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<
           if (rNorm[j] > tolerance) active.push_back(j);
         }
       };
-      // An orthonormal basis of W's columns (nB x m), by modified
-      // Gram-Schmidt twice; a column with less than 1e-10 of its norm left
-      // is dependent on the others and dropped.
+      // An orthonormal basis of W's columns (nB x m); a column with less
+      // than 1e-10 of its norm left is dependent on the others and dropped.
       auto orth = [&](std::vector<double> W, int m, int& kept) {
-        kept = 0;
-        for (int j = 0; j < m; ++j) {
-          double* w = &W[at(0, j)];
-          const double before = blas.NRM2(nB, w, 1);
-          for (int pass = 0; pass < 2; ++pass)
-            for (int i = 0; i < kept; ++i) blas.AXPY(nB, -blas.DOT(nB, &W[at(0, i)], 1, w, 1), &W[at(0, i)], 1, w, 1);
-          const double after = blas.NRM2(nB, w, 1);
-          if (!(after > 1e-10 * before)) continue;
-          blas.SCAL(nB, 1.0 / after, w, 1);
-          if (kept != j) std::copy_n(w, nB, &W[at(0, kept)]);
-          ++kept;
-        }
+        kept = orthonormalColumns(W, nB, m, 1e-10);
         W.resize(static_cast<std::size_t>(nB) * kept);
         return W;
       };
@@ -692,26 +702,21 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
           radius = std::max(radius, std::sqrt(r2));
         }
         if (!(radius > 0)) radius = 1;
-        const std::size_t first = columns.size();
-        for (const auto& pw : powers) {
-          std::vector<double> v(nB, 0.0);
-          for (int b : members) {
+        // The group's monomials on its rows, orthonormalised (other groups'
+        // have disjoint supports), dependent ones dropped; then on the
+        // separator's rows.
+        const int rowsOf = static_cast<int>(members.size()), count = static_cast<int>(powers.size());
+        std::vector<double> block(static_cast<std::size_t>(rowsOf) * count);
+        for (int k = 0; k < count; ++k)
+          for (int r = 0; r < rowsOf; ++r) {
             double x = 1;
-            for (int i = 0; i < 3; ++i) x *= std::pow((at(b, i) - centre[i]) / radius, pw[i]);
-            v[b] = x;
+            for (int i = 0; i < 3; ++i) x *= std::pow((at(members[r], i) - centre[i]) / radius, powers[k][i]);
+            block[r + static_cast<std::size_t>(k) * rowsOf] = x;
           }
-          // Modified Gram-Schmidt, twice, against this group's kept columns
-          // (other groups' have disjoint supports); dropped when dependent.
-          const double norm0 = std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
-          for (int pass = 0; pass < 2; ++pass)
-            for (std::size_t c = first; c < columns.size(); ++c) {
-              double d = 0;
-              for (int b : members) d += columns[c][b] * v[b];
-              for (int b : members) v[b] -= d * columns[c][b];
-            }
-          const double norm = std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
-          if (!(norm > options.dependenceTolerance * norm0)) continue;
-          for (int b : members) v[b] /= norm;
+        const int kept = orthonormalColumns(block, rowsOf, count, options.dependenceTolerance);
+        for (int k = 0; k < kept; ++k) {
+          std::vector<double> v(nB, 0.0);
+          for (int r = 0; r < rowsOf; ++r) v[members[r]] = block[r + static_cast<std::size_t>(k) * rowsOf];
           columns.push_back(std::move(v));
         }
       }
