@@ -261,7 +261,7 @@ struct PartWork {
 /// the coarse problem on the interface polynomials Phi, S_c = Phi^T S Phi,
 /// and the separator's own stiffness K_BB as the fine solve; doc/theory.md
 /// §18.4). Collective: rank 0 runs the iteration and holds g, Phi, S Phi,
-/// S_c's Cholesky factor and K_BB; every rank applies its parts' share of
+/// S_c's factor (the interface problem's) and K_BB; every rank applies its parts' share of
 /// S = K_BB - sum_p K_Bp K_pp^-1 K_pB. Returns u_B on every rank; throws
 /// NumericalError on every rank when a column does not reach `tolerance`
 /// (relative residual) within the iteration limit.
@@ -273,7 +273,8 @@ struct SeparatorSolve {
 
 SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<PartWork>& work, int nB, int k,
                               const std::vector<double>& g, const std::vector<double>& Phi, int nI,
-                              const std::vector<double>& SPhi, const std::vector<double>& coarseFactor,
+                              const std::vector<double>& SPhi, const SparseDirectSolver* coarseFactor,
+                              const Teuchos::RCP<const Map>& coarseMap,
                               const SparseDirectSolver* KBBfactor, const CrsMatrix* KBB, double tolerance,
                               int maxIterations, const std::string& what) {
   const int rank = comm.getRank();
@@ -338,11 +339,12 @@ SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<
         Teuchos::broadcast(comm, 0, &m);
         return collective(V, m);
       };
-      // y (nI x m) <- S_c^-1 y.
+      // y (nI x m) <- S_c^-1 y, by the interface problem's factor.
       auto coarse = [&](std::vector<double>& y, int m) {
-        int info = 0;
-        lapack.POTRS('L', nI, m, coarseFactor.data(), nI, y.data(), nI, &info);
-        if (info != 0) throw NumericalError(what + ": LAPACK dpotrs failed (info " + std::to_string(info) + ")");
+        const MultiVector Y(coarseMap, Teuchos::ArrayView<const double>(y), nI, m);
+        MultiVector Z(coarseMap, m);
+        coarseFactor->solve(Y, Z);
+        Z.get1dCopy(Teuchos::ArrayView<double>(y), nI);
       };
       // The balancing preconditioner on R (nB x m):
       //   c1 = S_c^-1 Phi^T R,  W = K_BB^-1 (R - S Phi c1),  c2 = S_c^-1 (S Phi)^T W,
@@ -376,8 +378,8 @@ SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<
       // columns share one Krylov space, each step's directions P
       // orthonormalised with dependent ones dropped. Converged columns stay
       // in the block: deflating them lost the space they had built (the test
-      // bar's three loads at degree 0 took 111 steps so, 38 without, and 52
-      // one column at a time; the benchmark hub's 25 took 27 and 33 steps at
+      // bar's three loads at degree 0 took 111 steps so, 37 without, and 52
+      // one column at a time; the benchmark hub's 25 take 24 and 30 steps at
       // h = 15 and 9 mm where one at a time took 50 and 60). The columns
       // are scaled to unit norm first (the loads' scales differ by orders),
       // so a residual's norm is its relative residual.
@@ -844,11 +846,11 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       if (c > 0) {
         // The static extension X_p = -K_pp^-1 K_pB Phi_p; its contributions
         // S_p = Phi_p^T K_Bp X_p (= -Phi_p^T K_Bp K_pp^-1 K_pB Phi_p) and
-        // M^_p = X^T (M_pp X + M_pB Phi_p) + Phi_p^T M_Bp X.
-        std::vector<double> Fd(static_cast<std::size_t>(n) * c, 0.0), Gd;
-        addCoupled(KpB, -1.0, Fd);
+        // M^_p = X^T (M_pp X + M_pB Phi_p) + Phi_p^T M_Bp X (exact: Phi_p = I).
         MultiVector X(Kt->getRowMap(), c), MX(Kt->getRowMap(), c);
         {
+          std::vector<double> Fd(static_cast<std::size_t>(n) * c, 0.0);
+          addCoupled(KpB, -1.0, Fd);
           const MultiVector Fm(Kt->getRowMap(), Teuchos::ArrayView<const double>(Fd), n, c);
           factor.solve(Fm, X);
         }
@@ -857,15 +859,15 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         std::vector<double> MXd(w.X.size());
         X.get1dCopy(Teuchos::ArrayView<double>(w.X), n);
         MX.get1dCopy(Teuchos::ArrayView<double>(MXd), n);
+        std::vector<double> Gd;  // reduced: G = M_pB Phi_p
         if (reduced) {
           Gd.assign(w.X.size(), 0.0);
           addCoupled(MpB, 1.0, Gd);
           for (std::size_t e = 0; e < MXd.size(); ++e) MXd[e] += Gd[e];
         } else {
-          std::vector<double>().swap(Fd);  // exact: S from the triplets, below
           addCoupled(MpB, 1.0, MXd);
         }
-        std::vector<double> S(static_cast<std::size_t>(c) * c, 0.0), Mh(S.size(), 0.0);
+        std::vector<double> S(reduced ? 0 : static_cast<std::size_t>(c) * c, 0.0), Mh(static_cast<std::size_t>(c) * c, 0.0);
         blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, c, c, n, 1.0, w.X.data(), n, MXd.data(), n, 0.0, Mh.data(), c);
         if (!reduced) {  // Phi_p = I: the sparse coupling times X (c = nb may be thousands)
           for (const auto& [i, b, v] : KpB) {
@@ -876,8 +878,10 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
             const int bl = local(b);
             for (int j = 0; j < nb; ++j) Mh[bl + static_cast<std::size_t>(j) * nb] += v * w.X[i + static_cast<std::size_t>(j) * n];
           }
-        } else {  // S_p = -F^T X with F = -K_pB Phi_p; Phi_p^T M_Bp X = G^T X with G = M_pB Phi_p
-          blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, c, c, n, -1.0, Fd.data(), n, w.X.data(), n, 0.0, S.data(), c);
+        } else {
+          // Phi_p^T M_Bp X = G^T X. S's share goes into S Phi = K_BB Phi +
+          // sum_p K_Bp X_p (rows of this part's separator DOFs), from which
+          // rank 0 takes S_c = Phi^T (S Phi) once every share is in.
           blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, c, c, n, 1.0, Gd.data(), n, w.X.data(), n, 1.0, Mh.data(), c);
           for (const auto& [i, b, v] : KpB)
             for (int k = 0; k < nI; ++k) SPhi[b + static_cast<std::size_t>(k) * nB] += v * w.X[i + static_cast<std::size_t>(k) * n];
@@ -886,7 +890,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         for (int j = 0; j < c; ++j)
           for (int i = 0; i < c; ++i) {
             const long long key = static_cast<long long>(w.coords[i]) * nI + w.coords[j];
-            Sk.emplace_back(key, S[i + static_cast<std::size_t>(j) * c]);
+            if (!reduced) Sk.emplace_back(key, S[i + static_cast<std::size_t>(j) * c]);
             Sm.emplace_back(key, Mh[i + static_cast<std::size_t>(j) * c]);
           }
       }
@@ -906,7 +910,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       w.seconds = since(tp);
       work.push_back(std::move(w));
     }
-    if (rank == 0) {  // the separator's own block Phi^T K_BB Phi, Phi^T M_BB Phi (exact: Phi = I)
+    if (rank == 0) {  // the separator's own block: K_BB, M_BB; reduced, K_BB Phi into S Phi and Phi^T M_BB Phi
       auto addSeparatorBlock = [&](const CrsMatrix& A, std::vector<std::pair<long long, double>>& into) {
         CrsMatrix::local_inds_host_view_type cols;
         CrsMatrix::values_host_view_type vals;
@@ -928,18 +932,21 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
           block.endRow();
         }
         if (!reduced) return Teuchos::RCP<CrsMatrix>();
+        const bool stiffness = &into == &Sk;
         std::vector<double> AP(static_cast<std::size_t>(nB) * nI, 0.0);  // A_BB Phi, column-major
         for (int i = 0; i < nB; ++i)
           for (int e = block.ptr[i]; e < block.ptr[i + 1]; ++e)
             for (int k = 0; k < nI; ++k)
               AP[i + static_cast<std::size_t>(k) * nB] += block.val[e] * Phi[block.col[e] + static_cast<std::size_t>(k) * nB];
+        if (stiffness) {  // into S Phi; K_BB itself kept for the static solve's fine solves
+          for (std::size_t e = 0; e < AP.size(); ++e) SPhi[e] += AP[e];
+          return toTpetra(block, self);
+        }
         std::vector<double> P(static_cast<std::size_t>(nI) * nI);
         blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nI, nI, nB, 1.0, Phi.data(), nB, AP.data(), nB, 0.0, P.data(), nI);
         for (int j = 0; j < nI; ++j)
           for (int i = 0; i < nI; ++i) into.emplace_back(static_cast<long long>(i) * nI + j, P[i + static_cast<std::size_t>(j) * nI]);
-        if (&into == &Sk)
-          for (std::size_t e = 0; e < AP.size(); ++e) SPhi[e] += AP[e];
-        return toTpetra(block, self);
+        return Teuchos::RCP<CrsMatrix>();
       };
       KBB = addSeparatorBlock(*K, Sk);
       addSeparatorBlock(*M, Sm);
@@ -987,15 +994,35 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       }
     }
   std::vector<double> uB(g.size(), 0.0);
-  std::vector<double> coarseFactor;  // Polynomial, rank 0: S_c = Phi^T S Phi, its Cholesky factor (lower)
+  // Rank 0: the interface problem's stiffness factored, kept (reduced) for
+  // the static solve's coarse solves with S_c.
+  std::unique_ptr<SparseDirectSolver> interfaceFactor;
+  Teuchos::RCP<const Map> interfaceMap;
   Modes interface;
   if (rank == 0 && nI > 0 && failure.empty()) {
     try {
-      const Csr S = fromTriplets(nI, Sk), Mh = fromTriplets(nI, Sm);
+      Csr S;
+      if (!reduced) {
+        S = fromTriplets(nI, Sk);
+      } else {  // S_c = Phi^T (S Phi), symmetrised against rounding
+        std::vector<double> P(static_cast<std::size_t>(nI) * nI);
+        blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, nI, nI, nB, 1.0, Phi.data(), nB, SPhi.data(), nB, 0.0, P.data(), nI);
+        S.n = nI;
+        for (int i = 0; i < nI; ++i) {
+          for (int j = 0; j < nI; ++j) {
+            S.col.push_back(j);
+            S.val.push_back(0.5 * (P[i + static_cast<std::size_t>(j) * nI] + P[j + static_cast<std::size_t>(i) * nI]));
+          }
+          S.endRow();
+        }
+      }
+      const Csr Mh = fromTriplets(nI, Sm);
       std::vector<std::pair<long long, double>>().swap(Sk);
       std::vector<std::pair<long long, double>>().swap(Sm);
       const auto St = toTpetra(S, self), Mt = toTpetra(Mh, self);
-      SparseDirectSolver factor(St, "CHOLMOD");
+      interfaceFactor = std::make_unique<SparseDirectSolver>(St, "CHOLMOD");
+      interfaceMap = St->getRowMap();
+      SparseDirectSolver& factor = *interfaceFactor;
       if (factor.factor() != SparseDirectSolver::Outcome::Factored)
         throw NumericalError(s.name() + ": the interface's Schur complement (" + std::to_string(nI) +
                              (reduced ? " interface coordinates" : " separator DOFs") + ") is not positive definite (" +
@@ -1008,16 +1035,6 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         MultiVector u(St->getRowMap(), nf);
         factor.solve(gm, u);
         u.get1dCopy(Teuchos::ArrayView<double>(uB), nB);
-      }
-      if (nf > 0 && reduced) {
-        coarseFactor.assign(static_cast<std::size_t>(nI) * nI, 0.0);
-        for (int i = 0; i < nI; ++i)
-          for (int e = S.ptr[i]; e < S.ptr[i + 1]; ++e) coarseFactor[i + static_cast<std::size_t>(S.col[e]) * nI] = S.val[e];
-        int info = 0;
-        Teuchos::LAPACK<int, double>().POTRF('L', nI, coarseFactor.data(), nI, &info);
-        if (info != 0)
-          throw NumericalError(s.name() + ": the interface polynomials' Schur complement is not positive definite "
-                                          "(LAPACK dpotrf, info " + std::to_string(info) + ")");
       }
     } catch (const std::exception& e) {
       failure = e.what();
@@ -1038,7 +1055,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
     }
     agreeOnFailure(*comm, failure);
     const SeparatorSolve solved =
-        separatorSolve(*comm, work, nB, nf, g, Phi, nI, SPhi, coarseFactor, KBBfactor.get(), KBB.get(),
+        separatorSolve(*comm, work, nB, nf, g, Phi, nI, SPhi, interfaceFactor.get(), interfaceMap, KBBfactor.get(), KBB.get(),
                        options.staticTolerance, options.staticIterations, s.name() + ": static shapes");
     uB = solved.u;
     std::ostringstream os;

@@ -435,7 +435,7 @@ TEST(PartitionedBasis, AutoTakesThePolynomialInterfacePastTheLimit) {
 }
 
 TEST(PartitionedBasis, AStaticSolveThatDoesNotConvergeIsAnErrorOnEveryRank) {
-  // Degree 0 needs 21 iterations on this bar (measured): 3 are too few,
+  // Degree 0 needs 20 iterations on this bar (measured): 3 are too few,
   // and the error says which keys to change, on every rank (the iteration
   // runs on rank 0, the parts' solves on all).
   const auto s = clampedBar(40, 4, 2);
