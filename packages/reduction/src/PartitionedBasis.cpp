@@ -247,24 +247,24 @@ struct PartWork {
   std::vector<double> X;             ///< n_p x coords, column-major: the static extension
   Modes modes;
   Teuchos::RCP<CrsMatrix> Mpp;       ///< the part's interior mass
-  std::shared_ptr<SparseDirectSolver> factor;  ///< K_pp, kept for the residual vectors
+  std::shared_ptr<SparseDirectSolver> factor;  ///< K_pp, kept for the residual vectors and the separator's static solve
   std::vector<std::tuple<int, int, double>> MpB;  ///< mass coupling to the separator (i, separator index)
   std::vector<std::tuple<int, int, double>> KpB;  ///< stiffness coupling, kept for the separator's static solve
   std::vector<double> Yf;            ///< n_p x n_f: K_pp^-1 f_p for the static load patterns
   double seconds = 0.0;
 };
 
-
 /// The separator's values of the static shapes, S u_B = g (nB x k), for an
 /// interface whose Schur complement S is never formed: block conjugate
-/// gradients preconditioned by balancing (Mandel's balancing domain decomposition:
-/// the coarse problem on the interface polynomials Phi, S_c = Phi^T S Phi,
-/// and the separator's own stiffness K_BB as the fine solve; doc/theory.md
-/// §18.4). Collective: rank 0 runs the iteration and holds g, Phi, S Phi,
-/// S_c's factor (the interface problem's) and K_BB; every rank applies its parts' share of
-/// S = K_BB - sum_p K_Bp K_pp^-1 K_pB. Returns u_B on every rank; throws
-/// NumericalError on every rank when a column does not reach `tolerance`
-/// (relative residual) within the iteration limit.
+/// gradients preconditioned by balancing (Mandel's balancing domain
+/// decomposition: the coarse problem on the interface polynomials Phi,
+/// S_c = Phi^T S Phi, and the separator's own stiffness K_BB as the fine
+/// solve; doc/theory.md §18.4). Collective: rank 0 runs the iteration and
+/// holds g, Phi, S Phi, S_c's factor (the interface problem's) and K_BB;
+/// every rank applies its parts' share of S = K_BB - sum_p K_Bp K_pp^-1
+/// K_pB. Returns u_B on every rank; throws NumericalError on every rank
+/// when a column does not reach `tolerance` (relative residual) within the
+/// iteration limit.
 struct SeparatorSolve {
   std::vector<double> u;  ///< nB x k
   int iterations = 0;
