@@ -77,9 +77,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
       part.set("Exact Interface Limit", 2000, "Interface Auto: the exact interface up to this many separator DOFs");
       part.set("Interface Degree", 3, "Polynomial interface: the highest degree of its polynomials (>= 0)");
       part.set("Static Solve Tolerance", 1e-12,
-               "Polynomial interface: the static shapes' separator values are solved by conjugate gradients on the "
+               "Polynomial interface: the static shapes' separator values are solved by block conjugate gradients on the "
                "Schur complement (never formed) to this relative residual");
-      part.set("Static Solve Iterations", 500, "Polynomial interface: at most this many conjugate-gradient iterations");
+      part.set("Static Solve Iterations", 500, "Polynomial interface: at most this many block conjugate-gradient iterations");
       part.set("Residual Vectors", true,
                "per interface mode, the parts' static response to its inertia load (one load-dependent "
                "Ritz step; measured: 20x smaller errors for 1.7x the vectors)");
