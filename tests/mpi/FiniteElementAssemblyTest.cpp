@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <pthread.h>
 
 #include <Teuchos_CommHelpers.hpp>
@@ -148,6 +149,55 @@ TEST(Assembly, SameMatricesOnOneRankAndOnAllRanks) {
   // blade: stiff axially, soft in bending); 1.1e-13 of ||KS1|| was seen with
   // another partition, so the bound is 1e-10, still far below any physics.
   expectSameMatrix(*dist.KS1(), *serial.KS1(), "KS1", 1e-10);
+}
+
+// The stored pattern is exactly the pairs of free DOFs of a common element:
+// nothing else, and so the same pairs on every rank count. Before the fix
+// the pattern counted each element's fixed DOFs too; their unfilled slots
+// read as the rank's first column and were stored as zeros, coupling every
+// row next to the clamped root to it (theory §18.1: the partition reads
+// this pattern's nonzeros).
+TEST(Assembly, TheStoredPatternIsThePairsOfEachElementsFreeDofs) {
+  const auto model = spinningSolidBlade();
+  const auto s = Substructure::fromFiniteElementModel(model, world());
+  // Node pairs of a common cell, by mesh node tag, from the mesh itself.
+  const auto& mesh = *model.mesh;
+  std::set<std::pair<long long, long long>> adjacent;
+  for (const auto& g : mesh.groups)
+    for (const auto& b : g.blocks)
+      for (std::size_t c = 0; c < b.size(); ++c)
+        for (int i = 0; i < b.nodesPerCell; ++i)
+          for (int j = 0; j < b.nodesPerCell; ++j)
+            adjacent.emplace(static_cast<long long>(mesh.nodeTags[b.nodes[c * b.nodesPerCell + i]]),
+                             static_cast<long long>(mesh.nodeTags[b.nodes[c * b.nodesPerCell + j]]));
+  const auto rowNode = s.dofs().rowNodes();
+  const auto& K = *s.K();
+  CrsMatrix::local_inds_host_view_type cols;
+  CrsMatrix::values_host_view_type vals;
+  long long stored = 0, foreign = 0;
+  std::string first;
+  for (std::size_t l = 0; l < K.getNodeNumRows(); ++l) {
+    const auto r = K.getRowMap()->getGlobalElement(static_cast<LocalOrdinal>(l));
+    K.getLocalRowView(static_cast<LocalOrdinal>(l), cols, vals);
+    for (std::size_t e = 0; e < cols.extent(0); ++e) {
+      const auto c = K.getColMap()->getGlobalElement(cols(e));
+      const long long a = s.dofs().nodeIds[rowNode[r]], b = s.dofs().nodeIds[rowNode[c]];
+      ++stored;
+      if (!adjacent.count({a, b})) {
+        if (first.empty())
+          first = "row " + std::to_string(r) + " (node " + std::to_string(a) + "), column " + std::to_string(c) +
+                  " (node " + std::to_string(b) + "), value " + std::to_string(vals(e));
+        ++foreign;
+      }
+    }
+  }
+  long long all[2] = {0, 0}, local[2] = {stored, foreign};
+  Teuchos::reduceAll(*world(), Teuchos::REDUCE_SUM, 2, local, all);
+  EXPECT_EQ(foreign, 0) << "entries coupling nodes of no common element on rank " << world()->getRank()
+                        << ", first: " << first;
+  // And the same count on this rank alone.
+  const auto serial = Substructure::fromFiniteElementModel(model, self());
+  EXPECT_EQ(static_cast<long long>(serial.K()->getGlobalNumEntries()), all[0]);
 }
 
 // Without supports a solid has six rigid-body modes: K annihilates rigid

@@ -502,13 +502,20 @@ class Assembler {
 
   // 5. The shared CSR pattern over the overlap rows (columns: overlap lids):
   // every pair of an item's free rows, counted, filled, then each row sorted
-  // and deduplicated in place, compacting the arrays.
+  // and deduplicated in place, compacting the arrays. The count is of the
+  // item's free rows only: counting its fixed DOFs too left unfilled slots,
+  // which read as column lid 0 and were stored as zero entries coupling
+  // every row next to a support to the rank's first column (the rotor hub's
+  // K held 999 of them on one rank; on two ranks other ones, so the stored
+  // pattern depended on the rank count).
   void buildOverlapPattern() {
     rowPtr_ = Teuchos::ArrayRCP<std::size_t>(numOverlap_ + 1, 0);
     for (std::size_t i = 0; i + 1 < itemDofStart_.size(); ++i) {
       const auto b = itemDofStart_[i], e = itemDofStart_[i + 1];
+      const auto free = static_cast<std::size_t>(
+          std::count_if(itemLids_.begin() + b, itemLids_.begin() + e, [](LO l) { return l >= 0; }));
       for (auto p = b; p < e; ++p)
-        if (itemLids_[p] >= 0) rowPtr_[itemLids_[p] + 1] += static_cast<std::size_t>(e - b);
+        if (itemLids_[p] >= 0) rowPtr_[itemLids_[p] + 1] += free;
     }
     for (LO r = 0; r < numOverlap_; ++r) rowPtr_[r + 1] += rowPtr_[r];
     cols_.assign(rowPtr_[numOverlap_], 0);

@@ -532,9 +532,9 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
         const auto a = rowNode[r];
         for (std::size_t e = 0; e < cols.extent(0); ++e) {
           const auto b = rowNode[colMap->getGlobalElement(cols(e))];
-          // Entries stored as zero are no coupling: which ones a matrix stores
-          // depends on how it was assembled (on 1 or 2 ranks the benchmark
-          // hub's K differed by 66 node pairs, and so did the partition).
+          // Entries stored as zero are no coupling: a matrix read from a file
+          // may store some, and the assembly once stored spurious ones that
+          // depended on the rank count (theory §18.1), and so did the partition.
           if (b != a && vals(e) != 0.0) {  // both arcs: Scotch needs a symmetric graph, whatever K's stored pattern
             adjacent[a].push_back(static_cast<SCOTCH_Num>(b));
             adjacent[b].push_back(static_cast<SCOTCH_Num>(a));
