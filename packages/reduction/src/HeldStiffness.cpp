@@ -64,10 +64,13 @@ HeldStiffness::HeldStiffness(const substructure::Substructure& s, std::vector<Gl
   solver_ = solver;
   if (solver->factor() != SparseDirectSolver::Outcome::Factored)
     throw NumericalError(s.name() + ": the stiffness with the attachment (or reference) DOFs held is not "
-                         "positive definite: the substructure can still move as a rigid body (check its supports "
-                         "and attachment) or about a hinge without Stiffness (a reduced basis needs a hinge "
-                         "spring; Basis: Full does not), or it is singular to working precision (elements much shorter than "
-                         "their section, stiffness ratios past 1e12) (" + solver_->failure() + ")");
+                         "positive definite: " + notPositiveDefiniteReasons() + " (" + solver_->failure() + ")");
+}
+
+std::string notPositiveDefiniteReasons() {
+  return "the substructure can still move as a rigid body (check its supports and attachment) or about a hinge "
+         "without Stiffness (a reduced basis needs a hinge spring; Basis: Full does not), or it is singular to "
+         "working precision (elements much shorter than their section, stiffness ratios past 1e12)";
 }
 
 void HeldStiffness::solve(const MultiVector& B, MultiVector& X, MultiVector* KX) const {

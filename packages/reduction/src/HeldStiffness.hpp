@@ -64,6 +64,12 @@ private:
 bool factorFits(const HeldFactor& f, const substructure::Substructure& s, std::vector<GlobalOrdinal> held,
                 const std::string& directSolver);
 
+/// Why a substructure's stiffness with its attachment (or reference) DOFs
+/// held is not positive definite, as every basis that factors it says so:
+/// the rigid motions and hinges it can still have, or a matrix singular to
+/// working precision.
+std::string notPositiveDefiniteReasons();
+
 class HeldStiffness {
 public:
   /// Throws cms::NumericalError naming the substructure when K with `held`

@@ -46,6 +46,7 @@
 #include <Tpetra_MultiVector.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 
+#include "HeldStiffness.hpp"
 #include "LoadPatterns.hpp"
 #include "SymmetricEigen.hpp"
 #include "cms/core/MatrixSum.hpp"
@@ -804,7 +805,7 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       if (factor.factor() != SparseDirectSolver::Outcome::Factored)
         throw NumericalError(what + ": its stiffness with the separator held is not positive definite (" +
                              factor.failure() + "): the part is not restrained by the rest; fewer parts, or "
-                             "check the substructure's supports");
+                             "check the substructure's supports: " + detail::notPositiveDefiniteReasons());
       for (const auto& [i, b, v] : KpB) w.boundary.push_back(b);
       for (const auto& [i, b, v] : MpB) w.boundary.push_back(b);
       std::sort(w.boundary.begin(), w.boundary.end());
@@ -1024,9 +1025,14 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       interfaceMap = St->getRowMap();
       SparseDirectSolver& factor = *interfaceFactor;
       if (factor.factor() != SparseDirectSolver::Outcome::Factored)
+        // With every part's K_pp positive definite, K (its held DOFs held) is
+        // exactly when S is (Haynsworth's inertia additivity), and S_c =
+        // Phi^T S Phi is when S is: so K is not, for the reasons any basis
+        // gives (a free substructure: S holds its rigid motions).
         throw NumericalError(s.name() + ": the interface's Schur complement (" + std::to_string(nI) +
                              (reduced ? " interface coordinates" : " separator DOFs") + ") is not positive definite (" +
-                             factor.failure() + ")");
+                             factor.failure() + "), so neither is the stiffness with the attachment (or reference) "
+                             "DOFs held: " + detail::notPositiveDefiniteReasons());
       interface = modesBelow(*St, *Mt, S, Mh, lambdaCut * std::pow(options.interfaceCutoffFactor, 2), factor,
                              options.eigensolverTolerance,
                              s.name() + ": interface (" + std::to_string(nI) + (reduced ? " coordinates)" : " separator DOFs)"));
@@ -1051,7 +1057,9 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
     if (rank == 0 && failure.empty()) {
       KBBfactor = std::make_unique<SparseDirectSolver>(KBB, "CHOLMOD");
       if (KBBfactor->factor() != SparseDirectSolver::Outcome::Factored)
-        failure = s.name() + ": the separator's own stiffness K_BB is not positive definite (" + KBBfactor->failure() + ")";
+        failure = s.name() + ": the separator's own stiffness K_BB is not positive definite (" + KBBfactor->failure() +
+                  "), so neither is the stiffness with the attachment (or reference) DOFs held, of which it is a "
+                  "principal block: " + detail::notPositiveDefiniteReasons();
     }
     agreeOnFailure(*comm, failure);
     const SeparatorSolve solved =

@@ -456,6 +456,41 @@ TEST(PartitionedBasis, AStaticSolveThatDoesNotConvergeIsAnErrorOnEveryRank) {
   EXPECT_GT(buildRitzBasis(s, b, p).size(), 0);
 }
 
+TEST(PartitionedBasis, AFreeSubstructureIsRefusedWithTheReasonOnEveryRank) {
+  // Nothing held: the parts are restrained by the separator, but the
+  // Schur complement on it holds the bar's six rigid motions. Both
+  // interfaces refuse it, on every rank, with the reasons the Admissible
+  // basis gives (a rigid motion left, check the supports), not a bare
+  // "not positive definite".
+  const auto s = clampedBar(40, 4, 2);
+  const SubstructureBoundary free;
+  std::string admissible;
+  try {
+    Teuchos::ParameterList a("Reduction");
+    a.set("Basis", "Admissible");
+    a.set("Vectors", 20);
+    buildRitzBasis(s, free, a);
+  } catch (const NumericalError& e) {
+    admissible = e.what();
+  }
+  ASSERT_NE(admissible.find("rigid body"), std::string::npos) << admissible;
+  for (const char* interface : {"Exact", "Polynomial"}) {
+    auto p = partitioned(2000.0, 4);
+    p.sublist("Partition").set("Interface", interface);
+    std::string what;
+    try {
+      buildRitzBasis(s, free, p);
+    } catch (const NumericalError& e) {
+      what = e.what();
+    }
+    EXPECT_NE(what.find("Schur complement"), std::string::npos) << interface << ": " << what;
+    EXPECT_NE(what.find("can still move as a rigid body (check its supports"), std::string::npos)
+        << interface << ": " << what;
+  }
+  // The ranks left the refused solves in step: the clamped bar still reduces.
+  EXPECT_GT(buildRitzBasis(s, heldSet(s, "root"), partitioned(2000.0, 4)).size(), 0);
+}
+
 TEST(PartitionedBasis, StoredZerosDoNotMoveThePartition) {
   // Which zeros a matrix stores depends on how it was assembled: on 1 and
   // on 2 ranks the benchmark hub's K differed by 66 node pairs stored as
