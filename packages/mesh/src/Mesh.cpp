@@ -638,13 +638,23 @@ std::vector<std::size_t> freeSlots;  // under serversLock
 
 std::vector<std::size_t> acquireMeshers(std::size_t count) {
   std::vector<std::size_t> slots;
+  slots.reserve(count);  // no push_back below can throw
   {
     const std::lock_guard<std::mutex> guard(serversLock);
+    // Room for every slot to go back, reserved before any is taken: should
+    // a new server's allocation throw below, the slots taken so far return
+    // to the free list instead of being lost to every later scene.
+    freeSlots.reserve(freeSlots.size() + count);
     while (slots.size() < count && !freeSlots.empty()) slots.push_back(freeSlots.back()), freeSlots.pop_back();
-    if (servers.empty()) servers.emplace_back();  // slot 0 stays readGmsh's
-    while (slots.size() < count) {
-      slots.push_back(servers.size());
-      servers.emplace_back();
+    try {
+      if (servers.empty()) servers.emplace_back();  // slot 0 stays readGmsh's
+      while (slots.size() < count) {
+        servers.emplace_back();
+        slots.push_back(servers.size() - 1);
+      }
+    } catch (...) {
+      freeSlots.insert(freeSlots.end(), slots.begin(), slots.end());
+      throw;
     }
   }
   // Started here, on the caller's thread, so that they outlive the workers;
