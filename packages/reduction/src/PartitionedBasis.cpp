@@ -281,7 +281,9 @@ SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<
   const int rank = comm.getRank();
   const auto at = [nB](int b, int j) { return b + static_cast<std::size_t>(j) * nB; };
   // This rank's share of S V (V: nB x m, the same on every rank). A rank
-  // whose solve fails adds NaN, which rank 0's iteration then meets.
+  // whose solve fails adds NaN, which rank 0's iteration then meets, and
+  // keeps its own message, which every rank then throws (below).
+  std::string partFailure;
   auto share = [&](const std::vector<double>& V, int m) {
     std::vector<double> mine(V.size(), 0.0);
     try {
@@ -307,7 +309,9 @@ SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<
           for (int b = 0; b < nB; ++b) mine[at(b, j)] += d[b];
         }
       }
-    } catch (const std::exception&) {
+    } catch (const std::exception& e) {
+      if (partFailure.empty())
+        partFailure = what + ": a part's solve failed on rank " + std::to_string(rank) + ": " + e.what();
       std::fill(mine.begin(), mine.end(), std::numeric_limits<double>::quiet_NaN());
     }
     return mine;
@@ -468,6 +472,7 @@ SeparatorSolve separatorSolve(const Teuchos::Comm<int>& comm, const std::vector<
     int stop = 0;
     Teuchos::broadcast(comm, 0, &stop);
   }
+  agreeOnFailure(comm, partFailure);  // the cause, before rank 0's "non-finite residual"
   agreeOnFailure(comm, failure);
   Teuchos::broadcast(comm, 0, static_cast<int>(out.u.size()), out.u.data());
   Teuchos::broadcast(comm, 0, &out.iterations);
