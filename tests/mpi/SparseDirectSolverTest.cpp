@@ -6,8 +6,10 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 
+#include <cmath>
 #include <map>
 
 #include "RotatingChain.hpp"
@@ -91,6 +93,42 @@ TEST(SparseDirectSolver, SingularMatrixIsRefusedNotSolved) {
   EXPECT_EQ(lu.factor(), Outcome::Singular);
   SparseDirectSolver ch(singular, "CHOLMOD");
   EXPECT_NE(ch.factor(), Outcome::Factored);
+}
+
+TEST(SparseDirectSolver, ScaledDiagonalIsNotRoundingDefinite) {
+  // D K D with K the grounded chain (positive definite, cond <= ~1e5) and D
+  // powers of 2 from 1 to 2^-40 (exact scaling): CHOLMOD's pivot ratio
+  // estimate (min/max diag L)^2 is ~2^-80 ~ 1e-24, far below its 1e-14, yet
+  // every pivot keeps what it kept in K. Refused as "definite only to
+  // rounding" before; factored now, and the solve's residual is that of a
+  // backward-stable solve.
+  const auto K = chainK(1.0);
+  auto d = Teuchos::rcp(new Vector(K->getRowMap()));
+  {
+    auto v = d->getDataNonConst();
+    for (std::size_t l = 0; l < v.size(); ++l)
+      v[l] = std::ldexp(1.0, -static_cast<int>(K->getRowMap()->getGlobalElement(l) % 41));
+  }
+  auto DKD = Teuchos::rcp(new CrsMatrix(*K, Teuchos::Copy));
+  DKD->leftScale(*d);
+  DKD->rightScale(*d);
+  SparseDirectSolver s(DKD, "CHOLMOD");
+  ASSERT_EQ(s.factor(), Outcome::Factored) << s.failure();
+  MultiVector x0(DKD->getDomainMap(), 1), b(DKD->getRangeMap(), 1), x(DKD->getDomainMap(), 1), r(b);
+  x0.randomize();
+  DKD->apply(x0, b);
+  s.solve(b, x);
+  DKD->apply(x, r);
+  r.update(-1.0, b, 1.0);
+  // Backward stable: ||A x - b|| <= c n eps ||A|| ||x||, c n = 1e3 for 150
+  // nodes' banded factor.
+  Teuchos::Array<double> rn(1), xn(1);
+  r.norm2(rn());
+  x.norm2(xn());
+  EXPECT_LT(rn[0], 1e3 * 2.2e-16 * DKD->getFrobeniusNorm() * xn[0]);
+  // The free chain is still refused: its rigid motion's pivot is rounding.
+  SparseDirectSolver free(chainK(0.0, /*grounded=*/false), "CHOLMOD");
+  EXPECT_NE(free.factor(), Outcome::Factored);
 }
 
 TEST(SparseDirectSolver, UnknownMethodIsAnInputError) {
