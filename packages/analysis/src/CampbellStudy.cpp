@@ -243,6 +243,11 @@ Teuchos::RCP<const Teuchos::ParameterList> CampbellStudy::getValidParameters() {
            "relative difference within which a track's frequency equals a spin rate (frame-rate rigid motion), "
            "added to the mode's split radius (the rounding the solver reports for it)",
            rcp(new Teuchos::EnhancedNumberValidator<double>(0.0, 1.0)));
+    p->set("Track MAC Floor", 0.1,
+           "a track goes on to the next speed's mode only when their MAC (with the span of that mode's repeated "
+           "cluster) is at least this; below it the track is lost there (its mode left the requested set) and the "
+           "unmatched mode starts a track of its own (it entered the set), so that no track joins two modes",
+           rcp(new Teuchos::EnhancedNumberValidator<double>(0.0, 1.0)));
     p->set("Whirl", *WhirlClassification::getValidParameters(), "the whirl rule's parameters");
     p->set("Threads", 0, "threads for the sweep's solves on each rank (0: the cores left to it)",
            rcp(new Teuchos::EnhancedNumberValidator<int>(0, 1024)));
@@ -285,6 +290,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   const double crossingTol = params_.get<double>("Crossing Tolerance"), frameTol = params_.get<double>("Frame Rate Tolerance");
   const WhirlClassification rule(params_.sublist("Whirl"));
   const double clusterTol = params_.sublist("Whirl").get<double>("Cluster Tolerance");
+  const double macFloor = params_.get<double>("Track MAC Floor");
 
   CampbellResult r;
   r.parameters = problem.parameters();
@@ -377,8 +383,44 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     std::stable_sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
     std::vector<int> match(last.size(), -1);
     std::vector<bool> used(modes.size(), false);
+    // A match below the floor joins two modes: when the set is the N lowest,
+    // the top mode leaves it and another enters, and the greedy pairing had
+    // nothing else left to give the leaving track (MAC ~ 0). A repeated
+    // mode's shapes are any basis of its cluster: the MAC with the
+    // cluster's span counts. Its cluster: the modes within the cluster
+    // tolerance plus both split radii (what rounding can do to each: a free
+    // body's frame-rate triple), and every zero frequency together (rigid
+    // motions, any basis of the rigid space).
+    const auto together = [&](const eigen::GyroscopicMode& a, const eigen::GyroscopicMode& b) {
+      if (zeroFrequency(a.stability) && zeroFrequency(b.stability)) return true;
+      return std::abs(a.omega - b.omega) <= clusterTol * std::max(a.omega, b.omega) + a.splitRadius + b.splitRadius;
+    };
+    const auto spanMac = [&](std::size_t t, int j) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < modes.size(); ++i)
+        if (together(modes[i], modes[static_cast<std::size_t>(j)])) sum += mac[t][i];
+      return std::min(1.0, sum);
+    };
+    // Zero frequencies and frame-rate modes (a rigid motion seen at a spin
+    // rate) are matched as before, whatever their MAC: their shapes are any
+    // basis of a rigid space that rounding splits, differently at every
+    // speed (the spacecraft's zeros number two or three; a member of its
+    // bus's frame-rate triple came back orthogonal to the whole triple one
+    // step later), and their crossings are no critical speeds.
+    const auto rigidLike = [&](const eigen::GyroscopicMode& m, std::size_t step) {
+      if (zeroFrequency(m.stability)) return true;
+      for (const double rate : r.speeds[step])
+        if (rate != 0.0 && std::abs(m.omega - std::abs(rate)) <= frameTol * std::abs(rate) + m.splitRadius) return true;
+      return false;
+    };
+    const auto accept = [&](int t, int j) {
+      return rigidLike(last[static_cast<std::size_t>(t)], static_cast<std::size_t>(k - 1)) ||
+             rigidLike(modes[static_cast<std::size_t>(j)], static_cast<std::size_t>(k)) ||
+             spanMac(static_cast<std::size_t>(t), j) >= macFloor;
+    };
     for (const auto& [v, t, j] : pairs)
-      if (match[t] < 0 && !used[j]) match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v);
+      if (match[t] < 0 && !used[j] && accept(t, j))
+        match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v);
     for (std::size_t t = 0; t < r.tracks.size(); ++t) {
       auto& tr = r.tracks[t];
       const int j = match[t];
@@ -400,7 +442,9 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       const bool onLine = follows >= 0 && r.scaled[static_cast<std::size_t>(follows)];
       for (double order : orders) {
         const double f0 = r.factors[k - 1];
-        double lo = f0, hi = f, gLo = w0 - order * refAt(lo), gHi = modes[j].omega - order * refAt(hi);
+        // An engine order n excites n |Omega|: a rate turning against its
+        // axis (negative) has the same lines (before, none was crossed).
+        double lo = f0, hi = f, gLo = w0 - order * std::abs(refAt(lo)), gHi = modes[j].omega - order * std::abs(refAt(hi));
         if (!ok0 || zeroFrequency(modes[j].stability) || gLo == 0.0 || (gLo > 0) == (gHi > 0)) continue;
         EngineOrderCrossing c;
         c.order = order;
@@ -418,7 +462,8 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
             if (m.result.status != eigen::SolveStatus::Converged || m.result.modes.empty()) break;
             const auto row = problem.mac({modeLo}, m.result.modes).front();
             const int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
-            const double g = m.result.modes[best].omega - order * refAt(mid);
+            if (row[static_cast<std::size_t>(best)] < macFloor) break;  // the mode left the set in between
+            const double g = m.result.modes[best].omega - order * std::abs(refAt(mid));
             if ((g > 0) == (gLo > 0)) lo = mid, gLo = g, modeLo = m.result.modes[best];
             else hi = mid, gHi = g;
             at = std::move(m), atIndex = best;
@@ -433,10 +478,30 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         else dominantAt.emplace(found.size(), std::make_pair(static_cast<std::size_t>(k), j));
         c.factor = lo + gLo / (gLo - gHi) * (hi - lo);
         c.speed = refAt(c.factor);
-        c.omega = order * c.speed;
+        c.omega = order * std::abs(c.speed);
         found.push_back(c);
       }
       last[t] = modes[j];
+    }
+    // The modes no track took entered the set here: a track each, lost before.
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+      if (used[j]) continue;
+      CampbellTrack tr;
+      tr.omega.assign(static_cast<std::size_t>(k), std::nan(""));
+      tr.stability.assign(static_cast<std::size_t>(k), eigen::Stability::Stable);
+      tr.whirl.assign(static_cast<std::size_t>(k), Whirl::Neutral);
+      tr.lost.assign(static_cast<std::size_t>(k), true);
+      tr.dampingRatio.assign(static_cast<std::size_t>(k), std::nan(""));
+      tr.splitRadius.assign(static_cast<std::size_t>(k), 0.0);
+      tr.omega.push_back(modes[j].omega);
+      tr.stability.push_back(modes[j].stability);
+      tr.whirl.push_back(whirl[j]);
+      tr.lost.push_back(false);
+      tr.dampingRatio.push_back(modes[j].dampingRatio);
+      tr.splitRadius.push_back(modes[j].splitRadius);
+      tr.firstStep = k;
+      r.tracks.push_back(std::move(tr));
+      last.push_back(modes[j]);
     }
   }
 
@@ -463,8 +528,9 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   }
   // Identical parts (or a repeated mode): the same order, whirl and speed to
   // the cluster tolerance: one entry naming every track.
+  // By |speed|: the sweep's order, for a rate turning against its axis too.
   const auto byOrderThenSpeed = [](const auto& a, const auto& b) {
-    return a.order != b.order ? a.order < b.order : a.speed < b.speed;
+    return a.order != b.order ? a.order < b.order : std::abs(a.speed) < std::abs(b.speed);
   };
   std::stable_sort(kept.begin(), kept.end(), byOrderThenSpeed);
   std::stable_sort(r.frameRateCrossings.begin(), r.frameRateCrossings.end(), byOrderThenSpeed);
@@ -596,6 +662,20 @@ void CampbellResult::printCrossings(std::ostream& os) const {
          << tracksText(c) << (c.refined ? "" : " (linear between sweep speeds)") << '\n';
       os.flags(flags);
     }
+  }
+  // Modes that entered or left the requested set mid-sweep (theory §12.3):
+  // a crossing of an entering mode below its first speed is not checked.
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const auto& tr = tracks[t];
+    const auto at = [&](std::size_t k) { return speeds[k][static_cast<std::size_t>(reference)]; };
+    if (tr.firstStep > 0)
+      os << "track" << t + 1 << " entered the requested modes at " << at(static_cast<std::size_t>(tr.firstStep))
+         << " rad/s of '" << ref << "' (from above; its crossings below " << at(static_cast<std::size_t>(tr.firstStep))
+         << " rad/s are not checked)\n";
+    for (std::size_t k = static_cast<std::size_t>(tr.firstStep) + 1; k < tr.lost.size(); ++k)
+      if (tr.lost[k] && !tr.lost[k - 1])
+        os << "track" << t + 1 << " left the requested modes at " << at(k) << " rad/s of '" << ref
+           << "' (lost from there: * in the table)\n";
   }
   for (const auto& [a, b] : unstableRanges)
     os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'\n";

@@ -180,6 +180,75 @@ TEST(CampbellStudy, EngineOrderCriticalSpeedsMatchTheClosedForm) {
   }
 }
 
+TEST(CampbellStudy, ASpinAgainstItsAxisHasTheSameCriticalSpeeds) {
+  // A negative rate turns the other way about the same axis: K(Omega)
+  // depends on Omega^2 and the frequencies do not change, and an engine
+  // order n excites n |Omega|. The crossings are the positive rate's at the
+  // negative speeds. Before: n Omega < 0 lay below every frequency and no
+  // crossing was found ("none in the sweep").
+  auto params = sweep(31, 1.0, {1.0, 2.0});
+  params.set("Crossing Tolerance", 1e-9);
+  const auto forward = analysis::CampbellStudy(params).run(
+      analysis::DenseSweepProblem(twoDof(4.0, 1.0, 1.0, 0.0), "spin", 3.0));
+  const auto against = analysis::CampbellStudy(params).run(
+      analysis::DenseSweepProblem(twoDof(4.0, 1.0, 1.0, 0.0), "spin", -3.0));
+  ASSERT_EQ(forward.crossings.size(), 3u);
+  ASSERT_EQ(against.crossings.size(), forward.crossings.size());
+  for (std::size_t i = 0; i < forward.crossings.size(); ++i) {
+    const auto &a = against.crossings[i], &f = forward.crossings[i];
+    EXPECT_EQ(a.order, f.order);
+    EXPECT_EQ(a.tracks, f.tracks);
+    // The same bisection on mirrored speeds: to its tolerance, 1e-9.
+    EXPECT_NEAR(a.speed, -f.speed, 3e-9 * std::abs(f.speed)) << "crossing " << i;
+    EXPECT_NEAR(a.omega, f.omega, 3e-9 * f.omega) << "crossing " << i;
+    EXPECT_GT(a.omega, 0.0);
+  }
+}
+
+TEST(CampbellStudy, AModeLeavingTheRequestedSetEndsItsTrack) {
+  // Three uncoupled modes, the two lowest requested: a = 1 stays, b =
+  // sqrt(2 + 4 Omega^2) rises past c = 2.5 at Omega = sqrt(4.25) / 2 =
+  // 1.031, and from there the set is {a, c}. Track 2 (b) must end there and
+  // c start a track of its own; before, track 2 went on as c (a jump from
+  // 2.45 to 2.5 read as one mode) and c's 1X crossing at 2.5 rad/s was
+  // credited to b.
+  analysis::SpeedDependentSystem s;
+  s.M.shape(3, 3), s.G1.shape(3, 3), s.K0.shape(3, 3), s.K2.shape(3, 3);
+  for (int i = 0; i < 3; ++i) s.M(i, i) = 1.0;
+  s.K0(0, 0) = 1.0, s.K0(1, 1) = 2.0, s.K0(2, 2) = 6.25;
+  s.K2(1, 1) = 4.0;
+  Teuchos::ParameterList solver;
+  solver.set("Number of Modes", 2);
+  auto params = sweep(31, 1.0, {1.0});
+  params.set("Crossing Tolerance", 1e-9);
+  const auto r = analysis::CampbellStudy(params).run(analysis::DenseSweepProblem(s, "spin", 3.0, solver));
+  ASSERT_EQ(r.tracks.size(), 3u);
+  const int enters = 11;  // Omega = 1.1, the first grid speed past 1.031
+  for (std::size_t k = 0; k < r.factors.size(); ++k) {
+    const double W = r.speeds[k][0];
+    EXPECT_NEAR(r.tracks[0].omega[k], 1.0, kRound * 4.0);
+    if (static_cast<int>(k) < enters) {
+      EXPECT_NEAR(r.tracks[1].omega[k], std::sqrt(2.0 + 4.0 * W * W), kRound * 20.0) << "Omega " << W;
+      EXPECT_TRUE(r.tracks[2].lost[k] && std::isnan(r.tracks[2].omega[k])) << "Omega " << W;
+    } else {
+      EXPECT_TRUE(r.tracks[1].lost[k] && std::isnan(r.tracks[1].omega[k])) << "Omega " << W;
+      EXPECT_NEAR(r.tracks[2].omega[k], 2.5, kRound * 20.0) << "Omega " << W;
+    }
+  }
+  EXPECT_EQ(r.tracks[2].firstStep, enters);
+  // 1X: a at 1 rad/s, c at 2.5 (b = sqrt(2 + 4 Omega^2) > Omega never meets it).
+  ASSERT_EQ(r.crossings.size(), 2u);
+  EXPECT_EQ(r.crossings[0].tracks, std::vector<int>{0});
+  EXPECT_NEAR(r.crossings[0].speed, 1.0, 3e-9);
+  EXPECT_EQ(r.crossings[1].tracks, std::vector<int>{2});
+  EXPECT_NEAR(r.crossings[1].speed, 2.5, 3e-9 * 2.5);
+  EXPECT_TRUE(r.crossings[1].refined);
+  std::ostringstream os;
+  r.printCrossings(os);
+  EXPECT_NE(os.str().find("track3 entered the requested modes at 1.1 rad/s"), std::string::npos) << os.str();
+  EXPECT_NE(os.str().find("track2 left the requested modes at 1.1 rad/s"), std::string::npos) << os.str();
+}
+
 TEST(CampbellStudy, CrossingsOfIdenticalPartsAreListedOnce) {
   // Two identical, uncoupled copies of the 2-DOF system: every frequency is
   // double, and each engine-order crossing is met by two tracks at the same

@@ -152,6 +152,10 @@ struct CampbellTrack {
   /// GyroscopicMode::splitRadius, rad/s; 0 where lost).
   std::vector<double> splitRadius;
   double minMac = 1.0;                        ///< worst MAC of a step-to-step match
+  /// The step it starts at: 0, or where a mode entered the requested set
+  /// mid-sweep (from above: its crossings before this step are not checked);
+  /// lost before it.
+  int firstStep = 0;
   /// Its frequency equals a spin rate (of parameter frameRateOf) at every
   /// step, within "Frame Rate Tolerance" times the rate plus the step's
   /// splitRadius: a rigid motion seen from a frame spinning at that rate,
@@ -160,12 +164,12 @@ struct CampbellTrack {
   int frameRateOf = -1;
 };
 
-/// Where a track meets an engine-order line omega = order * Omega_ref.
+/// Where a track meets an engine-order line omega = order * |Omega_ref|.
 struct EngineOrderCrossing {
   double order = 1.0;
   double speed = 0.0;      ///< Omega_ref (rad/s)
   double factor = 0.0;     ///< on the sweep's factor axis
-  double omega = 0.0;      ///< = order * speed (rad/s)
+  double omega = 0.0;      ///< = order * |speed| (rad/s): the excitation frequency, a negative rate turning against its axis
   Whirl whirl = Whirl::Neutral;
   std::vector<int> tracks; ///< several: identical parts (or a repeated mode), listed once
   /// Per entry of `tracks`: the substructure that carries most of that
