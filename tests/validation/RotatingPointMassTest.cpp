@@ -104,9 +104,11 @@ TEST(RotatingPointMass, CampbellFindsTheDivergenceRange) {
   Teuchos::ParameterList study;
   study.set("Steps", 301);
   study.set("Max Factor", 1.0);
+  study.set("Refine Crossings", false);
   const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
   const auto& ranges = d.unstableRanges;
   ASSERT_EQ(ranges.size(), 1u);
+  EXPECT_FALSE(d.unstableEdgesRefined);
   // Sweep step 0.1: the first/last unstable sample lies within one step inside
   // (20, 25); exactly at 20 and 25 the zero root is neutral. The ends are
   // samples of the sweep, compared exactly with the samples that bracket them.
@@ -115,6 +117,24 @@ TEST(RotatingPointMass, CampbellFindsTheDivergenceRange) {
   EXPECT_LE(ranges[0].first, speed(201));   // 20.1
   EXPECT_GE(ranges[0].second, speed(249));  // 24.9
   EXPECT_LE(ranges[0].second, speed(250));  // 25
+}
+
+TEST(RotatingPointMass, CampbellBisectsTheDivergenceRangesEdges) {
+  // Steps of 3 rad/s (0, 3, ..., 30): the grid's unstable speeds are 21 and
+  // 24, up to a step inside the band (20, 25). Bisected, each edge lies in
+  // a bracket narrower than "Crossing Tolerance" 1e-9 of the speed, and it
+  // is its middle: within 1e-9 of 20 and 25 (0.5e-9 for the half bracket,
+  // doubled for the solver's verdict a rounding away from the edge, where
+  // the zero root is neutral).
+  Teuchos::ParameterList study;
+  study.set("Steps", 11);
+  study.set("Max Factor", 1.0);
+  study.set("Crossing Tolerance", 1e-9);
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
+  ASSERT_EQ(d.unstableRanges.size(), 1u);
+  EXPECT_TRUE(d.unstableEdgesRefined);
+  EXPECT_NEAR(d.unstableRanges[0].first, 20.0, 1e-9 * 20.0);
+  EXPECT_NEAR(d.unstableRanges[0].second, 25.0, 1e-9 * 25.0);
 }
 
 // Isotropic springs: in the rotating frame omega = |sqrt(k/m) -/+ Omega|.

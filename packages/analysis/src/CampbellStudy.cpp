@@ -351,6 +351,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     r.speeds.push_back(speedsAt(r.factors.back()));
   }
   const auto grid = problem.solveAll(r.speeds, params_.get<int>("Threads"));
+  std::vector<std::pair<int, int>> unstableSteps;  // each range's first and last grid step
   for (int k = 0; k < steps; ++k) {
     const double f = r.factors[k];
     const auto& sol = grid[static_cast<std::size_t>(k)];
@@ -362,10 +363,13 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     bool anyUnstable = false;
     for (const auto& m : modes) anyUnstable = anyUnstable || unstable(m.stability);
     if (anyUnstable) {
-      if (k > 0 && !r.unstableRanges.empty() && r.unstableRanges.back().second == refAt(r.factors[k - 1]))
+      if (k > 0 && !r.unstableRanges.empty() && r.unstableRanges.back().second == refAt(r.factors[k - 1])) {
         r.unstableRanges.back().second = refAt(f);
-      else
+        unstableSteps.back().second = k;
+      } else {
         r.unstableRanges.push_back({refAt(f), refAt(f)});
+        unstableSteps.push_back({k, k});
+      }
     }
     if (k == 0) {
       for (std::size_t j = 0; j < modes.size(); ++j) {
@@ -503,6 +507,38 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       r.tracks.push_back(std::move(tr));
       last.push_back(modes[j]);
     }
+  }
+
+  // The edges of each unstable range, bisected between the grid's last
+  // stable and first unstable speeds like a crossing (theory §12.1): the
+  // grid alone puts them up to a step inside the band. A band narrower than
+  // a step between two stable speeds is not seen.
+  if (refine) {
+    const auto unstableAt = [&](double f, bool& ok) {
+      const auto m = problem.solve(speedsAt(f));
+      ok = m.result.status == eigen::SolveStatus::Converged && !m.result.modes.empty();
+      bool u = false;
+      for (const auto& mode : m.result.modes) u = u || unstable(mode.stability);
+      return u;
+    };
+    const auto edge = [&](double stable, double unstableF) {
+      for (int it = 0; it < 200 && std::abs(unstableF - stable) > crossingTol * std::max(std::abs(stable), std::abs(unstableF));
+           ++it) {
+        const double mid = 0.5 * (stable + unstableF);
+        bool ok = false;
+        const bool u = unstableAt(mid, ok);
+        if (!ok) break;
+        (u ? unstableF : stable) = mid;
+      }
+      return refAt(0.5 * (stable + unstableF));
+    };
+    for (std::size_t i = 0; i < unstableSteps.size(); ++i) {
+      const auto [first, lastStep] = unstableSteps[i];
+      if (first > 0) r.unstableRanges[i].first = edge(r.factors[static_cast<std::size_t>(first - 1)], r.factors[static_cast<std::size_t>(first)]);
+      if (lastStep + 1 < steps)
+        r.unstableRanges[i].second = edge(r.factors[static_cast<std::size_t>(lastStep + 1)], r.factors[static_cast<std::size_t>(lastStep)]);
+    }
+    r.unstableEdgesRefined = true;
   }
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
@@ -678,7 +714,9 @@ void CampbellResult::printCrossings(std::ostream& os) const {
            << "' (lost from there: * in the table)\n";
   }
   for (const auto& [a, b] : unstableRanges)
-    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'\n";
+    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'"
+       << (unstableEdgesRefined ? " (edges bisected)" : " (the sweep's unstable speeds: the edges lie up to a step outside)")
+       << '\n';
   os.flags(flags);
   os.precision(prec);
 }

@@ -205,6 +205,10 @@ struct CampbellResult {
   /// on either side. Counted; neither bisected nor listed.
   int frameRateOnLine = 0;
   std::vector<std::pair<double, double>> unstableRanges;  ///< Omega_ref (rad/s) where some mode is unstable
+  /// The ranges' edges bisected between the grid's stable and unstable
+  /// speeds to "Crossing Tolerance" ("Refine Crossings"); else the first and
+  /// last unstable grid speeds, up to a step inside the band.
+  bool unstableEdgesRefined = false;
   std::string whirlOf;               ///< the part whose orbit defines whirl
   std::string solver;                ///< the solver at the last speed
   double maxResidual = 0.0;
