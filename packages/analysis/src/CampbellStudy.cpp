@@ -449,7 +449,9 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         // An engine order n excites n |Omega|: a rate turning against its
         // axis (negative) has the same lines (before, none was crossed).
         double lo = f0, hi = f, gLo = w0 - order * std::abs(refAt(lo)), gHi = modes[j].omega - order * std::abs(refAt(hi));
-        if (!ok0 || zeroFrequency(modes[j].stability) || gLo == 0.0 || (gLo > 0) == (gHi > 0)) continue;
+        // g_hi exactly 0 is a crossing at f_k, from either side (g_lo = 0
+        // was the previous interval's).
+        if (!ok0 || zeroFrequency(modes[j].stability) || gLo == 0.0 || (gHi != 0.0 && (gLo > 0) == (gHi > 0))) continue;
         EngineOrderCrossing c;
         c.order = order;
         c.tracks = {static_cast<int>(t)};

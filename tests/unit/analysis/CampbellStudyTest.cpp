@@ -249,6 +249,52 @@ TEST(CampbellStudy, AModeLeavingTheRequestedSetEndsItsTrack) {
   EXPECT_NE(os.str().find("track2 left the requested modes at 1.1 rad/s"), std::string::npos) << os.str();
 }
 
+/// One mode, omega = Omega^2 - 2 Omega + 2 exactly: it meets 1X at 1 (from
+/// above) and at 2 (from below).
+class ParabolaProblem : public analysis::SpeedSweepProblem {
+public:
+  std::vector<synthesis::SpeedParameter> parameters() const override { return {{"spin", 2.0}}; }
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+    synthesis::StructureModes out;
+    out.speeds = speeds;
+    eigen::GyroscopicMode m;
+    const double W = speeds[0];
+    m.omega = W * W - 2.0 * W + 2.0, m.hz = m.omega / (2 * M_PI), m.lambda = {0.0, m.omega};
+    m.q = {1.0};
+    out.result.modes.push_back(m);
+    return out;
+  }
+  std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
+                                       const std::vector<eigen::GyroscopicMode>& b) const override {
+    return std::vector<std::vector<double>>(a.size(), std::vector<double>(b.size(), 1.0));
+  }
+  std::vector<analysis::Whirl> whirl(const synthesis::StructureModes& modes,
+                                     const analysis::WhirlClassification&) const override {
+    return std::vector<analysis::Whirl>(modes.result.modes.size(), analysis::Whirl::Neutral);
+  }
+  std::string whirlOf() const override { return ""; }
+  std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override {
+    return std::vector<std::string>(modes.result.modes.size(), "rotor");
+  }
+};
+
+TEST(CampbellStudy, ACrossingOnASweepSpeedFromBelowIsFound) {
+  // Speeds 0, 2/3, 4/3 and 2 (exactly): g = omega - Omega = (Omega - 1)
+  // (Omega - 2) is 2, 4/9, -2/9 and exactly 0 at the last. Both crossings,
+  // with and without bisection; before, the one reached from below exactly
+  // at a sweep speed was dropped (g_hi = 0 counted as no sign change).
+  for (const bool refine : {true, false}) {
+    auto params = sweep(4, 1.0, {1.0}, refine);
+    params.set("Crossing Tolerance", 1e-9);
+    const auto r = analysis::CampbellStudy(params).run(ParabolaProblem());
+    ASSERT_EQ(r.crossings.size(), 2u) << (refine ? "bisected" : "interpolated");
+    // Bisected: within the tolerance. Interpolated, the first: g is a
+    // parabola, |g''| = 2, |g'| >= 1/3 on (2/3, 4/3): error <= h^2 / (4 / 3).
+    EXPECT_NEAR(r.crossings[0].speed, 1.0, refine ? 2e-9 : (4.0 / 9.0) * 0.75);
+    EXPECT_NEAR(r.crossings[1].speed, 2.0, refine ? 2e-9 : 4.0 * DBL_EPSILON);
+  }
+}
+
 TEST(CampbellStudy, CrossingsOfIdenticalPartsAreListedOnce) {
   // Two identical, uncoupled copies of the 2-DOF system: every frequency is
   // double, and each engine-order crossing is met by two tracks at the same
