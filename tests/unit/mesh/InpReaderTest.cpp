@@ -434,6 +434,18 @@ TEST(InpReader, ReadMeshDispatchesByExtension) {
   EXPECT_EQ(cms::mesh::readMesh(kMeshes + "bar_tet10_short.msh").group("blade").blocks.at(0).type, CellType::Tet10);
 }
 
+TEST(InpReader, AByteOrderMarkIsSkipped) {
+  // Some Windows editors start a UTF-8 file with EF BB BF. It was read as
+  // part of the first line ("a data line before any keyword"; in an included
+  // data file, node "\xEF\xBB\xBF1" not an integer).
+  TempDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  dir.write("nodes.inp", bom + "1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n");
+  const Mesh m = readInp(dir.write("deck.inp", bom + "*HEADING\n*NODE, INPUT=nodes.inp\n*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3, 4\n"));
+  EXPECT_EQ(m.nodeCount(), 4u);
+  EXPECT_EQ(m.group("t").blocks.at(0).size(), 1u);
+}
+
 TEST(InpReader, MalformedDecksNameFileLineAndWhat) {
   TempDir dir;
   int n = 0;
@@ -468,6 +480,14 @@ TEST(InpReader, MalformedDecksNameFileLineAndWhat) {
   refused("*NODE\n99999999999, 0, 0, 0\n", {":2: node 99999999999 is out of range"});
   refused("*NODE\n1\n", {":2: node 1 has no coordinates"});
   refused(nodes + "*NSET, NSET=g, GENERATE\n1, 4, 0\n", {":7: *NSET NSET=g, GENERATE: the step is 0; it must be positive"});
+  // A keyword line ending in a comma continues onto the next line, which
+  // must hold parameters: data or a keyword there was taken as parameters
+  // and ignored with a note, so the set lost its members (found by a review:
+  // "*NSET, NSET=fix," then "1, 2, 3, 4" then "5, 6" made fix = {5, 6}).
+  refused(nodes + "*NSET, NSET=fix,\n1, 2, 3, 4\n",
+          {":6: *NSET: \"1\" is not a parameter name", "ends with a comma", "continues onto the next line"});
+  refused(nodes + "*ELSET, ELSET=a,\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n",
+          {":6: *ELSET: \"*ELEMENT\" is not a parameter name"});
   refused(nodes + "*NSET, NSET=g, GENERATE\n4, 1\n", {":7: *NSET NSET=g, GENERATE: the first id 4 is above the last 1"});
   refused(nodes + "*NSET, NSET=g, GENERATE\n10, 20\n", {":7: *NSET NSET=g, GENERATE 10, 20, 1: no node of that range is defined"});
   refused(nodes + "*NSET, NSET=g, GENERATE\n1, 2, 3, 4\n", {":7: *NSET NSET=g, GENERATE: a line is first, last[, step]"});
