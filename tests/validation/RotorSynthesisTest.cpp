@@ -201,6 +201,34 @@ TEST(RotatingBlade, SpinsAddOnACoaxialSpinningHub) {
   }
 }
 
+TEST(RotatingBlade, SpinsOppositeToTheHubSubtract) {
+  // A counter-rotating rotor: the hub's frame spins at 2 rad/s about +z and
+  // the blade at 8 rad/s relative to it about -z, so the blade turns at
+  // 2 - 8 = -6 rad/s about +z, i.e. 6 about -z: Wright's T = 6 row (flapwise
+  // frequencies do not depend on the sense), T = 12 with both speeds
+  // doubled. Before, the hub's rate was added about the blade's axis (2 + 8
+  // = 10) and the cross terms of K had the wrong sign (found by a review).
+  auto d = bladeOnClampedHub("Full", 0);
+  d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 2.0};
+  d.substructures[1].spin->axis = {0, 0, -1};
+  d.substructures[1].spin->rate = 8.0;
+  const auto a = AssembledStructure::assemble(d, world());
+  const auto s = SynthesizedStructure::synthesize(a);
+  ASSERT_EQ(a.speeds().size(), 2u);
+  const double rows[2][4] = {{1.0, 7.3604, 26.8091, 66.6840}, {2.0, 13.1702, 37.6031, 79.6145}};
+  for (const auto& row : rows) {
+    Teuchos::ParameterList p;
+    p.set("Number of Modes", 10);
+    const auto m = s.solve({2.0 * row[0], 8.0 * row[0]}, p);
+    std::vector<double> flap;
+    for (int i = 0; i < static_cast<int>(m.result.modes.size()) && flap.size() < 3; ++i)
+      if (zShare(s, m, i, 1, *a.assembled(1)) > 0.99) flap.push_back(m.result.modes[i].omega);
+    ASSERT_EQ(flap.size(), 3u);
+    // The tolerance of SpinsAddOnACoaxialSpinningHub (the same blade and mesh).
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(flap[k], row[k + 1], 5e-4 * row[k + 1]) << "scale " << row[0];
+  }
+}
+
 namespace {
 
 /// A flexible support beam (C, clamped at x = -1) carrying at x = 0 either
@@ -363,6 +391,26 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
         "shaft", "end",
         frame(fixtures::segmentMesh({2, 0, 0}, {2, 0.2, 0}, 2, 500), {2e11, 0.3, 7800}, {1e-4, 1e-9, 1e-9, 2e-9}, "disc")));
     expectInputError([&] { AssembledStructure::assemble(d, comm); }, "attached to the spinning rotor 'shaft'");
+    // A rotor there, in either frame, spins with the shaft too; it was
+    // accepted and given the shaft's rate in no term (found by a review).
+    for (const auto kind : {fem::SpinDefinition::Frame::Stationary, fem::SpinDefinition::Frame::Rotating}) {
+      auto withRotor = supportWith(false, 100.0);
+      withRotor.substructures[0].spin = SpinRate{{1, 0, 0}, {0, 0, 0}, 1.0};
+      const double r = 0.01, pi = std::acos(-1.0);
+      fem::BeamSection disc{pi * r * r, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 2};
+      SubstructureSpec A;
+      A.name = "stub";
+      A.kind = SubstructureKind::Rotating;
+      A.parent = "shaft";
+      A.attachment.parentNodes = "end";
+      A.attachment.childNodes = "start";
+      A.model = std::make_shared<fem::FiniteElementModel>(
+          frame(fixtures::segmentMesh({2, 0, 0}, {2.5, 0, 0}, 4, 100), {2e11, 0.3, 7800}, disc, "stub"));
+      A.spin = SpinRate{{1, 0, 0}, {2, 0, 0}, 50.0, kind};
+      A.reduction.set("Basis", std::string("Full"));
+      withRotor.substructures.push_back(A);
+      expectInputError([&] { AssembledStructure::assemble(withRotor, comm); }, "a rotor on the spinning rotor 'shaft'");
+    }
   }
   // An A spinning about an axis that is not its spinning parent's.
   {

@@ -284,6 +284,11 @@ Parts orderParts(const StructureDescription& d) {
 /// inside a spinning frame, as a compound spin (theory §11.5).
 void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
   const Vec3 a = unit(p.spec.spin->axis);
+  // A compound rotor's frame is its parent's spinning one (kind Rotating),
+  // so the checks below did not see that this rotor would spin with it: it
+  // got the compound rotor's rate in no term (refused, as for E and R).
+  CMS_INPUT_CHECK(parent && parent->compound, who(p) << ": a rotor on the spinning rotor '" << parent->spec.name
+                                                     << "' has periodic coefficients (not supported)");
   if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary && inherited.spinning) {
     // Compound spin (theory §11.5): the parent frame's terms as for an
     // E, plus the rotor's own spin (G1 per omega) and the cross
@@ -308,8 +313,17 @@ void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
     p.frame.axis = a;
     p.frame.origin = p.point;
     p.frame.coefficients = inherited.coefficients;
-    p.frame.coefficients.push_back({p.speedParam, 1.0});
     p.frame.stressStiffening = p.spec.spin->stressStiffening;
+    if (inherited.spinning) {
+      // The parent's spin is about its axis e, the rotor's frame about a =
+      // +-e (checked below): in the rotor's frame the parent's rates count
+      // with the sign of a . e. A counter-rotating rotor (a = -e) turns at
+      // s_A - s_parent about a; adding them gave s_A + s_parent, the wrong
+      // Coriolis sign and cross stiffness (theory §11.1).
+      if (fem::dot(a, inherited.axis) < 0.0)
+        for (auto& c : p.frame.coefficients) c.second = -c.second;
+    }
+    p.frame.coefficients.push_back({p.speedParam, 1.0});
     if (inherited.spinning) {
       // Absolute spin (Omega_parent + omega) e about one fixed line:
       // a steady frame only if the two axes are one line.
