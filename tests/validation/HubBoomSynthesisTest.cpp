@@ -28,6 +28,7 @@
 #include <Teuchos_DefaultSerialComm.hpp>
 
 #include "DenseOf.hpp"
+#include "ExpectError.hpp"
 #include "HubBoomStructure.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/analysis/TruthComparison.hpp"
@@ -194,6 +195,36 @@ TEST(HubBoom, ClampedReductionsConvergeFromAboveAndInterlace) {
       ADD_FAILURE() << "inclusion principle violated (boom+ " << k << " -> " << k + 1 << " vectors): mode "
                     << v.index << ", " << v.inequality << " by " << v.amount;
   }
+}
+
+TEST(HubBoom, AFreeStructureHeldToTheGroundIsRefused) {
+  // The synthesis makes K exactly zero on a free structure's six rigid-body
+  // coordinates (theory §11.6): a grounded spring or a support on any part
+  // lost its hold there and its coupling to the elastic coordinates, and the
+  // six zeros still read as the free body's rigid modes. Refused, naming the
+  // part and the item; before, both were accepted (found by a review).
+  auto sprung = hb.structure(true, "Full", 0);
+  auto boom = *sprung.substructures[1].model;
+  fem::SpringSet k;
+  k.name = "suspension", k.nodeSet = "end", k.stiffness = {10.0, 10.0, 10.0, 0.0, 0.0, 0.0};
+  boom.springs.push_back(k);
+  sprung.substructures[1].model = std::make_shared<fem::FiniteElementModel>(boom);
+  fixtures::expectInputError([&] { AssembledStructure::assemble(sprung, world()); },
+                             "'boom+' of a free-floating structure (Free Reference) has the grounded spring \"suspension\"");
+  auto held = hb.structure(true, "Full", 0);
+  auto tip = *held.substructures[2].model;
+  tip.fixed.push_back({"tip", "end", {}, true});
+  held.substructures[2].model = std::make_shared<fem::FiniteElementModel>(tip);
+  fixtures::expectInputError([&] { AssembledStructure::assemble(held, world()); },
+                             "'boom-' of a free-floating structure (Free Reference) fixes DOFs (\"tip\")");
+  // A grounded damper holds nothing still: accepted.
+  auto damped = hb.structure(true, "Full", 0);
+  auto dashpot = *damped.substructures[1].model;
+  fem::SpringSet c;
+  c.name = "dashpot", c.nodeSet = "end", c.damping = {1.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+  dashpot.springs.push_back(c);
+  damped.substructures[1].model = std::make_shared<fem::FiniteElementModel>(dashpot);
+  EXPECT_NO_THROW(AssembledStructure::assemble(damped, world()));
 }
 
 TEST(HubBoom, FreeReductionsConvergeToTruth) {

@@ -94,6 +94,25 @@ void StructureDescription::validate() const {
                   "substructure '" << substructures[central].name
                                    << "' (C) is free-floating but its model fixes DOFs (\""
                                    << substructures[central].model->fixed.front().name << "\")");
+  // Nothing in a free-floating structure may hold it to the ground: the
+  // synthesis makes K exactly zero on the six rigid-body coordinates (theory
+  // §11.6), so a support or a grounded spring on any part lost its hold on
+  // the rigid motion and its coupling to the elastic ones, with six zeros
+  // still reported as the free body's rigid modes (found by a review).
+  if (!freeReference.empty())
+    for (const auto& s : substructures) {
+      if (!s.model) continue;
+      CMS_INPUT_CHECK(!s.model->fixed.empty(), "substructure '" << s.name << "' of a free-floating structure (Free "
+                                                "Reference) fixes DOFs (\"" << s.model->fixed.front().name
+                                                << "\"): a free structure has no ground; without Free Reference its "
+                                                   "supports hold it");
+      for (const auto& k : s.model->springs)
+        CMS_INPUT_CHECK(k.toNodeSet.empty() &&
+                            std::any_of(k.stiffness.begin(), k.stiffness.end(), [](double v) { return v != 0.0; }),
+                        "substructure '" << s.name << "' of a free-floating structure (Free Reference) has the "
+                                         "grounded spring \"" << k.name << "\": a free structure has no ground; "
+                                         "without Free Reference the springs hold it");
+    }
   // Every chain must reach C (no cycles).
   for (const auto& s : substructures) {
     std::set<std::string> seen;
@@ -174,8 +193,8 @@ void addTurnedNodeSet(SubstructureSpec& parent, const std::string& set, const fe
 
 StructureDescription StructureDescription::withCopies() const {
   auto copied = [](const SubstructureSpec& s) { return s.copies > 1; };
+  validate();  // every assembly's description (AssembledStructure::assemble calls this first)
   if (std::none_of(substructures.begin(), substructures.end(), copied)) return *this;
-  validate();
   StructureDescription out = *this;
   // A copied item inside another's subtree is refused (its copies would need
   // two indices); then the copied items expand one at a time.
