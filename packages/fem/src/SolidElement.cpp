@@ -305,9 +305,11 @@ Rule makeRule(Shape type, int n) {
 /// volume, and (adj J) grad_ref N, so constant-stress patch tests pass on
 /// curved and distorted elements. Hex20Reduced (2x2x2) under-integrates on
 /// purpose: that is C3D20R. Mass rules integrate N_a N_b det J exactly on
-/// straight-sided tetrahedra and wedges (degree 2, 4, 4) and on any trilinear
-/// hex (quartic per coordinate), and on a parallelepiped Hex20 (quartic), and
-/// with it the centrifugal load N_a x det J. A Lagrange hex of order k takes
+/// straight-sided tetrahedra (degree 2, 4), right-prism wedges (det J
+/// constant in zeta; a tapered one has degree 6 in zeta), any trilinear
+/// Hex8 (quartic per coordinate) and a parallelepiped Hex20 (quartic), and
+/// with it the centrifugal load N_a x det J; row sums, hence the total
+/// mass, are exact on every straight-sided element (theory §14.2). A Lagrange hex of order k takes
 /// k + 1 points per direction for both (Hex27 3, Hex64 4, Hex125 5): N_a N_b
 /// has degree 2k per coordinate, so the mass is exact on parallelepipeds, and
 /// B^T D B degree 2k - 2 there, so the stiffness rule has one point to spare

@@ -7,8 +7,10 @@
 // reader reorders Gmsh's). Stiffness, consistent mass,
 // rotating-frame terms per unit speed and the geometric stiffness of the
 // stress caused by a displacement (doc/theory.md §9, §10, §14). Mass rules
-// are exact on straight-sided elements; stiffness rules are exact there
-// except where reduced integration is the point (Hex20Reduced).
+// are exact on tetrahedra, right prisms, trilinear Hex8 and parallelepiped
+// Hex20 (on tapered wedges and Hex20 only their row sums are, §14.2);
+// stiffness rules are exact on parallelepipeds except where reduced
+// integration is the point (Hex20Reduced).
 #pragma once
 
 #include "cms/fem/ElementMatrix.hpp"
