@@ -9,8 +9,9 @@
 // stress caused by a displacement (doc/theory.md §9, §10, §14). Mass rules
 // are exact on tetrahedra, right prisms, trilinear Hex8 and parallelepiped
 // Hex20 (on tapered wedges and Hex20 only their row sums are, §14.2);
-// stiffness rules are exact on parallelepipeds except where reduced
-// integration is the point (Hex20Reduced).
+// stiffness rules are exact on straight-sided tetrahedra and wedges and on
+// parallelepiped bricks, except where reduced integration is the point
+// (Hex20Reduced).
 #pragma once
 
 #include "cms/fem/ElementMatrix.hpp"
