@@ -121,6 +121,13 @@ std::string SynthesizedSweepProblem::whirlOf() const {
   return whirlPart_ < 0 ? "" : structure_.substructure(static_cast<std::size_t>(whirlPart_)).name;
 }
 
+bool SynthesizedSweepProblem::whirlInRotorFrame() const {
+  if (whirlPart_ < 0) return false;
+  const auto& s = structure_.substructure(static_cast<std::size_t>(whirlPart_));
+  return s.kind == synthesis::SubstructureKind::Rotating && s.spin &&
+         s.spin->frame == fem::SpinDefinition::Frame::Rotating;
+}
+
 synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<double>& speeds) const {
   // A rotor on a moving attachment: its fixed-frame modes (theory §16.8).
   if (!reduced_.movingHubs().empty())
@@ -295,6 +302,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   CampbellResult r;
   r.parameters = problem.parameters();
   r.whirlOf = problem.whirlOf();
+  r.whirlInRotorFrame = problem.whirlInRotorFrame();
   r.orders.assign(orders.begin(), orders.end());
   CMS_INPUT_CHECK(r.parameters.empty(), "CampbellStudy: nothing spins: no speed parameter to sweep");
   r.scaled.assign(r.parameters.size(), swept.empty());
@@ -610,9 +618,21 @@ std::string tracksText(const EngineOrderCrossing& c) {
   os << ")";
   return os.str();
 }
-std::string unbalanceNote(const EngineOrderCrossing& c) {
+/// Whether unbalance excites the crossing: a 1X forward whirl seen from a
+/// stationary (or the parent's) frame. Seen from the rotor's own frame the
+/// rotor's unbalance is a static load: a crossing there is excited by n per
+/// rev of something stationary (a blade's Campbell diagram), and forward and
+/// backward are the senses in that frame (theory §12.2).
+bool unbalanceExcites(const EngineOrderCrossing& c, bool rotorFrame) {
+  return !rotorFrame && c.order == 1.0 && c.whirl == Whirl::Forward;
+}
+
+std::string unbalanceNote(const EngineOrderCrossing& c, bool rotorFrame) {
+  if (rotorFrame && (c.whirl == Whirl::Forward || c.whirl == Whirl::Backward))
+    return std::string(c.whirl == Whirl::Forward ? "forward" : "backward") +
+           " in the rotor's frame (there its unbalance is static; n per rev of a stationary force excites it)";
   if (c.whirl == Whirl::Forward)
-    return c.order == 1.0 ? "forward: unbalance excites it" : "forward";
+    return unbalanceExcites(c, rotorFrame) ? "forward: unbalance excites it" : "forward";
   if (c.whirl == Whirl::Backward)
     return c.order == 1.0 ? "backward: unbalance does not excite it (it would need anisotropy or a backward force)"
                           : "backward";
@@ -676,7 +696,7 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   for (const auto& c : crossings) {
     os << "  " << std::setw(5) << orderText(c.order) << std::setw(11) << toString(c.whirl) << std::fixed
        << std::setprecision(4) << std::setw(14) << c.speed << " rad/s" << std::setw(14) << c.speed * 30.0 / M_PI
-       << " rpm" << std::setw(12) << c.omega / (2 * M_PI) << " Hz   " << unbalanceNote(c) << "   "
+       << " rpm" << std::setw(12) << c.omega / (2 * M_PI) << " Hz   " << unbalanceNote(c, whirlInRotorFrame) << "   "
        << tracksText(c);
     if (c.tracks.size() > 1) os << " (identical parts or a repeated mode: listed once)";
     if (!c.refined) os << " (linear between sweep speeds)";
@@ -752,7 +772,7 @@ void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
   os << std::setprecision(12) << "order,speed_rad_per_s,speed_rpm,frequency_hz,whirl,unbalance,tracks,refined,dominant\n";
   for (const auto& c : crossings) {
     os << c.order << ',' << c.speed << ',' << c.speed * 30.0 / M_PI << ',' << c.omega / (2 * M_PI) << ','
-       << toString(c.whirl) << ',' << (c.order == 1.0 && c.whirl == Whirl::Forward ? "yes" : "no") << ',';
+       << toString(c.whirl) << ',' << (unbalanceExcites(c, whirlInRotorFrame) ? "yes" : "no") << ',';
     for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? ";" : "") << "track" << c.tracks[i] + 1;
     os << ',' << (c.refined ? "yes" : "no") << ',';
     for (std::size_t i = 0; i < c.dominant.size(); ++i) os << (i ? ";" : "") << c.dominant[i];

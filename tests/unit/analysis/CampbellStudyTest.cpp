@@ -295,6 +295,42 @@ TEST(CampbellStudy, ACrossingOnASweepSpeedFromBelowIsFound) {
   }
 }
 
+/// ParabolaProblem whose mode whirls forward, seen from a stationary frame
+/// or from the rotor's own.
+class WhirlingParabola : public ParabolaProblem {
+public:
+  explicit WhirlingParabola(bool rotorFrame) : rotorFrame_(rotorFrame) {}
+  std::vector<analysis::Whirl> whirl(const synthesis::StructureModes& modes,
+                                     const analysis::WhirlClassification&) const override {
+    return std::vector<analysis::Whirl>(modes.result.modes.size(), analysis::Whirl::Forward);
+  }
+  std::string whirlOf() const override { return "rotor"; }
+  bool whirlInRotorFrame() const override { return rotorFrame_; }
+
+private:
+  bool rotorFrame_;
+};
+
+TEST(CampbellStudy, UnbalanceExcitesNoCrossingSeenFromTheRotorsOwnFrame) {
+  // A 1X forward crossing: unbalance excites it when forward is seen from a
+  // stationary frame. Seen from the rotor's own frame (an A with Frame:
+  // Rotating) the rotor's unbalance is a static load; the note said
+  // "unbalance excites it" there too (found by a review).
+  for (const bool rotorFrame : {false, true}) {
+    const auto r = analysis::CampbellStudy(sweep(4, 1.0, {1.0})).run(WhirlingParabola(rotorFrame));
+    ASSERT_EQ(r.crossings.size(), 2u);
+    EXPECT_EQ(r.whirlInRotorFrame, rotorFrame);
+    std::ostringstream text, csv;
+    r.printCrossings(text);
+    r.writeCrossingsCsv(csv);
+    EXPECT_EQ(text.str().find("unbalance excites it") != std::string::npos, !rotorFrame) << text.str();
+    EXPECT_EQ(text.str().find("forward in the rotor's frame") != std::string::npos, rotorFrame) << text.str();
+    EXPECT_EQ(csv.str().find(",forward,yes,") != std::string::npos || csv.str().find(",FW,yes,") != std::string::npos,
+              !rotorFrame)
+        << csv.str();
+  }
+}
+
 TEST(CampbellStudy, CrossingsOfIdenticalPartsAreListedOnce) {
   // Two identical, uncoupled copies of the 2-DOF system: every frequency is
   // double, and each engine-order crossing is met by two tracks at the same

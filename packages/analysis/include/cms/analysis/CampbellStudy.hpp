@@ -77,6 +77,10 @@ public:
   virtual std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const = 0;
   /// The part whose orbit defines whirl ("" when none).
   virtual std::string whirlOf() const = 0;
+  /// True when that part's coordinates turn with it (an A with Frame:
+  /// Rotating): its orbits, and so forward and backward, are seen from the
+  /// rotor, where its own unbalance is a static load, not a 1X force.
+  virtual bool whirlInRotorFrame() const { return false; }
   /// Per mode of `modes`, the part that carries the largest share of its
   /// kinetic energy (a substructure's name; theory §11.6).
   virtual std::vector<std::string> dominant(const synthesis::StructureModes& modes) const = 0;
@@ -121,6 +125,7 @@ public:
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
   std::string whirlOf() const override;
+  bool whirlInRotorFrame() const override;
   /// By SynthesizedStructure::characterise's kinetic shares; parts whose
   /// shares agree with the largest to 1e-3 are named together, "a & b"
   /// (identical parts in a symmetric mode).
@@ -210,6 +215,7 @@ struct CampbellResult {
   /// last unstable grid speeds, up to a step inside the band.
   bool unstableEdgesRefined = false;
   std::string whirlOf;               ///< the part whose orbit defines whirl
+  bool whirlInRotorFrame = false;    ///< SpeedSweepProblem::whirlInRotorFrame: no unbalance note then
   std::string solver;                ///< the solver at the last speed
   double maxResidual = 0.0;
   eigen::SolveStatus status = eigen::SolveStatus::Converged;  ///< the worst (NumericalIssue before NotConverged)
