@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <regex>
 
 #include <Teuchos_Array.hpp>
@@ -98,8 +99,16 @@ void setValue(Teuchos::ParameterList& list, const std::string& key, const YAML::
 }
 
 void fill(Teuchos::ParameterList& list, const YAML::Node& map, const std::string& path) {
+  // yaml-cpp keeps a repeated key, and setting it again here would keep the
+  // last silently: the line scan before the parse (Scene.cpp) does not follow
+  // flow mappings ({Vectors: 10, Vectors: 2}) or a file after a tab, so every
+  // mapping is checked here too.
+  std::map<std::string, int> seen;  // key -> line
   for (const auto& kv : map) {
     CMS_INPUT_CHECK(!kv.first.IsScalar(), where(path, kv.first) << ": not a valid scene file (a key must be a name)");
+    const auto [at, fresh] = seen.emplace(kv.first.Scalar(), kv.first.Mark().line + 1);
+    CMS_INPUT_CHECK(!fresh, where(path, kv.first) << ": duplicate key '" << kv.first.Scalar() << "' (first at line "
+                                                  << at->second << ")");
     setValue(list, kv.first.Scalar(), kv.second, path);
   }
 }

@@ -248,6 +248,16 @@ TEST(Scene, DuplicateKeysNameBothLines) {
                    "s.yaml:17: duplicate key 'hub' (first at line 4)");
   expectInputError([] { scene::Scene::parse(std::string(kGood) + "Scene:\n  Name: x\n", "t.yaml"); },
                    "t.yaml:35: duplicate key 'Scene' (first at line 2)");
+  // In a flow mapping, on one line or several, the line scan does not look:
+  // the last one won silently (2 vectors for 4), found by a review.
+  expectInputError([] { scene::Scene::parse(edit("      Reduction:\n        Basis: Modes\n        Vectors: 4\n",
+                                                 "      Reduction: {Basis: Modes, Vectors: 4, Vectors: 2}\n"),
+                                            "f.yaml"); },
+                   "f.yaml:32:45: duplicate key 'Vectors' (first at line 32)");
+  expectInputError([] { scene::Scene::parse(edit("      Reduction:\n        Basis: Modes\n        Vectors: 4\n",
+                                                 "      Reduction: {Basis: Modes,\n        Vectors: 4,\n        Vectors: 2}\n"),
+                                            "g.yaml"); },
+                   "g.yaml:34:9: duplicate key 'Vectors' (first at line 33)");
   // Not duplicates: the same key in sibling mappings, in a comment, in a
   // block scalar, in items of a sequence.
   EXPECT_NO_THROW(scene::Scene::parse(kGood, "good.yaml"));
