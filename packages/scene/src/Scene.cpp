@@ -397,6 +397,12 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
   scene.path = path;
   scene.name = getString(p, "Name", top, std::filesystem::path(path).stem().string());
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
+  // The outputs are <output directory>/<Name>.json and the like: a name with
+  // a path in it wrote outside that directory ("../x"), or failed only after
+  // the whole computation ("nosuchdir/x").
+  CMS_INPUT_CHECK(scene.name.find_first_of("/\\") != std::string::npos || scene.name == "." || scene.name == "..",
+                  top << "/Name = \"" << scene.name
+                      << "\": a name for the output files, not a path (no / or \\; --output chooses the directory)");
   scene.units = getString(p, "Units", top, std::string("SI"));
   CMS_INPUT_CHECK(scene.units != "SI", top << "/Units = \"" << scene.units << "\": only SI is supported");
   const std::string baseDir = std::filesystem::path(path).parent_path().string();

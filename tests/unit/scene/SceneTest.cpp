@@ -267,6 +267,16 @@ TEST(Scene, DuplicateKeysNameBothLines) {
       edit("      Reduction:\n", "      Reduction:\n        Load Patterns: [uniform, tip]\n"), "flow.yaml"));
 }
 
+TEST(Scene, ANameIsNotAPath) {
+  // "Name: ../escaped" wrote escaped.json beside the output directory, not in
+  // it; "nosuchdir/x" failed only after the computation (found by a review).
+  using fixtures::expectInputError;
+  for (const char* name : {"../escaped", "nosuchdir/x", "a\\b", ".."})
+    expectInputError([&] { scene::Scene::parse(edit("Scene:\n", std::string("Scene:\n  Name: '") + name + "'\n"), "n.yaml"); },
+                     "n.yaml: Scene/Name = ");
+  EXPECT_EQ(scene::Scene::parse(edit("Scene:\n", "Scene:\n  Name: my-run.2\n"), "n.yaml").name, "my-run.2");
+}
+
 TEST(Scene, UnreadableFilesAreInputErrors) {
   using fixtures::expectInputError;
   const std::string dir = CMS_TEST_DATA_DIR "/scenes/";
