@@ -119,6 +119,9 @@ void printSubstructures(const analysis::ModalResult& r) {
                       : ": none missing");
   else if (r.truthCount == -1)
     std::cout << "\n  structure: the truth's count was not reliable (a frequency at the cut-off)";
+  else if (r.truthCount == -3)
+    std::cout << "\n  structure: not counted: the structure is damped, and the Sturm count counts undamped "
+                 "frequencies (theory §5)";
   std::cout << '\n';
 }
 

@@ -69,6 +69,9 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
   if (r.truthCount >= -1) {
     coverage["structure_truth_count"] = r.truthCount;
     coverage["structure_reduced_count"] = r.reducedCount;
+  } else if (r.truthCount == -3) {
+    coverage["structure_truth_count"] = nullptr;  // asked, not countable: damped
+    coverage["structure_count_note"] = "damped: the Sturm count counts undamped frequencies";
   }
   o["coverage"] = coverage;
   o["solver"] = r.modes.result.solver;
