@@ -183,6 +183,13 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
   const detail::OfferedFactorScope offered(boundary.stiffnessFactor);
   int vectors = p.get<int>("Vectors");
   CMS_INPUT_CHECK(vectors < 0, s.name() << ": \"Reduction\" -> \"Vectors\" = " << vectors << " must be >= 0");
+  // Both are fractions: a negative one was taken as given (no candidate ever
+  // dropped as dependent; an eigensolver told to converge below zero).
+  for (const char* key : {"Dependence Tolerance", "Eigensolver Tolerance"}) {
+    const double t = p.get<double>(key);
+    CMS_INPUT_CHECK(!(t > 0.0 && t < 1.0),
+                    "Scene/Substructures/" << s.name() << "/Reduction/" << key << " = " << t << " must be in (0, 1)");
+  }
   const long long freeRows = s.dofs().rows() - static_cast<long long>(boundary.held.size());
   const double cutoffHz = p.get<double>("Cutoff Frequency");
   CMS_INPUT_CHECK(!(cutoffHz >= 0.0) || !std::isfinite(cutoffHz),

@@ -308,6 +308,13 @@ TEST(RitzBasis, BadParametersNameTheKey) {
   auto q = params("Admissible", 3);
   q.set("Vector Count", 3);
   fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, q); }, "Vector Count");
+  // Negative tolerances were taken as given (found by a review).
+  for (const char* key : {"Dependence Tolerance", "Eigensolver Tolerance"}) {
+    auto t = params("Modes", 3);
+    t.set(key, -1.0);
+    fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, t); },
+                               std::string("Reduction/") + key + " = -1 must be in (0, 1)");
+  }
   // An unrestrained substructure (nothing held): K is singular.
   SubstructureBoundary none;
   EXPECT_THROW(buildRitzBasis(c.sub, none, params("Admissible", 3)), NumericalError);
