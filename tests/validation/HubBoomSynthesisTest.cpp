@@ -197,6 +197,25 @@ TEST(HubBoom, ClampedReductionsConvergeFromAboveAndInterlace) {
   }
 }
 
+TEST(HubBoom, MoreModesThanCoordinatesAreAllReturnedAndSaidSo) {
+  // A request past the reduced model's size was cut to it silently (found
+  // by a review): every mode is returned, and the reason says so, alone and
+  // in a sweep.
+  const auto structure = AssembledStructure::assemble(hb.structure(false, "Admissible", 4), world());
+  const auto s = SynthesizedStructure::synthesize(structure, everywhere(structure, "Admissible", 4));
+  const long long n = s.size();
+  Teuchos::ParameterList p;
+  p.set("Number of Modes", static_cast<int>(n + 5));
+  const std::string note = "asks for more than the reduced model's " + std::to_string(n) + " coordinates";
+  const auto one = s.solve({hb.Omega}, p);
+  EXPECT_EQ(static_cast<long long>(one.result.modes.size()), n);
+  EXPECT_NE(one.result.reason.find(note), std::string::npos) << one.result.reason;
+  for (const auto& m : s.solveMany({{0.0}, {hb.Omega}}, p, 2)) {
+    EXPECT_EQ(static_cast<long long>(m.result.modes.size()), n);
+    EXPECT_NE(m.result.reason.find(note), std::string::npos) << m.result.reason;
+  }
+}
+
 TEST(HubBoom, AFreeStructureHeldToTheGroundIsRefused) {
   // The synthesis makes K exactly zero on a free structure's six rigid-body
   // coordinates (theory §11.6): a grounded spring or a support on any part

@@ -1259,6 +1259,14 @@ Teuchos::RCP<const Teuchos::ParameterList> SynthesizedStructure::validSolveParam
   return valid;
 }
 
+namespace {
+/// The request cut to the model's size is said, not silent (found by a review).
+std::string fewerCoordinatesNote(long long requested, long long n) {
+  return "; \"Number of Modes\" = " + std::to_string(requested) + " asks for more than the reduced model's " +
+         std::to_string(n) + " coordinates: all " + std::to_string(n) + " returned";
+}
+}  // namespace
+
 StructureModes SynthesizedStructure::solve(const std::vector<double>& s, const Teuchos::ParameterList& params) const {
   const auto t0 = Clock::now();
   CMS_INPUT_CHECK(!hubs_.empty(), "synthesis: the rotor '" << structure_->parts()[hubs_.front().part]->spec.name
@@ -1285,6 +1293,7 @@ StructureModes SynthesizedStructure::solve(const std::vector<double>& s, const T
     Teuchos::ParameterList dp = p.sublist("Dense Solver");
     dp.set("Number of Modes", static_cast<int>(std::min<long long>(nev, n)));
     out.result = eigen::DenseGyroscopicSolver(dp).solve(denseSystem(s));
+    if (nev > n) out.result.reason += fewerCoordinatesNote(nev, n);
   } else {
     why << "sparse (n = " << n << (solver == "Sparse" ? ", requested)" : " > Dense Limit)");
     Teuchos::ParameterList sp = p.sublist("Sparse Solver");
@@ -1352,6 +1361,7 @@ std::vector<StructureModes> SynthesizedStructure::solveMany(const std::vector<st
         const auto t0 = Clock::now();
         out[k].speeds = speeds[k];
         out[k].result = solvers[static_cast<std::size_t>(w)]->solve(denseSystem(speeds[k]));
+        if (nev > n) out[k].result.reason += fewerCoordinatesNote(nev, n);
         out[k].path = path;
         out[k].seconds = since(t0);
       }
