@@ -104,8 +104,11 @@ LowestSetCheck checkLowestSet(const std::vector<double>& omegas, int nModes, dou
   }
   const double top = omegas[nModes - 1], tol = relClusterTol * top;
   int lo = nModes - 1, hi = nModes;  // the cluster of the nModes-th: [lo, hi)
-  while (lo > 0 && top - omegas[lo - 1] <= tol) --lo;
-  while (hi < n && omegas[hi] - top <= tol) ++hi;
+  // Grown member to member: measured from the nModes-th alone, a value just
+  // past the tolerance could sit a rounding above the cluster's last member,
+  // and the cut between them within rounding of both (theory §5).
+  while (lo > 0 && omegas[lo] - omegas[lo - 1] <= tol) --lo;
+  while (hi < n && omegas[hi] - omegas[hi - 1] <= tol) ++hi;
   // Just above the cluster: 10 cluster tolerances above its top, or the
   // middle of the gap to the next known value if that is nearer. A cut
   // farther out (the middle of a wide gap, as on the dense path, which

@@ -180,6 +180,23 @@ TEST(LowestSetPolicy, CutsJustPastTheWholeClusterOfTheLastReturnedFrequency) {
   EXPECT_EQ(c.counted, 2 + 2);  // both 1s and both 2s lie below the cut just above 2
   EXPECT_NE(c.message.find("the Sturm count finds 4 frequencies below 2.00002 rad/s, the solver 3"), std::string::npos)
       << c.message;
+  // A chain: 2 (1 + 0.99999e-6) is within the tolerance of 2 and 2 (1 +
+  // 1.00001e-6) within it of that one, though not of 2. The cluster is the
+  // chain, and the cut at least half a tolerance from every known value;
+  // grown from 2 alone, it ended before the last and cut 1e-11 from both
+  // (found by a review).
+  const std::vector<double> chain{1.0, 2.0, 2.0 * (1 + 0.99999e-6), 2.0 * (1 + 1.00001e-6), 3.0};
+  const auto chainTruth = [&](double omega) {
+    at = omega;
+    SparseSturmCount s;
+    s.omega = omega, s.reliable = true;
+    s.count = std::count_if(chain.begin(), chain.end(), [&](double x) { return x < omega; });
+    return s;
+  };
+  c = checkLowestSet(chain, 2, 1e-6, chainTruth);
+  EXPECT_EQ(c.known, 4);
+  EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Confirmed) << c.message;
+  for (double x : chain) EXPECT_GE(std::abs(at - x), 0.5e-6 * x) << "the cut " << at << " near " << x;
   // An unreliable count confirms nothing and says so.
   c = checkLowestSet(w, 1, 1e-6, [](double omega) { SparseSturmCount s; s.omega = omega; s.note = "pivots"; return s; });
   EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Unreliable);
