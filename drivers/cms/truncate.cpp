@@ -83,7 +83,7 @@ int truncate(int argc, char* argv[]) {
   std::cout << "\n" << (r.reached ? "reached " : "NOT reached: ") << "max estimated relative error " << last.estimate
             << " with " << last.dofs << " coordinates";
   if (truth) std::cout << " (true error " << last.trueError << ", truth " << r.truthSize << " coordinates)";
-  if (!r.definite) std::cout << "\n(K not positive definite: no inclusion bound, not checked)";
+  if (!r.definite) std::cout << "\n(the inclusion principle was not checked at every step: it needs K > 0 and the dense Meirovitch solve in both models compared)";
   std::cout << "\nsuggested vectors:";
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
     if (r.reducible[q]) std::cout << ' ' << structure.substructure(q).name << " = " << last.vectors[q];

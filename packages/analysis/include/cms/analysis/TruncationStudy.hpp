@@ -36,7 +36,7 @@ struct TruncationStep {
 struct TruncationResult {
   std::vector<TruncationStep> steps;
   bool reached = false;
-  bool definite = false;            ///< K > 0 (the inclusion principle applies and was checked)
+  bool definite = false;            ///< K > 0 and the dense Meirovitch solve in every model compared (the inclusion principle checked at every step)
   long long truthSize = 0;          ///< coordinates of the truth ("Truth"), else 0
   std::vector<bool> reducible;      ///< per substructure: its count was searched
 };
