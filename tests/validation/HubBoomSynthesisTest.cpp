@@ -12,12 +12,15 @@
 //  (d) the error-versus-DOFs table of the basis kinds, against the copy kept
 //      in doc/bench/basis-comparison.csv.
 #include <gtest/gtest.h>
+
 #include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_Vector.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -222,28 +225,31 @@ TEST(HubBoom, AFreeStructureHeldToTheGroundIsRefused) {
   // lost its hold there and its coupling to the elastic coordinates, and the
   // six zeros still read as the free body's rigid modes. Refused, naming the
   // part and the item; before, both were accepted (found by a review).
-  auto sprung = hb.structure(true, "Full", 0);
-  auto boom = *sprung.substructures[1].model;
-  fem::SpringSet k;
-  k.name = "suspension", k.nodeSet = "end", k.stiffness = {10.0, 10.0, 10.0, 0.0, 0.0, 0.0};
-  boom.springs.push_back(k);
-  sprung.substructures[1].model = std::make_shared<fem::FiniteElementModel>(boom);
-  fixtures::expectInputError([&] { AssembledStructure::assemble(sprung, world()); },
-                             "'boom+' of a free-floating structure (Free Reference) has the grounded spring \"suspension\"");
-  auto held = hb.structure(true, "Full", 0);
-  auto tip = *held.substructures[2].model;
-  tip.fixed.push_back({"tip", "end", {}, true});
-  held.substructures[2].model = std::make_shared<fem::FiniteElementModel>(tip);
-  fixtures::expectInputError([&] { AssembledStructure::assemble(held, world()); },
-                             "'boom-' of a free-floating structure (Free Reference) fixes DOFs (\"tip\")");
+  // The free structure with one item added to a boom's model.
+  const auto freeWith = [](std::size_t boom, const std::function<void(fem::FiniteElementModel&)>& add) {
+    auto d = hb.structure(true, "Full", 0);
+    auto model = *d.substructures[boom].model;
+    add(model);
+    d.substructures[boom].model = std::make_shared<fem::FiniteElementModel>(model);
+    return d;
+  };
+  const auto spring = [](const char* name, std::array<double, 6> stiffness, std::array<double, 6> damping) {
+    fem::SpringSet k;
+    k.name = name, k.nodeSet = "end", k.stiffness = stiffness, k.damping = damping;
+    return k;
+  };
+  fixtures::expectInputError(
+      [&] {
+        AssembledStructure::assemble(freeWith(1, [&](auto& m) { m.springs.push_back(spring("suspension", {10, 10, 10, 0, 0, 0}, {})); }),
+                                     world());
+      },
+      "'boom+' of a free-floating structure (Free Reference) has the grounded spring \"suspension\"");
+  fixtures::expectInputError(
+      [&] { AssembledStructure::assemble(freeWith(2, [](auto& m) { m.fixed.push_back({"tip", "end", {}, true}); }), world()); },
+      "'boom-' of a free-floating structure (Free Reference) fixes DOFs (\"tip\")");
   // A grounded damper holds nothing still: accepted.
-  auto damped = hb.structure(true, "Full", 0);
-  auto dashpot = *damped.substructures[1].model;
-  fem::SpringSet c;
-  c.name = "dashpot", c.nodeSet = "end", c.damping = {1.0, 1.0, 1.0, 0.0, 0.0, 0.0};
-  dashpot.springs.push_back(c);
-  damped.substructures[1].model = std::make_shared<fem::FiniteElementModel>(dashpot);
-  EXPECT_NO_THROW(AssembledStructure::assemble(damped, world()));
+  EXPECT_NO_THROW(AssembledStructure::assemble(
+      freeWith(1, [&](auto& m) { m.springs.push_back(spring("dashpot", {}, {1, 1, 1, 0, 0, 0})); }), world()));
 }
 
 TEST(HubBoom, FreeReductionsConvergeToTruth) {

@@ -177,59 +177,74 @@ TEST(RotatingBlade, APrestressFactorPastTheMemoryBudgetIsNotKept) {
     EXPECT_NEAR(wo[r], wk[r], 100 * std::numeric_limits<double>::epsilon() * wk[r]) << "mode " << r;
 }
 
+namespace {
+
+/// The blade of bladeOnClampedHub on a hub spinning at 2 rad/s about +z, the
+/// blade at `bladeRate` relative to it about `bladeAxis`: its three lowest
+/// flapwise frequencies against Wright's T = 6 row, then with both speeds
+/// doubled against the T = 12 row (no re-projection). The blade's absolute
+/// rate must be 6 rad/s (5e-4: the mesh's own error on those rows).
+void expectWrightsRowsForABladeTurningAtSix(const fem::Vec3& bladeAxis, double bladeRate) {
+  auto d = bladeOnClampedHub("Full", 0);
+  d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 2.0};
+  d.substructures[1].spin->axis = bladeAxis;
+  d.substructures[1].spin->rate = bladeRate;
+  const auto a = AssembledStructure::assemble(d, world());
+  const auto s = SynthesizedStructure::synthesize(a);
+  ASSERT_EQ(a.speeds().size(), 2u);
+  const double rows[2][4] = {{1.0, 7.3604, 26.8091, 66.6840}, {2.0, 13.1702, 37.6031, 79.6145}};
+  for (const auto& row : rows) {
+    Teuchos::ParameterList p;
+    p.set("Number of Modes", 10);
+    const auto m = s.solve({2.0 * row[0], bladeRate * row[0]}, p);
+    std::vector<double> flap;
+    for (int i = 0; i < static_cast<int>(m.result.modes.size()) && flap.size() < 3; ++i)
+      if (zShare(s, m, i, 1, *a.assembled(1)) > 0.99) flap.push_back(m.result.modes[i].omega);
+    ASSERT_EQ(flap.size(), 3u);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(flap[k], row[k + 1], 5e-4 * row[k + 1]) << "scale " << row[0];
+  }
+}
+
+}  // namespace
+
 TEST(RotatingBlade, SpinsAddOnACoaxialSpinningHub) {
   // The hub's frame spins at 2 rad/s and the blade at 4 rad/s relative to it
   // about the same axis: the blade's frame turns at 6, the cross terms
-  // 2 s_C s_A of K make it so (Wright's T = 6 row); scaling both speeds by 2
-  // gives T = 12 without re-projection.
-  auto d = bladeOnClampedHub("Full", 0);
-  d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 2.0};
-  d.substructures[1].spin->rate = 4.0;
-  const auto a = AssembledStructure::assemble(d, world());
-  const auto s = SynthesizedStructure::synthesize(a);
-  ASSERT_EQ(a.speeds().size(), 2u);
-  const double rows[2][4] = {{1.0, 7.3604, 26.8091, 66.6840}, {2.0, 13.1702, 37.6031, 79.6145}};
-  for (const auto& row : rows) {
-    Teuchos::ParameterList p;
-    p.set("Number of Modes", 10);
-    const auto m = s.solve({2.0 * row[0], 4.0 * row[0]}, p);
-    std::vector<double> flap;
-    for (int i = 0; i < static_cast<int>(m.result.modes.size()) && flap.size() < 3; ++i)
-      if (zShare(s, m, i, 1, *a.assembled(1)) > 0.99) flap.push_back(m.result.modes[i].omega);
-    ASSERT_EQ(flap.size(), 3u);
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(flap[k], row[k + 1], 5e-4 * row[k + 1]) << "scale " << row[0];
-  }
+  // 2 s_C s_A of K make it so.
+  expectWrightsRowsForABladeTurningAtSix({0, 0, 1}, 4.0);
 }
 
 TEST(RotatingBlade, SpinsOppositeToTheHubSubtract) {
-  // A counter-rotating rotor: the hub's frame spins at 2 rad/s about +z and
-  // the blade at 8 rad/s relative to it about -z, so the blade turns at
-  // 2 - 8 = -6 rad/s about +z, i.e. 6 about -z: Wright's T = 6 row (flapwise
-  // frequencies do not depend on the sense), T = 12 with both speeds
-  // doubled. Before, the hub's rate was added about the blade's axis (2 + 8
-  // = 10) and the cross terms of K had the wrong sign (found by a review).
-  auto d = bladeOnClampedHub("Full", 0);
-  d.substructures[0].spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 2.0};
-  d.substructures[1].spin->axis = {0, 0, -1};
-  d.substructures[1].spin->rate = 8.0;
-  const auto a = AssembledStructure::assemble(d, world());
-  const auto s = SynthesizedStructure::synthesize(a);
-  ASSERT_EQ(a.speeds().size(), 2u);
-  const double rows[2][4] = {{1.0, 7.3604, 26.8091, 66.6840}, {2.0, 13.1702, 37.6031, 79.6145}};
-  for (const auto& row : rows) {
-    Teuchos::ParameterList p;
-    p.set("Number of Modes", 10);
-    const auto m = s.solve({2.0 * row[0], 8.0 * row[0]}, p);
-    std::vector<double> flap;
-    for (int i = 0; i < static_cast<int>(m.result.modes.size()) && flap.size() < 3; ++i)
-      if (zShare(s, m, i, 1, *a.assembled(1)) > 0.99) flap.push_back(m.result.modes[i].omega);
-    ASSERT_EQ(flap.size(), 3u);
-    // The tolerance of SpinsAddOnACoaxialSpinningHub (the same blade and mesh).
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(flap[k], row[k + 1], 5e-4 * row[k + 1]) << "scale " << row[0];
-  }
+  // A counter-rotating rotor: the blade at 8 rad/s relative to the hub about
+  // -z turns at 2 - 8 = -6 rad/s about +z, i.e. 6 about -z (flapwise
+  // frequencies do not depend on the sense). Before, the hub's rate was
+  // added about the blade's axis (2 + 8 = 10) and the cross terms of K had
+  // the wrong sign (found by a review).
+  expectWrightsRowsForABladeTurningAtSix({0, 0, -1}, 8.0);
 }
 
 namespace {
+
+/// A steel rotor (A) along x from `from` to `to`, a round section of radius
+/// r, attached at its start to its parent's "end" nodes, spinning about x at
+/// `rate` in `kind` of frame; kept Full.
+SubstructureSpec steelRotor(const std::string& name, const std::string& parent, const fem::Vec3& from,
+                            const fem::Vec3& to, int elements, double r, double rate,
+                            fem::SpinDefinition::Frame kind) {
+  const double pi = std::acos(-1.0);
+  fem::BeamSection section{pi * r * r, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 2};
+  SubstructureSpec A;
+  A.name = name;
+  A.kind = SubstructureKind::Rotating;
+  A.parent = parent;
+  A.attachment.parentNodes = "end";
+  A.attachment.childNodes = "start";
+  A.model = std::make_shared<fem::FiniteElementModel>(
+      frame(fixtures::segmentMesh(from, to, elements, 100), {2e11, 0.3, 7800}, section, name));
+  A.spin = SpinRate{{1, 0, 0}, from, rate, kind};
+  A.reduction.set("Basis", std::string("Full"));
+  return A;
+}
 
 /// A flexible support beam (C, clamped at x = -1) carrying at x = 0 either
 /// an axisymmetric shaft (A, stationary frame, to x = 2) or a wheel (R).
@@ -248,19 +263,8 @@ StructureDescription supportWith(bool wheel, double rate) {
     R.spin = SpinRate{{1, 0, 0}, {0, 0, 0}, rate};
     d.substructures.push_back(R);
   } else {
-    const double r = 0.02, pi = std::acos(-1.0);
-    fem::BeamSection shaft{pi * r * r, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 2};
-    SubstructureSpec A;
-    A.name = "shaft";
-    A.kind = SubstructureKind::Rotating;
-    A.parent = "support";
-    A.attachment.parentNodes = "end";
-    A.attachment.childNodes = "start";
-    A.model = std::make_shared<fem::FiniteElementModel>(
-        frame(fixtures::segmentMesh({0, 0, 0}, {2, 0, 0}, 10, 100), {2e11, 0.3, 7800}, shaft, "shaft"));
-    A.spin = SpinRate{{1, 0, 0}, {0, 0, 0}, rate, fem::SpinDefinition::Frame::Stationary};
-    A.reduction.set("Basis", std::string("Full"));
-    d.substructures.push_back(A);
+    d.substructures.push_back(steelRotor("shaft", "support", {0, 0, 0}, {2, 0, 0}, 10, 0.02, rate,
+                                         fem::SpinDefinition::Frame::Stationary));
   }
   return d;
 }
@@ -396,19 +400,7 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
     for (const auto kind : {fem::SpinDefinition::Frame::Stationary, fem::SpinDefinition::Frame::Rotating}) {
       auto withRotor = supportWith(false, 100.0);
       withRotor.substructures[0].spin = SpinRate{{1, 0, 0}, {0, 0, 0}, 1.0};
-      const double r = 0.01, pi = std::acos(-1.0);
-      fem::BeamSection disc{pi * r * r, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 4, pi * std::pow(r, 4) / 2};
-      SubstructureSpec A;
-      A.name = "stub";
-      A.kind = SubstructureKind::Rotating;
-      A.parent = "shaft";
-      A.attachment.parentNodes = "end";
-      A.attachment.childNodes = "start";
-      A.model = std::make_shared<fem::FiniteElementModel>(
-          frame(fixtures::segmentMesh({2, 0, 0}, {2.5, 0, 0}, 4, 100), {2e11, 0.3, 7800}, disc, "stub"));
-      A.spin = SpinRate{{1, 0, 0}, {2, 0, 0}, 50.0, kind};
-      A.reduction.set("Basis", std::string("Full"));
-      withRotor.substructures.push_back(A);
+      withRotor.substructures.push_back(steelRotor("stub", "shaft", {2, 0, 0}, {2.5, 0, 0}, 4, 0.01, 50.0, kind));
       expectInputError([&] { AssembledStructure::assemble(withRotor, comm); }, "a rotor on the spinning rotor 'shaft'");
     }
   }

@@ -152,13 +152,17 @@ TEST(LowestSetPolicy, StillDisagreeingAfterTheRecomputationIsNotComplete) {
 TEST(LowestSetPolicy, CutsJustPastTheWholeClusterOfTheLastReturnedFrequency) {
   const std::vector<double> w{1.0, 1.0, 2.0, 2.0 * (1 + 1e-9), 3.0, 3.0 * (1 + 4e-6)};
   double at = 0.0;
-  const auto truth = [&](double omega) {
-    at = omega;
-    SparseSturmCount c;
-    c.omega = omega, c.reliable = true;
-    c.count = std::count_if(w.begin(), w.end(), [&](double x) { return x < omega; });
-    return c;
+  // An exact count of `values` below omega, remembering where it was taken.
+  const auto countOf = [&](const std::vector<double>& values) {
+    return [&at, &values](double omega) {
+      at = omega;
+      SparseSturmCount c;
+      c.omega = omega, c.reliable = true;
+      c.count = std::count_if(values.begin(), values.end(), [&](double x) { return x < omega; });
+      return c;
+    };
   };
+  const auto truth = countOf(w);
   // N = 3 cuts the pair at 2: the cut is 1e-5 above its top, four expected, a note.
   LowestSetCheck c = checkLowestSet(w, 3, 1e-6, truth);
   EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Confirmed) << c.message;
@@ -186,14 +190,7 @@ TEST(LowestSetPolicy, CutsJustPastTheWholeClusterOfTheLastReturnedFrequency) {
   // grown from 2 alone, it ended before the last and cut 1e-11 from both
   // (found by a review).
   const std::vector<double> chain{1.0, 2.0, 2.0 * (1 + 0.99999e-6), 2.0 * (1 + 1.00001e-6), 3.0};
-  const auto chainTruth = [&](double omega) {
-    at = omega;
-    SparseSturmCount s;
-    s.omega = omega, s.reliable = true;
-    s.count = std::count_if(chain.begin(), chain.end(), [&](double x) { return x < omega; });
-    return s;
-  };
-  c = checkLowestSet(chain, 2, 1e-6, chainTruth);
+  c = checkLowestSet(chain, 2, 1e-6, countOf(chain));
   EXPECT_EQ(c.known, 4);
   EXPECT_EQ(c.verdict, LowestSetCheck::Verdict::Confirmed) << c.message;
   for (double x : chain) EXPECT_GE(std::abs(at - x), 0.5e-6 * x) << "the cut " << at << " near " << x;
