@@ -174,20 +174,19 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
   r.accuracySeconds = t5.seconds();
   if (options_.get<bool>("Truth")) {
     // The same periodic analysis of the truth (every basis Full), with more
-    // modes than asked; each reduced eigenvalue against the nearest truth
-    // eigenvalue (a reduced model may miss or reorder modes: an error above
-    // 1 says so, as compareWithTruth's "missing").
+    // modes than asked; the eigenvalues paired one to one, nearest first
+    // (pairEigenvalues), and the truth's left unpaired in the reduced range
+    // counted as missing.
     const auto truth = synthesis::SynthesizedStructure::synthesize(*r.structure, true);
     Teuchos::ParameterList method;
     method.set("Method", options_.get<std::string>("Periodic Method"));
     const auto t = PeriodicStructure(truth, r.speeds).solve(2 * nModes, method);
-    for (const auto& md : r.modes.result.modes) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const auto& tm : t.modes.result.modes)
-        for (const auto& b : {tm.lambda, std::conj(tm.lambda)})
-          best = std::min(best, std::abs(b) > 0 ? std::abs(md.lambda - b) / std::abs(b) : std::abs(md.lambda - b));
-      r.trueErrors.push_back(best);
-    }
+    std::vector<std::complex<double>> reducedLambda, truthLambda;
+    for (const auto& md : r.modes.result.modes) reducedLambda.push_back(md.lambda);
+    for (const auto& tm : t.modes.result.modes) truthLambda.push_back(tm.lambda);
+    const auto paired = pairEigenvalues(reducedLambda, truthLambda);
+    r.trueErrors = paired.relativeErrors;
+    r.truthMissing = paired.missing;
   }
   CMS_INPUT_CHECK(options_.get<bool>("Check Count"),
                   "Modal Analysis: \"Check Count\" (a Sturm count of the truth) needs constant coefficients; this "

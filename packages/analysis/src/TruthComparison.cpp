@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <tuple>
 
 #include <Teuchos_Array.hpp>
 #include <Tpetra_MultiVector.hpp>
@@ -173,6 +174,30 @@ std::vector<InclusionViolation> checkInclusion(const synthesis::StructureModes& 
                    (c[r].omega - f[r + k].omega) / scale});
   }
   return v;
+}
+
+EigenvaluePairing pairEigenvalues(const std::vector<std::complex<double>>& reduced,
+                                  const std::vector<std::complex<double>>& truth) {
+  // Nearest pairs first, each eigenvalue once: the nearest alone let two
+  // reduced modes take one truth mode and hid the one between them that the
+  // reduced model lacks (found by a review).
+  const auto distance = [](std::complex<double> a, std::complex<double> b) {
+    const double d = std::min(std::abs(a - b), std::abs(a - std::conj(b)));
+    return std::abs(b) > 0 ? d / std::abs(b) : d;
+  };
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+  for (std::size_t i = 0; i < reduced.size(); ++i)
+    for (std::size_t j = 0; j < truth.size(); ++j) pairs.emplace_back(distance(reduced[i], truth[j]), i, j);
+  std::stable_sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+  EigenvaluePairing out;
+  out.relativeErrors.assign(reduced.size(), std::numeric_limits<double>::infinity());
+  std::vector<bool> doneReduced(reduced.size(), false), doneTruth(truth.size(), false);
+  for (const auto& [d, i, j] : pairs)
+    if (!doneReduced[i] && !doneTruth[j]) doneReduced[i] = doneTruth[j] = true, out.relativeErrors[i] = d;
+  double top = 0.0;
+  for (const auto& l : reduced) top = std::max(top, std::abs(l));
+  for (std::size_t j = 0; j < truth.size(); ++j) out.missing += !doneTruth[j] && std::abs(truth[j]) <= top;
+  return out;
 }
 
 long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,

@@ -73,6 +73,7 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
     coverage["structure_truth_count"] = nullptr;  // asked, not countable: damped
     coverage["structure_count_note"] = "damped: the Sturm count counts undamped frequencies";
   }
+  if (r.truthMissing >= 0) coverage["truth_unpaired_in_range"] = r.truthMissing;
   o["coverage"] = coverage;
   o["solver"] = r.modes.result.solver;
   o["path"] = r.modes.path;

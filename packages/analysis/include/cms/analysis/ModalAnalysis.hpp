@@ -45,6 +45,9 @@ struct ModalResult {
   /// clamped), its rigorous bound (synthesis::ModeAccuracy, theory §11.8).
   std::vector<synthesis::ModeAccuracy> accuracy;
   std::vector<double> trueErrors;  ///< |relative error| against the truth ("Truth" only)
+  /// Truth modes within the reduced modes' range that none of them pairs
+  /// with (the periodic structure's truth comparison; -1: not compared).
+  int truthMissing = -1;
   std::vector<synthesis::SubstructureCoverage> coverage;  ///< at `cutoff` (theory §11.9)
   double cutoff = 0.0;             ///< rad/s: the highest frequency found
   long long truthCount = -2;       ///< truth frequencies below countAt; -1 unreliable, -2 not asked, -3 damped (not countable)

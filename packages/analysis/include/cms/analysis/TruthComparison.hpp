@@ -5,6 +5,7 @@
 // adjusted: a violation is a finding.
 #pragma once
 
+#include <complex>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,20 @@ std::vector<InclusionViolation> checkInclusion(const std::vector<double>& coarse
 /// each at least 10 eta kappa and 100 eps kappa. Meaningful only for K > 0.
 std::vector<InclusionViolation> checkInclusion(const synthesis::StructureModes& coarse,
                                                const synthesis::StructureModes& fine, int added);
+
+/// Reduced eigenvalues paired one to one with truth eigenvalues (or their
+/// conjugates), nearest pairs first, where no mode order or shape can be
+/// compared alike (the periodic structure's fixed-frame modes, theory
+/// §16.8). Each reduced eigenvalue gets its partner's relative distance
+/// (infinity when the truth has none left); `missing` counts the truth
+/// eigenvalues no reduced one took whose |lambda| is at most the largest
+/// reduced |lambda|: modes the reduced model lacks in its range.
+struct EigenvaluePairing {
+  std::vector<double> relativeErrors;
+  int missing = 0;
+};
+EigenvaluePairing pairEigenvalues(const std::vector<std::complex<double>>& reduced,
+                                  const std::vector<std::complex<double>>& truth);
 
 /// omega of each mode, ascending (as returned by the solvers).
 std::vector<double> frequencies(const synthesis::StructureModes& modes);
