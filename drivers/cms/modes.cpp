@@ -119,14 +119,14 @@ void printSubstructures(const analysis::ModalResult& r) {
                       : ": none missing");
   else if (r.truthCount == -1)
     std::cout << "\n  structure: the truth's count was not reliable (a frequency at the cut-off)";
+  else if (r.truthCount == -3)
+    std::cout << "\n  structure: not counted: the structure is damped, and the Sturm count counts undamped "
+                 "frequencies (theory §11.9)";
   if (r.truthMissing > 0)
     std::cout << "\n  structure: the truth has " << r.truthMissing
               << " mode(s) in the reduced modes' range that none of them pairs with: MODES MISSING";
   else if (r.truthMissing == 0)
     std::cout << "\n  structure: every truth mode in the reduced modes' range paired with one (one to one)";
-  if (r.truthCount == -3)
-    std::cout << "\n  structure: not counted: the structure is damped, and the Sturm count counts undamped "
-                 "frequencies (theory §5)";
   std::cout << '\n';
 }
 

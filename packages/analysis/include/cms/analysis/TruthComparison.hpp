@@ -96,7 +96,8 @@ std::vector<double> frequencies(const synthesis::StructureModes& modes);
 /// the assembled model, eigen::sturmCount; doc/theory.md §11.9). Valid when
 /// K >= 0 (a gyroscopically stable structure); a pivot zero to rounding
 /// (omega is a frequency) retakes it 1e-8 off omega, and -1 comes back when
-/// that fails too. Collective.
+/// that fails too; -3 for a damped structure, whose damped frequencies the
+/// count of undamped ones does not bound (not counted). Collective.
 long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
                                 double omega);
 /// The same count on a truth already synthesised (every basis Full).
