@@ -315,8 +315,14 @@ void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
     p.frame.coefficients = inherited.coefficients;
     p.frame.stressStiffening = p.spec.spin->stressStiffening;
     if (inherited.spinning) {
-      // The parent's spin is about its axis e, the rotor's frame about a =
-      // +-e (checked below): in the rotor's frame the parent's rates count
+      // Absolute spin (a . e) Omega_parent + omega about one fixed line: a
+      // steady frame only if the two axes are one line, a = +-e.
+      const double scale = std::max(1.0, norm(sub(p.point, inherited.origin)));
+      CMS_INPUT_CHECK(norm(cross(a, inherited.axis)) > 1e-9 ||
+                          norm(cross(sub(p.point, inherited.origin), inherited.axis)) > 1e-9 * scale,
+                      who(p) << ": its spin axis is not the axis of its spinning parent's frame ('"
+                             << parent->spec.name << "'): the coefficients would be periodic");
+      // The parent's rates are about e, the rotor's frame about a: they count
       // with the sign of a . e. A counter-rotating rotor (a = -e) turns at
       // s_A - s_parent about a; adding them gave s_A + s_parent, the wrong
       // Coriolis sign and cross stiffness (theory §11.1).
@@ -324,15 +330,6 @@ void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
         for (auto& c : p.frame.coefficients) c.second = -c.second;
     }
     p.frame.coefficients.push_back({p.speedParam, 1.0});
-    if (inherited.spinning) {
-      // Absolute spin (Omega_parent + omega) e about one fixed line:
-      // a steady frame only if the two axes are one line.
-      const double scale = std::max(1.0, norm(sub(p.point, inherited.origin)));
-      CMS_INPUT_CHECK(norm(cross(a, inherited.axis)) > 1e-9 ||
-                          norm(cross(sub(p.point, inherited.origin), inherited.axis)) > 1e-9 * scale,
-                      who(p) << ": its spin axis is not the axis of its spinning parent's frame ('"
-                             << parent->spec.name << "'): the coefficients would be periodic");
-    }
   }
 }
 
