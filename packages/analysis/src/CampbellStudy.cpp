@@ -331,6 +331,14 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   std::vector<EngineOrderCrossing> found;
   std::map<std::size_t, std::pair<std::size_t, int>> dominantAt;
   std::vector<eigen::GyroscopicMode> last;  // each track's mode at the previous speed
+  // A frequency at a spin rate: within the tolerance, or within what
+  // rounding can do to the eigenvalue (its split radius): a free body's
+  // frame-rate modes are a split defective cluster, ~1e-4 rad/s wide
+  // whatever the rate, so at low rates a relative test alone passed or
+  // failed by the BLAS kernel's rounding.
+  const auto atRate = [&](double omega, double split, double rate) {
+    return std::abs(omega - rate) <= frameTol * rate + split;
+  };
   auto rateLike = [&](const CampbellTrack& tr) {  // equals a spin rate at every step so far
     for (std::size_t p = 0; p < r.parameters.size(); ++p) {
       double top = 0.0;  // over the speeds tracked so far (the grid is solved ahead)
@@ -338,13 +346,8 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       if (top == 0.0) continue;
       bool all = true;
       for (std::size_t k = 0; k < tr.omega.size() && all; ++k) {
-        const double rate = std::abs(r.speeds[k][p]);
-        // Within the tolerance, or within what rounding can do to this
-        // eigenvalue: a free body's frame-rate modes are a split defective
-        // cluster, ~1e-4 rad/s wide whatever the rate, so at low rates a
-        // relative test alone passed or failed by the BLAS kernel's rounding.
-        const double split = tr.splitRadius[k];
-        all = !tr.lost[k] && (rate > 0.0 ? std::abs(tr.omega[k] - rate) <= frameTol * rate + split
+        const double rate = std::abs(r.speeds[k][p]), split = tr.splitRadius[k];
+        all = !tr.lost[k] && (rate > 0.0 ? atRate(tr.omega[k], split, rate)
                                          : zeroFrequency(tr.stability[k]) || tr.omega[k] <= frameTol * top + split);
       }
       if (all) return static_cast<int>(p);
@@ -422,7 +425,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     const auto rigidLike = [&](const eigen::GyroscopicMode& m, std::size_t step) {
       if (zeroFrequency(m.stability)) return true;
       for (const double rate : r.speeds[step])
-        if (rate != 0.0 && std::abs(m.omega - std::abs(rate)) <= frameTol * std::abs(rate) + m.splitRadius) return true;
+        if (rate != 0.0 && atRate(m.omega, m.splitRadius, std::abs(rate))) return true;
       return false;
     };
     const auto accept = [&](int t, int j) {
