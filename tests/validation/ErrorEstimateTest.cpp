@@ -174,6 +174,33 @@ TEST(Coverage, TruthSturmCountMatchesTheTruthSolve) {
   }
 }
 
+// The count's premise is K(Omega) >= 0 (theory §11.9): past it, Q(w)'s
+// eigenvalues no longer all fall as w rises through a frequency, and the
+// inertia is no count of frequencies. The free hub-boom spinning has K
+// indefinite (its rigid in-plane translations softened by -Omega^2 m): not
+// counted (-4), where it once returned a number. At rest the same free
+// structure's K is only singular (rigid modes at zero frequency), which
+// the count handles: it must not be refused there.
+TEST(Coverage, TruthSturmCountIsNotMadeWhenKIsIndefinite) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto structure = AssembledStructure::assemble(hb.structure(true, "Full", 0), comm);
+  const auto truth = SynthesizedStructure::synthesize(structure, true);
+  EXPECT_EQ(analysis::truthFrequenciesBelow(truth, {hb.Omega}, 50.0), -4);
+  Teuchos::ParameterList p;
+  p.set("Number of Modes", 16);
+  const auto t = truth.solve({0.0}, p);
+  std::vector<double> w;
+  for (const auto& m : t.result.modes) w.push_back(m.omega);
+  int checked = 0;
+  for (std::size_t j = 0; j + 1 < w.size(); ++j) {
+    if (w[j + 1] - w[j] < 1e-6 * w[j + 1] || w[j + 1] < 1e-3) continue;  // a (near) repeated or rigid pair
+    const double cut = 0.5 * (w[j] + w[j + 1]);
+    EXPECT_EQ(analysis::truthFrequenciesBelow(truth, {0.0}, cut), static_cast<long long>(j + 1)) << "cut " << cut;
+    ++checked;
+  }
+  EXPECT_GT(checked, 4);
+}
+
 // The rigorous bounds of the symmetric positive definite case (theory
 // §11.8): at rest, clamped, point attachments, the estimates' eps^2 is the
 // truth's own K^-1 norm of the residual. Krylov-Bogoliubov (no gap) puts

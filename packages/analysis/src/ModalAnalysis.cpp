@@ -128,7 +128,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
   // below just above the highest reduced one; more means modes missing.
   r.countAt = r.cutoff * (1.0 + 1e-6);
   if (options_.get<bool>("Check Count")) {
-    r.truthCount = truthFrequenciesBelow(*truthModel, r.speeds, r.countAt);  // -3: damped, not counted
+    r.truthCount = truthFrequenciesBelow(*truthModel, r.speeds, r.countAt);  // -3 damped, -4 K indefinite: not counted
     for (const auto& md : r.modes.result.modes) r.reducedCount += md.omega < r.countAt;
   }
 

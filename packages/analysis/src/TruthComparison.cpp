@@ -12,6 +12,8 @@
 #include <Tpetra_Vector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/MatrixSum.hpp"
+#include "cms/core/SparseInertia.hpp"
 #include "cms/eigen/SturmCount.hpp"
 #include <Tpetra_CrsMatrix.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
@@ -215,6 +217,29 @@ long long truthFrequenciesBelow(const synthesis::SynthesizedStructure& truth, co
   // mode (found by a review): not counted.
   const auto sys = truth.system(speeds);
   if (!sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0) return -3;
+  // The count's premise, K(Omega) >= 0: with it every eigenvalue of Q(w)
+  // falls as w rises through a frequency (dQ/dw = -2wM + iG is negative on
+  // each mode of a gyroscopically stable structure), so the inertia counts
+  // frequencies. A free body in a spinning frame, or a rotor past a
+  // divergence speed, has K indefinite: modes of the other sign lower the
+  // count as w passes them, and a number would be no count (found by a
+  // review; the spacecraft printed "none missing"). Tested as the inertia of
+  // K + sigma M, sigma = 1e-4 w^2: rigid modes (K singular, zero
+  // frequencies, which the count handles) shift to +sigma. A pivot within
+  // the inertia's zero-pivot guard (1e-12 of the largest diagonal, ~5e3
+  // eps) is read neither way: with K >= 0 the matrix is positive definite
+  // and its L D L^T without pivoting has no growth (as Cholesky), so
+  // rounding cannot make a pivot negative beyond the guard; the free
+  // hub-boom at rest, its stiff hub's axial stiffness the largest diagonal,
+  // puts a rigid mode's pivot inside it for cuts up to ~36 rad/s. A
+  // negative stiffness within sigma (an imaginary frequency below 1% of the
+  // cut), or whose pivot falls within the guard, is below what this resolves.
+  if (std::isfinite(omega) && omega > 0.0) {  // else sturmCount refuses the request
+    const auto shifted =
+        inertia(Teuchos::RCP<const CrsMatrix>(matrixSum(1.0, *sys.K, 1e-4 * omega * omega, *sys.M)));
+    if (!shifted.failure.empty()) return -1;
+    if (shifted.negative > 0) return -4;
+  }
   const auto count = eigen::sturmCount(sys, omega);
   return count.reliable ? count.count : -1;
 }

@@ -72,6 +72,9 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
   } else if (r.truthCount == -3) {
     coverage["structure_truth_count"] = nullptr;  // asked, not countable: damped
     coverage["structure_count_note"] = "damped: the Sturm count counts undamped frequencies";
+  } else if (r.truthCount == -4) {
+    coverage["structure_truth_count"] = nullptr;  // asked, not countable: K(Omega) indefinite
+    coverage["structure_count_note"] = "K(Omega) not positive semidefinite: the Sturm count is no count of frequencies";
   }
   if (r.truthMissing >= 0) coverage["truth_unpaired_in_range"] = r.truthMissing;
   o["coverage"] = coverage;

@@ -50,7 +50,7 @@ struct ModalResult {
   int truthMissing = -1;
   std::vector<synthesis::SubstructureCoverage> coverage;  ///< at `cutoff` (theory §11.9)
   double cutoff = 0.0;             ///< rad/s: the highest frequency found
-  long long truthCount = -2;       ///< truth frequencies below countAt; -1 unreliable, -2 not asked, -3 damped (not countable: truthFrequenciesBelow)
+  long long truthCount = -2;       ///< truth frequencies below countAt; -1 unreliable, -2 not asked, -3 damped, -4 K(Omega) indefinite (not countable: truthFrequenciesBelow)
   long long reducedCount = 0;      ///< reduced frequencies below countAt
   double countAt = 0.0;            ///< rad/s
   std::vector<std::vector<std::string>> whirls;  ///< per mode: "<substructure> FW|BW|-"

@@ -97,7 +97,10 @@ std::vector<double> frequencies(const synthesis::StructureModes& modes);
 /// K >= 0 (a gyroscopically stable structure); a pivot zero to rounding
 /// (omega is a frequency) retakes it 1e-8 off omega, and -1 comes back when
 /// that fails too; -3 for a damped structure, whose damped frequencies the
-/// count of undamped ones does not bound (not counted). Collective.
+/// count of undamped ones does not bound (not counted); -4 when K(Omega) is
+/// not positive semidefinite (an eigenvalue of (K, M) below -1e-4 omega^2:
+/// a free body spinning, a rotor past divergence), where the inertia is no
+/// count of frequencies (not counted). Collective.
 long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, const std::vector<double>& speeds,
                                 double omega);
 /// The same count on a truth already synthesised (every basis Full).
