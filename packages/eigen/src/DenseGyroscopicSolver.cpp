@@ -452,9 +452,11 @@ public:
 /// (doc/theory.md, "General"; the damped pencil, §13). With `standard`, M
 /// must be I and B is then the identity: LAPACK dgeev (Hessenberg QR, shifts
 /// of its own) solves A x = lambda x instead, the last resort when dggev's QZ
-/// failed on the pencil in both coordinates.
+/// failed on the pencil in both coordinates. `unreturned` receives the
+/// eigenvalues (Im >= 0) past the nModes returned, for the stability
+/// verdict's mirror test (classifyModes).
 std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale,
-                                         bool standard = false) {
+                                         std::vector<cplx>& unreturned, bool standard = false) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
   const bool damped = sys.damped();
@@ -541,13 +543,31 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   std::sort(upper.begin(), upper.end(), [](const Cand& a, const Cand& b) {
     return std::abs(a.lambda) < std::abs(b.lambda);
   });
+  // Flutter of a conservative system is a quadruple: a + ib and -a + ib
+  // have the same |lambda|, so the count can cut between them, and rounding
+  // picks the survivor. The growing member is returned (a decaying one alone
+  // would leave the system "stable"), and the rest go to `unreturned`, where
+  // the verdict finds its mirror (found by a review: a growing member
+  // without its returned mirror was called stable).
+  const int kept = std::min(nModes, static_cast<int>(upper.size()));
+  if (!damped)
+    for (int k = 0; k < kept; ++k) {
+      if (!(upper[k].lambda.real() < 0.0)) continue;
+      for (std::size_t j = kept; j < upper.size(); ++j)
+        if (std::abs(upper[j].lambda + std::conj(upper[k].lambda)) <= 0.5 * std::abs(upper[k].lambda.real())) {
+          std::swap(upper[k], upper[j]);
+          break;
+        }
+    }
   std::vector<GyroscopicMode> modes;
-  for (int k = 0; k < nModes && k < static_cast<int>(upper.size()); ++k) {
+  for (int k = 0; k < kept; ++k) {
     GyroscopicMode m;
     m.lambda = upper[k].lambda * scale;
     m.q = std::move(upper[k].q);
     modes.push_back(std::move(m));
   }
+  unreturned.clear();
+  for (std::size_t j = kept; j < upper.size(); ++j) unreturned.push_back(upper[j].lambda * scale);
   return modes;
 }
 
@@ -611,7 +631,8 @@ bool centredAtZero(const std::vector<std::complex<double>>& members) {
 }  // namespace
 
 void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
-                   double instabilityTol, bool conservative, bool completeShapes) {
+                   double instabilityTol, bool conservative, bool completeShapes,
+                   const std::vector<std::complex<double>>& unreturned) {
   if (!conservative) {
     // A damped (or circulatory) system: no Hamiltonian mirrors, so no
     // rounding argument keeps an eigenvalue on the axis. The verdict is the
@@ -693,6 +714,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // Only for values off the axis: a structure-preserving solver (the
     // Meirovitch path, K > 0) returns exactly imaginary, semisimple ones.
     int near2 = 0, near3 = 0;  // other off-axis values within the k = 2 and k = 3 splittings
+    for (cplx o : unreturned) partner = partner || std::abs(o + std::conj(m.lambda)) <= 0.5 * std::abs(m.lambda.real());
     for (const auto& o : modes) {
       if (&o == &m) continue;
       partner = partner || std::abs(o.lambda + std::conj(m.lambda)) <= 0.5 * std::abs(m.lambda.real());
@@ -722,7 +744,8 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
 }
 
 void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
-                        double rigidBodyTol, double instabilityTol, bool ownScales) {
+                        double rigidBodyTol, double instabilityTol, bool ownScales,
+                        const std::vector<std::complex<double>>& unreturned) {
   const int n = sys.size(), k = static_cast<int>(modes.size());
   if (k == 0) return;
   // A damped system's residual is that of lambda^2 M + lambda (G + D) + K + N:
@@ -790,7 +813,7 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
     for (int i = 0; i < n; ++i) aKa += Qa(i, j) * KQa(i, j), aGa += Qa(i, j) * GQa(i, j);
     m.scale = ownScales && qMq > 0.0 ? std::sqrt(aKa / qMq) + aGa / qMq : 0.0;
   }
-  classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true);
+  classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParameters() {
@@ -837,6 +860,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   const GyroscopicSystem sys = input.symmetrised();
   const int n = sys.size();
   const int nModes = requestedCount(params_, n);
+  std::vector<cplx> unreturned;  // the general path's eigenvalues past the returned ones (classifyModes)
   const std::string method = params_.get<std::string>("Method");
   const double rigidTol = params_.get<double>("Rigid Body Tolerance");
   const double instabTol = params_.get<double>("Instability Tolerance");
@@ -908,14 +932,14 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       bool qr = params_.get<std::string>("General Eigensolver") == "Hessenberg QR";
       if (!qr) {
         try {
-          result.modes = generalModes(c, every ? 2 * n : nModes, scale);
+          result.modes = generalModes(c, every ? 2 * n : nModes, scale, unreturned);
         } catch (const QzFailure& e) {
           qr = true;
           how = std::string("; there too ") + e.what() +
                 ": solved by LAPACK dgeev (Hessenberg QR) on the standard problem, B = I";
         }
       }
-      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, /*standard=*/true);
+      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, unreturned, /*standard=*/true);
       std::vector<double> re(n), im(n);
       for (auto& m : result.modes) {
         for (int i = 0; i < n; ++i) re[i] = m.q[i].real(), im[i] = m.q[i].imag();
@@ -938,7 +962,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       also("requested in the coordinates with M = I");
     } else {
       try {
-        result.modes = generalModes(sys, every ? 2 * n : nModes, scale);
+        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, unreturned);
       } catch (const InfiniteEigenvalue&) {
         solveCongruent(how);
         also("dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
@@ -957,7 +981,8 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // an SVD: the low modes come from the largest singular values); dggev's
   // accuracy is normwise, so its modes are judged on the system's scale
   // (theory §4.3).
-  completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0);
+  completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0,
+                     unreturned);
   if (static_cast<int>(result.modes.size()) != result.numRequested) result.status = SolveStatus::NumericalIssue;
   return result;
 }

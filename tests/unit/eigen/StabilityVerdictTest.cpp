@@ -7,6 +7,9 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
@@ -69,6 +72,35 @@ TEST(StabilityVerdict, RealDivergenceStaysFlagged) {
       }
     EXPECT_TRUE(found) << "Omega " << Omega;
     EXPECT_FALSE(r.isStable());
+  }
+}
+
+// Flutter of a conservative system is a quadruple a +/- ib, -a +/- ib: the
+// two with Im > 0 have the same |lambda|, so "Number of Modes" can cut
+// between them, and which one survives the cut is rounding's choice. M = I,
+// G = g J, K = -k I: (lambda^2 - k)^2 + g^2 lambda^2 = 0, flutter for
+// 4k > g^2 with growth a = sqrt(4k - g^2) / 2 and |lambda| = sqrt(k). Asked
+// for one mode, the solver must return the growing one and flag it (before,
+// a growing member without its returned mirror was called "stable", and a
+// decaying one left the system "stable"; found by a review).
+TEST(StabilityVerdict, FlutterStaysFlaggedWhenTheCountSplitsItsPair) {
+  for (const auto& [g, k] : std::vector<std::pair<double, double>>{{1.0, 1.0}, {0.5, 2.0}, {3.0, 2.5}, {1e-2, 1e2}}) {
+    GyroscopicSystem s{DenseMatrix(2, 2), DenseMatrix(2, 2), DenseMatrix(2, 2)};
+    s.M(0, 0) = s.M(1, 1) = 1.0;
+    s.G(0, 1) = -g, s.G(1, 0) = g;
+    s.K(0, 0) = s.K(1, 1) = -k;
+    const double a = std::sqrt(4.0 * k - g * g) / 2.0;
+    for (const std::string coordinates : {"Given", "Mass Congruent"}) {
+      Teuchos::ParameterList p;
+      p.set("Method", "General");
+      p.set("General Coordinates", coordinates);
+      p.set("Number of Modes", 1);
+      const GyroscopicResult r = DenseGyroscopicSolver(p).solve(s);
+      ASSERT_EQ(r.modes.size(), 1u);
+      EXPECT_EQ(r.modes[0].stability, Stability::Flutter) << "g " << g << " k " << k << " " << coordinates;
+      EXPECT_NEAR(r.modes[0].growthRate, a, 1e-8 * std::sqrt(k)) << "g " << g << " k " << k;
+      EXPECT_FALSE(r.isStable()) << "g " << g << " k " << k << " " << coordinates;
+    }
   }
 }
 

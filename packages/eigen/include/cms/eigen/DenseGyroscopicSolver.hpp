@@ -41,8 +41,11 @@ public:
 /// `ownScales`: set GyroscopicMode::scale (for a solver whose accuracy is
 /// componentwise per mode, e.g. Meirovitch's); otherwise 0, and the modes are
 /// judged on the system's normwise scale.
+/// `unreturned`: the solve's eigenvalues (Im >= 0) past those returned, for
+/// classifyModes' mirror test.
 void completeDenseModes(const GyroscopicSystem& system, std::vector<GyroscopicMode>& modes,
-                        double rigidBodyTol, double instabilityTol, bool ownScales = false);
+                        double rigidBodyTol, double instabilityTol, bool ownScales = false,
+                        const std::vector<std::complex<double>>& unreturned = {});
 
 /// The frequency scale sqrt(||K||/||M||) + ||G||/||M|| that the rigid-body and
 /// instability tolerances are relative to.
@@ -68,9 +71,12 @@ Stability classify(std::complex<double> lambda, double scale, double rigidBodyTo
 /// a cluster of k >= 3 values counts as a split defective eigenvalue only
 /// when two of them have nearly parallel shapes (theory §4); false for
 /// distributed shapes (the sparse path), which cannot be compared alike on
-/// every rank.
+/// every rank. `unreturned`: eigenvalues the solve found past the returned
+/// modes (the count can cut a flutter quadruple's a + ib from its mirror
+/// -a + ib, of equal |lambda|); a growing mode's mirror among them counts.
 void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigidBodyTol,
-                   double instabilityTol, bool conservative = true, bool completeShapes = false);
+                   double instabilityTol, bool conservative = true, bool completeShapes = false,
+                   const std::vector<std::complex<double>>& unreturned = {});
 
 /// dampingRatio and logDecrement of a mode from its lambda.
 void setDamping(GyroscopicMode& mode);
