@@ -13,6 +13,10 @@
 #include <type_traits>
 #include <vector>
 
+#include <spawn.h>
+#include <unistd.h>
+#include <sys/wait.h>
+
 #include "DataDirectory.hpp"
 #include "cms/core/Error.hpp"
 
@@ -54,9 +58,13 @@ inline std::vector<int> positiveIntegers(const std::string& text, const char* op
 
 #ifdef CMS_PYTHON
 /// drivers/plot_results.py `kind` on `csv`, a PNG beside it (`extra`: the
-/// script's own options); says what it did. With CMS_PYTHON only (the
-/// drivers' CMakeLists.txt defines it for the programs that plot).
-inline void plotCsv(const std::string& kind, const std::filesystem::path& csv, const std::string& extra = "") {
+/// script's own options, one argument each); says what it did. With
+/// CMS_PYTHON only (the drivers' CMakeLists.txt defines it for the programs
+/// that plot). The script is started with its arguments as an argument
+/// vector, never through a shell: a scene's Name or an output directory
+/// holding a quote once ran as shell commands (found by a review).
+inline void plotCsv(const std::string& kind, const std::filesystem::path& csv,
+                    const std::vector<std::string>& extra = {}) {
   const auto png = std::filesystem::path(csv).replace_extension(".png");
   std::string script;
   try {
@@ -65,13 +73,21 @@ inline void plotCsv(const std::string& kind, const std::filesystem::path& csv, c
     std::cout << "no plot: " << e.what() << '\n';
     return;
   }
-  const std::string cmd = std::string(CMS_PYTHON) + " '" + script + "' " + kind + " '" + csv.string() + "' '" +
-                          png.string() + "'" + (extra.empty() ? "" : " " + extra);
-  if (std::system(cmd.c_str()) == 0)
+  std::vector<std::string> args{CMS_PYTHON, script, kind, csv.string(), png.string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::cout.flush();  // the script's output after ours
+  pid_t pid = 0;
+  int status = 0;
+  const bool ran = posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) == 0 &&
+                   waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (ran)
     std::cout << "plotted " << png.string() << '\n';
   else
-    std::cout << "no plot: " << cmd << " failed (plots need Debian's python3-matplotlib: "
-              << "apt-get install python3-matplotlib)\n";
+    std::cout << "no plot: " << CMS_PYTHON << " " << script << " " << kind << " failed (plots need Debian's "
+              << "python3-matplotlib: apt-get install python3-matplotlib)\n";
 }
 #endif
 

@@ -160,7 +160,7 @@ void removeCreatedOutputIfEmpty() {
 std::string defaultScene() { return drivers::dataFile("scenes/spacecraft.yaml").string(); }
 
 void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv,
-          const std::string& extra) {
+          const std::vector<std::string>& extra) {
   if (options.plot()) plotCsv(kind, csv, extra);
 }
 

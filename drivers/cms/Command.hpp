@@ -81,9 +81,10 @@ void removeCreatedOutputIfEmpty();
 std::string defaultScene();
 
 /// --plot: drivers/plot_results.py `kind` on `csv`, writing a PNG beside it
-/// (`extra`: the script's own options, e.g. "--orders=1,2 --axis=hz").
+/// (`extra`: the script's own options, one argument each, e.g.
+/// {"--orders=1,2", "--axis=hz"}).
 void plot(const Options& options, const std::string& kind, const std::filesystem::path& csv,
-          const std::string& extra = "");
+          const std::vector<std::string>& extra = {});
 
 /// "[t s] " for progress lines.
 std::string stamp(double seconds);

@@ -105,7 +105,7 @@ int campbell(int argc, char* argv[]) {
   f.commit();
   g.commit();
   std::cout << "\nwrote " << csv.string() << " and " << crossings.filename().string() << '\n';
-  plot(options, "campbell", csv, "--orders=" + ordersText + " --axis=" + axisText);
+  plot(options, "campbell", csv, {"--orders=" + ordersText, "--axis=" + axisText});
   return ExitSuccess;
 }
 
