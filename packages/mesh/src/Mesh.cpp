@@ -91,9 +91,32 @@ int cellNodeCount(CellType type) {
   return 0;
 }
 
+namespace {
+/// The groups named `name` of dimension 0 and above 0. Two above 0 (a
+/// Gmsh Physical Curve and Physical Surface of one name) are refused: which
+/// one a node or element set meant cannot be told, and taking the first
+/// silently clamped a root face's perimeter only (found by a review).
+std::pair<const PhysicalGroup*, const PhysicalGroup*> namedGroups(const Mesh& mesh, const std::string& name) {
+  const PhysicalGroup *points = nullptr, *cells = nullptr;
+  for (const PhysicalGroup& g : mesh.groups) {
+    if (g.name != name) continue;
+    if (g.dim == 0) {
+      if (!points) points = &g;
+      continue;
+    }
+    CMS_INPUT_CHECK(cells, mesh.source << ": the name \"" << name << "\" is given to groups of dimensions "
+                                       << cells->dim << " and " << g.dim << " (tags " << cells->tag << " and "
+                                       << g.tag << "): which one a set means cannot be told; rename one");
+    cells = &g;
+  }
+  return {points, cells};
+}
+}  // namespace
+
 const PhysicalGroup& Mesh::group(const std::string& name) const {
-  for (const PhysicalGroup& g : groups)
-    if (g.name == name) return g;
+  const auto [points, cells] = namedGroups(*this, name);
+  if (cells) return *cells;
+  if (points) return *points;
   std::string available;
   for (const PhysicalGroup& g : groups) available += (available.empty() ? "\"" : ", \"") + g.name + "\"";
   throw InputError(source + ": no physical group named \"" + name + "\" (the mesh has " +
@@ -106,9 +129,7 @@ bool Mesh::hasGroup(const std::string& name) const {
 }
 
 std::vector<std::int64_t> Mesh::nodeSet(const std::string& name) const {
-  const PhysicalGroup* nodeGroup = nullptr;
-  for (const PhysicalGroup& g : groups)
-    if (g.name == name && g.dim == 0 && !nodeGroup) nodeGroup = &g;
+  const PhysicalGroup* nodeGroup = namedGroups(*this, name).first;
   const PhysicalGroup& g = nodeGroup ? *nodeGroup : group(name);
   std::vector<std::int64_t> nodes;
   for (const CellBlock& b : g.blocks) nodes.insert(nodes.end(), b.nodes.begin(), b.nodes.end());

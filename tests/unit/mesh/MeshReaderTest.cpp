@@ -488,6 +488,30 @@ TEST(MeshReaderErrors, DuplicatePhysicalNames) {
   EXPECT_EQ(m.groups.size(), 2u);
 }
 
+// One name on groups of two dimensions above 0 (a Physical Curve and a
+// Physical Surface "root"): a node set took the first silently, the
+// curve's nodes, and a clamped root face was clamped on its perimeter only
+// (found by a review: 16.704 Hz for 16.776). Refused, naming both
+// dimensions; a name on a point group and one above it (an .inp deck's
+// *NSET and *ELSET) stays two sets: the node set is the point group's.
+TEST(MeshReaderErrors, ANameOnGroupsOfTwoDimensionsAboveZeroIsRefused) {
+  TempDir dir("cms_mesh_test");
+  const Mesh line = cms::mesh::readGmsh(dir.write("line.msh", kLine41));
+  Mesh m = line;
+  m.source = "two.msh";
+  cms::mesh::PhysicalGroup curve = m.group("beam");
+  curve.name = "root", curve.dim = 1, curve.tag = 7;
+  m.groups.push_back(curve);
+  cms::mesh::PhysicalGroup surface = curve;
+  surface.dim = 2, surface.tag = 9;
+  m.groups.push_back(surface);
+  expectInputErrorWith([&] { m.nodeSet("root"); }, {"two.msh", "\"root\"", "dimensions 1 and 2", "tags 7 and 9"});
+  expectInputErrorWith([&] { m.group("root"); }, {"two.msh", "\"root\"", "dimensions 1 and 2"});
+  m.groups.pop_back();  // the point "root" and the curve "root": two sets
+  EXPECT_EQ(m.nodeSet("root"), line.nodeSet("root"));
+  EXPECT_EQ(m.group("root").dim, 1);
+}
+
 // A group without a name is called "dim:tag"; a group named so explicitly
 // collides with it. The structure check cannot see this (the name is made
 // later), so each reader refuses it, naming both tags: the curve here is in

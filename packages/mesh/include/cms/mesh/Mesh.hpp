@@ -87,8 +87,10 @@ struct Mesh {
   std::size_t nodeCount() const { return nodeTags.size(); }
   const double* x(std::int64_t node) const { return &coordinates[3 * node]; }
 
-  /// The group of that name; throws cms::InputError naming the file, the
-  /// missing name and the names available.
+  /// The group of that name, the one above dimension 0 where a node set
+  /// (dimension 0) shares it; throws cms::InputError naming the file, the
+  /// missing name and the names available, or the dimensions of two groups
+  /// above 0 that share the name (which one is meant cannot be told).
   const PhysicalGroup& group(const std::string& name) const;
   bool hasGroup(const std::string& name) const;
   /// Sorted, unique node indices of every cell of the group (a node set).
