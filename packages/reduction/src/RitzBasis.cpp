@@ -196,12 +196,25 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                   "Scene/Substructures/" << s.name() << "/Reduction/Cutoff Frequency = " << cutoffHz
                                          << " must be finite and >= 0 (Hz)");
   int below = -1;  // the substructure's own modes below the cut-off (held as the basis holds them)
+  int freedConstraints = 0;  // distributing interfaces' constraints the count leaves free
   // (Partitioned applies the cut-off per part and to the interface: no
   // count over the whole substructure, whose factorisation it avoids.)
   if (cutoffHz > 0.0 && kind != "Full" && kind != "Guyan" && kind != "Partitioned") {
     std::vector<GlobalOrdinal> held(boundary.held);
-    if (kind == "Craig-Bampton")  // fixed-interface modes: the children's interfaces held too
-      for (const auto& rows : boundary.interfaces) held.insert(held.end(), rows.begin(), rows.end());
+    if (kind == "Craig-Bampton") {
+      // Fixed-interface modes: the point interfaces held too, and a
+      // distributing interface constrained by H u = 0 (its 6 fitted
+      // coordinates), not held row by row. Holding its rows counted a more
+      // constrained problem with fewer modes below the cut-off, and the
+      // basis took too few (found by a review). Its rows are left free in
+      // the count: H u = 0 removes m directions, so the constrained problem
+      // has between count - m and count modes below (interlacing), never
+      // more; the basis takes `count`, at most m more than needed.
+      held = craigBamptonHeldRows(boundary);
+      for (std::size_t c = 0; c < boundary.interfaces.size() && c < boundary.interfaceLoads.size(); ++c)
+        if (boundary.interfaceLoads[c].size() < boundary.interfaces[c].size())
+          freedConstraints += static_cast<int>(boundary.interfaceLoads[c].size());
+    }
     const double w = 2.0 * M_PI * cutoffHz;
     Teuchos::RCP<const CrsMatrix> A =
         matrixSum(1.0, *holdDofsScaled(*s.K(), held), -w * w, *holdDofs(*s.M(), held, 0.0));
@@ -280,8 +293,10 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
   basis.adoptedFactor = offered.adopted();
   if (below >= 0) {
     std::ostringstream os;
-    os << "cut-off " << cutoffHz << " Hz: " << below << " of its modes below it (Sturm count), " << basis.size()
-       << " vectors";
+    os << "cut-off " << cutoffHz << " Hz: " << below << " of its modes below it (Sturm count";
+    if (freedConstraints > 0)
+      os << " with its distributing interfaces free: up to " << freedConstraints << " fewer under their constraints";
+    os << "), " << basis.size() << " vectors";
     basis.eigensolverReport += (basis.eigensolverReport.empty() ? "" : "; ") + os.str();
   }
   basis.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -298,6 +298,49 @@ TEST(RitzBasis, ConstrainedModesAreThoseOfAProppedBeam) {
   }
 }
 
+// "Cutoff Frequency" on a Craig-Bampton basis whose child attaches through
+// a distributing interface (here H u = u_y at the cantilever's tip, as in
+// the test above): its fixed-interface modes are those under H u = 0, and
+// the cut-off's Sturm count must not count a more constrained problem. It
+// held every tip row (clamped-clamped, the softer bending at 22.37 soft =
+// 285 rad/s), found no mode below 250 rad/s and took none, where the
+// constrained problem has two (the stiff cantilever bending at 77.5 rad/s
+// and the propped soft one at 196; found by a review). The count holds the
+// point rows only (the distributing rows free: at most one more mode per
+// constraint, never fewer), and the basis carries both modes.
+TEST(RitzBasis, CraigBamptonCutoffCountsTheConstrainedModesOfADistributingInterface) {
+  const double soft = std::sqrt(7e10 * 1e-7 / (2700 * 1e-3 * 16.0));
+  const double stiff = std::sqrt(7e10 * 3e-7 / (2700 * 1e-3 * 16.0));
+  const double propped = 3.9266023120 * 3.9266023120 * soft;
+  const double cantileverStiff = 1.8751040687 * 1.8751040687 * stiff;
+  auto c = cantilever(false, 16);
+  const auto& t = c.sub.dofs();
+  std::int64_t tip = 0;
+  for (std::size_t nd = 0; nd < t.nodes(); ++nd)
+    if (t.coordinates[3 * nd] > t.coordinates[3 * tip]) tip = static_cast<std::int64_t>(nd);
+  std::vector<GlobalOrdinal> tipRows;
+  for (int comp = 0; comp < 6; ++comp) tipRows.push_back(t.row(tip, static_cast<fem::Component>(comp)));
+  c.boundary.interfaces.push_back(tipRows);
+  c.boundary.interfaceLoads.push_back({{{t.row(tip, fem::Component::UY), 1.0}}});
+  auto p = params("Craig-Bampton", 0);
+  p.set("Cutoff Frequency", 250.0 / (2 * M_PI));
+  const auto b = buildRitzBasis(c.sub, c.boundary, p);
+  const auto modes = std::count_if(b.labels.begin(), b.labels.end(),
+                                   [](const std::string& l) { return l.rfind("mode ", 0) == 0; });
+  EXPECT_GE(modes, 2) << b.eigensolverReport;
+  // The fixed-interface modes' own frequencies, from their labels ("mode 1
+  // (12.3 Hz)"): the constrained problem's (the basis's Rayleigh-Ritz values
+  // would include the constraint mode's tip motion).
+  std::vector<double> w;
+  for (const auto& l : b.labels)
+    if (l.rfind("mode ", 0) == 0) w.push_back(2 * M_PI * std::stod(l.substr(l.find('(') + 1)));
+  auto near = [&](double target) {  // rotary inertia: 1e-3, as above
+    return std::any_of(w.begin(), w.end(), [&](double x) { return std::abs(x / target - 1) < 1e-3; });
+  };
+  EXPECT_TRUE(near(cantileverStiff)) << b.eigensolverReport;
+  EXPECT_TRUE(near(propped)) << b.eigensolverReport;
+}
+
 TEST(RitzBasis, BadParametersNameTheKey) {
   const auto c = cantilever();
   fixtures::expectInputError([&] { buildRitzBasis(c.sub, c.boundary, params("Admissible", 97)); }, "only 96 free DOFs");
