@@ -4,8 +4,12 @@
 // DataDirectory.hpp: the drivers are programs, not a library.
 #pragma once
 
+#include <cerrno>
 #include <cmath>
+#include <climits>
 #include <cstdlib>
+#include <functional>
+#include <memory>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -16,6 +20,8 @@
 #include <spawn.h>
 #include <unistd.h>
 #include <sys/wait.h>
+
+#include <Teuchos_CommandLineProcessor.hpp>
 
 #include "DataDirectory.hpp"
 #include "cms/core/Error.hpp"
@@ -55,6 +61,55 @@ inline std::vector<double> positiveNumbers(const std::string& text, const char* 
 inline std::vector<int> positiveIntegers(const std::string& text, const char* option) {
   return positiveList<int>(text, option);
 }
+
+/// Numeric options read as text and converted whole once the command line
+/// is parsed. Teuchos' own int and double options read the leading digits
+/// and dropped the rest (--steps=5abc ran 5 speeds, --length=500mm a 500 m
+/// shaft, --max-factor=1,5 a sweep to 1), and an empty or out-of-range value
+/// escaped as an internal error (found by a review). A value must be the
+/// whole text: an integer within int's range, or a finite decimal number
+/// (no hexadecimal, no inf or nan).
+class NumericOptions {
+public:
+  template <class T>
+  void declare(Teuchos::CommandLineProcessor& clp, const char* name, T* value, const char* help) {
+    static_assert(std::is_same_v<T, int> || std::is_same_v<T, double>, "int or double options");
+    auto text = std::make_shared<std::string>(unset());
+    clp.setOption(name, text.get(), help);
+    items_.push_back({name, text, [value](const std::string& option, const std::string& t) {
+                        *value = static_cast<T>(parse(option, t, std::is_same_v<T, int>));
+                      }});
+  }
+  /// After a successful parse: every option given is converted, or
+  /// cms::InputError names the first that is not a number of its kind.
+  void convert() const {
+    for (const auto& i : items_)
+      if (*i.text != unset()) i.set("--" + i.name, *i.text);
+  }
+
+private:
+  static const std::string& unset() {
+    static const std::string marker("\x1f(not given)");
+    return marker;
+  }
+  static double parse(const std::string& option, const std::string& t, bool integer) {
+    const bool plain = !t.empty() && t.find_first_not_of(integer ? "+-0123456789" : "+-0123456789.eE") == std::string::npos;
+    char* end = nullptr;
+    errno = 0;
+    const double v = integer ? static_cast<double>(std::strtoll(t.c_str(), &end, 10)) : std::strtod(t.c_str(), &end);
+    CMS_INPUT_CHECK(!plain || end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v) ||
+                        (integer && (v < INT_MIN || v > INT_MAX)),
+                    option << "=" << t << ": not " << (integer ? "an integer" : "a number")
+                           << (t.empty() ? " (no value given)" : ""));
+    return v;
+  }
+  struct Item {
+    std::string name;
+    std::shared_ptr<std::string> text;
+    std::function<void(const std::string&, const std::string&)> set;
+  };
+  std::vector<Item> items_;
+};
 
 #ifdef CMS_PYTHON
 /// drivers/plot_results.py `kind` on `csv`, a PNG beside it (`extra`: the

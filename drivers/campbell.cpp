@@ -62,19 +62,21 @@ int main(int argc, char* argv[]) {
     double maxRpm = 60000.0;
     std::string ordersText = "1", axisText = "rpm", csv;
     Teuchos::CommandLineProcessor clp(false, true);
+    drivers::NumericOptions numbers;  // converted whole after the parse (trailing text refused)
     clp.setDocString("Campbell diagram of a spinning simply supported Rayleigh shaft.");
-    clp.setOption("length", &shaft.length, "shaft length (m)");
-    clp.setOption("radius", &shaft.radius, "shaft radius (m)");
-    clp.setOption("E", &shaft.youngsModulus, "Young's modulus (Pa)");
-    clp.setOption("rho", &shaft.density, "density (kg/m^3)");
-    clp.setOption("functions", &functions, "admissible functions per bending plane");
-    clp.setOption("modes", &modes, "number of modes tracked");
-    clp.setOption("max-rpm", &maxRpm, "top speed of the sweep (rev/min)");
-    clp.setOption("steps", &steps, "number of speeds in the sweep (>= 2)");
+    numbers.declare(clp, "length", &shaft.length, "shaft length (m)");
+    numbers.declare(clp, "radius", &shaft.radius, "shaft radius (m)");
+    numbers.declare(clp, "E", &shaft.youngsModulus, "Young's modulus (Pa)");
+    numbers.declare(clp, "rho", &shaft.density, "density (kg/m^3)");
+    numbers.declare(clp, "functions", &functions, "admissible functions per bending plane");
+    numbers.declare(clp, "modes", &modes, "number of modes tracked");
+    numbers.declare(clp, "max-rpm", &maxRpm, "top speed of the sweep (rev/min)");
+    numbers.declare(clp, "steps", &steps, "number of speeds in the sweep (>= 2)");
     clp.setOption("orders", &ordersText, "engine orders, comma-separated (e.g. 0.5,1,2)");
     clp.setOption("axis", &axisText, "units of the table: hz (rev/s, Hz), rpm (rpm, Hz) or per-rev (rpm, /rev)");
     clp.setOption("csv", &csv, "also write the table to this CSV file (and its -crossings.csv)");
     if (clp.parse(argc, argv) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) return ExitInputError;
+    numbers.convert();
     CMS_INPUT_CHECK(steps < 2, "--steps = " << steps << " must be at least 2");
     CMS_INPUT_CHECK(!(maxRpm > 0.0), "--max-rpm = " << maxRpm << " must be positive");
     CMS_INPUT_CHECK(modes < 1 || modes > 2 * functions,

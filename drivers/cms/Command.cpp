@@ -52,11 +52,15 @@ void Options::add(const char* name, std::string* value, const char* help) {
   entries_.push_back({name, help, "\"" + *value + "\"",
                       [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, value, help); }});
 }
+// Numbers are taken as text and converted whole after the parse
+// (NumericOptions): Teuchos' own int and double options dropped trailing text.
 void Options::add(const char* name, int* value, const char* help) {
-  entries_.push_back({name, help, text(*value), [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, value, help); }});
+  entries_.push_back({name, help, text(*value),
+                      [=, this](Teuchos::CommandLineProcessor& c) { numbers_.declare(c, name, value, help); }});
 }
 void Options::add(const char* name, double* value, const char* help) {
-  entries_.push_back({name, help, text(*value), [=](Teuchos::CommandLineProcessor& c) { c.setOption(name, value, help); }});
+  entries_.push_back({name, help, text(*value),
+                      [=, this](Teuchos::CommandLineProcessor& c) { numbers_.declare(c, name, value, help); }});
 }
 void Options::flag(const char* name, bool* value, const char* help) {
   const std::string no = std::string("no-") + name;
@@ -96,16 +100,24 @@ std::optional<int> SceneRun::start(Options& options, int argc, char* argv[]) {
   std::vector<char*> rest{argv[0]};
   for (int i = first; i < argc; ++i) rest.push_back(argv[i]);
   std::ostringstream errors;  // Teuchos' message replaced by one naming the subcommand
+  std::string why;
   if (clp.parse(static_cast<int>(rest.size()), rest.data(), &errors) != Teuchos::CommandLineProcessor::PARSE_SUCCESSFUL) {
-    if (root) {
-      // Teuchos' message: its first non-empty line names the option.
-      std::istringstream lines(errors.str());
-      std::string why, line;
-      while (why.empty() && std::getline(lines, line))
-        if (line.find_first_not_of(" \t") != std::string::npos) why = line;
+    // Teuchos' message: its first non-empty line names the option.
+    std::istringstream lines(errors.str());
+    std::string line;
+    while (why.empty() && std::getline(lines, line))
+      if (line.find_first_not_of(" \t") != std::string::npos) why = line;
+  } else {
+    try {
+      options.numbers_.convert();
+    } catch (const InputError& e) {
+      why = e.what();
+    }
+  }
+  if (!why.empty()) {
+    if (root)
       std::cerr << "cms " << options.command() << ": bad input: " << why << " (cms " << options.command()
                 << " --help lists the options)\n";
-    }
     return ExitInputError;
   }
   // 2. The scene, checked key by key before anything is computed.

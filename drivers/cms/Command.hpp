@@ -46,6 +46,7 @@ private:
     std::function<void(Teuchos::CommandLineProcessor&)> declare;
   };
   std::vector<Entry> entries_;
+  NumericOptions numbers_;  // the int and double options, converted after the parse
   bool plot_ = false;
 };
 
