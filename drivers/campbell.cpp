@@ -30,6 +30,7 @@
 #include <Teuchos_CommandLineProcessor.hpp>
 
 #include "CommandLine.hpp"
+#include "cms/io/OutputFiles.hpp"
 #include "DriverBoundary.hpp"
 #include "cms/analysis/CampbellStudy.hpp"
 #include "cms/core/Program.hpp"
@@ -137,11 +138,14 @@ int main(int argc, char* argv[]) {
 
     // 6. The tables for plot_results.py, when asked.
     if (!csv.empty() && r.status == eigen::SolveStatus::Converged) {
-      std::ofstream f(csv), g(csv.substr(0, csv.size() - (csv.size() > 4 && csv.substr(csv.size() - 4) == ".csv" ? 4 : 0)) +
-                                   "-crossings.csv");
-      CMS_INPUT_CHECK(!f || !g, "--csv = " << csv << ": cannot write");
-      r.writeCsv(f);
-      r.writeCrossingsCsv(g);
+      // Both written whole or neither (io::OutputFiles): plain streams were
+      // cut short by a full disk with exit 0 (found by a review).
+      io::OutputFiles files;
+      r.writeCsv(files.open(csv));
+      r.writeCrossingsCsv(files.open(
+          csv.substr(0, csv.size() - (csv.size() > 4 && csv.substr(csv.size() - 4) == ".csv" ? 4 : 0)) +
+          "-crossings.csv"));
+      files.commit();
       std::cout << "\nwrote " << csv << '\n';
     }
     const auto o = drivers::outcome(r.status);

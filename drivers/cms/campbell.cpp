@@ -29,7 +29,7 @@
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
 #include "cms/analysis/CampbellStudy.hpp"
-#include "cms/io/AtomicFile.hpp"
+#include "cms/io/OutputFiles.hpp"
 
 namespace cms::drivers {
 
@@ -99,11 +99,10 @@ int campbell(int argc, char* argv[]) {
   // 5. The tables, written whole or not at all, and the plot.
   const auto csv = run.outDir / (sc.name + "-campbell.csv");
   const auto crossings = run.outDir / (sc.name + "-campbell-crossings.csv");
-  io::AtomicFile f(csv), g(crossings);
-  r.writeCsv(f.stream());
-  r.writeCrossingsCsv(g.stream());
-  f.commit();
-  g.commit();
+  io::OutputFiles files;  // both or neither
+  r.writeCsv(files.open(csv));
+  r.writeCrossingsCsv(files.open(crossings));
+  files.commit();
   std::cout << "\nwrote " << csv.string() << " and " << crossings.filename().string() << '\n';
   plot(options, "campbell", csv, {"--orders=" + ordersText, "--axis=" + axisText});
   return ExitSuccess;

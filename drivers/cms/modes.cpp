@@ -242,26 +242,32 @@ int modes(int argc, char* argv[]) {
                 << outcome.code << "): " << condense(r.modes.result.reason) << "; no files written\n";
     return outcome.code;
   }
+  // 6. The files, all written or none (io::OutputFiles): a failure on the
+  //    last leaves not the first behind.
   const auto base = run.outDir / sc.name;
+  io::OutputFiles files;
   if (root) {
     if (sc.csv) {
-      io::writeModesCsv(base.string() + "-modes.csv", r);
-      io::writeCoverageCsv(base.string() + "-coverage.csv", r);
+      io::writeModesCsv(files, base.string() + "-modes.csv", r);
+      io::writeCoverageCsv(files, base.string() + "-coverage.csv", r);
     }
     if (sc.json) {
       std::ifstream sceneFile(sc.path);
       std::stringstream text;
       text << sceneFile.rdbuf();
-      io::writeModesJson(base.string() + ".json", r,
+      io::writeModesJson(files, base.string() + ".json", r,
                          {sc.path, text.str(), sc.name, sc.units, CMS_VERSION,
                           Teuchos::DefaultComm<int>::getComm()->getSize(), peakRssMiB()});
     }
+  }
+  std::vector<std::string> shapes;
+  if (vtu)  // collective
+    shapes = io::writeModeShapes(files, *r.structure, *r.reduced, r.modes, run.outDir.string(), sc.name);
+  files.commit(*Teuchos::DefaultComm<int>::getComm());  // collective
+  if (root) {
     std::cout << "\nwrote " << base.string() << (sc.json ? ".json " : " ")
               << (sc.csv ? "(and -modes.csv, -coverage.csv)" : "") << '\n';
-  }
-  if (vtu) {  // collective
-    const auto files = io::writeModeShapes(*r.structure, *r.reduced, r.modes, run.outDir.string(), sc.name);
-    if (root) std::cout << "wrote " << files.size() - 1 << " mode shapes for ParaView: " << files.back() << '\n';
+    if (vtu) std::cout << "wrote " << shapes.size() - 1 << " mode shapes for ParaView: " << shapes.back() << '\n';
   }
   return ExitSuccess;
 }

@@ -287,7 +287,9 @@ TEST(OffsetHinge, ModeShapeFilesShowTheHingeMovingWithTheBlade) {
   p.set("Number of Modes", 4);
   const auto modes = s.solve({20.0}, p);
   const auto dir = std::filesystem::temp_directory_path() / ("cms_hinge_vtu_np" + std::to_string(comm->getSize()));
-  io::writeModeShapes(assembled, s, modes, dir.string(), "hinged");
+  io::OutputFiles files;
+  io::writeModeShapes(files, assembled, s, modes, dir.string(), "hinged");
+  files.commit(*comm);
   if (comm->getRank() != 0) return;
   double moved = 0.0;
   for (std::size_t m = 1; m <= modes.result.modes.size(); ++m) {

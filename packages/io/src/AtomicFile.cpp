@@ -6,24 +6,8 @@
 
 namespace cms::io {
 
-AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)), tmp_(path_.string() + ".tmp") {
-  out_.open(tmp_);
-  CMS_INPUT_CHECK(!out_, path_.string() << ": cannot write");
-  out_ << std::setprecision(12);
-}
-
-void AtomicFile::commit() {
-  out_.close();
-  CMS_INPUT_CHECK(out_.fail(), path_.string() << ": writing failed (disk full?)");
-  std::filesystem::rename(tmp_, path_);
-}
-
-AtomicFile::~AtomicFile() {
-  if (out_.is_open()) {
-    out_.close();
-    std::error_code ec;
-    std::filesystem::remove(tmp_, ec);
-  }
+AtomicFile::AtomicFile(std::filesystem::path path) : out_(&files_.open(path)) {
+  CMS_INPUT_CHECK(!*out_, path.string() << ": cannot write");
 }
 
 std::string csvField(const std::string& s) {

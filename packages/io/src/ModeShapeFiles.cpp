@@ -90,13 +90,17 @@ void followHinge(const fem::Mesh& mesh, const fem::HingeSet& h, long long base,
 
 }  // namespace
 
-std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& structure,
+std::vector<std::string> writeModeShapes(OutputFiles& files, const synthesis::AssembledStructure& structure,
                                          const synthesis::SynthesizedStructure& synthesis,
                                          const synthesis::StructureModes& modes, const std::string& directory,
                                          const std::string& name) {
   const bool root = structure.comm()->getRank() == 0;
   std::vector<std::string> written;
-  if (root) std::filesystem::create_directories(directory);
+  // Nothing here throws on rank 0 alone (the other ranks would wait in the
+  // next mode's gather: a hang, found by a review): a directory or file
+  // that cannot be made shows when `files` is committed, on every rank.
+  std::error_code ec;
+  if (root) std::filesystem::create_directories(directory, ec);
   const std::size_t ns = structure.numSubstructures();
   std::ostringstream pvd;
   pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
@@ -165,10 +169,8 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
     if (!root) continue;
     const std::string file = name + "-mode-" + std::to_string(m + 1) + ".vtu";
     const auto path = std::filesystem::path(directory) / file;
-    const std::string tmp = path.string() + ".tmp";
     {
-      std::ofstream o(tmp);
-      CMS_INPUT_CHECK(!o, path.string() << ": cannot write");
+      auto& o = files.open(path);
       o << std::setprecision(10);
       const auto& md = modes.result.modes[m];
       o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -205,19 +207,13 @@ std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& st
       for (int tpe : cellType) o << ' ' << tpe;
       o << "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
     }
-    std::filesystem::rename(tmp, path);
     written.push_back(path.string());
     pvd << "    <DataSet timestep=\"" << m + 1 << "\" part=\"0\" file=\"" << file << "\"/>\n";
   }
   if (root) {
     pvd << "  </Collection>\n</VTKFile>\n";
     const auto path = std::filesystem::path(directory) / (name + "-modes.pvd");
-    {
-      std::ofstream o(path.string() + ".tmp");
-      CMS_INPUT_CHECK(!o, path.string() << ": cannot write");
-      o << pvd.str();
-    }
-    std::filesystem::rename(path.string() + ".tmp", path);
+    files.open(path) << pvd.str();
     written.push_back(path.string());
   }
   return written;

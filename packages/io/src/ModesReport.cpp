@@ -16,7 +16,8 @@ using json = nlohmann::ordered_json;  // keys in the order written: the file rea
 json numberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 }  // namespace
 
-void writeModesJson(const std::filesystem::path& file, const analysis::ModalResult& r, const RunRecord& run) {
+void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const analysis::ModalResult& r,
+                    const RunRecord& run) {
   const auto& structure = *r.structure;
   const auto& modes = r.modes.result.modes;
   json o;
@@ -111,14 +112,11 @@ void writeModesJson(const std::filesystem::path& file, const analysis::ModalResu
       j["cyclic"][c.group] = {{"label", c.label()}, {"harmonic", c.dominant}, {"share", c.share}};
     o["modes"].push_back(j);
   }
-  AtomicFile f(file);
-  f.stream() << o.dump(2) << '\n';
-  f.commit();
+  files.open(file) << o.dump(2) << '\n';
 }
 
-void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResult& r) {
-  AtomicFile f(file);
-  auto& out = f.stream();
+void writeModesCsv(OutputFiles& files, const std::filesystem::path& file, const analysis::ModalResult& r) {
+  auto& out = files.open(file);
   out << "mode,hz,rad_per_s,growth_rate,damping_ratio,log_decrement,stability,residual,error_estimate,error_bound,"
          "frame_artefact";
   for (const auto& s : r.reduced->reductions()) out << ",share_" << csvField(s.name);
@@ -137,16 +135,14 @@ void writeModesCsv(const std::filesystem::path& file, const analysis::ModalResul
     for (const auto& c : r.character[m].cyclic) out << ',' << csvField(c.label());
     out << '\n';
   }
-  f.commit();
 }
 
-void writeCoverageCsv(const std::filesystem::path& file, const analysis::ModalResult& r) {
-  AtomicFile f(file);
-  f.stream() << "substructure,basis,cutoff_hz,sturm_count,represented,coordinates,verdict\n";
+void writeCoverageCsv(OutputFiles& files, const std::filesystem::path& file, const analysis::ModalResult& r) {
+  auto& out = files.open(file);
+  out << "substructure,basis,cutoff_hz,sturm_count,represented,coordinates,verdict\n";
   for (const auto& c : r.coverage)
-    f.stream() << csvField(c.name) << ',' << csvField(c.basis) << ',' << c.cutoff / kTwoPi << ',' << c.sturmCount
+    out << csvField(c.name) << ',' << csvField(c.basis) << ',' << c.cutoff / kTwoPi << ',' << c.sturmCount
                << ',' << c.represented << ',' << c.coordinates << ',' << csvField(c.verdict) << '\n';
-  f.commit();
 }
 
 }  // namespace cms::io

@@ -1,12 +1,13 @@
-// A result file written under a temporary name and renamed by commit(), so
-// that a run that fails (or is killed) leaves no half-written file behind:
-// the drivers' rule "only a success writes files" (doc/user-guide.md,
-// "Exit codes"). Written by one rank (rank 0).
+// One result file written under a temporary name and renamed by commit(), so
+// that a run that fails (or is killed) leaves no half-written file behind
+// (OutputFiles with one file; a run with several uses OutputFiles, so that
+// they are all written or none). Written by one rank (rank 0).
 #pragma once
 
 #include <filesystem>
-#include <fstream>
 #include <string>
+
+#include "cms/io/OutputFiles.hpp"
 
 namespace cms::io {
 
@@ -14,17 +15,14 @@ class AtomicFile {
 public:
   /// Opens `path`.tmp; cms::InputError naming `path` when it cannot be written.
   explicit AtomicFile(std::filesystem::path path);
-  std::ostream& stream() { return out_; }
-  /// Closes and renames to the final name.
-  void commit();
-  /// Without commit(): the temporary file is removed.
-  ~AtomicFile();
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
+  std::ostream& stream() { return *out_; }
+  /// Closes and renames to the final name; a failed write is a
+  /// cms::InputError, and the temporary file is removed.
+  void commit() { files_.commit(); }
 
 private:
-  std::filesystem::path path_, tmp_;
-  std::ofstream out_;
+  OutputFiles files_;
+  std::ostream* out_;
 };
 
 /// One CSV field: quoted (with "" for ") when it holds a comma, quote or newline.

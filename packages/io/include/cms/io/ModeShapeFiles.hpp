@@ -9,14 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "cms/io/OutputFiles.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
 namespace cms::io {
 
-/// Collective; rank 0 writes <directory>/<name>-mode-<k>.vtu (k from 1) and
-/// <name>-modes.pvd, each under a temporary name renamed when complete.
-/// Returns the files written (rank 0; empty elsewhere).
-std::vector<std::string> writeModeShapes(const synthesis::AssembledStructure& structure,
+/// Collective; rank 0 stages <directory>/<name>-mode-<k>.vtu (k from 1) and
+/// <name>-modes.pvd in `files` (written, with the run's other files, by
+/// files.commit(comm)). Returns the files staged (rank 0; empty elsewhere).
+std::vector<std::string> writeModeShapes(OutputFiles& files, const synthesis::AssembledStructure& structure,
                                          const synthesis::SynthesizedStructure& synthesis,
                                          const synthesis::StructureModes& modes, const std::string& directory,
                                          const std::string& name);

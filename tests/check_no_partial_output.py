@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""A run that cannot write one of its files writes none of them.
+
+usage: check_no_partial_output.py CMS CAMPBELL [MPIEXEC]
+
+Found by a review: each file was renamed into place as soon as it was
+written, and the mode shapes' streams were never checked, so
+  - under a file-size limit (a full disk) `cms modes --vtu` renamed VTU
+    files cut in the middle of their XML and exited 0, and a JSON that
+    failed left the two CSVs written before it (and its .tmp);
+  - a mode-shape file that could not be opened left the JSON, the CSVs
+    and the earlier mode shapes behind, and on two ranks hung (rank 0
+    threw, rank 1 waited in the next mode's gather);
+  - the standalone `campbell --csv` wrote a CSV cut short and exited 0.
+Each case must now exit with a failure, name what failed, and leave the
+output directory without a result or temporary file.
+"""
+import os
+import resource
+import signal
+import subprocess
+import sys
+import tempfile
+
+FAILED = []
+
+
+def limited(limit):
+    def apply():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails instead of killing
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+    return apply
+
+
+def check(what, cmd, cwd, out, expect, preexec=None, allowed=()):
+    try:
+        r = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                           preexec_fn=preexec, timeout=120)
+    except subprocess.TimeoutExpired:
+        FAILED.append(f"{what}: hung (killed after 120 s)")
+        return
+    left = sorted(set(os.listdir(out)) - set(allowed)) if os.path.isdir(out) else []
+    if r.returncode == 0:
+        FAILED.append(f"{what}: exit 0\n{r.stdout}")
+    elif expect not in r.stdout:
+        FAILED.append(f"{what}: exit {r.returncode} without \"{expect}\"\n{r.stdout}")
+    if left:
+        FAILED.append(f"{what}: left {left} in {out}")
+    print(f"{what}: exit {r.returncode}, {len(left)} file(s) left")
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    cms, campbell = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    mpiexec = sys.argv[3] if len(sys.argv) > 3 else None
+    with tempfile.TemporaryDirectory() as d:
+        # 1. A file-size limit below the JSON's size (16 kB) and the mode
+        #    shapes' (8-12 kB), above the CSVs': the CSVs are written first.
+        out = os.path.join(d, "limit")
+        check("cms modes --vtu, file-size limit", [cms, "modes", "--vtu", "--output=" + out], d, out,
+              "writing failed", limited(6000))
+        # 2. A mode shape's temporary name taken by a directory.
+        out = os.path.join(d, "blocked")
+        os.makedirs(os.path.join(out, "spacecraft-mode-3.vtu.tmp"))
+        check("cms modes --vtu, a file that cannot be opened", [cms, "modes", "--vtu", "--output=" + out], d, out,
+              "spacecraft-mode-3.vtu: cannot write", allowed=["spacecraft-mode-3.vtu.tmp"])
+        if mpiexec:
+            out = os.path.join(d, "blocked2")
+            os.makedirs(os.path.join(out, "spacecraft-mode-3.vtu.tmp"))
+            check("2 ranks: cms modes --vtu, a file that cannot be opened",
+                  [mpiexec, "-n", "2", cms, "modes", "--vtu", "--output=" + out], d, out,
+                  "spacecraft-mode-3.vtu: cannot write", allowed=["spacecraft-mode-3.vtu.tmp"])
+        # 3. The standalone Campbell program's --csv under a limit.
+        out = os.path.join(d, "campbell")
+        os.makedirs(out)
+        check("campbell --csv, file-size limit", [campbell, "--steps=13", "--csv=" + os.path.join(out, "c.csv")], d,
+              out, "writing failed", limited(1024))
+    if FAILED:
+        sys.exit("check_no_partial_output:\n" + "\n".join(FAILED))
+    print("check_no_partial_output: no partial output")
+
+
+if __name__ == "__main__":
+    main()
