@@ -123,3 +123,53 @@ TEST(MatrixMarketFuzz, CorruptedFilesGiveInputErrorOrSucceedOnEveryRank) {
   if (comm->getRank() == 0) std::printf("%d corrupted inputs: %d read, %d refused\n", iterations, accepted, refused);
   EXPECT_GT(refused, iterations / 2);  // the mutations do break most files
 }
+
+// Two readings of one file (found by a review): the check before Tpetra's
+// reader took a repeated entry as one more entry, and Tpetra sums repeats
+// (K(1,1) doubled, and mirrored in a symmetric file, where no later
+// symmetry check can see it); and strtod read a hexadecimal value
+// (0x1908B100 = 4.2e8) that Tpetra's stream reads as 0. Both are refused
+// with the file and line, on every rank.
+TEST(MatrixMarketFile, RepeatedEntriesAndNonDecimalValuesAreRefused) {
+  auto sec = fixtures::beamSection(1e-3, 1e-7, 2e-7, 2e-7, {0, 1, 0});
+  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 3), {7e10, 0.33, 2700.0}, sec);
+  model.name = "twice";
+  model.fixed.push_back({"root", "root", {}, true});
+  const auto comm = world();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("cms_mm_twice_np" + std::to_string(comm->getSize()))).string();
+  const auto self = comm->split(comm->getRank(), 0);
+  if (comm->getRank() == 0) Substructure::fromFiniteElementModel(model, self).writeMatrixMarket(dir);
+  comm->barrier();
+  const std::string K = dir + "/twice_K.mtx", seed = slurp(K);
+  // The first entry line (after the banner, the comments and the size line).
+  std::size_t sizeLine = 0;
+  while (seed[sizeLine] == '%') sizeLine = seed.find('\n', sizeLine) + 1;
+  const std::size_t first = seed.find('\n', sizeLine) + 1, firstEnd = seed.find('\n', first) + 1;
+  const std::string entry = seed.substr(first, firstEnd - first);
+  std::istringstream header(seed.substr(sizeLine, first - sizeLine));
+  long long m = 0, n = 0, nnz = 0;
+  header >> m >> n >> nnz;
+  const std::string sizeText = std::to_string(m) + " " + std::to_string(n) + " ";
+  const std::string repeated = seed.substr(0, sizeLine) + sizeText + std::to_string(nnz + 1) + "\n" + entry +
+                               seed.substr(first);
+  std::istringstream e(entry);
+  long long i = 0, j = 0;
+  e >> i >> j;
+  const std::string hex = seed.substr(0, first) + std::to_string(i) + " " + std::to_string(j) + " 0x1908B100\n" +
+                          seed.substr(firstEnd);
+  for (const auto& [text, expected] : {std::pair<std::string, std::string>{repeated, "given twice"},
+                                       {hex, "not a decimal number"}}) {
+    comm->barrier();
+    if (comm->getRank() == 0) std::ofstream(K, std::ios::binary | std::ios::trunc) << text;
+    comm->barrier();
+    std::string what;
+    try {
+      Substructure::fromMatrixMarket(dir + "/twice.cms", comm);
+    } catch (const InputError& err) {
+      what = err.what();
+    }
+    EXPECT_NE(what.find(K), std::string::npos) << what;
+    EXPECT_NE(what.find(expected), std::string::npos) << what;
+  }
+}

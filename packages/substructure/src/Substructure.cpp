@@ -4,7 +4,10 @@
 #include "cms/core/Redistribution.hpp"
 #include "cms/core/SparseProduct.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <utility>
+#include <vector>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -83,6 +86,9 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
   CMS_INPUT_CHECK(m != rows || n != rows, path << ":" << lineNo << ": matrix is " << m << " x " << n
                                                << " but the sidecar lays out " << rows << " DOFs");
   long long count = 0;
+  // Each entry's place and line: Tpetra's reader sums repeated entries, so a
+  // repeat is refused here (found by a review: K(1,1) read doubled).
+  std::vector<std::pair<unsigned long long, long long>> places;
   while (std::getline(in, line)) {
     ++lineNo;
     CMS_INPUT_CHECK(line.empty(), path << ":" << lineNo << ": blank line (not accepted in Matrix Market data)");
@@ -95,7 +101,16 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
     const long long j = std::strtoll(s, &end, 10);
     const bool jOk = end != s;
     s = end;
+    while (*s == ' ' || *s == '\t') ++s;
     const double v = std::strtod(s, &end);
+    // Decimal only: strtod also reads hexadecimal (0x1908B100 = 4.2e8),
+    // which Tpetra's stream reads as 0 (found by a review).
+    const bool decimal = std::all_of(s, static_cast<const char*>(end),
+                                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '+' ||
+                                                         c == '-' || c == '.' || c == 'e' || c == 'E'; });
+    CMS_INPUT_CHECK(end != s && !decimal,
+                    path << ":" << lineNo << ": value \"" << std::string(s, static_cast<const char*>(end))
+                         << "\" is not a decimal number");
     const bool vOk = end != s;
     while (*end == ' ' || *end == '\t' || *end == '\r') ++end;
     CMS_INPUT_CHECK(!iOk || !jOk || !vOk || *end != '\0',
@@ -107,8 +122,17 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
                     path << ":" << lineNo << ": a " << symmetry << " file stores the lower triangle only");
     CMS_INPUT_CHECK(symmetry == "skew-symmetric" && i == j && v != 0.0,
                     path << ":" << lineNo << ": skew-symmetric matrix with a nonzero diagonal");
+    places.emplace_back(static_cast<unsigned long long>(i - 1) * static_cast<unsigned long long>(n) +
+                            static_cast<unsigned long long>(j - 1),
+                        lineNo);
     ++count;
   }
+  std::sort(places.begin(), places.end());
+  for (std::size_t k = 1; k < places.size(); ++k)
+    CMS_INPUT_CHECK(places[k].first == places[k - 1].first,
+                    path << ":" << places[k].second << ": entry (" << places[k].first / n + 1 << ", "
+                         << places[k].first % n + 1 << ") given twice (also line " << places[k - 1].second
+                         << "); a Matrix Market reader sums repeats: give each entry once");
   CMS_INPUT_CHECK(count != nnz, path << ": " << count << " entries, but the size line declares " << nnz
                                      << " (truncated file?)");
 }
