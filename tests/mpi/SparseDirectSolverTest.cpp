@@ -2,6 +2,7 @@
 // reported by CHOLMOD, singular matrices refused rather than solved wrongly.
 #include <gtest/gtest.h>
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -129,6 +130,35 @@ TEST(SparseDirectSolver, ScaledDiagonalIsNotRoundingDefinite) {
   // The free chain is still refused: its rigid motion's pivot is rounding.
   SparseDirectSolver free(chainK(0.0, /*grounded=*/false), "CHOLMOD");
   EXPECT_NE(free.factor(), Outcome::Factored);
+}
+
+// Positive definite but ill-conditioned (cond ~1e12: the free chain held
+// by springs 1e-12 of its stiffest diagonal): definite for CHOLMOD's test
+// (pivot ratio above 1e-14) and so for MUMPS-LDLT's, whose pivots are the
+// same test. MUMPS-LDLT also ran the LU codes' singularity probe (forward
+// error below 1e-6, i.e. cond below ~5e9) and called this matrix singular,
+// so a sparse solve on MUMPS took the general path and lost its Sturm
+// check, where CHOLMOD's did not (found by a review).
+TEST(SparseDirectSolver, IllConditionedDefiniteMatrixIsDefiniteForBothLdlts) {
+  const auto K = chainK(0.0, /*grounded=*/false);
+  double kmax = 0.0;
+  {
+    Vector d(K->getRowMap());
+    K->getLocalDiagCopy(d);
+    const double local = d.normInf();
+    Teuchos::reduceAll(*K->getComm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(kmax));
+  }
+  auto I = Teuchos::rcp(new CrsMatrix(K->getRowMap(), 1));
+  for (std::size_t l = 0; l < K->getRowMap()->getNodeNumElements(); ++l) {
+    const GlobalOrdinal g = K->getRowMap()->getGlobalElement(l);
+    I->insertGlobalValues(g, Teuchos::tuple(g), Teuchos::tuple(1.0));
+  }
+  I->fillComplete(K->getDomainMap(), K->getRangeMap());
+  const Teuchos::RCP<const CrsMatrix> A = matrixSum(1.0, *K, 1e-12 * kmax, *I);
+  for (const char* m : {"CHOLMOD", "MUMPS-LDLT"}) {
+    SparseDirectSolver s(A, m);
+    EXPECT_EQ(s.factor(), Outcome::Factored) << m << ": " << s.failure();
+  }
 }
 
 TEST(SparseDirectSolver, UnknownMethodIsAnInputError) {
