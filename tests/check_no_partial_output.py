@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """A run that cannot write one of its files writes none of them.
 
-usage: check_no_partial_output.py CMS CAMPBELL [MPIEXEC]
+usage: check_no_partial_output.py CMS CAMPBELL [MPIEXEC [SOLID_BLADE_SCENE]]
 
 Found by a review: each file was renamed into place as soon as it was
 written, and the mode shapes' streams were never checked, so
@@ -11,7 +11,9 @@ written, and the mode shapes' streams were never checked, so
   - a mode-shape file that could not be opened left the JSON, the CSVs
     and the earlier mode shapes behind, and on two ranks hung (rank 0
     threw, rank 1 waited in the next mode's gather);
-  - the standalone `campbell --csv` wrote a CSV cut short and exited 0.
+  - the standalone `campbell --csv` wrote a CSV cut short and exited 0;
+  - a .geo script's mesh cut short by the limit was blamed on the script
+    ("cannot be read back") instead of the write.
 Each case must now exit with a failure, name what failed, and leave the
 output directory without a result or temporary file.
 """
@@ -54,6 +56,7 @@ def main():
         sys.exit(__doc__)
     cms, campbell = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     mpiexec = sys.argv[3] if len(sys.argv) > 3 else None
+    solid_blade = os.path.abspath(sys.argv[4]) if len(sys.argv) > 4 else None
     with tempfile.TemporaryDirectory() as d:
         # 1. A file-size limit below the JSON's size (16 kB) and the mode
         #    shapes' (8-12 kB), above the CSVs': the CSVs are written first.
@@ -71,7 +74,14 @@ def main():
             check("2 ranks: cms modes --vtu, a file that cannot be opened",
                   [mpiexec, "-n", "2", cms, "modes", "--vtu", "--output=" + out], d, out,
                   "spacecraft-mode-3.vtu: cannot write", allowed=["spacecraft-mode-3.vtu.tmp"])
-        # 3. The standalone Campbell program's --csv under a limit.
+        # 3. A .geo scene meshed under a limit below its mesh's size: Gmsh's
+        #    failed write was read as a malformed mesh (exit 2 blaming the
+        #    script); it must say the mesh could not be written.
+        if solid_blade:
+            out = os.path.join(d, "geo")
+            check("cms modes on a .geo scene, file-size limit", [cms, "modes", solid_blade, "--output=" + out], d,
+                  out, "could not write the mesh", limited(100 * 1024))
+        # 4. The standalone Campbell program's --csv under a limit.
         out = os.path.join(d, "campbell")
         os.makedirs(out)
         check("campbell --csv, file-size limit", [campbell, "--steps=13", "--csv=" + os.path.join(out, "c.csv")], d,

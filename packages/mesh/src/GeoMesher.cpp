@@ -26,6 +26,7 @@
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -37,6 +38,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -136,6 +138,22 @@ std::string meshScript(const std::string& script, const std::string& out,
     gmsh::option::setNumber("Mesh.SaveAll", 1);
     gmsh::option::setNumber("Mesh.SaveParametric", 0);
     gmsh::write(out);
+    // Gmsh's writer does not report a failed write: a full disk or a
+    // file-size limit left a cut .msh, which the reader then blamed on the
+    // script (found by a review). A write that failed for want of room
+    // fails again on one more byte: appended, then cut off again.
+    {
+      const int fd = ::open(out.c_str(), O_WRONLY | O_APPEND);
+      const bool room = fd >= 0 && ::write(fd, "\n", 1) == 1;
+      if (fd >= 0) {
+        struct stat st {};
+        if (room && ::fstat(fd, &st) == 0) (void)!::ftruncate(fd, st.st_size - 1);
+        ::close(fd);
+      }
+      if (!room)
+        return "Gmsh could not write the mesh it made to " + out + " (" + std::strerror(errno) +
+               ": disk full, or a file-size limit?)";
+    }
     return {};
   } catch (const std::string& message) {  // how Gmsh 4.8 raises its errors
     const std::string first = placedFirstError(script);
