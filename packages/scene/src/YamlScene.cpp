@@ -118,7 +118,15 @@ void fill(Teuchos::ParameterList& list, const YAML::Node& map, const std::string
 Teuchos::RCP<Teuchos::ParameterList> parseYaml(const std::string& text, const std::string& path) {
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    // Every document: YAML::Load reads the first and ignored the rest, so a
+    // scene pasted twice after "---" ran the first silently (found by a
+    // review). A scene file holds one.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (!documents.empty()) root = documents.front();
+    for (std::size_t d = 1; d < documents.size(); ++d)
+      CMS_INPUT_CHECK(!documents[d].IsNull(),
+                      where(path, documents[d]) << ": a second YAML document (after \"---\"): a scene file holds "
+                                                   "one scene");
   } catch (const YAML::Exception& e) {
     throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
                      ": not a valid scene file (" + e.msg + ")");

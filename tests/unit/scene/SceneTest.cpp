@@ -267,6 +267,16 @@ TEST(Scene, DuplicateKeysNameBothLines) {
       edit("      Reduction:\n", "      Reduction:\n        Load Patterns: [uniform, tip]\n"), "flow.yaml"));
 }
 
+// A second YAML document was ignored silently (found by a review; a scene
+// pasted twice is also a repeated top-level key, which the line scan
+// names). Refused, naming its line; a lone end marker is no document.
+TEST(Scene, ASecondYamlDocumentIsRefused) {
+  using fixtures::expectInputError;
+  expectInputError([] { scene::Scene::parse(std::string(kGood) + "---\nNotes: {Owner: me}\n", "two.yaml"); },
+                   "two.yaml:36:1: a second YAML document");
+  EXPECT_NO_THROW(scene::Scene::parse("---\n" + std::string(kGood) + "...\n", "marked.yaml"));
+}
+
 TEST(Scene, ANameIsNotAPath) {
   // "Name: ../escaped" wrote escaped.json beside the output directory, not in
   // it; "nosuchdir/x" failed only after the computation (found by a review).
