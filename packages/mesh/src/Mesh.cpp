@@ -704,6 +704,27 @@ void releaseMeshers(const std::vector<std::size_t>& slots) {
   }
 }
 
+namespace {
+/// Every name a script, and the files it includes, gives as
+/// "Parameters/<name>" (DefineConstant[h = {0.01, Name "Parameters/h"}], or
+/// GetNumber of it): the ONELAB numbers "Mesh Parameters" set.
+void namedParameters(const std::filesystem::path& path, const std::string& text, std::set<std::string>& names,
+                     std::set<std::filesystem::path>& seen) {
+  static const std::regex parameter(R"(Parameters/([A-Za-z_][A-Za-z0-9_]*))");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), parameter); it != std::sregex_iterator(); ++it)
+    names.insert((*it)[1].str());
+  static const std::regex include(R"re(Include\s*"([^"]+)")re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), include); it != std::sregex_iterator(); ++it) {
+    std::error_code ec;
+    const auto file = std::filesystem::weakly_canonical(path.parent_path() / (*it)[1].str(), ec);
+    if (ec || !seen.insert(file).second || !std::filesystem::is_regular_file(file, ec)) continue;
+    std::ifstream in(file, std::ios::binary);  // a missing include is Gmsh's to report
+    const std::string inner((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    namedParameters(file, inner, names, seen);
+  }
+}
+}  // namespace
+
 std::string makeGmshBytes(const std::string& path, const std::map<std::string, double>& parameters, std::size_t slot,
                           const std::atomic<bool>* cancel, bool& script) {
   std::string bytes = readFile(path);
@@ -711,6 +732,22 @@ std::string makeGmshBytes(const std::string& path, const std::map<std::string, d
   if (!script) return bytes;
   CMS_INPUT_CHECK(!endsWith(path, ".geo"), path << ": not a Gmsh mesh (a .msh file starts with $MeshFormat) nor a "
                                                    ".geo script");
+  // A parameter the script does not name would set a ONELAB number nothing
+  // reads: "h" misspelt "hh" meshed at the script's default, silently
+  // (found by a review).
+  if (!parameters.empty()) {
+    std::set<std::string> names;
+    std::set<std::filesystem::path> seen;
+    namedParameters(path, bytes, names, seen);
+    for (const auto& [name, value] : parameters) {
+      if (names.count(name)) continue;
+      std::string known;
+      for (const auto& n : names) known += (known.empty() ? "\"Parameters/" : ", \"Parameters/") + n + "\"";
+      CMS_INPUT_CHECK(true, path << ": mesh parameter \"" << name << "\": the script names no \"Parameters/" << name
+                                 << "\" (it names " << (known.empty() ? std::string("none") : known)
+                                 << "), so it would be ignored");
+    }
+  }
   try {
     const MadeScript made = runScript(path, parameters, mesherServer(slot), cancel);
     return madeBytes(made, path);

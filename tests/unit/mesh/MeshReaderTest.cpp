@@ -192,6 +192,24 @@ TEST(MeshReader, ScriptsDoNotInheritEachOthersSettings) {
   EXPECT_EQ(onlyBlock(cms::mesh::readGmsh(linear), "blade").type, CellType::Tet4);
 }
 
+// A mesh parameter the script does not name was ignored: "Mesh Parameters:
+// {hh: 0.01}" meshed at the script's default size, silently (found by a
+// review). Refused, listing the names the script (and what it includes)
+// gives as "Parameters/<name>"; a parameter named in an included file is
+// one.
+TEST(MeshReader, AMeshParameterTheScriptDoesNotNameIsRefused) {
+  TempDir dir("cms_mesh_test");
+  const std::string geo = kMeshes + "bar_hex.geo";
+  EXPECT_EQ(cms::mesh::readGmsh(geo, {{"nx", 5}}).nodeCount(), 6u * 9);
+  expectInputErrorWith([&] { cms::mesh::readGmsh(geo, {{"nxx", 5}}); },
+                       {geo, "mesh parameter \"nxx\"", "\"Parameters/nx\""});
+  const std::string inner = dir.write("inner.geo", slurp(geo));
+  const std::string outer = dir.write("outer.geo", "Include \"inner.geo\";\n");
+  EXPECT_EQ(cms::mesh::readGmsh(outer, {{"nx", 5}}).nodeCount(), 6u * 9);
+  expectInputErrorWith([&] { cms::mesh::readGmsh(outer, {{"nxx", 5}}); }, {outer, "mesh parameter \"nxx\""});
+  (void)inner;
+}
+
 TEST(MeshReader, CellNamesAndCounts) {
   EXPECT_STREQ(cms::mesh::cellTypeName(CellType::Tet10), "Tet10");
   EXPECT_STREQ(cms::mesh::cellTypeName(CellType::Other), "Other");
