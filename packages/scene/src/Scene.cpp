@@ -336,6 +336,19 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
                     spp << "/Frame = \"" << frame << "\": must be Rotating or Stationary");
     rate.frame = frame == "Rotating" ? fem::SpinDefinition::Frame::Rotating : fem::SpinDefinition::Frame::Stationary;
     rate.stressStiffening = getBool(sp, "Stress Stiffening", spp, true);
+    // Keys the kind does not read were accepted and ignored (found by a
+    // review): refused, each with what the kind does instead.
+    CMS_INPUT_CHECK(sp.isParameter("Origin") && s.kind != SubstructureKind::Central,
+                    spp << "/Origin: an " << kind << " substructure spins about its attachment point; only the "
+                                                      "central substructure (C) takes a spin origin");
+    CMS_INPUT_CHECK(sp.isParameter("Frame") && s.kind != SubstructureKind::Rotating,
+                    spp << "/Frame: only an A substructure chooses its frame (Rotating or Stationary); "
+                        << (s.kind == SubstructureKind::Central ? "the central substructure's frame spins with it"
+                                                                : "a rigid rotor has none"));
+    CMS_INPUT_CHECK(sp.isParameter("Stress Stiffening") &&
+                        (s.kind == SubstructureKind::Rigid || rate.frame == fem::SpinDefinition::Frame::Stationary),
+                    spp << "/Stress Stiffening: no centrifugal prestress is formed "
+                        << (s.kind == SubstructureKind::Rigid ? "for a rigid rotor" : "in a stationary frame"));
     s.spin = rate;
   }
   const double copies = getNumber(p, "Copies", path, 1.0);

@@ -72,6 +72,13 @@ scene::Scene parse(const std::string& yaml) {
   return scene::Scene::fromParameters(*Teuchos::getParametersFromYamlString(yaml), "test.yaml");
 }
 
+/// `from` replaced by `to` in `text` (a second edit of an edited scene).
+std::string edit2(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
 std::string edit(const std::string& from, const std::string& to) {
   std::string s = kGood;
   const auto at = s.find(from);
@@ -275,6 +282,34 @@ TEST(Scene, ASecondYamlDocumentIsRefused) {
   expectInputError([] { scene::Scene::parse(std::string(kGood) + "---\nNotes: {Owner: me}\n", "two.yaml"); },
                    "two.yaml:36:1: a second YAML document");
   EXPECT_NO_THROW(scene::Scene::parse("---\n" + std::string(kGood) + "...\n", "marked.yaml"));
+}
+
+// Spin keys the kind does not read were accepted and ignored (found by a
+// review): a C's Frame (its frame spins with it), an A's or R's Origin
+// (they spin about their attachment point), a rigid rotor's or a
+// stationary-frame rotor's Stress Stiffening (no prestress is formed in
+// either). Each is refused, naming the key and why.
+TEST(Scene, SpinKeysAKindDoesNotReadAreRefused) {
+  using fixtures::expectInputError;
+  const std::string spinning = edit("        Clamp: start\n", "        Clamp: start\n      Spin: {Axis: [0, 0, 1], Rate: 10}\n");
+  EXPECT_NO_THROW(scene::Scene::parse(spinning, "ok.yaml"));
+  const auto withHubSpin = [&](const std::string& extra) {
+    return edit("        Clamp: start\n", "        Clamp: start\n      Spin: {Axis: [0, 0, 1], Rate: 10, " + extra + "}\n");
+  };
+  expectInputError([&] { scene::Scene::parse(withHubSpin("Frame: Stationary"), "c.yaml"); },
+                   "Substructures/hub/Spin/Frame");
+  EXPECT_NO_THROW(scene::Scene::parse(withHubSpin("Origin: [0, 1, 0]"), "c2.yaml"));
+  const auto armSpin = [&](const std::string& extra) {
+    std::string t = edit("      Kind: E\n", "      Kind: A\n");
+    return edit2(t, "        Torsion Constant: 2.0e-7\n",
+                 "        Torsion Constant: 2.0e-7\n      Spin: {Axis: [1, 0, 0], Rate: 5" + extra + "}\n");
+  };
+  EXPECT_NO_THROW(scene::Scene::parse(armSpin(""), "a.yaml"));
+  expectInputError([&] { scene::Scene::parse(armSpin(", Origin: [1, 0, 0]"), "a1.yaml"); },
+                   "Substructures/arm/Spin/Origin");
+  expectInputError([&] { scene::Scene::parse(armSpin(", Frame: Stationary, Stress Stiffening: true"), "a2.yaml"); },
+                   "Substructures/arm/Spin/Stress Stiffening");
+  EXPECT_NO_THROW(scene::Scene::parse(armSpin(", Frame: Stationary"), "a3.yaml"));
 }
 
 TEST(Scene, ANameIsNotAPath) {
