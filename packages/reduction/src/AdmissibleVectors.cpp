@@ -81,7 +81,16 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
   };
   const char* axisName[3] = {"x", "y", "z"};
   const std::array<double, 3> support = supportCentroid(s, b);
-  for (const std::string& p : patterns) {
+  // "interfaces" first wherever the list names it: step 1 below keeps the
+  // leading interface columns whole (the attachment modes that carry the
+  // coupling); listed after "uniform" they competed with the others by
+  // Rayleigh quotient and could be left out (found by a review).
+  std::vector<std::string> ordered;
+  for (const std::string& p : patterns)
+    if (p == "interfaces") ordered.push_back(p);
+  for (const std::string& p : patterns)
+    if (p != "interfaces") ordered.push_back(p);
+  for (const std::string& p : ordered) {
     if (p == "interfaces") {
       for (std::size_t c = 0; c < b.interfaceLoads.size(); ++c)
         for (std::size_t k = 0; k < b.interfaceLoads[c].size(); ++k) {

@@ -20,6 +20,7 @@
 #include "HubBoomStructure.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
+#include "cms/reduction/AdmissibleVectors.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
 #include "cms/reduction/RitzBasis.hpp"
 
@@ -359,6 +360,35 @@ TEST(RitzBasis, AdmissibleCutoffSaysWhenItsLoadsCannotReachEveryMode) {
   EXPECT_EQ(represented, 10) << b.eigensolverReport;
   EXPECT_NE(b.eigensolverReport.find("11 of its modes below it"), std::string::npos) << b.eigensolverReport;
   EXPECT_NE(b.eigensolverReport.find("only 10 represented"), std::string::npos) << b.eigensolverReport;
+}
+
+// "interfaces (..., always first)": listed after "uniform", the interface
+// loads' static shapes were not first, so they were not kept whole and
+// competed with the others (found by a review). The cantilever with a
+// child at its tip (six loads): the first six columns are the interface
+// loads' shapes whatever the order of the list.
+TEST(RitzBasis, InterfaceLoadsComeFirstWhereverTheyAreListed) {
+  auto c = cantilever(true, 16);
+  const auto& t = c.sub.dofs();
+  std::int64_t tip = 0;
+  for (std::size_t nd = 0; nd < t.nodes(); ++nd)
+    if (t.coordinates[3 * nd] > t.coordinates[3 * tip]) tip = static_cast<std::int64_t>(nd);
+  std::vector<GlobalOrdinal> tipRows;
+  std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads;
+  for (int comp = 0; comp < 6; ++comp) {
+    tipRows.push_back(t.row(tip, static_cast<fem::Component>(comp)));
+    loads.push_back({{tipRows.back(), 1.0}});
+  }
+  c.boundary.interfaces.push_back(tipRows);
+  c.boundary.interfaceLoads.push_back(loads);
+  for (const auto& order : {std::vector<std::string>{"interfaces", "uniform"},
+                            std::vector<std::string>{"uniform", "interfaces"}}) {
+    const auto b = admissibleVectors(c.sub, c.boundary, order, 8, 1e-8);
+    ASSERT_GE(b.labels.size(), 6u);
+    for (int j = 0; j < 6; ++j)
+      EXPECT_EQ(b.labels[j].rfind("static: interface", 0), 0u) << order.front() << " first: column " << j << " is "
+                                                              << b.labels[j];
+  }
 }
 
 TEST(RitzBasis, BadParametersNameTheKey) {
