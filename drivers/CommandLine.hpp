@@ -74,24 +74,23 @@ public:
   template <class T>
   void declare(Teuchos::CommandLineProcessor& clp, const char* name, T* value, const char* help) {
     static_assert(std::is_same_v<T, int> || std::is_same_v<T, double>, "int or double options");
-    auto text = std::make_shared<std::string>(unset());
+    std::ostringstream shown;  // the default as --help shows it
+    shown << *value;
+    auto text = std::make_shared<std::string>(shown.str());
     clp.setOption(name, text.get(), help);
-    items_.push_back({name, text, [value](const std::string& option, const std::string& t) {
+    items_.push_back({name, shown.str(), text, [value](const std::string& option, const std::string& t) {
                         *value = static_cast<T>(parse(option, t, std::is_same_v<T, int>));
                       }});
   }
   /// After a successful parse: every option given is converted, or
-  /// cms::InputError names the first that is not a number of its kind.
+  /// cms::InputError names the first that is not a number of its kind (an
+  /// option left at its shown default keeps its value, unrounded).
   void convert() const {
     for (const auto& i : items_)
-      if (*i.text != unset()) i.set("--" + i.name, *i.text);
+      if (*i.text != i.shown) i.set("--" + i.name, *i.text);
   }
 
 private:
-  static const std::string& unset() {
-    static const std::string marker("\x1f(not given)");
-    return marker;
-  }
   static double parse(const std::string& option, const std::string& t, bool integer) {
     const bool plain = !t.empty() && t.find_first_not_of(integer ? "+-0123456789" : "+-0123456789.eE") == std::string::npos;
     char* end = nullptr;
@@ -104,7 +103,7 @@ private:
     return v;
   }
   struct Item {
-    std::string name;
+    std::string name, shown;
     std::shared_ptr<std::string> text;
     std::function<void(const std::string&, const std::string&)> set;
   };

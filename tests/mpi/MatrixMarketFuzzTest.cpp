@@ -31,6 +31,28 @@ std::string slurp(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// A small clamped beam (`name`, spinning about z or not) written as a
+/// Matrix Market substructure to a temporary directory, returned. From a
+/// one-rank assembly, so every rank count reads the same bytes. Collective.
+std::string writtenBeam(const std::string& name, bool spinning) {
+  auto sec = fixtures::beamSection(1e-3, 1e-7, 2e-7, 2e-7, {0, 1, 0});
+  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 3), {7e10, 0.33, 2700.0}, sec);
+  model.name = name;
+  model.fixed.push_back({"root", "root", {}, true});
+  if (spinning) {
+    fem::SpinDefinition spin;
+    spin.spin.axis = {0.0, 0.0, 1.0};
+    model.spin = spin;
+  }
+  const auto comm = world();
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("cms_mm_" + name + "_np" + std::to_string(comm->getSize()))).string();
+  const auto self = comm->split(comm->getRank(), 0);
+  if (comm->getRank() == 0) Substructure::fromFiniteElementModel(model, self).writeMatrixMarket(dir);
+  comm->barrier();
+  return dir;
+}
+
 std::string mutate(std::string s, std::mt19937& rng) {
   auto pick = [&](std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng); };
   static const char* tokens[] = {"0", "-1", "1e308", "nan", "inf", "99999999999", "2147483648", " ", "\n", "%",
@@ -71,20 +93,8 @@ std::string mutate(std::string s, std::mt19937& rng) {
 }  // namespace
 
 TEST(MatrixMarketFuzz, CorruptedFilesGiveInputErrorOrSucceedOnEveryRank) {
-  auto sec = fixtures::beamSection(1e-3, 1e-7, 2e-7, 2e-7, {0, 1, 0});
-  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 3), {7e10, 0.33, 2700.0}, sec);
-  model.name = "fuzz";
-  model.fixed.push_back({"root", "root", {}, true});
-  fem::SpinDefinition spin;
-  spin.spin.axis = {0.0, 0.0, 1.0};
-  model.spin = spin;
   const auto comm = world();
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("cms_mm_fuzz_np" + std::to_string(comm->getSize()))).string();
-  // Seeds from a one-rank assembly, so every rank count fuzzes the same bytes.
-  const auto self = comm->split(comm->getRank(), 0);
-  if (comm->getRank() == 0) Substructure::fromFiniteElementModel(model, self).writeMatrixMarket(dir);
-  comm->barrier();
+  const std::string dir = writtenBeam("fuzz", true);
   const std::vector<std::string> targets = {dir + "/fuzz.cms", dir + "/fuzz_K.mtx", dir + "/fuzz_G1.mtx"};
   std::vector<std::string> seeds;
   for (const auto& t : targets) seeds.push_back(slurp(t));
@@ -131,16 +141,8 @@ TEST(MatrixMarketFuzz, CorruptedFilesGiveInputErrorOrSucceedOnEveryRank) {
 // (0x1908B100 = 4.2e8) that Tpetra's stream reads as 0. Both are refused
 // with the file and line, on every rank.
 TEST(MatrixMarketFile, RepeatedEntriesAndNonDecimalValuesAreRefused) {
-  auto sec = fixtures::beamSection(1e-3, 1e-7, 2e-7, 2e-7, {0, 1, 0});
-  auto model = fixtures::frameModel(fixtures::lineMesh(1.0, 3), {7e10, 0.33, 2700.0}, sec);
-  model.name = "twice";
-  model.fixed.push_back({"root", "root", {}, true});
   const auto comm = world();
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("cms_mm_twice_np" + std::to_string(comm->getSize()))).string();
-  const auto self = comm->split(comm->getRank(), 0);
-  if (comm->getRank() == 0) Substructure::fromFiniteElementModel(model, self).writeMatrixMarket(dir);
-  comm->barrier();
+  const std::string dir = writtenBeam("twice", false);
   const std::string K = dir + "/twice_K.mtx", seed = slurp(K);
   // The first entry line (after the banner, the comments and the size line).
   std::size_t sizeLine = 0;

@@ -341,10 +341,11 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     CMS_INPUT_CHECK(sp.isParameter("Origin") && s.kind != SubstructureKind::Central,
                     spp << "/Origin: an " << kind << " substructure spins about its attachment point; only the "
                                                       "central substructure (C) takes a spin origin");
-    CMS_INPUT_CHECK(sp.isParameter("Frame") && s.kind != SubstructureKind::Rotating,
-                    spp << "/Frame: only an A substructure chooses its frame (Rotating or Stationary); "
+    CMS_INPUT_CHECK(rate.frame == fem::SpinDefinition::Frame::Stationary && s.kind != SubstructureKind::Rotating,
+                    spp << "/Frame = Stationary: only an A substructure chooses its frame; "
                         << (s.kind == SubstructureKind::Central ? "the central substructure's frame spins with it"
-                                                                : "a rigid rotor has none"));
+                                                                : "a rigid rotor has none")
+                        << " (Rotating, the default, says so)");
     CMS_INPUT_CHECK(sp.isParameter("Stress Stiffening") &&
                         (s.kind == SubstructureKind::Rigid || rate.frame == fem::SpinDefinition::Frame::Stationary),
                     spp << "/Stress Stiffening: no centrifugal prestress is formed "

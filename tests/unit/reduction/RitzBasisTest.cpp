@@ -48,6 +48,17 @@ Cantilever cantilever(bool square = true, int elements = 16) {
   return c;
 }
 
+/// The six rows (ux uy uz rx ry rz) of the cantilever's free end.
+std::vector<GlobalOrdinal> tipRows(const Cantilever& c) {
+  const auto& t = c.sub.dofs();
+  std::int64_t tip = 0;
+  for (std::size_t nd = 0; nd < t.nodes(); ++nd)
+    if (t.coordinates[3 * nd] > t.coordinates[3 * tip]) tip = static_cast<std::int64_t>(nd);
+  std::vector<GlobalOrdinal> rows;
+  for (int comp = 0; comp < 6; ++comp) rows.push_back(t.row(tip, static_cast<fem::Component>(comp)));
+  return rows;
+}
+
 Teuchos::ParameterList params(const std::string& basis, int vectors) {
   Teuchos::ParameterList p("Reduction");
   p.set("Basis", basis);
@@ -315,14 +326,9 @@ TEST(RitzBasis, CraigBamptonCutoffCountsTheConstrainedModesOfADistributingInterf
   const double propped = 3.9266023120 * 3.9266023120 * soft;
   const double cantileverStiff = 1.8751040687 * 1.8751040687 * stiff;
   auto c = cantilever(false, 16);
-  const auto& t = c.sub.dofs();
-  std::int64_t tip = 0;
-  for (std::size_t nd = 0; nd < t.nodes(); ++nd)
-    if (t.coordinates[3 * nd] > t.coordinates[3 * tip]) tip = static_cast<std::int64_t>(nd);
-  std::vector<GlobalOrdinal> tipRows;
-  for (int comp = 0; comp < 6; ++comp) tipRows.push_back(t.row(tip, static_cast<fem::Component>(comp)));
-  c.boundary.interfaces.push_back(tipRows);
-  c.boundary.interfaceLoads.push_back({{{t.row(tip, fem::Component::UY), 1.0}}});
+  const auto tip = tipRows(c);  // ux uy uz rx ry rz
+  c.boundary.interfaces.push_back(tip);
+  c.boundary.interfaceLoads.push_back({{{tip[1], 1.0}}});
   auto p = params("Craig-Bampton", 0);
   p.set("Cutoff Frequency", 250.0 / (2 * M_PI));
   const auto b = buildRitzBasis(c.sub, c.boundary, p);
@@ -369,17 +375,10 @@ TEST(RitzBasis, AdmissibleCutoffSaysWhenItsLoadsCannotReachEveryMode) {
 // loads' shapes whatever the order of the list.
 TEST(RitzBasis, InterfaceLoadsComeFirstWhereverTheyAreListed) {
   auto c = cantilever(true, 16);
-  const auto& t = c.sub.dofs();
-  std::int64_t tip = 0;
-  for (std::size_t nd = 0; nd < t.nodes(); ++nd)
-    if (t.coordinates[3 * nd] > t.coordinates[3 * tip]) tip = static_cast<std::int64_t>(nd);
-  std::vector<GlobalOrdinal> tipRows;
+  const auto tip = tipRows(c);
   std::vector<std::vector<std::pair<GlobalOrdinal, double>>> loads;
-  for (int comp = 0; comp < 6; ++comp) {
-    tipRows.push_back(t.row(tip, static_cast<fem::Component>(comp)));
-    loads.push_back({{tipRows.back(), 1.0}});
-  }
-  c.boundary.interfaces.push_back(tipRows);
+  for (GlobalOrdinal r : tip) loads.push_back({{r, 1.0}});
+  c.boundary.interfaces.push_back(tip);
   c.boundary.interfaceLoads.push_back(loads);
   for (const auto& order : {std::vector<std::string>{"interfaces", "uniform"},
                             std::vector<std::string>{"uniform", "interfaces"}}) {

@@ -285,7 +285,7 @@ TEST(Scene, ASecondYamlDocumentIsRefused) {
 }
 
 // Spin keys the kind does not read were accepted and ignored (found by a
-// review): a C's Frame (its frame spins with it), an A's or R's Origin
+// review): a C's Frame: Stationary (its frame spins with it), an A's or R's Origin
 // (they spin about their attachment point), a rigid rotor's or a
 // stationary-frame rotor's Stress Stiffening (no prestress is formed in
 // either). Each is refused, naming the key and why.
@@ -297,7 +297,8 @@ TEST(Scene, SpinKeysAKindDoesNotReadAreRefused) {
     return edit("        Clamp: start\n", "        Clamp: start\n      Spin: {Axis: [0, 0, 1], Rate: 10, " + extra + "}\n");
   };
   expectInputError([&] { scene::Scene::parse(withHubSpin("Frame: Stationary"), "c.yaml"); },
-                   "Substructures/hub/Spin/Frame");
+                   "Substructures/hub/Spin/Frame = Stationary");
+  EXPECT_NO_THROW(scene::Scene::parse(withHubSpin("Frame: Rotating"), "c1.yaml"));  // what a C does: said
   EXPECT_NO_THROW(scene::Scene::parse(withHubSpin("Origin: [0, 1, 0]"), "c2.yaml"));
   const auto armSpin = [&](const std::string& extra) {
     std::string t = edit("      Kind: E\n", "      Kind: A\n");
