@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cms/core/PeakMemory.hpp"
-#include "cms/io/AtomicFile.hpp"
+#include "cms/io/OutputFiles.hpp"
 
 namespace cms::drivers {
 
@@ -40,8 +40,8 @@ struct Row {
 
 /// The whole table, written anew (rank 0; through a temporary file).
 inline void writeCsv(const std::string& path, const std::vector<Row>& rows, int ranks) {
-  io::AtomicFile file(path);
-  auto& os = file.stream();
+  io::OutputFiles file;
+  auto& os = file.open(path);
   os << "h,physical_dofs,truth_dofs,ranks,what,strategy,vectors,reduced_dofs,assembly_s,reduce_s,synthesis_s,solve_s,"
         "pipeline_s,truth_s,floor_s,pipeline_over_truth,pipeline_over_floor,peak_mib_max_rank,peak_mib_sum,"
         "resident_at_start_mib,full_k_m_factor_mib,max_rel_error,mean_rel_error,worst_mac,note,frequencies_hz\n";

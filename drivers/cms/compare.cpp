@@ -22,7 +22,7 @@
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
 #include "cms/analysis/StrategyComparison.hpp"
-#include "cms/io/AtomicFile.hpp"
+#include "cms/io/OutputFiles.hpp"
 
 namespace cms::drivers {
 
@@ -100,19 +100,20 @@ int compare(int argc, char* argv[]) {
               << std::setw(13) << r.estimate << std::setw(14) << r.accuracy.meanRelativeError << std::setw(11)
               << r.accuracy.worstMac << '\n';
   const std::string csv = sc.name + (worst.code == ExitSuccess ? "-compare.csv" : "-compare-partial.csv");
-  io::AtomicFile f(run.outDir / csv);
-  f.stream() << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,"
-                "max_estimated_rel_error,mean_rel_error,worst_mac,missing_modes,truth_dofs,truth_s";
+  io::OutputFiles f;
+  auto& out = f.open(run.outDir / csv);
+  out << "strategy,vectors_per_substructure,reduced_dofs,reduce_s,solve_s,peak_mib,max_rel_error,"
+         "max_estimated_rel_error,mean_rel_error,worst_mac,missing_modes,truth_dofs,truth_s";
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
-    f.stream() << ",dofs_" << io::csvField(structure.substructure(q).name);
-  f.stream() << '\n';
+    out << ",dofs_" << io::csvField(structure.substructure(q).name);
+  out << '\n';
   for (const auto& r : c.rows) {
-    f.stream() << r.basis << ',' << r.vectors << ',' << r.dofs << ',' << r.reduceSeconds << ',' << r.solveSeconds << ','
-               << r.peakMiB << ',' << r.accuracy.maxRelativeError << ',' << r.estimate << ','
-               << r.accuracy.meanRelativeError << ',' << r.accuracy.worstMac << ',' << r.accuracy.missingModes << ','
-               << c.truthSize << ',' << c.truthSeconds;
-    for (int d : r.perSubstructure) f.stream() << ',' << d;
-    f.stream() << '\n';
+    out << r.basis << ',' << r.vectors << ',' << r.dofs << ',' << r.reduceSeconds << ',' << r.solveSeconds << ','
+        << r.peakMiB << ',' << r.accuracy.maxRelativeError << ',' << r.estimate << ','
+        << r.accuracy.meanRelativeError << ',' << r.accuracy.worstMac << ',' << r.accuracy.missingModes << ','
+        << c.truthSize << ',' << c.truthSeconds;
+    for (int d : r.perSubstructure) out << ',' << d;
+    out << '\n';
   }
   f.commit();
   std::cout << "\nwrote " << (run.outDir / csv).string() << '\n';

@@ -20,7 +20,7 @@
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
 #include "cms/analysis/TruncationStudy.hpp"
-#include "cms/io/AtomicFile.hpp"
+#include "cms/io/OutputFiles.hpp"
 
 namespace cms::drivers {
 
@@ -94,8 +94,8 @@ int truncate(int argc, char* argv[]) {
     return kNotConverged.code;
   }
   const auto csv = run.outDir / (sc.name + "-truncate.csv");
-  io::AtomicFile f(csv);
-  f.stream() << table.str();
+  io::OutputFiles f;
+  f.open(csv) << table.str();
   f.commit();
   std::cout << "wrote " << csv.string() << '\n';
   plot(options, "truncate", csv);

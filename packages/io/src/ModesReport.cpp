@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cms/io/AtomicFile.hpp"
+#include "cms/io/OutputFiles.hpp"
 
 namespace cms::io {
 

@@ -47,4 +47,7 @@ private:
   void discard();
 };
 
+/// One CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
+std::string csvField(const std::string& s);
+
 }  // namespace cms::io
