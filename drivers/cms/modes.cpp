@@ -25,6 +25,7 @@
 #include "cms/core/PeakMemory.hpp"
 #include "Command.hpp"
 #include "cms/analysis/ModalAnalysis.hpp"
+#include "cms/analysis/TruthComparison.hpp"
 #include "cms/io/ModeShapeFiles.hpp"
 #include "cms/io/ModesReport.hpp"
 #include "cms/reduction/RitzBasis.hpp"
@@ -117,14 +118,8 @@ void printSubstructures(const analysis::ModalResult& r) {
               << (r.truthCount > r.reducedCount
                       ? ": MODES MISSING (a family the bases lack, or errors that push modes past it)"
                       : ": none missing");
-  else if (r.truthCount == -1)
-    std::cout << "\n  structure: the truth's count was not reliable (pivots zero to rounding: a frequency at the cut-off)";
-  else if (r.truthCount == -3)
-    std::cout << "\n  structure: not counted: the structure is damped, and the Sturm count counts undamped "
-                 "frequencies (theory §11.9)";
-  else if (r.truthCount == -4)
-    std::cout << "\n  structure: not counted: K(Omega) is not positive semidefinite (a free body spinning, or "
-                 "past a divergence speed), where a Sturm count is no count of frequencies (theory §11.9)";
+  else if (const std::string why = analysis::truthCountNote(r.truthCount); !why.empty())
+    std::cout << "\n  structure: " << why << (r.truthCount == -1 ? "" : " (theory §11.9)");
   if (r.truthMissing > 0)
     std::cout << "\n  structure: the truth has " << r.truthMissing
               << " mode(s) in the reduced modes' range that none of them pairs with: MODES MISSING";

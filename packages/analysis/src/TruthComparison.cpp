@@ -244,4 +244,13 @@ long long truthFrequenciesBelow(const synthesis::SynthesizedStructure& truth, co
   return count.reliable ? count.count : -1;
 }
 
+std::string truthCountNote(long long code) {
+  if (code == -1) return "the truth's count was not reliable (pivots zero to rounding: a frequency at the cut-off)";
+  if (code == -3) return "not counted: the structure is damped, and the Sturm count counts undamped frequencies";
+  if (code == -4)
+    return "not counted: K(Omega) is not positive semidefinite (a free body spinning, or past a divergence speed), "
+           "where a Sturm count is no count of frequencies";
+  return {};
+}
+
 }  // namespace cms::analysis

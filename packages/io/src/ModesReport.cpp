@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cms/analysis/TruthComparison.hpp"
 #include "cms/io/OutputFiles.hpp"
 
 namespace cms::io {
@@ -70,12 +71,9 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
   if (r.truthCount >= -1) {
     coverage["structure_truth_count"] = r.truthCount;
     coverage["structure_reduced_count"] = r.reducedCount;
-  } else if (r.truthCount == -3) {
-    coverage["structure_truth_count"] = nullptr;  // asked, not countable: damped
-    coverage["structure_count_note"] = "damped: the Sturm count counts undamped frequencies";
-  } else if (r.truthCount == -4) {
-    coverage["structure_truth_count"] = nullptr;  // asked, not countable: K(Omega) indefinite
-    coverage["structure_count_note"] = "K(Omega) not positive semidefinite: the Sturm count is no count of frequencies";
+  } else if (const std::string why = analysis::truthCountNote(r.truthCount); !why.empty()) {
+    coverage["structure_truth_count"] = nullptr;  // asked, not countable (-3 damped, -4 K indefinite)
+    coverage["structure_count_note"] = why;
   }
   if (r.truthMissing >= 0) coverage["truth_unpaired_in_range"] = r.truthMissing;
   o["coverage"] = coverage;

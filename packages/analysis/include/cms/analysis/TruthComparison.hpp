@@ -106,5 +106,8 @@ long long truthFrequenciesBelow(const synthesis::AssembledStructure& structure, 
 /// The same count on a truth already synthesised (every basis Full).
 long long truthFrequenciesBelow(const synthesis::SynthesizedStructure& truth, const std::vector<double>& speeds,
                                 double omega);
+/// Why truthFrequenciesBelow made no count, for its codes -1, -3 and -4 (the
+/// one text the console and the JSON give); empty for a count (>= 0) or -2.
+std::string truthCountNote(long long code);
 
 }  // namespace cms::analysis
