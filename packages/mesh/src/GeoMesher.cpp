@@ -145,13 +145,14 @@ std::string meshScript(const std::string& script, const std::string& out,
     {
       const int fd = ::open(out.c_str(), O_WRONLY | O_APPEND);
       const bool room = fd >= 0 && ::write(fd, "\n", 1) == 1;
+      const int why = room ? 0 : errno;  // before close() can change it
       if (fd >= 0) {
         struct stat st {};
         if (room && ::fstat(fd, &st) == 0) (void)!::ftruncate(fd, st.st_size - 1);
         ::close(fd);
       }
       if (!room)
-        return "Gmsh could not write the mesh it made to " + out + " (" + std::strerror(errno) +
+        return "Gmsh could not write the mesh it made to " + out + " (" + std::strerror(why) +
                ": disk full, or a file-size limit?)";
     }
     return {};

@@ -739,14 +739,12 @@ std::string makeGmshBytes(const std::string& path, const std::map<std::string, d
     std::set<std::string> names;
     std::set<std::filesystem::path> seen;
     namedParameters(path, bytes, names, seen);
-    for (const auto& [name, value] : parameters) {
-      if (names.count(name)) continue;
-      std::string known;
-      for (const auto& n : names) known += (known.empty() ? "\"Parameters/" : ", \"Parameters/") + n + "\"";
-      CMS_INPUT_CHECK(true, path << ": mesh parameter \"" << name << "\": the script names no \"Parameters/" << name
-                                 << "\" (it names " << (known.empty() ? std::string("none") : known)
-                                 << "), so it would be ignored");
-    }
+    std::string known;
+    for (const auto& n : names) known += (known.empty() ? "\"Parameters/" : ", \"Parameters/") + n + "\"";
+    for (const auto& [name, value] : parameters)
+      CMS_INPUT_CHECK(!names.count(name), path << ": mesh parameter \"" << name << "\": the script names no \"Parameters/"
+                                                << name << "\" (it names " << (known.empty() ? std::string("none") : known)
+                                                << "), so it would be ignored");
   }
   try {
     const MadeScript made = runScript(path, parameters, mesherServer(slot), cancel);
