@@ -75,7 +75,7 @@ std::vector<GlobalOrdinal> craigBamptonHeldRows(const SubstructureBoundary& boun
 }
 
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
-                            double eigTol, double depTol) {
+                            double eigTol, double depTol, const SturmCut& cut) {
   std::vector<std::size_t> distributing;
   const std::set<GlobalOrdinal> interface = pointInterfaceRows(boundary, &distributing);
   std::vector<GlobalOrdinal> heldAll(boundary.held);
@@ -120,7 +120,7 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
     constraints = {F, X};
   }
   if (modes > 0) {
-    RitzBasis phi = detail::fixedInterfaceModes(s, K, modes, eigTol, depTol, constraints);
+    RitzBasis phi = detail::fixedInterfaceModes(s, K, modes, eigTol, depTol, constraints, cut);
     appendOrthonormal(*s.M(), *phi.vectors, phi.labels, depTol, basis.size() + phi.size(), basis);
     basis.eigensolverReport = phi.eigensolverReport;
     basis.dropped.insert(basis.dropped.end(), phi.dropped.begin(), phi.dropped.end());

@@ -195,14 +195,16 @@ Teuchos::RCP<MultiVector> denseModes(const substructure::Substructure& s, const 
 }  // namespace
 
 RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
-                              int count, double eigTol, double depTol, const ModeConstraints& constraints) {
+                              int count, double eigTol, double depTol, const ModeConstraints& constraints,
+                              const SturmCut& cut) {
   const std::set<GlobalOrdinal> heldSet(held.begin(), held.end());
   const detail::HeldStiffness K(s, std::vector<GlobalOrdinal>(heldSet.begin(), heldSet.end()));
-  return detail::fixedInterfaceModes(s, K, count, eigTol, depTol, constraints);
+  return detail::fixedInterfaceModes(s, K, count, eigTol, depTol, constraints, cut);
 }
 
 RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const detail::HeldStiffness& K, int count,
-                                      double eigTol, double depTol, const ModeConstraints& constraints) {
+                                      double eigTol, double depTol, const ModeConstraints& constraints,
+                                      const SturmCut& cut) {
   const int requested = count;
   RitzBasis basis;
   basis.kind = "Modes";
@@ -228,21 +230,8 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
         heldRows.empty() ? s.M() : Teuchos::RCP<const CrsMatrix>(holdDofs(*s.M(), heldRows, 0.0));
     auto op = Teuchos::rcp(new ShiftInvert(K, Mh, constraints));
     const int bs = 2;
-    auto X0 = Teuchos::rcp(new MultiVector(s.map(), bs));
-    for (std::size_t l = 0; l < s.map()->getNodeNumElements(); ++l)
-      for (int j = 0; j < bs; ++j)
-        X0->replaceLocalValue(l, j, hashSigned(static_cast<std::uint64_t>(s.map()->getGlobalElement(l)), 17 + j));
-    zeroHeldRows(*X0, heldRows);
-    using Problem = Anasazi::BasicEigenproblem<double, MultiVector, Operator>;
-    auto problem = Teuchos::rcp(new Problem(op, Mh, X0));
-    problem->setHermitian(true);
     // A few more than asked, to see whether the last one is repeated.
     const int nev = static_cast<int>(std::min<long long>(count + 4, nfree - 1));
-    problem->setNEV(nev);
-    TEUCHOS_TEST_FOR_EXCEPTION(!problem->setProblem(), std::logic_error, "Anasazi rejected the problem set-up");
-    Teuchos::ParameterList pl;
-    pl.set("Which", std::string("LM"));
-    pl.set("Block Size", bs);
     // The Krylov space: five times the wanted count (within 100 vectors of
     // twice it; never less than the 2 count + 20 it was), its Ritz values
     // checked every 5 block steps. With 2 count + 20 the rotor hub's 16
@@ -252,18 +241,61 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
     // fixed-interface modes' Krylov space"). The check every 5 steps stops
     // a small part once converged, not when its larger space is full.
     const long long dim = std::max<long long>(2LL * count + 20, std::min<long long>(5LL * nev, 2LL * nev + 100));
-    pl.set("Num Blocks", static_cast<int>(std::min<long long>((dim + bs - 1) / bs, nfree / bs - 1)));
-    pl.set("Step Size", 5);
-    pl.set("Maximum Restarts", 300);
-    pl.set("Convergence Tolerance", eigTol);
-    pl.set("Verbosity", static_cast<int>(Anasazi::Errors));
-    Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
-    const auto ret = mgr.solve();
-    const auto& sol = problem->getSolution();
-    report << "Anasazi Block Krylov-Schur (K^-1 M, block " << bs << "): " << sol.numVecs << " of " << nev
-           << " converged in " << mgr.getNumIters() << " block iterations";  // Anasazi counts block steps, not restarts
-    if (ret != Anasazi::Converged || sol.numVecs < nev)
-      throw NumericalError(s.name() + ": fixed-interface modes did not converge (" + report.str() + ")");
+    const auto solve = [&](int seed, long long space) {
+      auto X0 = Teuchos::rcp(new MultiVector(s.map(), bs));
+      for (std::size_t l = 0; l < s.map()->getNodeNumElements(); ++l)
+        for (int j = 0; j < bs; ++j)
+          X0->replaceLocalValue(l, j,
+                                hashSigned(static_cast<std::uint64_t>(s.map()->getGlobalElement(l)), seed + j));
+      zeroHeldRows(*X0, heldRows);
+      using Problem = Anasazi::BasicEigenproblem<double, MultiVector, Operator>;
+      auto problem = Teuchos::rcp(new Problem(op, Mh, X0));
+      problem->setHermitian(true);
+      problem->setNEV(nev);
+      TEUCHOS_TEST_FOR_EXCEPTION(!problem->setProblem(), std::logic_error, "Anasazi rejected the problem set-up");
+      Teuchos::ParameterList pl;
+      pl.set("Which", std::string("LM"));
+      pl.set("Block Size", bs);
+      pl.set("Num Blocks", static_cast<int>(std::min<long long>((space + bs - 1) / bs, nfree / bs - 1)));
+      pl.set("Step Size", 5);
+      pl.set("Maximum Restarts", 300);
+      pl.set("Convergence Tolerance", eigTol);
+      pl.set("Verbosity", static_cast<int>(Anasazi::Errors));
+      Anasazi::BlockKrylovSchurSolMgr<double, MultiVector, Operator> mgr(problem, pl);
+      const auto ret = mgr.solve();
+      report.str("");
+      report << "Anasazi Block Krylov-Schur (K^-1 M, block " << bs << "): " << problem->getSolution().numVecs
+             << " of " << nev << " converged in " << mgr.getNumIters()
+             << " block iterations";  // Anasazi counts block steps, not restarts
+      if (ret != Anasazi::Converged || problem->getSolution().numVecs < nev)
+        throw NumericalError(s.name() + ": fixed-interface modes did not converge (" + report.str() + ")");
+      return problem->getSolution();
+    };
+    // With a cut-off the Sturm count says how many values lie below it. A
+    // Krylov method can converge past one copy of a frequency repeated more
+    // often than its block (a review: the values were never checked), so
+    // a shortfall is solved once more from another start in twice the
+    // space, then an error (as the Partitioned basis's ARPACK parts are).
+    const auto belowCut = [&](const Anasazi::Eigensolution<double, MultiVector>& sol) {
+      // Values of K^-1 M: 1 / omega^2 above 1 / omega_cut^2. One converged
+      // to the relative tolerance and within 10 times it of the cut counts
+      // as below: the count's side of it is then not resolved, and it is no
+      // miss (never a false alarm).
+      return static_cast<int>(std::count_if(sol.Evals.begin(), sol.Evals.begin() + sol.numVecs,
+                                            [&](const Anasazi::Value<double>& v) {
+                                              return v.realpart * cut.omega2 > 1.0 - 10.0 * eigTol;
+                                            }));
+    };
+    auto sol = solve(17, dim);
+    if (cut.atLeast >= 0 && belowCut(sol) < cut.atLeast) {
+      sol = solve(41, 2 * dim);
+      const int found = belowCut(sol);
+      if (found < cut.atLeast)
+        throw NumericalError(s.name() + ": Anasazi found " + std::to_string(found) + " fixed-interface modes below "
+                             "the cut-off where the Sturm count has at least " + std::to_string(cut.atLeast) +
+                             ", twice (" + report.str() + "): a repeated frequency's copy missed");
+      report << " (second start: the first found fewer modes below the cut-off than the Sturm count)";
+    }
     // Lowest frequencies first: largest 1 / omega^2.
     std::vector<int> order(sol.numVecs);
     std::iota(order.begin(), order.end(), 0);

@@ -102,6 +102,6 @@ private:
 /// rows (Craig-Bampton shares it with its static solves).
 RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const HeldStiffness& K, int count,
                               double eigensolverTolerance, double dependenceTolerance,
-                              const ModeConstraints& constraints);
+                              const ModeConstraints& constraints, const SturmCut& cut = {});
 
 }  // namespace cms::reduction::detail

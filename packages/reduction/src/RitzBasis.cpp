@@ -198,6 +198,7 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
   int below = -1;  // the substructure's own modes below the cut-off (held as the basis holds them)
   int freedConstraints = 0;  // distributing interfaces' constraints the count leaves free
   int represented = -1;      // an Admissible basis's Rayleigh-Ritz values below the cut-off
+  SturmCut sturmCut;         // the count, for the modes of Modes and Craig-Bampton
   // (Partitioned applies the cut-off per part and to the interface: no
   // count over the whole substructure, whose factorisation it avoids.)
   if (cutoffHz > 0.0 && kind != "Full" && kind != "Guyan" && kind != "Partitioned") {
@@ -229,6 +230,9 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                                                                      "of its frequencies; move it" : count.failure) + ")");
     below = static_cast<int>(count.negative);
     vectors = below;
+    // What the modes found are checked against (FixedInterfaceModes.hpp):
+    // a distributing interface's constraints may take up to m of them.
+    sturmCut = {w * w, below - freedConstraints};
   }
   RitzBasis basis;
   if (kind == "Full") {
@@ -284,11 +288,11 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                                                  << " but substructure \"" << s.name() << "\" has only " << freeRows
                                                  << " free DOFs");
     basis = fixedInterfaceModes(s, boundary.held, vectors, p.get<double>("Eigensolver Tolerance"),
-                                p.get<double>("Dependence Tolerance"));
+                                p.get<double>("Dependence Tolerance"), {}, sturmCut);
   } else {
     const int modes = kind == "Guyan" ? 0 : vectors;
     basis = craigBamptonBasis(s, boundary, modes, p.get<double>("Eigensolver Tolerance"),
-                              p.get<double>("Dependence Tolerance"));
+                              p.get<double>("Dependence Tolerance"), sturmCut);
   }
   basis.kind = kind;
   basis.adoptedFactor = offered.adopted();

@@ -10,6 +10,7 @@
 // part (doc/theory.md §11.2).
 #pragma once
 
+#include "cms/reduction/FixedInterfaceModes.hpp"
 #include "cms/reduction/RitzBasis.hpp"
 
 namespace cms::reduction {
@@ -28,7 +29,9 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
 /// instead), sorted and unique.
 std::vector<GlobalOrdinal> craigBamptonHeldRows(const SubstructureBoundary& boundary);
 
+/// `cut`: the cut-off's Sturm count, which the fixed-interface modes are
+/// checked against (FixedInterfaceModes.hpp).
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
-                            double eigensolverTolerance, double dependenceTolerance);
+                            double eigensolverTolerance, double dependenceTolerance, const SturmCut& cut = {});
 
 }  // namespace cms::reduction

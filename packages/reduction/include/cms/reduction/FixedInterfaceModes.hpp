@@ -24,8 +24,17 @@ struct ModeConstraints {
   Teuchos::RCP<const MultiVector> F, Y;
 };
 
+/// What a cut-off's Sturm count says of the modes asked for: at least
+/// `atLeast` eigenvalues lie below omega2 (rad/s squared). Anasazi's values
+/// are checked against it (a miss is retried once, then an error); LAPACK's
+/// need no check. atLeast < 0: no count.
+struct SturmCut {
+  double omega2 = 0.0;
+  int atLeast = -1;
+};
+
 RitzBasis fixedInterfaceModes(const substructure::Substructure& s, const std::vector<GlobalOrdinal>& held,
                               int count, double eigensolverTolerance, double dependenceTolerance,
-                              const ModeConstraints& constraints = {});
+                              const ModeConstraints& constraints = {}, const SturmCut& cut = {});
 
 }  // namespace cms::reduction
