@@ -311,6 +311,21 @@ TEST(Scene, SpinKeysAKindDoesNotReadAreRefused) {
   expectInputError([&] { scene::Scene::parse(armSpin(", Frame: Stationary, Stress Stiffening: true"), "a2.yaml"); },
                    "Substructures/arm/Spin/Stress Stiffening");
   EXPECT_NO_THROW(scene::Scene::parse(armSpin(", Frame: Stationary"), "a3.yaml"));
+  // A rigid rotor (R) spins about its attachment point and has no stress:
+  // its Origin, Frame and Stress Stiffening are read by no one.
+  const auto wheelSpin = [&](const std::string& extra) {
+    return std::string(kGood) + "    wheel:\n      Kind: R\n      Parent: hub\n      Attachment:\n        Type: Node\n"
+                                "        Parent Nodes: end\n      Rotor:\n        Mass: 8.0\n"
+                                "        Transverse Inertia: 0.04\n        Axial Inertia: 0.07\n"
+                                "      Spin: {Axis: [0, 0, 1], Rate: 600" + extra + "}\n";
+  };
+  EXPECT_NO_THROW(scene::Scene::parse(wheelSpin(""), "r.yaml"));
+  expectInputError([&] { scene::Scene::parse(wheelSpin(", Origin: [1, 0, 0]"), "r1.yaml"); },
+                   "Substructures/wheel/Spin/Origin");
+  expectInputError([&] { scene::Scene::parse(wheelSpin(", Stress Stiffening: true"), "r2.yaml"); },
+                   "Substructures/wheel/Spin/Stress Stiffening");
+  expectInputError([&] { scene::Scene::parse(wheelSpin(", Frame: Stationary"), "r3.yaml"); },
+                   "Substructures/wheel/Spin/Frame = Stationary");
 }
 
 TEST(Scene, ANameIsNotAPath) {
