@@ -13,7 +13,10 @@ written, and the mode shapes' streams were never checked, so
     threw, rank 1 waited in the next mode's gather);
   - the standalone `campbell --csv` wrote a CSV cut short and exited 0;
   - a .geo script's mesh cut short by the limit was blamed on the script
-    ("cannot be read back") instead of the write.
+    ("cannot be read back") instead of the write;
+  - a result whose name was taken by a directory failed to be renamed
+    after the files before it had been: those were left, the run exited
+    as an internal error, and two ranks hung.
 Each case must now exit with a failure, name what failed, and leave the
 output directory without a result or temporary file.
 """
@@ -37,10 +40,10 @@ def limited(limit):
 def check(what, cmd, cwd, out, expect, preexec=None, allowed=()):
     try:
         r = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                           preexec_fn=preexec, timeout=120)
+                           preexec_fn=preexec, timeout=60)
     except subprocess.TimeoutExpired:
-        FAILED.append(f"{what}: hung (killed after 120 s)")
-        return
+        FAILED.append(f"{what}: hung (killed after 60 s)")
+        return None
     left = sorted(set(os.listdir(out)) - set(allowed)) if os.path.isdir(out) else []
     if r.returncode == 0:
         FAILED.append(f"{what}: exit 0\n{r.stdout}")
@@ -49,6 +52,7 @@ def check(what, cmd, cwd, out, expect, preexec=None, allowed=()):
     if left:
         FAILED.append(f"{what}: left {left} in {out}")
     print(f"{what}: exit {r.returncode}, {len(left)} file(s) left")
+    return r.returncode
 
 
 def main():
@@ -86,6 +90,20 @@ def main():
         os.makedirs(out)
         check("campbell --csv, file-size limit", [campbell, "--steps=13", "--csv=" + os.path.join(out, "c.csv")], d,
               out, "writing failed", limited(1024))
+        # 5. A result's own name taken by a directory: every file written
+        #    whole, then its rename fails. It renamed the files before it
+        #    (partial output), exited 5 as an internal error, and on two
+        #    ranks hung (rank 0 threw past the collective commit).
+        for ranks in ([], [mpiexec, "-n", "2"] if mpiexec else None):
+            if ranks is None:
+                continue
+            out = os.path.join(d, f"taken{len(ranks)}")
+            os.makedirs(os.path.join(out, "spacecraft-coverage.csv", "x"))
+            what = ("2 ranks: " if ranks else "") + "cms modes, a result's name taken by a directory"
+            code = check(what, ranks + [cms, "modes", "--output=" + out], d, out,
+                         "spacecraft-coverage.csv: cannot replace", allowed=["spacecraft-coverage.csv"])
+            if code is not None and code != 2:
+                FAILED.append(f"{what}: exit {code}, not 2 (a file that cannot be written)")
     if FAILED:
         sys.exit("check_no_partial_output:\n" + "\n".join(FAILED))
     print("check_no_partial_output: no partial output")

@@ -40,10 +40,32 @@ std::vector<std::string> OutputFiles::commit() {
     discard();
     throw InputError(failed + "; no files written");
   }
+  // Every file is whole: now each must take its name. A name held by a
+  // directory (or a rename refused for another reason) once threw past
+  // the collective commit after the files before it were renamed: partial
+  // output, an "internal error", and on two ranks a hang (found by a
+  // review). Names are checked first; a rename that still fails takes
+  // back the files renamed before it (their earlier versions, replaced,
+  // are gone either way), so the run leaves none of its files.
+  const auto refuse = [&](const File& f, const std::string& why, std::size_t renamed) {
+    const std::string name = f.path.string();
+    for (std::size_t i = 0; i < renamed; ++i) {
+      std::error_code ec;
+      std::filesystem::remove(files_[i].path, ec);
+    }
+    discard();  // the temporaries not yet renamed
+    throw InputError(name + ": cannot replace (" + why + "); no files written");
+  };
+  for (const auto& f : files_) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(f.path, ec)) refuse(f, "a directory has its name", 0);
+  }
   std::vector<std::string> written;
-  for (auto& f : files_) {
-    std::filesystem::rename(f.tmp, f.path);
-    written.push_back(f.path.string());
+  for (std::size_t i = 0; i < files_.size(); ++i) {
+    std::error_code ec;
+    std::filesystem::rename(files_[i].tmp, files_[i].path, ec);
+    if (ec) refuse(files_[i], ec.message(), i);
+    written.push_back(files_[i].path.string());
   }
   files_.clear();
   return written;
@@ -57,6 +79,10 @@ std::vector<std::string> OutputFiles::commit(const Teuchos::Comm<int>& comm) {
       written = commit();
     } catch (const InputError& e) {
       why = e.what();
+    } catch (const std::exception& e) {
+      // Anything else (memory) is shared too: rank 0 alone must not leave
+      // the others waiting in the broadcast below.
+      why = std::string("writing the run's files failed: ") + e.what();
     }
   }
   int size = static_cast<int>(why.size());
