@@ -313,6 +313,17 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     const fem::Vec3 a = vec3(pl, "Axis", pp, std::vector<double>{0, 0, 1});
     CMS_INPUT_CHECK(!(fem::norm(a) > 0), pp << "/Axis must be a nonzero vector");
     const double th = getNumber(pl, "Angle", pp, 0.0) * M_PI / 180.0;
+    // Fixed components, springs and dampers are written per component of
+    // the structure's axes; the mesh under them turns. One the rotation
+    // does not map onto itself would act along other directions of the
+    // placed body than of the mesh it was written for: refused, as for
+    // Copies (a review found such a spring left as written, silently).
+    const std::string variant = fem::rotationVariantItem(*s.model, fem::Rotation::about(a, th));
+    CMS_INPUT_CHECK(!variant.empty(),
+                    pp << ": the substructure's " << variant << " acts along the structure's axes, and turned by "
+                       << th * 180 / M_PI << " degrees with its mesh it would act along others: give it the same "
+                       << "values in every direction the rotation turns, or mesh the substructure in the "
+                       << "structure's axes without Placement");
     s.model = fem::placedModel(*s.model, fem::Rotation::about(a, th), {0, 0, 0},
                                vec3(pl, "Translation", pp, std::vector<double>{0, 0, 0}));
   }

@@ -28,7 +28,9 @@ struct Rotation {
 /// section orientations and hinge axes turned by R, point-mass inertia
 /// tensors R J R^T.
 /// Per-component items (fixed DOFs, springs, dampers) are left as written:
-/// they act along the structure's axes (see rotationVariantItem).
+/// they act along the structure's axes, so callers refuse a rotation that
+/// does not map them onto themselves (rotationVariantItem; Copies and a
+/// scene's Placement both do).
 std::shared_ptr<FiniteElementModel> placedModel(const FiniteElementModel& model, const Rotation& rotation,
                                                 const Vec3& pivot, const Vec3& translation = {0, 0, 0});
 
