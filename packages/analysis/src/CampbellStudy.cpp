@@ -470,32 +470,60 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         // The last bisection's solve, nearest the crossing (none: f_k's).
         synthesis::StructureModes at;
         int atIndex = -1;
+        bool jump = false;
         if (refine && !onLine) {
-          // Bisection, following the track by MAC into each half.
-          eigen::GyroscopicMode modeLo = last[t];
-          for (int it = 0; it < 200 && hi - lo > crossingTol * hi; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            auto m = problem.solve(speedsAt(mid));
-            if (m.result.status != eigen::SolveStatus::Converged || m.result.modes.empty()) break;
-            const auto row = problem.mac({modeLo}, m.result.modes).front();
-            const int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
-            if (row[static_cast<std::size_t>(best)] < macFloor) break;  // the mode left the set in between
-            const double g = m.result.modes[best].omega - order * std::abs(refAt(mid));
-            if ((g > 0) == (gLo > 0)) lo = mid, gLo = g, modeLo = m.result.modes[best];
-            else hi = mid, gHi = g;
-            at = std::move(m), atIndex = best;
+          const double f0Lo = lo, f0Hi = hi, g0Lo = gLo, g0Hi = gHi, dg0 = std::abs(gLo - gHi);
+          // Bisection, following one end's mode by MAC into each half: the
+          // track's mode at the lower end (or at the upper one, below).
+          const auto bisect = [&](bool fromLow) {
+            eigen::GyroscopicMode followed = fromLow ? last[t] : modes[j];
+            for (int it = 0; it < 200 && hi - lo > crossingTol * hi; ++it) {
+              const double mid = 0.5 * (lo + hi);
+              auto m = problem.solve(speedsAt(mid));
+              if (m.result.status != eigen::SolveStatus::Converged || m.result.modes.empty()) break;
+              const auto row = problem.mac({followed}, m.result.modes).front();
+              const int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
+              if (row[static_cast<std::size_t>(best)] < macFloor) break;  // the mode left the set in between
+              const double g = m.result.modes[best].omega - order * std::abs(refAt(mid));
+              const bool lowSide = (g > 0) == (gLo > 0);
+              if (lowSide) lo = mid, gLo = g;
+              else hi = mid, gHi = g;
+              if (lowSide == fromLow) followed = m.result.modes[best];
+              at = std::move(m), atIndex = best;
+            }
+            // On one branch omega - n Omega is continuous: closed to the
+            // tolerance, its two ends differ by the slope times a bracket
+            // of crossingTol, a millionth of the grid's difference. Ends
+            // that still differ by 1% of it are two branches: the track
+            // took another mode at the grid speed (a mode through zero
+            // frequency is returned as its conjugate), and the bracket
+            // closed on that speed, where it was reported as a refined
+            // critical speed (the helicopter at 5 rad/s, found by a review).
+            return hi - lo <= crossingTol * hi && std::abs(gLo - gHi) > 0.01 * dg0;
+          };
+          jump = bisect(true);
+          if (jump) {
+            // The lower end's branch does not cross here: the upper end's
+            // may (the helicopter's regressing lag, which the track took
+            // at 5 rad/s, crosses 1X at 2.37). Followed down from f_k.
+            lo = f0Lo, hi = f0Hi, gLo = g0Lo, gHi = g0Hi, atIndex = -1;
+            jump = bisect(false);
           }
-          if (atIndex >= 0) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
+          if (atIndex >= 0 && !jump) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
         }
         // The part that dominates it: at the bisection's last solve now; at
         // the grid's f_k once the crossing is known to be reported (below):
         // most unrefined ones are a frame-rate track's rounding about a line,
         // counted and dropped, and each name costs a characterise.
-        if (atIndex >= 0) c.dominant = {problem.dominant(at)[atIndex]};
-        else dominantAt.emplace(found.size(), std::make_pair(static_cast<std::size_t>(k), j));
         c.factor = lo + gLo / (gLo - gHi) * (hi - lo);
         c.speed = refAt(c.factor);
         c.omega = order * std::abs(c.speed);
+        if (jump) {
+          r.branchJumps.push_back({static_cast<int>(t), order, refAt(r.factors[k - 1]), refAt(f)});
+          continue;
+        }
+        if (atIndex >= 0) c.dominant = {problem.dominant(at)[atIndex]};
+        else dominantAt.emplace(found.size(), std::make_pair(static_cast<std::size_t>(k), j));
         found.push_back(c);
       }
       last[t] = modes[j];
@@ -556,6 +584,10 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
   for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
+  // A frame-rate track's jumps are rounding about a rate, like its crossings.
+  r.branchJumps.erase(std::remove_if(r.branchJumps.begin(), r.branchJumps.end(),
+                                     [&](const auto& b) { return r.tracks[static_cast<std::size_t>(b.track)].frameRate; }),
+                      r.branchJumps.end());
   std::vector<EngineOrderCrossing> kept;
   std::map<std::size_t, std::vector<std::string>> namesAt;  // per grid step, computed once
   for (std::size_t i = 0; i < found.size(); ++i) {
@@ -738,6 +770,10 @@ void CampbellResult::printCrossings(std::ostream& os) const {
         os << "track" << t + 1 << " left the requested modes at " << at(k) << " rad/s of '" << ref
            << "' (lost from there: * in the table)\n";
   }
+  for (const auto& b : branchJumps)
+    os << "track" << b.track + 1 << " jumps between two branches from " << b.from << " to " << b.to << " rad/s of '"
+       << ref << "' (" << orderText(b.order) << " changes sign by the jump, not by a crossing: no critical speed "
+       << "read there, and a crossing of either branch in between may be missed; a finer sweep follows them)\n";
   for (const auto& [a, b] : unstableRanges)
     os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'"
        << (unstableEdgesRefined ? " (edges bisected)" : " (the sweep's unstable speeds: the edges lie up to a step outside)")

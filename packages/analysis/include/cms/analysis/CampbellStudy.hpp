@@ -201,6 +201,17 @@ struct CampbellResult {
   std::vector<CampbellTrack> tracks;
   std::vector<double> orders;        ///< the engine orders asked
   std::vector<EngineOrderCrossing> crossings;  ///< by order, then speed; frame-rate tracks left out
+  /// A sign change of a track's omega - n Omega between two sweep speeds
+  /// that bisection showed to be a jump between two branches (the tracking
+  /// took another mode at the upper speed), followed from either end: no
+  /// critical speed is read there, and a crossing of either branch in the
+  /// interval may be missed (theory §12.3).
+  struct BranchJump {
+    int track = 0;
+    double order = 1.0;
+    double from = 0.0, to = 0.0;  ///< the sweep speeds around it, Omega_ref (rad/s)
+  };
+  std::vector<BranchJump> branchJumps;
   /// The crossings of frame-rate tracks that follow a held rate (met by an
   /// engine order of the swept one), bisected like the others but no
   /// critical speeds (a rigid motion seen at a spin rate): listed apart.
