@@ -605,3 +605,18 @@ TEST(Copies, JoinedByABooleanInterfaceAsTheWrittenOutBlades) {
   for (std::size_t m = 0; m < a.result.modes.size(); ++m)
     EXPECT_NEAR(a.result.modes[m].omega, b.result.modes[m].omega, tol) << "mode " << m;
 }
+
+TEST(Copies, KeysReadByNoOneAreRefused) {
+  // Found by a review: "Copy Phase" on a single part turned nothing (the
+  // spacecraft's boom+ at 90 degrees gave the same frequencies to the last
+  // digit), and a Boolean attachment's "Point" was ignored (its point is
+  // the centroid of the shared nodes): 1.17144 Hz with Point [-0.1, 0, 0]
+  // as without, where a Node attachment there gives 1.22963 Hz.
+  expectInputError([&] { assembled(rotor(blade("blade", 0.0, "      Copy Phase: 90.0\n", kAdmissible))); },
+                   "\"Copy Phase\" without \"Copies\"");
+  EXPECT_NO_THROW(assembled(rotor(blade("blade", 0.0, "      Copies: 2\n      Copy Phase: 90.0\n", kAdmissible))));
+  std::string b = blade("blade", 0.0, "", kAdmissible);
+  const std::string node = "{Parent Nodes: end, Nodes: start}";
+  b.replace(b.find(node), node.size(), "{Type: Boolean, Parent Nodes: end, Nodes: start, Point: [0.0, 0.0, 0.0]}");
+  expectInputError([&] { assembled(rotor(b)); }, "\"Attachment/Point\" with a Boolean attachment");
+}

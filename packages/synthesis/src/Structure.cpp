@@ -39,6 +39,17 @@ void StructureDescription::validate() const {
                         << s.copyPhase << ")");
     CMS_INPUT_CHECK(!s.copyParentNodes.empty() && s.copies == 1,
                     who << ": \"Copy Parent Nodes\" without \"Copies\" (more than one)");
+    // Read only where there are copies to turn: a phase on a single part
+    // turned nothing and was accepted (found by a review).
+    CMS_INPUT_CHECK(s.copyPhase != 0.0 && s.copies == 1,
+                    who << ": \"Copy Phase\" without \"Copies\" (more than one) turns nothing; to turn one "
+                           "substructure, give its model a \"Placement\"");
+    // A Boolean interface's point is the centroid of its shared nodes (its
+    // frame's origin): a given Point was ignored (the frequencies those
+    // of none), and a Point off the parent accepted (found by a review).
+    CMS_INPUT_CHECK(s.attachment.point && s.attachment.type == Attachment::Type::Boolean,
+                    who << ": \"Attachment/Point\" with a Boolean attachment: its point is the centroid of the "
+                           "shared nodes; remove Point, or attach by Node or RigidFit");
     CMS_INPUT_CHECK(s.copies > 1 && s.kind == SubstructureKind::Central,
                     who << ": the central substructure cannot be copied (\"Copies\" places copies about the parent's "
                            "spin axis)");
