@@ -299,6 +299,27 @@ void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
     p.frame = inherited;
     p.compound = true;
   } else if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
+    // The stationary form is a rotor spinning about its own axis (theory
+    // §9.4): every node on the line through the attachment point along the
+    // spin axis. Each element was checked parallel to the axis, never on
+    // it: a shaft 0.3 m off it ran as if centred (an eccentric mass
+    // orbiting, periodic coefficients; found by a review).
+    if (p.spec.model && p.spec.model->mesh) {
+      const auto& mesh = *p.spec.model->mesh;
+      double extent = 0.0, worst = 0.0;
+      std::size_t at = 0;
+      for (std::size_t n = 0; n < mesh.nodeCount(); ++n) {
+        const Vec3 r = sub({mesh.coordinates[3 * n], mesh.coordinates[3 * n + 1], mesh.coordinates[3 * n + 2]}, p.point);
+        extent = std::max(extent, norm(r));
+        const double off = norm(cross(r, a));
+        if (off > worst) worst = off, at = n;
+      }
+      CMS_INPUT_CHECK(worst > 1e-6 * extent,
+                      who(p) << ": Frame: Stationary needs a rotor on its spin axis (the line through its attachment "
+                             << "point along the axis), and node " << mesh.nodeTags[at] << " is " << worst
+                             << " off it; a rotor off its axis orbits it, with periodic coefficients. Use Frame: "
+                             << "Rotating");
+    }
     p.frame.spinning = true;
     p.frame.kind = fem::SpinDefinition::Frame::Stationary;
     p.frame.axis = a;
