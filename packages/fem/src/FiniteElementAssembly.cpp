@@ -1239,9 +1239,9 @@ class Assembler {
           }
           if (it.kind == Item::Kind::Frame) {
             const FrameElement fe = frameOf(it);
-            // N(x) from the element's equilibrium under its own
-            // centrifugal load: quadratic along it (theory §10).
-            made.m.K = frameGeometricStiffness(fe, frameCentrifugalAxialForce(fe, ue, spin));
+            // N(x) and the shear forces from the element's equilibrium
+            // under its own centrifugal load: quadratic along it (theory §10).
+            made.m.K = frameGeometricStiffness(fe, frameCentrifugalPrestress(fe, ue, spin));
           } else {
             made.m.K = solidGeometricStiffness(solidOf(it, made.xyz), ue);
           }

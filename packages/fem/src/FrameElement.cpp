@@ -277,6 +277,102 @@ FrameAxialForce frameCentrifugalAxialForce(const FrameElement& e, const double* 
   return {N0, N(0.5), N(1.0)};
 }
 
+double FrameTransverseResultants::shear(double xi, double L) const {
+  return shearStart - L * (loadStart * xi + 0.5 * (loadEnd - loadStart) * xi * xi);
+}
+
+double FrameTransverseResultants::moment(double xi, double L) const {
+  // S' = V: S(0) + ∫_0^x V ds.
+  return momentStart +
+         L * (shearStart * xi - L * (loadStart * xi * xi / 2.0 + (loadEnd - loadStart) * xi * xi * xi / 6.0));
+}
+
+FramePrestress frameCentrifugalPrestress(const FrameElement& e, const double* ue, const Spin& spin) {
+  FramePrestress p;
+  p.N = frameCentrifugalAxialForce(e, ue, spin);
+  const LocalAxes ax = localAxes(e);
+  const Vec3 n = detail::unitAxis(spin.axis, "frame element");
+  const Spin unitSpin{n, spin.origin};
+  // The element's start force and moment per unit Omega^2: F = K_e ue - f_e,
+  // f_e its own centrifugal load (exact whenever the nodal displacements are).
+  const ElementMatrix K = frameStiffness(e);
+  const SpinMatrices sm = frameSpinMatrices(e, unitSpin);
+  std::array<double, 6> F{};
+  for (int i = 0; i < 6; ++i) {
+    double f = -sm.f1[i];
+    for (int j = 0; j < kDofs; ++j) f += K(i, j) * ue[j];
+    F[i] = f;
+  }
+  const auto local = [&](int row, int offset) {
+    return ax.R[3 * row] * F[offset] + ax.R[3 * row + 1] * F[offset + 1] + ax.R[3 * row + 2] * F[offset + 2];
+  };
+  const double rhoA = e.material.rho * e.section.A;
+  const auto transverse = [&](int row, double momentStart) {
+    const Vec3 d{ax.R[3 * row], ax.R[3 * row + 1], ax.R[3 * row + 2]};
+    FrameTransverseResultants t;
+    t.shearStart = -local(row, 0);
+    t.momentStart = momentStart;
+    t.loadStart = rhoA * detail::dot(detail::perpendicularToAxis(e.x1, unitSpin), d);
+    t.loadEnd = rhoA * detail::dot(detail::perpendicularToAxis(e.x2, unitSpin), d);
+    return t;
+  };
+  // The moment the part beyond the start exerts, -F_theta, is (T, S_z, -S_y).
+  p.y = transverse(1, local(2, 3));
+  p.z = transverse(2, -local(1, 3));
+  return p;
+}
+
+ElementMatrix frameGeometricStiffness(const FrameElement& e, const FramePrestress& prestress) {
+  ElementMatrix k = frameGeometricStiffness(e, prestress.N);
+  const LocalAxes ax = localAxes(e);
+  const double L = ax.L;
+  const ShearParameters phi = shearParameters(e, L);
+  // u' and theta_x' on the axial and twist DOFs (linear interpolation).
+  std::array<double, kDofs> du{}, dtx{};
+  du[0] = -1.0 / L, du[6] = 1.0 / L;
+  dtx[3] = -1.0 / L, dtx[9] = 1.0 / L;
+  ElementMatrix ks(kDofs);
+  // V quadratic times a slope and a rotation (quadratic each), S cubic times
+  // a slope and a constant: degree 6 at most, exact with the 5-point rule.
+  for (int g = 0; g < 5; ++g) {
+    const double xi = kGaussXi[g];
+    const LocalShapes n = localShapes(xi, L, phi);
+    const double w = kGaussW[g] * L;
+    const double vy = w * prestress.y.shear(xi, L), vz = w * prestress.z.shear(xi, L);
+    const double sy = w * prestress.y.moment(xi, L), sz = w * prestress.z.moment(xi, L);
+    const auto& tx = n.theta[0];
+    const auto& ty = n.theta[1];
+    const auto& tz = n.theta[2];
+    for (int i = 0; i < kDofs; ++i)
+      for (int j = 0; j < kDofs; ++j)
+        ks(i, j) += vy * (n.dw[i] * tx[j] + tx[i] * n.dw[j] - du[i] * tz[j] - tz[i] * du[j]) +
+                    vz * (du[i] * ty[j] + ty[i] * du[j] - n.dv[i] * tx[j] - tx[i] * n.dv[j]) +
+                    sy * (n.dw[i] * dtx[j] + dtx[i] * n.dw[j]) - sz * (n.dv[i] * dtx[j] + dtx[i] * n.dv[j]);
+  }
+  // The end moments' terms (semitangential moments): the bending terms
+  // above leave, for a rotation theta at an end, (e1 . theta)(e1 . (m x
+  // theta)) of the end moment m = (T, S_z, -S_y) unbalanced; along a
+  // straight member they cancel at every node, but where members meet at an
+  // angle (a coned boom on its hub) a rigid rotation about the spin axis
+  // was left with the root moment's a1 (a2 S_y + a3 S_z), a1 = n . e1 (the
+  // coned spinner's rotation about its axis came out at 0.34 rad/s instead
+  // of 0). In local axes, with e1 x m = (0, S_y, S_z):
+  //   -(1/2) [[0, S_y, S_z], [S_y, 0, 0], [S_z, 0, 0]] at the start,
+  //   +(1/2) the same at the end.
+  const double end[2][2] = {{prestress.y.moment(0.0, L), prestress.z.moment(0.0, L)},
+                            {prestress.y.moment(1.0, L), prestress.z.moment(1.0, L)}};
+  for (int a = 0; a < 2; ++a) {
+    const int r = a == 0 ? 3 : 9;
+    const double sign = a == 0 ? -0.5 : 0.5;
+    ks(r, r + 1) += sign * end[a][0], ks(r + 1, r) += sign * end[a][0];
+    ks(r, r + 2) += sign * end[a][1], ks(r + 2, r) += sign * end[a][1];
+  }
+  const ElementMatrix kg = toGlobal(ks, ax.R);
+  for (int i = 0; i < kDofs; ++i)
+    for (int j = 0; j < kDofs; ++j) k(i, j) += kg(i, j);
+  return k;
+}
+
 ElementMatrix frameGeometricStiffness(const FrameElement& e, double axialForce) {
   return frameGeometricStiffness(e, FrameAxialForce{axialForce, axialForce, axialForce});
 }

@@ -51,6 +51,33 @@ struct FrameAxialForce {
 /// with Nbar = EA (u2 - u1) . e1 / L = frameAxialForce(e, ue), the mean of N.
 FrameAxialForce frameCentrifugalAxialForce(const FrameElement& e, const double* ue, const Spin& spin);
 
+/// The stress resultants of a spinning element's centrifugal prestress that
+/// its geometric stiffness needs: the axial force N and the shear forces
+/// Vy, Vz along the local y and z axes (the force the part beyond x exerts
+/// on the part before it), each quadratic in xi (theory §10).
+/// One transverse direction d (the local y or z axis) of the prestress: the
+/// shear force V(x) = V(0) - ∫_0^x q ds under the linear load q, and the
+/// first moment of the axial stress about that axis, S(x) = ∫ sigma_xx d dA
+/// (S' = V by the element's moment equilibrium; the bending moment is
+/// M_z = -S_y, M_y = S_z).
+struct FrameTransverseResultants {
+  double shearStart = 0.0, momentStart = 0.0, loadStart = 0.0, loadEnd = 0.0;
+  double shear(double xi, double L) const;
+  double moment(double xi, double L) const;
+};
+
+struct FramePrestress {
+  FrameAxialForce N;
+  FrameTransverseResultants y, z;
+};
+
+/// N as frameCentrifugalAxialForce; V and S from the same equilibrium: the
+/// end forces and moments F = K_e ue - f_e at the start (V(0) = -F_d,
+/// S_y(0) = F_theta_z, S_z(0) = -F_theta_y in local axes), q = rho A r_perp
+/// . e2 (or e3), linear in x. A beam across the radius (a coned or swept
+/// blade) carries a transverse centrifugal load, hence shear and bending.
+FramePrestress frameCentrifugalPrestress(const FrameElement& e, const double* ue, const Spin& spin);
+
 /// Geometric (stress) stiffness of an axial force N(x): bending
 /// ∫ N(x) v'^T v' dx in both planes with the element's own translational shape
 /// functions (Gauss points exact for a quadratic N times the products of two
@@ -59,6 +86,14 @@ FrameAxialForce frameCentrifugalAxialForce(const FrameElement& e, const double* 
 ElementMatrix frameGeometricStiffness(const FrameElement& e, const FrameAxialForce& axialForce);
 /// The same for a constant axial force N.
 ElementMatrix frameGeometricStiffness(const FrameElement& e, double axialForce);
+/// The same with the transverse resultants' terms, from the second-order
+/// work (1/2) ∫ sigma_ij u_k,i u_k,j dV with the beam's kinematics
+/// (v = v0 - z theta_x, w = w0 + y theta_x, u = u0 - y theta_z + z theta_y):
+/// the shear stresses give ∫ [Vy (w' theta_x - u' theta_z) + Vz (u' theta_y -
+/// v' theta_x)] dx, the bending stresses ∫ (S_y w' - S_z v') theta_x' dx.
+/// Without them a rigid rotation of a beam under transverse prestress was
+/// not balanced (theory §11.6): a free coned spinner diverged about its axis.
+ElementMatrix frameGeometricStiffness(const FrameElement& e, const FramePrestress& prestress);
 
 /// Rotating-frame terms per unit speed: translational (rho A) from the
 /// displacement shape functions, rotary (rho J_section) from the rotation
