@@ -3,7 +3,7 @@
 (analysis::CampbellResult::writeCsv / writeCrossingsCsv, written by
 `cms campbell` and `campbell --csv`):
 
-    check_campbell_csv.py <name>-campbell.csv --reference=NAME [--held=a,b] [--orders=1,2] [--parts=a,b]
+    check_campbell_csv.py <name>-campbell.csv --reference=NAME [--held=a,b] [--orders=1,2] [--parts=a,b] [--rotor-frame=1] [--min-crossings=N]
 
 - the first columns are factor, then <reference>_rad_per_s, then the other
   rates; a rate named in --held is constant over the sweep, every other one
@@ -13,7 +13,9 @@
   _frame_rate (yes, no) columns;
 - <name>-campbell-crossings.csv has the header below, only --orders appear,
   each frequency is order times the speed, rpm is rad/s * 30 / pi, and
-  "unbalance" is yes exactly for forward whirl at order 1, and "dominant"
+  "unbalance" is yes exactly for forward whirl at order 1 (never with
+  --rotor-frame=1: the whirl part is seen from a spinning frame in which
+  its unbalance is no 1X force of the reference), and "dominant"
   names the part (or parts "a & b") of each track (among --parts when
   given: the scene's substructures).
 Exit 0 on success, 1 with the reasons otherwise.
@@ -33,6 +35,8 @@ def main(argv):
     held = set(filter(None, opts.get("held", "").split(",")))
     orders = {float(o) for o in opts.get("orders", "1").split(",")}
     parts = set(filter(None, opts.get("parts", "").split(",")))
+    rotor_frame = "rotor-frame" in opts
+    min_crossings = int(opts.get("min-crossings", "0"))
     bad = []
     with open(path, newline="") as f:
         reader = csv.reader(f)
@@ -84,13 +88,16 @@ def main(argv):
             bad.append(f"{side}: {c['frequency_hz']} Hz is not {order} x {w} rad/s")
         if not math.isclose(float(c["speed_rpm"]), w * 30 / math.pi, rel_tol=1e-9):
             bad.append(f"{side}: {c['speed_rpm']} rpm is not {w} rad/s")
-        if (c["unbalance"] == "yes") != (order == 1.0 and c["whirl"] == "FW"):
+        if (c["unbalance"] == "yes") != (order == 1.0 and c["whirl"] == "FW" and not rotor_frame):
             bad.append(f"{side}: unbalance {c['unbalance']} for {order}X {c['whirl']}")
         names = c.get("dominant", "").split(";")
         named = {n for name in names for n in name.split(" & ")}
         if len(names) != len(c["tracks"].split(";")) or not all(names) or (parts and not named <= parts):
             bad.append(f"{side}: dominant {c.get('dominant')!r} for tracks {c['tracks']!r}"
                        + (f" (parts: {sorted(parts)})" if parts else ""))
+    fw1 = [c for c in crossings if float(c["order"]) == 1.0 and c["whirl"] == "FW"]
+    if len(fw1) < min_crossings:
+        bad.append(f"{side}: {len(fw1)} 1X forward crossings, expected at least {min_crossings}")
     if bad:
         print("check_campbell_csv: " + "; ".join(bad))
         return 1

@@ -121,11 +121,33 @@ std::string SynthesizedSweepProblem::whirlOf() const {
   return whirlPart_ < 0 ? "" : structure_.substructure(static_cast<std::size_t>(whirlPart_)).name;
 }
 
-bool SynthesizedSweepProblem::whirlInRotorFrame() const {
+bool SynthesizedSweepProblem::whirlInRotorFrame(int reference) const {
   if (whirlPart_ < 0) return false;
-  const auto& s = structure_.substructure(static_cast<std::size_t>(whirlPart_));
-  return s.kind == synthesis::SubstructureKind::Rotating && s.spin &&
-         s.spin->frame == fem::SpinDefinition::Frame::Rotating;
+  const auto rotatingA = [](const synthesis::SubstructureSpec& s) {
+    return s.kind == synthesis::SubstructureKind::Rotating && s.spin &&
+           s.spin->frame == fem::SpinDefinition::Frame::Rotating;
+  };
+  if (rotatingA(structure_.substructure(static_cast<std::size_t>(whirlPart_)))) return true;
+  // An R, an E or a stationary-frame A moves in its parent's frame (an E's
+  // parent's in turn). Where that frame spins (a spinning C, a
+  // rotating-frame A), the part's unbalance turns in it at the part's own
+  // rate: a 1X force of the reference only when the reference is that
+  // rate. Before, only an A's own frame was recognised, and a disc on a
+  // spinning C shaft, swept by the shaft's rate, had "forward: unbalance
+  // excites it" at the 1X crossing of a rotating-frame frequency (found by
+  // a review).
+  int k = whirlPart_;
+  for (;;) {
+    int parent = -1;
+    const std::string& name = structure_.substructure(static_cast<std::size_t>(k)).parent;
+    for (std::size_t q = 0; q < structure_.numSubstructures(); ++q)
+      if (structure_.substructure(q).name == name) parent = static_cast<int>(q);
+    if (parent < 0) return false;
+    const auto& p = structure_.substructure(static_cast<std::size_t>(parent));
+    if ((p.kind == synthesis::SubstructureKind::Central && p.spin) || rotatingA(p)) return whirlSpeed_ != reference;
+    if (p.kind == synthesis::SubstructureKind::Central) return false;
+    k = parent;
+  }
 }
 
 synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<double>& speeds) const {
@@ -302,7 +324,6 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   CampbellResult r;
   r.parameters = problem.parameters();
   r.whirlOf = problem.whirlOf();
-  r.whirlInRotorFrame = problem.whirlInRotorFrame();
   r.orders.assign(orders.begin(), orders.end());
   CMS_INPUT_CHECK(r.parameters.empty(), "CampbellStudy: nothing spins: no speed parameter to sweep");
   r.scaled.assign(r.parameters.size(), swept.empty());
@@ -315,6 +336,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     CMS_INPUT_CHECK(!r.scaled[r.reference], "CampbellStudy: \"Speed Parameter\" = \"" << swept
                                                 << "\" is not a speed parameter (those of this structure: " << names << ")");
   }
+  r.whirlInRotorFrame = problem.whirlInRotorFrame(r.reference);
   const double refNominal = r.parameters[r.reference].nominal * speedFactor;
   CMS_INPUT_CHECK(refNominal == 0.0, "CampbellStudy: the nominal rate of \"" << r.parameters[r.reference].name
                                                                           << "\" is 0: nothing to sweep");
@@ -665,7 +687,8 @@ bool unbalanceExcites(const EngineOrderCrossing& c, bool rotorFrame) {
 std::string unbalanceNote(const EngineOrderCrossing& c, bool rotorFrame) {
   if (rotorFrame && (c.whirl == Whirl::Forward || c.whirl == Whirl::Backward))
     return std::string(c.whirl == Whirl::Forward ? "forward" : "backward") +
-           " in the rotor's frame (there its unbalance is static; n per rev of a stationary force excites it)";
+           " in a spinning frame (there the rotor's unbalance is no 1X force; n per rev of a stationary force "
+           "excites it)";
   if (c.whirl == Whirl::Forward)
     return unbalanceExcites(c, rotorFrame) ? "forward: unbalance excites it" : "forward";
   if (c.whirl == Whirl::Backward)

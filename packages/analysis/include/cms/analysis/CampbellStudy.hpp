@@ -77,10 +77,16 @@ public:
   virtual std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const = 0;
   /// The part whose orbit defines whirl ("" when none).
   virtual std::string whirlOf() const = 0;
-  /// True when that part's coordinates turn with it (an A with Frame:
-  /// Rotating): its orbits, and so forward and backward, are seen from the
-  /// rotor, where its own unbalance is a static load, not a 1X force.
-  virtual bool whirlInRotorFrame() const { return false; }
+  /// True when that part's orbits are seen from a spinning frame in which
+  /// its unbalance is no 1X force of the reference rate (parameter
+  /// `reference`): its own frame (an A with Frame: Rotating, where its
+  /// unbalance is static), or a spinning parent's frame (a spinning C, a
+  /// rotating-frame A) when its own rate is not the reference (a disc on a
+  /// spinning shaft C, swept by the shaft's rate).
+  virtual bool whirlInRotorFrame(int reference) const {
+    (void)reference;
+    return false;
+  }
   /// Per mode of `modes`, the part that carries the largest share of its
   /// kinetic energy (a substructure's name; theory §11.6).
   virtual std::vector<std::string> dominant(const synthesis::StructureModes& modes) const = 0;
@@ -125,7 +131,7 @@ public:
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
   std::string whirlOf() const override;
-  bool whirlInRotorFrame() const override;
+  bool whirlInRotorFrame(int reference) const override;
   /// By SynthesizedStructure::characterise's kinetic shares; parts whose
   /// shares agree with the largest to 1e-3 are named together, "a & b"
   /// (identical parts in a symmetric mode).
