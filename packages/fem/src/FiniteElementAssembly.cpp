@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <system_error>
@@ -33,6 +34,7 @@
 #include "cms/core/BlasThreads.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
+#include "cms/core/MatrixSum.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/fem/FrameElement.hpp"
 #include "cms/fem/LumpedElements.hpp"
@@ -1254,6 +1256,40 @@ class Assembler {
         });
     throwIfAnyFailed();
     out_.KS1 = finish(vKS);
+    addOffsetLoadStiffness();
+  }
+
+  /// PrestressConditions::offsetLoads' link stiffness added to KS1: each
+  /// rank its owned rows (the list is the same on every rank).
+  void addOffsetLoadStiffness() {
+    if (prestress_.offsetLoads.empty()) return;
+    const DofLayout& L = out_.layout;
+    std::map<std::pair<GO, GO>, double> entries;
+    for (const auto& o : prestress_.offsetLoads) {
+      bool rotations = o.node >= 0 && o.node < numNodes_;
+      for (int c = 3; c < 6 && rotations; ++c) rotations = (L.present[o.node] & (1u << c)) != 0;
+      if (!rotations) continue;
+      const double fr = o.force[0] * o.arm[0] + o.force[1] * o.arm[1] + o.force[2] * o.arm[2];
+      std::vector<std::pair<long long, double>> rows[3];
+      for (int i = 0; i < 3; ++i)
+        rows[i] = prestressRows({o.node, static_cast<Component>(3 + i), 0.0}, "offset load");
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const double k = (i == j ? fr : 0.0) - 0.5 * (o.force[i] * o.arm[j] + o.arm[i] * o.force[j]);
+          if (k == 0.0) continue;
+          for (const auto& [ri, wi] : rows[i])
+            for (const auto& [rj, wj] : rows[j])
+              if (ownedMap_->isNodeGlobalElement(static_cast<GO>(ri)))
+                entries[{static_cast<GO>(ri), static_cast<GO>(rj)}] += wi * wj * k;
+        }
+    }
+    auto extra = Teuchos::rcp(new CrsMatrix(ownedMap_, 9));
+    for (const auto& [rc, v] : entries) {
+      const GO col = rc.second;
+      extra->insertGlobalValues(rc.first, Teuchos::tuple<GO>(col), Teuchos::tuple<double>(v));
+    }
+    extra->fillComplete(out_.KS1->getDomainMap(), out_.KS1->getRangeMap());
+    out_.KS1 = matrixSum(1.0, *out_.KS1, 1.0, *extra);
   }
 
   const FiniteElementModel& model_;

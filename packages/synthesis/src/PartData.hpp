@@ -90,6 +90,9 @@ struct AssembledStructure::Part {
   std::shared_ptr<const HeldFactor> stiffnessFactor;
   /// Prestress loads per unit Omega^2 from its children (their reactions).
   std::vector<fem::PrestressConditions::NodalValue> childLoads;
+  /// Those of them applied through a rigid offset (a Node attachment with a
+  /// Point off the node): the link's geometric stiffness (theory §11.4).
+  std::vector<fem::PrestressConditions::OffsetLoad> childOffsetLoads;
   /// R only: 6 x 6 matrices on a = (u_P, theta_P), 7 x 7 with the spin
   /// angle last when it is a coordinate.
   struct Rotor {

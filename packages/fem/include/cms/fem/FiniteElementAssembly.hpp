@@ -51,6 +51,17 @@ struct PrestressConditions {
   };
   std::vector<NodalValue> held;   ///< components the node does not carry are ignored
   std::vector<NodalValue> loads;
+  /// A force applied at node + arm through a rigid link (a child or rotor
+  /// attached at a Point off the node), per unit Omega^2; its force and
+  /// moment arm x force are among `loads`. The link's geometric stiffness
+  /// on the node's rotations, (F . r) I - (F r^T + r F^T) / 2 (the force's
+  /// work on the arm's second-order displacement theta x (theta x r) / 2),
+  /// is added to KS1 (theory §11.4). Nodes without rotations are skipped.
+  struct OffsetLoad {
+    std::int64_t node = 0;
+    Vec3 force{0, 0, 0}, arm{0, 0, 0};
+  };
+  std::vector<OffsetLoad> offsetLoads;
   /// When not empty: u1 itself, one value per free DOF in layout order (the
   /// structure solved the coupled static problem); no solve, no reactions.
   std::vector<double> displacement;
