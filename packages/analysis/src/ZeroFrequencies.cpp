@@ -90,22 +90,37 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   report.expected = rigidBodyMotions(structure);
   const auto zeros = zeroModes(modes);
   report.zeros = static_cast<int>(zeros.size());
-  if (report.zeros <= report.expected) return report;
+  const bool spinning =
+      std::any_of(modes.speeds.begin(), modes.speeds.end(), [](double w) { return w != 0.0; });
+  if (report.zeros <= report.expected) {
+    // At speed a free body's rigid motions need not stay at zero: in a
+    // spinning frame four of its six move to the frame rate, and a spinning
+    // wheel turns its tilts into nutation. A zero within the count of six
+    // can then be a critical speed: a free shaft's bending mode at zero,
+    // labelled rigid (found by a review). At speed every zero that strains
+    // the structure is judged below, not only those beyond the count.
+    if (!spinning || zeros.empty()) return report;
+    const auto character = reduced.characterise(modes);
+    const bool strained = std::any_of(zeros.begin(), zeros.end(), [&](int m) {
+      return character[m].relativeStrain[argmax(character[m].relativeStrain)] > kStrainSplit;
+    });
+    if (!strained) return report;
+  }
 
   // 1. At a critical speed, K(Omega) is singular but K(0) is not: the zeros
   // beyond the rigid-body motions appear with the speed (theory §4.3).
-  const bool spinning =
-      std::any_of(modes.speeds.begin(), modes.speeds.end(), [](double w) { return w != 0.0; });
   StructureModes rest;
   if (spinning) {
     rest = reduced.solve(std::vector<double>(modes.speeds.size(), 0.0), solveParams);
     if (static_cast<int>(zeroModes(rest).size()) <= report.expected) {
       // Relabel the zeros that strain the structure (the rigid-body ones do
       // not), at most the excess.
+      // Relabelled: every zero that strains the structure (at speed a
+      // rigid motion does not; the count of six is no bound there, above).
       const auto character = reduced.characterise(modes);
       int excess = report.zeros - report.expected;
       for (int m : zeros)
-        if (excess > 0 && character[m].relativeStrain[argmax(character[m].relativeStrain)] > kStrainSplit) {
+        if (character[m].relativeStrain[argmax(character[m].relativeStrain)] > kStrainSplit) {
           modes.result.modes[m].stability = eigen::Stability::Critical;
           ++report.critical, --excess;
         }
