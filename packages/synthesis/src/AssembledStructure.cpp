@@ -856,6 +856,30 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
 
   for (auto& p : parts)  // 2. parents first
     setFrame(*p, p->parent >= 0 ? parts[p->parent].get() : nullptr, out.speeds_);
+  // A mechanism in a spinning frame is held only by the centrifugal
+  // prestress: the spin softening of a free body's rigid rotations, or of a
+  // free hinge's rotation, is balanced by the geometric stiffness of the
+  // stress it causes (theory §10, §11.6). Without it they read as
+  // divergence at the spin rate: the spacecraft with its bus's stiffening
+  // off diverged at 0.999 rad/s, a blade on a free lag hinge at Omega
+  // (found by a review). Refused: the answer would be a false instability.
+  for (const auto& p : parts) {
+    const bool softOnly = p->frame.spinning && p->frame.kind == fem::SpinDefinition::Frame::Rotating &&
+                          !p->frame.stressStiffening && p->spec.kind != SubstructureKind::Rigid;
+    if (!softOnly) continue;
+    CMS_INPUT_CHECK(out.free_ && p->spec.kind == SubstructureKind::Central,
+                    who(*p) << ": \"Stress Stiffening: false\" on a free-floating structure spinning in its frame: "
+                               "its rigid rotations' spin softening is balanced only by the centrifugal prestress, "
+                               "and without it they would read as divergence at the spin rate; remove the key "
+                               "(stiffening is on by default)");
+    if (p->spec.model)
+      for (const auto& h : p->spec.model->hinges)
+        CMS_INPUT_CHECK(h.stiffness == 0.0,
+                        who(*p) << ": hinge '" << h.name << "' turns freely in a frame spinning without stress "
+                                << "stiffening: only the centrifugal prestress holds it, and without it it would "
+                                << "read as divergence; remove \"Stress Stiffening: false\" or give the hinge a "
+                                << "stiffness");
+  }
   for (auto& p : parts) setHeldDofs(*p, d.freeReference);  // 3.
   for (auto& p : parts)                                     // 4.
     if (p->spec.kind == SubstructureKind::Rigid) buildRigidRotor(*p, *parts[p->parent]);
