@@ -68,7 +68,11 @@ Enrichment enrichToAccuracy(const synthesis::AssembledStructure& structure, cons
     os.precision(3);
     os << "step " << step << ": " << s.size() << " coordinates, worst estimated error " << out.worstEstimate;
     if (worst >= 0) os << " (mode " << worst + 1 << ")";
-    if (out.worstEstimate <= target && static_cast<int>(m.result.modes.size()) >= nModes) {
+    // Only a converged solve reaches the target (its status was unread: a
+    // solve that had not converged could end the enrichment; a review).
+    if (m.result.status != eigen::SolveStatus::Converged) os << " (the solve did not converge: " << m.result.reason << ")";
+    if (out.worstEstimate <= target && static_cast<int>(m.result.modes.size()) >= nModes &&
+        m.result.status == eigen::SolveStatus::Converged) {
       out.reached = true;
       out.synthesis = std::make_shared<const synthesis::SynthesizedStructure>(s);
       os << ": target " << target << " reached";

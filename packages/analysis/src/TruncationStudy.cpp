@@ -104,7 +104,12 @@ TruncationResult TruncationStudy::run(
     model.dofs = s.size();
     if (model.dofs < nModes) return model;
     model.modes = s.solve(speeds, solve_);
-    if (static_cast<int>(model.modes.result.modes.size()) < nModes) return model;
+    // A solve that did not converge has no estimate (infinite: never
+    // "reached"): its modes' residual estimates would read as accuracy
+    // (a review found the status unread).
+    if (static_cast<int>(model.modes.result.modes.size()) < nModes ||
+        model.modes.result.status != eigen::SolveStatus::Converged)
+      return model;
     if (truth) model.trueError = compareWithTruth(s, model.modes, *truth, truthModes, nModes).maxRelativeError;
     std::vector<std::vector<double>> shares;
     const auto e = s.errorEstimates(model.modes, &shares);
