@@ -96,7 +96,7 @@ ShearParameters shearParameters(const FrameElement& e, double L) {
 /// cantilever and the closed-form stiffness of Przemieniecki; Hermite cubics
 /// and their slopes for phi = 0.
 struct PlaneShape {
-  double v[4], theta[4], dv[4];
+  double v[4], theta[4], dv[4], dtheta[4];
 };
 
 PlaneShape planeShape(double xi, double L, double phi) {
@@ -114,6 +114,10 @@ PlaneShape planeShape(double xi, double L, double phi) {
   s.dv[1] = c * (3.0 * x2 - (4.0 + phi) * xi + 1.0 + 0.5 * phi);
   s.dv[2] = -s.dv[0];
   s.dv[3] = c * (3.0 * x2 - (2.0 - phi) * xi - 0.5 * phi);
+  s.dtheta[0] = 6.0 * c * (2.0 * xi - 1.0) / (L * L);
+  s.dtheta[1] = c * (6.0 * xi - (4.0 + phi)) / L;
+  s.dtheta[2] = -s.dtheta[0];
+  s.dtheta[3] = c * (6.0 * xi - (2.0 - phi)) / L;
   return s;
 }
 
@@ -122,6 +126,7 @@ PlaneShape planeShape(double xi, double L, double phi) {
 struct LocalShapes {
   Shape u{}, theta{};
   std::array<double, kDofs> dv{}, dw{};
+  std::array<double, kDofs> dthetaY{}, dthetaZ{};  ///< theta_y', theta_z'
 };
 
 LocalShapes localShapes(double xi, double L, const ShearParameters& phi) {
@@ -136,6 +141,8 @@ LocalShapes localShapes(double xi, double L, const ShearParameters& phi) {
     s.u[2][kPlaneXZ[k]] = kSignXZ[k] * xz.v[k];
     s.theta[1][kPlaneXZ[k]] = -kSignXZ[k] * xz.theta[k];
     s.dw[kPlaneXZ[k]] = kSignXZ[k] * xz.dv[k];
+    s.dthetaZ[kPlaneXY[k]] = xy.dtheta[k];
+    s.dthetaY[kPlaneXZ[k]] = -kSignXZ[k] * xz.dtheta[k];
   }
   return s;
 }
@@ -319,6 +326,7 @@ FramePrestress frameCentrifugalPrestress(const FrameElement& e, const double* ue
   // The moment the part beyond the start exerts, -F_theta, is (T, S_z, -S_y).
   p.y = transverse(1, local(2, 3));
   p.z = transverse(2, -local(1, 3));
+  p.torque = -local(0, 3);
   return p;
 }
 
@@ -340,6 +348,7 @@ ElementMatrix frameGeometricStiffness(const FrameElement& e, const FramePrestres
     const double w = kGaussW[g] * L;
     const double vy = w * prestress.y.shear(xi, L), vz = w * prestress.z.shear(xi, L);
     const double sy = w * prestress.y.moment(xi, L), sz = w * prestress.z.moment(xi, L);
+    const double tq = 0.5 * w * prestress.torque;
     const auto& tx = n.theta[0];
     const auto& ty = n.theta[1];
     const auto& tz = n.theta[2];
@@ -347,7 +356,8 @@ ElementMatrix frameGeometricStiffness(const FrameElement& e, const FramePrestres
       for (int j = 0; j < kDofs; ++j)
         ks(i, j) += vy * (n.dw[i] * tx[j] + tx[i] * n.dw[j] - du[i] * tz[j] - tz[i] * du[j]) +
                     vz * (du[i] * ty[j] + ty[i] * du[j] - n.dv[i] * tx[j] - tx[i] * n.dv[j]) +
-                    sy * (n.dw[i] * dtx[j] + dtx[i] * n.dw[j]) - sz * (n.dv[i] * dtx[j] + dtx[i] * n.dv[j]);
+                    sy * (n.dw[i] * dtx[j] + dtx[i] * n.dw[j]) - sz * (n.dv[i] * dtx[j] + dtx[i] * n.dv[j]) +
+                    tq * (n.dthetaY[i] * tz[j] + tz[i] * n.dthetaY[j] - n.dthetaZ[i] * ty[j] - ty[i] * n.dthetaZ[j]);
   }
   // The end moments' terms (semitangential moments): the bending terms
   // above leave, for a rotation theta at an end, (e1 . theta)(e1 . (m x

@@ -69,6 +69,9 @@ struct FrameTransverseResultants {
 struct FramePrestress {
   FrameAxialForce N;
   FrameTransverseResultants y, z;
+  /// The torque T = ∫ (y tau_xz - z tau_xy) dA (no distributed torque:
+  /// constant along the element).
+  double torque = 0.0;
 };
 
 /// N as frameCentrifugalAxialForce; V and S from the same equilibrium: the
@@ -90,7 +93,9 @@ ElementMatrix frameGeometricStiffness(const FrameElement& e, double axialForce);
 /// work (1/2) ∫ sigma_ij u_k,i u_k,j dV with the beam's kinematics
 /// (v = v0 - z theta_x, w = w0 + y theta_x, u = u0 - y theta_z + z theta_y):
 /// the shear stresses give ∫ [Vy (w' theta_x - u' theta_z) + Vz (u' theta_y -
-/// v' theta_x)] dx, the bending stresses ∫ (S_y w' - S_z v') theta_x' dx.
+/// v' theta_x)] dx, the bending stresses ∫ (S_y w' - S_z v') theta_x' dx, and
+/// the torque (the shear stresses' first moments) ∫ (T/2) (theta_y' theta_z -
+/// theta_z' theta_y) dx.
 /// Without them a rigid rotation of a beam under transverse prestress was
 /// not balanced (theory §11.6): a free coned spinner diverged about its axis.
 ElementMatrix frameGeometricStiffness(const FrameElement& e, const FramePrestress& prestress);
