@@ -14,9 +14,11 @@ regressing lag (2.3712 rad/s: omega_lag = sqrt(4.69^2 + 0.079 Omega^2),
 omega_lag - Omega = Omega, to 1e-4 on a fine sweep) was not listed at all
 (found by a review). Now:
   - no crossing within 1e-3 of a grid speed where the jump is (5 rad/s);
-  - with 21 steps, the regressing lag's crossing at 2.3712 (to 1e-3);
+  - with 21 steps, the regressing lag's crossing at 2.3712 (to 1e-3; found
+    by another track, in an interval without a jump);
   - with 11 steps, where the jump is in the interval holding it, the jump
-    is said ("jumps between two branches") instead of a silent miss.
+    is said ("jumps between two branches") instead of a silent miss (the
+    crossing itself is not found there).
 """
 import csv
 import os

@@ -494,11 +494,11 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         int atIndex = -1;
         bool jump = false;
         if (refine && !onLine) {
-          const double f0Lo = lo, f0Hi = hi, g0Lo = gLo, g0Hi = gHi, dg0 = std::abs(gLo - gHi);
-          // Bisection, following one end's mode by MAC into each half: the
-          // track's mode at the lower end (or at the upper one, below).
-          const auto bisect = [&](bool fromLow) {
-            eigen::GyroscopicMode followed = fromLow ? last[t] : modes[j];
+          const double dg0 = std::abs(gLo - gHi);
+          // Bisection, following the track's mode at the lower end by MAC
+          // into each half.
+          const auto bisect = [&]() {
+            eigen::GyroscopicMode followed = last[t];
             for (int it = 0; it < 200 && hi - lo > crossingTol * hi; ++it) {
               const double mid = 0.5 * (lo + hi);
               auto m = problem.solve(speedsAt(mid));
@@ -510,7 +510,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
               const bool lowSide = (g > 0) == (gLo > 0);
               if (lowSide) lo = mid, gLo = g;
               else hi = mid, gHi = g;
-              if (lowSide == fromLow) followed = m.result.modes[best];
+              if (lowSide) followed = m.result.modes[best];
               at = std::move(m), atIndex = best;
             }
             // On one branch omega - n Omega is continuous: closed to the
@@ -523,14 +523,13 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
             // critical speed (the helicopter at 5 rad/s, found by a review).
             return hi - lo <= crossingTol * hi && std::abs(gLo - gHi) > 0.01 * dg0;
           };
-          jump = bisect(true);
-          if (jump) {
-            // The lower end's branch does not cross here: the upper end's
-            // may (the helicopter's regressing lag, which the track took
-            // at 5 rad/s, crosses 1X at 2.37). Followed down from f_k.
-            lo = f0Lo, hi = f0Hi, gLo = g0Lo, gHi = g0Hi, atIndex = -1;
-            jump = bisect(false);
-          }
+          // Only the lower end's branch is followed. Following the upper
+          // end's down as well was tried: on the helicopter (11 steps, the
+          // regressing lag taken at 5 rad/s and crossing 1X at 2.37) it
+          // never found that crossing (the mode through zero frequency is
+          // conjugated below it, and the MAC then took another branch;
+          // found by a review), so it is not kept: a jump is said instead.
+          jump = bisect();
           if (atIndex >= 0 && !jump) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
         }
         // The part that dominates it: at the bisection's last solve now; at
