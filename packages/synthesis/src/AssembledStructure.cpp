@@ -289,21 +289,14 @@ void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
   // got the compound rotor's rate in no term (refused, as for E and R).
   CMS_INPUT_CHECK(parent && parent->compound, who(p) << ": a rotor on the spinning rotor '" << parent->spec.name
                                                      << "' has periodic coefficients (not supported)");
-  if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary && inherited.spinning) {
-    // Compound spin (theory §11.5): the parent frame's terms as for an
-    // E, plus the rotor's own spin (G1 per omega) and the cross
-    // stiffness per Omega omega, from a second, stationary assembly.
-    CMS_INPUT_CHECK(inherited.kind == fem::SpinDefinition::Frame::Stationary,
-                    who(p) << ": a stationary-frame rotor on the stationary-frame rotor '" << parent->spec.name
-                           << "' (not supported)");
-    p.frame = inherited;
-    p.compound = true;
-  } else if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
-    // The stationary form is a rotor spinning about its own axis (theory
-    // §9.4): every node on the line through the attachment point along the
-    // spin axis. Each element was checked parallel to the axis, never on
-    // it: a shaft 0.3 m off it ran as if centred (an eccentric mass
-    // orbiting, periodic coefficients; found by a review).
+  if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
+    // The stationary form, alone or compound (on a spinning parent), is a
+    // rotor spinning about its own axis (theory §9.4): every node on the
+    // line through the attachment point along the spin axis. Each element
+    // was checked parallel to the axis, never on it: a shaft 0.3 m off it
+    // ran as if centred (an eccentric mass orbiting, periodic
+    // coefficients; found by a review, and for a compound rotor by a
+    // review of that fix).
     if (p.spec.model && p.spec.model->mesh) {
       const auto& mesh = *p.spec.model->mesh;
       double extent = 0.0, worst = 0.0;
@@ -320,6 +313,17 @@ void setRotorFrame(Part& p, const Part* parent, const Frame& inherited) {
                              << " off it; a rotor off its axis orbits it, with periodic coefficients. Use Frame: "
                              << "Rotating");
     }
+  }
+  if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary && inherited.spinning) {
+    // Compound spin (theory §11.5): the parent frame's terms as for an
+    // E, plus the rotor's own spin (G1 per omega) and the cross
+    // stiffness per Omega omega, from a second, stationary assembly.
+    CMS_INPUT_CHECK(inherited.kind == fem::SpinDefinition::Frame::Stationary,
+                    who(p) << ": a stationary-frame rotor on the stationary-frame rotor '" << parent->spec.name
+                           << "' (not supported)");
+    p.frame = inherited;
+    p.compound = true;
+  } else if (p.spec.spin->frame == fem::SpinDefinition::Frame::Stationary) {
     p.frame.spinning = true;
     p.frame.kind = fem::SpinDefinition::Frame::Stationary;
     p.frame.axis = a;
@@ -856,13 +860,15 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
 
   for (auto& p : parts)  // 2. parents first
     setFrame(*p, p->parent >= 0 ? parts[p->parent].get() : nullptr, out.speeds_);
-  // A mechanism in a spinning frame is held only by the centrifugal
-  // prestress: the spin softening of a free body's rigid rotations, or of a
-  // free hinge's rotation, is balanced by the geometric stiffness of the
-  // stress it causes (theory §10, §11.6). Without it they read as
-  // divergence at the spin rate: the spacecraft with its bus's stiffening
-  // off diverged at 0.999 rad/s, a blade on a free lag hinge at Omega
-  // (found by a review). Refused: the answer would be a false instability.
+  // A free body spinning in its frame is held only by the centrifugal
+  // prestress: the spin softening of its rigid rotations is balanced by the
+  // geometric stiffness of the stress it causes (theory §10, §11.6).
+  // Without it they read as divergence at the spin rate: the spacecraft
+  // with its bus's stiffening off diverged at 0.999 rad/s (found by a
+  // review). Refused: the answer would be a false instability. (A free
+  // hinge is the same mechanism, but whether something else holds it, a
+  // spring across it or at the tip, needs the stiffness's rank: not
+  // refused, theory §10.)
   for (const auto& p : parts) {
     const bool softOnly = p->frame.spinning && p->frame.kind == fem::SpinDefinition::Frame::Rotating &&
                           !p->frame.stressStiffening && p->spec.kind != SubstructureKind::Rigid;
@@ -872,13 +878,6 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
                                "its rigid rotations' spin softening is balanced only by the centrifugal prestress, "
                                "and without it they would read as divergence at the spin rate; remove the key "
                                "(stiffening is on by default)");
-    if (p->spec.model)
-      for (const auto& h : p->spec.model->hinges)
-        CMS_INPUT_CHECK(h.stiffness == 0.0,
-                        who(*p) << ": hinge '" << h.name << "' turns freely in a frame spinning without stress "
-                                << "stiffening: only the centrifugal prestress holds it, and without it it would "
-                                << "read as divergence; remove \"Stress Stiffening: false\" or give the hinge a "
-                                << "stiffness");
   }
   for (auto& p : parts) setHeldDofs(*p, d.freeReference);  // 3.
   for (auto& p : parts)                                     // 4.
