@@ -104,6 +104,28 @@ def main():
                          "spacecraft-coverage.csv: cannot replace", allowed=["spacecraft-coverage.csv"])
             if code is not None and code != 2:
                 FAILED.append(f"{what}: exit {code}, not 2 (a file that cannot be written)")
+        # 6. A rename that fails after the checks: the earlier results a run
+        #    replaces are kept aside and put back, not lost. The results of a
+        #    first run, then a second whose setting aside of one of them is
+        #    refused (its aside name taken by a directory).
+        out = os.path.join(d, "again")
+        first = subprocess.run([cms, "modes", "--output=" + out], cwd=d, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, timeout=60)
+        if first.returncode != 0:
+            FAILED.append(f"first run for case 6: exit {first.returncode}\n{first.stdout}")
+        else:
+            before = {f: open(os.path.join(out, f), "rb").read() for f in os.listdir(out)}
+            os.makedirs(os.path.join(out, "spacecraft-modes.csv.replaced", "x"))
+            r = subprocess.run([cms, "modes", "--truth", "--output=" + out], cwd=d,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+            after = {f: open(os.path.join(out, f), "rb").read() for f in os.listdir(out)
+                     if f != "spacecraft-modes.csv.replaced"}
+            if r.returncode != 2 or "cannot replace" not in r.stdout:
+                FAILED.append(f"a failed replacement: exit {r.returncode}\n{r.stdout}")
+            if after != before:
+                FAILED.append(f"a failed replacement changed the earlier results: {sorted(before)} -> {sorted(after)}")
+            print(f"cms modes, a failed replacement: exit {r.returncode}, earlier results "
+                  f"{'kept' if after == before else 'changed'}")
     if FAILED:
         sys.exit("check_no_partial_output:\n" + "\n".join(FAILED))
     print("check_no_partial_output: no partial output")

@@ -144,7 +144,9 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
       const auto wider = s.solve(r.speeds, more);
       long long below = 0;
       for (const auto& md : wider.result.modes) below += md.omega < r.countAt;
-      r.reducedCount = std::max(r.reducedCount, below);
+      // Only a converged solve answers (one that did not could hide a
+      // missing mode; a review).
+      if (wider.result.status == eigen::SolveStatus::Converged) r.reducedCount = std::max(r.reducedCount, below);
     }
   }
 

@@ -1283,7 +1283,10 @@ class Assembler {
                 entries[{static_cast<GO>(ri), static_cast<GO>(rj)}] += wi * wj * k;
         }
     }
-    auto extra = Teuchos::rcp(new CrsMatrix(ownedMap_, 9));
+    // Sized per row: a hinge's slaved rotation expands into several columns.
+    Teuchos::Array<std::size_t> perRow(static_cast<std::size_t>(ownedMap_->getNodeNumElements()), 0);
+    for (const auto& [rc, v] : entries) ++perRow[static_cast<std::size_t>(ownedMap_->getLocalElement(rc.first))];
+    auto extra = Teuchos::rcp(new CrsMatrix(ownedMap_, perRow()));
     for (const auto& [rc, v] : entries) {
       const GO col = rc.second;
       extra->insertGlobalValues(rc.first, Teuchos::tuple<GO>(col), Teuchos::tuple<double>(v));

@@ -44,28 +44,51 @@ std::vector<std::string> OutputFiles::commit() {
   // directory (or a rename refused for another reason) once threw past
   // the collective commit after the files before it were renamed: partial
   // output, an "internal error", and on two ranks a hang (found by a
-  // review). Names are checked first; a rename that still fails takes
-  // back the files renamed before it (their earlier versions, replaced,
-  // are gone either way), so the run leaves none of its files.
-  const auto refuse = [&](const File& f, const std::string& why, std::size_t renamed) {
-    const std::string name = f.path.string();
-    for (std::size_t i = 0; i < renamed; ++i) {
+  // review). Names are checked first; the earlier results a run replaces
+  // are kept aside until every rename has succeeded, so that a rename that
+  // still fails puts them back (before, it deleted the new files with the
+  // old ones already gone; a review of that fix).
+  for (const auto& f : files_) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(f.path, ec)) {
+      const std::string name = f.path.string();
+      discard();
+      throw InputError(name + ": cannot replace (a directory has its name); no files written");
+    }
+  }
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> aside;  // (result, its earlier version)
+  std::vector<std::filesystem::path> renamed;
+  const auto undo = [&](const std::string& name, const std::string& why) {
+    for (const auto& r : renamed) {
       std::error_code ec;
-      std::filesystem::remove(files_[i].path, ec);
+      std::filesystem::remove(r, ec);
+    }
+    for (const auto& [path, old] : aside) {
+      std::error_code ec;
+      std::filesystem::rename(old, path, ec);
     }
     discard();  // the temporaries not yet renamed
     throw InputError(name + ": cannot replace (" + why + "); no files written");
   };
   for (const auto& f : files_) {
     std::error_code ec;
-    if (std::filesystem::is_directory(f.path, ec)) refuse(f, "a directory has its name", 0);
+    if (!std::filesystem::exists(f.path, ec)) continue;
+    const std::filesystem::path old = f.path.string() + ".replaced";
+    std::filesystem::rename(f.path, old, ec);
+    if (ec) undo(f.path.string(), ec.message());
+    aside.push_back({f.path, old});
   }
   std::vector<std::string> written;
-  for (std::size_t i = 0; i < files_.size(); ++i) {
+  for (const auto& f : files_) {
     std::error_code ec;
-    std::filesystem::rename(files_[i].tmp, files_[i].path, ec);
-    if (ec) refuse(files_[i], ec.message(), i);
-    written.push_back(files_[i].path.string());
+    std::filesystem::rename(f.tmp, f.path, ec);
+    if (ec) undo(f.path.string(), ec.message());
+    renamed.push_back(f.path);
+    written.push_back(f.path.string());
+  }
+  for (const auto& [path, old] : aside) {
+    std::error_code ec;
+    std::filesystem::remove(old, ec);
   }
   files_.clear();
   return written;
