@@ -530,7 +530,10 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
           // conjugated below it, and the MAC then took another branch;
           // found by a review), so it is not kept: a jump is said instead.
           jump = bisect();
-          if (atIndex >= 0 && !jump) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = true;
+          // Refined only when the bracket closed: a bisection that stopped
+          // early (the mode left the set, a solve failed) is interpolated,
+          // as theory §12.1 says (it was called refined after one step).
+          if (atIndex >= 0 && !jump) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = hi - lo <= crossingTol * hi;
         }
         // The part that dominates it: at the bisection's last solve now; at
         // the grid's f_k once the crossing is known to be reported (below):
