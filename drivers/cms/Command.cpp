@@ -131,6 +131,9 @@ std::optional<int> SceneRun::start(Options& options, int argc, char* argv[]) {
                       s.model->mesh->source.compare(s.model->mesh->source.size() - 4, 4, ".geo") == 0);
     CMS_INPUT_CHECK(!used, "--mesh-parameters: no substructure of " << scenePath << " is meshed from a .geo script");
   }
+  // --plot draws the CSV table: with Output/CSV false there is none.
+  CMS_INPUT_CHECK(options.plot() && !scene.csv,
+                  "--plot draws the run's CSV table, and the scene's \"Output/CSV\" is false");
   // 3. The output directory, writable before anything is computed.
   outDir = !output.empty() ? output : (!scene.outputDirectory.empty() ? scene.outputDirectory : "cms-results");
   std::error_code ec;

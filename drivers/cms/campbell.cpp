@@ -96,7 +96,12 @@ int campbell(int argc, char* argv[]) {
     return o.code;
   }
 
-  // 5. The tables, written whole or not at all, and the plot.
+  // 5. The tables, written whole or not at all, and the plot (none with
+  //    Output/CSV false, which was read by cms modes alone; a review).
+  if (!sc.csv) {
+    std::cout << "\nno tables written (the scene's Output/CSV is false)\n";
+    return ExitSuccess;
+  }
   const auto csv = run.outDir / (sc.name + "-campbell.csv");
   const auto crossings = run.outDir / (sc.name + "-campbell-crossings.csv");
   io::OutputFiles files;  // both or neither

@@ -99,6 +99,11 @@ int compare(int argc, char* argv[]) {
               << std::setw(10) << std::setprecision(4) << r.peakMiB << std::setw(13) << errorText(r.accuracy)
               << std::setw(13) << r.estimate << std::setw(14) << r.accuracy.meanRelativeError << std::setw(11)
               << r.accuracy.worstMac << '\n';
+  if (!sc.csv) {  // Output/CSV false (read by cms modes alone before; a review)
+    std::cout << "\nno table written (the scene's Output/CSV is false)\n";
+    if (worst.code != ExitSuccess) std::cerr << "cms: " << worst.message << ": some strategies failed (FAILED above)\n";
+    return worst.code;
+  }
   const std::string csv = sc.name + (worst.code == ExitSuccess ? "-compare.csv" : "-compare-partial.csv");
   io::OutputFiles f;
   auto& out = f.open(run.outDir / csv);

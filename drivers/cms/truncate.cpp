@@ -93,6 +93,10 @@ int truncate(int argc, char* argv[]) {
               << "): --accuracy not reached; no files written\n";
     return kNotConverged.code;
   }
+  if (!sc.csv) {  // Output/CSV false (read by cms modes alone before; a review)
+    std::cout << "no table written (the scene's Output/CSV is false)\n";
+    return ExitSuccess;
+  }
   const auto csv = run.outDir / (sc.name + "-truncate.csv");
   io::OutputFiles f;
   f.open(csv) << table.str();
