@@ -100,11 +100,16 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
     // labelled rigid (found by a review). At speed every zero that strains
     // the structure is judged below, not only those beyond the count.
     if (!spinning || zeros.empty()) return report;
-    const auto character = reduced.characterise(modes);
-    const bool strained = std::any_of(zeros.begin(), zeros.end(), [&](int m) {
-      return character[m].relativeStrain[argmax(character[m].relativeStrain)] > kStrainSplit;
-    });
-    if (!strained) return report;
+  }
+  // Each zero's strain at the scene's speeds, formed once (a characterise
+  // per mode; it was formed a second time for the relabelling below).
+  std::vector<synthesis::ModeCharacter> atSpeed;
+  const auto strained = [&](int m) {
+    return atSpeed[m].relativeStrain[argmax(atSpeed[m].relativeStrain)] > kStrainSplit;
+  };
+  if (spinning) {
+    atSpeed = reduced.characterise(modes);
+    if (report.zeros <= report.expected && std::none_of(zeros.begin(), zeros.end(), strained)) return report;
   }
 
   // 1. At a critical speed, K(Omega) is singular but K(0) is not: the zeros
@@ -113,14 +118,11 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   if (spinning) {
     rest = reduced.solve(std::vector<double>(modes.speeds.size(), 0.0), solveParams);
     if (static_cast<int>(zeroModes(rest).size()) <= report.expected) {
-      // Relabel the zeros that strain the structure (the rigid-body ones do
-      // not), at most the excess.
       // Relabelled: every zero that strains the structure (at speed a
       // rigid motion does not; the count of six is no bound there, above).
-      const auto character = reduced.characterise(modes);
       int excess = report.zeros - report.expected;
       for (int m : zeros)
-        if (character[m].relativeStrain[argmax(character[m].relativeStrain)] > kStrainSplit) {
+        if (strained(m)) {
           modes.result.modes[m].stability = eigen::Stability::Critical;
           ++report.critical, --excess;
         }
