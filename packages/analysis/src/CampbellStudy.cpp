@@ -92,6 +92,16 @@ std::vector<Whirl> DenseSweepProblem::whirl(const synthesis::StructureModes& mod
   return rule.classify(modes.result.modes, orbits, s > 0 ? 1.0 : s < 0 ? -1.0 : 0.0);
 }
 
+namespace {
+/// Substructure k's parent's index (-1 for C).
+int parentOf(const synthesis::AssembledStructure& structure, int k) {
+  const std::string& name = structure.substructure(static_cast<std::size_t>(k)).parent;
+  for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
+    if (structure.substructure(q).name == name) return static_cast<int>(q);
+  return -1;
+}
+}  // namespace
+
 SynthesizedSweepProblem::SynthesizedSweepProblem(const synthesis::AssembledStructure& structure,
                                                  const synthesis::SynthesizedStructure& reduced,
                                                  const Teuchos::ParameterList& solveParams, const std::string& whirlOf)
@@ -109,11 +119,7 @@ SynthesizedSweepProblem::SynthesizedSweepProblem(const synthesis::AssembledStruc
     const auto& name = structure_.substructure(static_cast<std::size_t>(k)).name;
     for (std::size_t p = 0; p < reduced_.speeds().size(); ++p)
       if (reduced_.speeds()[p].name == name) whirlSpeed_ = static_cast<int>(p);
-    int parent = -1;
-    for (std::size_t q = 0; q < structure_.numSubstructures(); ++q)
-      if (structure_.substructure(q).name == structure_.substructure(static_cast<std::size_t>(k)).parent)
-        parent = static_cast<int>(q);
-    k = parent;
+    k = parentOf(structure_, k);
   }
 }
 
@@ -136,12 +142,8 @@ bool SynthesizedSweepProblem::whirlInRotorFrame(int reference) const {
   // spinning C shaft, swept by the shaft's rate, had "forward: unbalance
   // excites it" at the 1X crossing of a rotating-frame frequency (found by
   // a review).
-  int k = whirlPart_;
-  for (;;) {
-    int parent = -1;
-    const std::string& name = structure_.substructure(static_cast<std::size_t>(k)).parent;
-    for (std::size_t q = 0; q < structure_.numSubstructures(); ++q)
-      if (structure_.substructure(q).name == name) parent = static_cast<int>(q);
+  for (int k = whirlPart_;;) {
+    const int parent = parentOf(structure_, k);
     if (parent < 0) return false;
     const auto& p = structure_.substructure(static_cast<std::size_t>(parent));
     if ((p.kind == synthesis::SubstructureKind::Central && p.spin) || rotatingA(p)) return whirlSpeed_ != reference;
@@ -507,10 +509,8 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
               const int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
               if (row[static_cast<std::size_t>(best)] < macFloor) break;  // the mode left the set in between
               const double g = m.result.modes[best].omega - order * std::abs(refAt(mid));
-              const bool lowSide = (g > 0) == (gLo > 0);
-              if (lowSide) lo = mid, gLo = g;
+              if ((g > 0) == (gLo > 0)) lo = mid, gLo = g, followed = m.result.modes[best];
               else hi = mid, gHi = g;
-              if (lowSide) followed = m.result.modes[best];
               at = std::move(m), atIndex = best;
             }
             // On one branch omega - n Omega is continuous: closed to the
