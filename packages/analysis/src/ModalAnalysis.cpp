@@ -119,6 +119,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     truthModel = synthesis::SynthesizedStructure::synthesize(structure, true);
   if (options_.get<bool>("Truth")) {
     const auto& truth = *truthModel;
+    requireComparableTruth(truth);  // before its solve
     const auto truthModes = truth.solve(r.speeds, solve_);
     const int n = static_cast<int>(std::min(r.modes.result.modes.size(), truthModes.result.modes.size()));
     for (const auto& a : compareWithTruth(s, r.modes, truth, truthModes, n).modes)
@@ -189,6 +190,7 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
     // (pairEigenvalues), and the truth's left unpaired in the reduced range
     // counted as missing.
     const auto truth = synthesis::SynthesizedStructure::synthesize(*r.structure, true);
+    requireComparableTruth(truth);
     Teuchos::ParameterList method;
     method.set("Method", options_.get<std::string>("Periodic Method"));
     const auto t = PeriodicStructure(truth, r.speeds).solve(2 * nModes, method);

@@ -41,6 +41,7 @@ ComparisonResult StrategyComparison::run(
   // 1. The truth: without a converged truth there is nothing to compare with.
   const Stopwatch t0;
   const auto model = synthesis::SynthesizedStructure::synthesize(structure_, true);
+  requireComparableTruth(model);  // before its solve
   auto truthModes = model.solve(speeds, solve_);
   const double truthSeconds = t0.seconds();
   ComparisonResult out;
@@ -76,6 +77,13 @@ ComparisonResult StrategyComparison::run(const SolvedTruth& truth, const Strateg
         const auto s = synthesis::SynthesizedStructure::synthesize(structure_, synthesis::sameReduction(structure_, basis, k));
         const double reduceSeconds = t1.seconds();
         dofs = s.size();
+        // A strategy made Full here drops a Modal Damping Ratio (no modal
+        // coordinates): a less damped structure, not a row to compare.
+        if (!s.modalDampingOmitted().empty()) {
+          other({basis, k, false, {}, "a Full basis has no modal coordinates for the Modal Damping Ratio of '" +
+                                          s.modalDampingOmitted().front() + "': not comparable", dofs});
+          continue;
+        }
         if (s.size() < nModes) {
           other({basis, k, false, {}, std::to_string(s.size()) + " coordinates, fewer than the " +
                                           std::to_string(nModes) + " modes compared", dofs});

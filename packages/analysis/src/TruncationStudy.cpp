@@ -48,6 +48,7 @@ TruncationResult TruncationStudy::run(
   synthesis::StructureModes truthModes;
   if (options_.get<bool>("Truth")) {
     truth = synthesis::SynthesizedStructure::synthesize(structure, true);
+    requireComparableTruth(*truth);  // before its solve
     truthModes = truth->solve(speeds, solve_);
     CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
                     "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);

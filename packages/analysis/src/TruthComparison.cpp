@@ -70,10 +70,22 @@ std::vector<double> frequencies(const synthesis::StructureModes& modes) {
   return w;
 }
 
+void requireComparableTruth(const synthesis::SynthesizedStructure& truth) {
+  const auto& omitted = truth.modalDampingOmitted();
+  if (omitted.empty()) return;
+  std::string names;
+  for (const auto& n : omitted) names += (names.empty() ? "'" : ", '") + n + "'";
+  throw InputError("the truth model (every basis Full) has no modal coordinates for the Modal Damping Ratio of " +
+                   names + " (doc/theory.md section 13.1), so it would be a less damped structure and every "
+                   "difference a false error: compare with Rayleigh Alpha / Beta instead, or read the error "
+                   "estimates, which need no truth (section 11.8)");
+}
+
 TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
                                  const synthesis::StructureModes& rm,
                                  const synthesis::SynthesizedStructure& truth,
                                  const synthesis::StructureModes& tm, int count) {
+  requireComparableTruth(truth);
   CMS_INPUT_CHECK(count < 1 || static_cast<int>(rm.result.modes.size()) < count ||
                       static_cast<int>(tm.result.modes.size()) < count,
                   "compareWithTruth: " << count << " modes asked; the reduced model has " << rm.result.modes.size()
@@ -217,6 +229,7 @@ long long truthFrequenciesBelow(const synthesis::SynthesizedStructure& truth, co
   // mode (found by a review): not counted.
   const auto sys = truth.system(speeds);
   if (!sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0) return -3;
+  if (!truth.modalDampingOmitted().empty()) return -3;  // damped, though not in this truth
   // The count's premise, K(Omega) >= 0: with it every eigenvalue of Q(w)
   // falls as w rises through a frequency (dQ/dw = -2wM + iG is negative on
   // each mode of a gyroscopically stable structure), so the inertia counts

@@ -428,9 +428,12 @@ namespace {
 /// gives every mode of the substructure's reduced model, at rest and held
 /// at its attachment, the ratio zeta. K is the stiffness at rest; the
 /// coupling with the attachment coordinates gets no damping (an
-/// approximation, like modal damping itself). Collective.
+/// approximation, like modal damping itself). `block` gets D_eta (k x k,
+/// column-major, on every rank) for the error estimates' lift of its force
+/// (theory §11.8). Collective.
 Teuchos::RCP<const CrsMatrix> modalDamping(const substructure::Substructure& sub, const reduction::RitzBasis& basis,
-                                           GlobalOrdinal offset, double zeta, const Teuchos::RCP<const Map>& qMap) {
+                                           GlobalOrdinal offset, double zeta, const Teuchos::RCP<const Map>& qMap,
+                                           std::vector<double>& block) {
   const int k = basis.size();
   DenseMatrix Kr(k, k);
   if (k > 0) {
@@ -454,16 +457,20 @@ Teuchos::RCP<const CrsMatrix> modalDamping(const substructure::Substructure& sub
                                         static_cast<int>(work.size()), &info);
   TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
                              "synthesis: modal damping of '" << sub.name() << "': LAPACK dsyev info " << info);
+  block.assign(static_cast<std::size_t>(k) * k, 0.0);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      double d = 0.0;
+      for (int e = 0; e < k; ++e) d += Kr(i, e) * std::sqrt(std::max(w[e], 0.0)) * Kr(j, e);
+      block[i + static_cast<std::size_t>(j) * k] = 2.0 * zeta * d;
+    }
   std::vector<Row> rows(qMap->getNodeNumElements());
   for (std::size_t l = 0; l < rows.size(); ++l) {
     const GlobalOrdinal g = qMap->getGlobalElement(static_cast<LocalOrdinal>(l));
     if (g < offset || g >= offset + k) continue;
     const int i = static_cast<int>(g - offset);
-    for (int j = 0; j < k; ++j) {
-      double d = 0.0;
-      for (int e = 0; e < k; ++e) d += Kr(i, e) * std::sqrt(std::max(w[e], 0.0)) * Kr(j, e);
-      if (d != 0.0) rows[l].push_back({offset + j, 2.0 * zeta * d});
-    }
+    for (int j = 0; j < k; ++j)
+      if (const double d = block[i + static_cast<std::size_t>(j) * k]; d != 0.0) rows[l].push_back({offset + j, d});
   }
   return fromRows(qMap, rows, qMap, qMap);
 }
@@ -545,6 +552,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
   out.B_.resize(parts.size());
   out.C_.resize(parts.size());
   out.rotations_.assign(parts.size(), {});
+  out.modalDamping_.assign(parts.size(), {});
   for (std::size_t k = 0; k < parts.size(); ++k) {
     bool moves = false;
     const auto A = out.attachmentMotion(k, moves);
@@ -1059,10 +1067,16 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
   // M; a modal ratio in the substructure's own coordinates.
   if (sub.has(Matrix::D)) addTo(sums.D, sums.fullD, Matrix::D, 1.0);
   if (sub.modalDampingRatio() > 0.0) {
-    CMS_INPUT_CHECK(basis.full, "synthesis: substructure '"
-                                    << sub.name() << "': a Modal Damping Ratio needs a reduced basis (its modes' "
-                                    << "coordinates); a Full substructure has none: give it Rayleigh Alpha / Beta");
-    sums.D = addScaled(sums.D, 1.0, modalDamping(sub, basis, offset, sub.modalDampingRatio(), map_));
+    // Full by its own Reduction: refused. Full because every basis is (the
+    // truth, a Full comparison): left out and said (modalDampingOmitted),
+    // for the comparisons to refuse and the prestress solve to ignore.
+    const bool ownFull = p.spec.reduction.isParameter("Basis") && p.spec.reduction.get<std::string>("Basis") == "Full";
+    CMS_INPUT_CHECK(basis.full && ownFull,
+                    "synthesis: substructure '" << sub.name() << "': a Modal Damping Ratio needs a reduced basis (its "
+                                                << "modes' coordinates); a Full substructure has none: give it Rayleigh "
+                                                << "Alpha / Beta");
+    if (basis.full) modalDampingOmitted_.push_back(sub.name());
+    else sums.D = addScaled(sums.D, 1.0, modalDamping(sub, basis, offset, sub.modalDampingRatio(), map_, modalDamping_[k]));
   }
   const auto K2Sum = [&](std::pair<int, int> ij) -> detail::MonolithicSum& { return sums.fullK2[ij]; };
   if (p.compound) {
@@ -1676,8 +1690,11 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     const auto& p = *parts[k];
     const std::size_t q = structure_->prototypeOf(k);
     // (projectedFromPrototype: its D was found, rotations_[k].)
+    // (A modally damped copy takes the general path below, which lifts its
+    // modal damping force: the Gram terms hold only the substructure's own
+    // matrices.)
     if (q == k || !p.sub || !reports_[k].projectedFromPrototype || !p.children.empty() || p.compound ||
-        p.boolean() || parts[q]->compound || !sharesPrototypeFactorisations(k))
+        p.boolean() || parts[q]->compound || !sharesPrototypeFactorisations(k) || !modalDamping_[k].empty())
       continue;
     const int nb = static_cast<int>(B_[k]->getNumVectors()), na = nb - bases_[k].size();
     useGram[k] = true;
@@ -1714,6 +1731,41 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
       }
     }
     gram[q] = std::move(g);
+  }
+  // A modal damping ratio damps a reduced substructure's own coordinates
+  // eta only (theory §13.1): D_eta has no physical matrix, so its force
+  // would be read as residual (a floor of about zeta under every estimate,
+  // found by a review). The truth it is compared with damps the same
+  // relative motion v = V eta (V: the basis columns of B, zero on the held
+  // rows) by the physical M V (V^T M V)^-1 D_eta (V^T M V)^-1 V^T M, whose
+  // projection is D_eta, with no force on the attachment coordinates a
+  // (§11.8): on a mode its force on the free rows is M V (V^T M V)^-1 D_eta
+  // eta. (Lifted through all of B = [X V] instead, to give X^T F = 0 on the
+  // physical rows, the force gained a rigid part M X alpha that no basis
+  // vector represents: the floor fell only from 5e-3 to 3e-3.) Per such
+  // part, the Cholesky factor of V^T M V (collective).
+  std::map<std::size_t, DenseMatrix> liftGram;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    if (modalDamping_[k].empty() || useGram[k]) continue;
+    const int ne = bases_[k].size(), na = static_cast<int>(B_[k]->getNumVectors()) - ne;
+    const auto V = B_[k]->subView(Teuchos::Range1D(na, na + ne - 1));
+    MultiVector MV(V->getMap(), static_cast<std::size_t>(ne));
+    parts[k]->sub->apply(substructure::Matrix::M, *V, MV);
+    auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(ne), 0, V->getMap()->getComm(), Tpetra::LocallyReplicated));
+    MultiVector Gm(small, static_cast<std::size_t>(ne));
+    Gm.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, *V, MV, 0.0);
+    DenseMatrix G(ne, ne);
+    for (int j = 0; j < ne; ++j) {
+      const auto c = Gm.getData(j);
+      for (int i = 0; i < ne; ++i) G(i, j) = c[i];
+    }
+    int info = 0;
+    Teuchos::LAPACK<int, double>().POTRF('L', ne, G.values(), G.stride(), &info);
+    TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                               "synthesis: error estimates of '" << parts[k]->spec.name << "': the Gram matrix V^T M V of "
+                               "its basis vectors is not positive definite (LAPACK dpotrf info " << info << "), so its modal "
+                               "damping force cannot be lifted to its physical rows");
+    liftGram.emplace(k, std::move(G));
   }
   for (int m0 = 0; m0 < nm; m0 += kResidualBlockModes) {
     const int bm = std::min(kResidualBlockModes, nm - m0), nc = 2 * bm;  // real, imaginary per mode
@@ -1836,6 +1888,31 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
       // A Full basis satisfies its own equations (with its children's forces)
       // to the solver's accuracy; a rigid rotor has no deformation.
       if (!p.sub || reports_[k].basis == "Full") continue;
+      if (const auto lift = liftGram.find(k); lift != liftGram.end()) {
+        // Its modal damping force lambda M V (V^T M V)^-1 D_eta eta (above),
+        // eta = C q's own rows. After toParent: it does no work on the
+        // attachment, which the flexibility holds.
+        const auto& B = *B_[k];
+        const int nb = static_cast<int>(B.getNumVectors()), ne = bases_[k].size(), na = nb - ne;
+        const auto& De = modalDamping_[k];
+        const auto y = factorCoordinates(k, modes, m0, bm);
+        DenseMatrix z(ne, nc);
+        for (int col = 0; col < nc; ++col)
+          for (int j = 0; j < ne; ++j) {
+            const double yj = y[na + j + static_cast<std::size_t>(col) * nb];
+            for (int i = 0; i < ne; ++i) z(i, col) += De[i + static_cast<std::size_t>(j) * ne] * yj;
+          }
+        int info = 0;
+        Teuchos::LAPACK<int, double>().POTRS('L', ne, nc, lift->second.values(), lift->second.stride(), z.values(),
+                                             z.stride(), &info);
+        auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(ne), 0, rmap->getComm(), Tpetra::LocallyReplicated));
+        MultiVector W(small, static_cast<std::size_t>(nc)), F(rmap, static_cast<std::size_t>(nc));
+        for (int col = 0; col < nc; ++col)
+          for (int i = 0; i < ne; ++i) W.replaceLocalValue(i, col, z(i, col));
+        F.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, 1.0, *B.subView(Teuchos::Range1D(na, nb - 1)), W, 0.0);
+        p.sub->apply(substructure::Matrix::M, F, T);
+        accumulate(linear, false);
+      }
       Teuchos::Array<double> d(nc);
       if (sharesPrototypeFactorisations(k)) {
         // r^T K_c^-1 r = (Q^T r)^T K_p^-1 (Q^T r): the prototype's factor (§15.2).

@@ -40,6 +40,12 @@ struct TruthComparison {
   int missingModes = 0;  ///< modes flagged `missing`
 };
 
+/// Throws cms::InputError when `truth` left out a Modal Damping Ratio that
+/// the reduced model of the same structure carries (it lives in reduced
+/// coordinates only, theory §13.1): its modes would be those of a less
+/// damped structure, and every difference a false error. Collective-free.
+void requireComparableTruth(const synthesis::SynthesizedStructure& truth);
+
 /// Pairs the lowest `count` modes of each in frequency order (both must have
 /// at least `count`; throws cms::InputError otherwise). The two structures
 /// must come from the same AssembledStructure. Collective.

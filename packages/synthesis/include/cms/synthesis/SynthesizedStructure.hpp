@@ -287,6 +287,12 @@ public:
   /// D = sum_s T_s^T D_s T_s plus the modal damping of reduced substructures
   /// (theory §13.1); null when no substructure is damped.
   Teuchos::RCP<const CrsMatrix> damping() const { return D_; }
+  /// The substructures whose Modal Damping Ratio this synthesis left out:
+  /// those with a reduced basis of their own made Full here (the truth,
+  /// synthesize(structure, true)), which has no modal coordinates for it
+  /// (theory §13.1). Its modes are then those of a less damped structure:
+  /// not a truth to compare the reduced model with.
+  const std::vector<std::string>& modalDampingOmitted() const { return modalDampingOmitted_; }
   /// The same, gathered to every rank (n up to a few thousand): M, D and
   /// each speed's piece of G and K are gathered once (collective, on first
   /// use) and combined per call.
@@ -429,6 +435,11 @@ private:
   /// Per turned copy projected from its prototype: D with Q^T B_c = B_p D
   /// (copyRotation; empty otherwise), for its error estimates.
   std::vector<std::vector<double>> rotations_;
+  /// Per reduced part with a modal damping ratio, its D_eta (k x k,
+  /// column-major; theory §13.1); empty elsewhere. The error estimates lift
+  /// its force to the physical rows (§11.8).
+  std::vector<std::vector<double>> modalDamping_;
+  std::vector<std::string> modalDampingOmitted_;
   Teuchos::RCP<const CrsMatrix> M_, K0_;
   Teuchos::RCP<const CrsMatrix> D_;  ///< viscous damping (null: none)
   std::vector<Teuchos::RCP<const CrsMatrix>> G_;  ///< per speed parameter
