@@ -156,7 +156,8 @@ std::optional<int> SceneRun::start(Options& options, int argc, char* argv[]) {
 }
 
 synthesis::AssembledStructure SceneRun::assemble() const {
-  return synthesis::AssembledStructure::assemble(scene.structure, Teuchos::DefaultComm<int>::getComm());
+  return namingScene(
+      [&] { return synthesis::AssembledStructure::assemble(scene.structure, Teuchos::DefaultComm<int>::getComm()); });
 }
 
 std::filesystem::path& createdOutput() {

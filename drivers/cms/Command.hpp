@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../CommandLine.hpp"  // positiveIntegers, positiveNumbers, plotCsv
+#include "cms/core/Error.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -68,8 +69,22 @@ struct SceneRun {
 
   /// The scene's structure assembled across all ranks: each substructure's
   /// matrices per unit speed, centrifugal prestress first (theory §11.4).
-  /// Collective.
+  /// Collective. Its errors name the scene file (namingScene).
   synthesis::AssembledStructure assemble() const;
+
+  /// f(), with the scene file named at the front of a cms::InputError or
+  /// NumericalError it throws: the substructure, set or key the library
+  /// names is in that file.
+  template <class F>
+  auto namingScene(F&& f) const -> decltype(f()) {
+    try {
+      return f();
+    } catch (const InputError& e) {
+      throw InputError(scene.path + ": " + e.what());
+    } catch (const NumericalError& e) {
+      throw NumericalError(scene.path + ": " + e.what());
+    }
+  }
 };
 
 /// The output directory this run created (empty if it existed before).

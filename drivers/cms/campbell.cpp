@@ -68,7 +68,7 @@ int campbell(int argc, char* argv[]) {
     CMS_INPUT_CHECK(!known, "--speed = " << speed << ": not a spinning substructure of " << sc.path
                                          << " (its speed parameters: " << names << ")");
   }
-  const auto reduced = synthesis::SynthesizedStructure::synthesize(structure);
+  const auto reduced = run.namingScene([&] { return synthesis::SynthesizedStructure::synthesize(structure); });
 
   // 3. The study: sweep, track, cross, classify (collective).
   Teuchos::ParameterList study;
@@ -80,7 +80,7 @@ int campbell(int argc, char* argv[]) {
   study.set("Refine Crossings", refine);
   const analysis::SynthesizedSweepProblem problem(structure, reduced, sc.solve, speed);
   const auto t0 = std::chrono::steady_clock::now();
-  const analysis::CampbellResult r = analysis::CampbellStudy(study).run(problem);
+  const analysis::CampbellResult r = run.namingScene([&] { return analysis::CampbellStudy(study).run(problem); });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!run.root) return outcome(r.status).code;
 

@@ -55,7 +55,7 @@ int compare(int argc, char* argv[]) {
   study.set("Counts", Teuchos::Array<int>(positiveIntegers(counts, "--counts")));
   study.set("Speed Factor", sc.speedFactor);
   Outcome worst = kSuccess;  // breakdown (3) outranks not converged (4)
-  const auto c = analysis::StrategyComparison(structure, sc.solve, study).run(
+  const auto c = run.namingScene([&] { return analysis::StrategyComparison(structure, sc.solve, study).run(
       [&](const analysis::StrategyRow* row, const analysis::StrategyOutcome* other) {
         if (other && other->failed) {
           const auto o = outcome(other->status);
@@ -72,6 +72,7 @@ int compare(int argc, char* argv[]) {
         else
           std::cout << "skipped " << other->basis << " with " << other->vectors << " vectors: " << other->why << '\n';
       });
+  });
   // Without a converged truth there is nothing to compare with: its outcome is the run's.
   if (const auto o = outcome(c.truthModes.result.status); o.code != ExitSuccess) {
     if (run.root)

@@ -205,15 +205,7 @@ int modes(int argc, char* argv[]) {
               << scene::availableMemoryBytes() / 1e9 << " GB available" << std::endl;
     modal.setProgress([&](const std::string& what) { std::cout << stamp(seconds()) << what << std::endl; });
   }
-  const auto r = [&] {
-    try {
-      return modal.run(Teuchos::DefaultComm<int>::getComm());
-    } catch (const InputError& e) {  // name the scene file
-      throw InputError(sc.path + ": " + e.what());
-    } catch (const NumericalError& e) {
-      throw NumericalError(sc.path + ": " + e.what());
-    }
-  }();
+  const auto r = run.namingScene([&] { return modal.run(Teuchos::DefaultComm<int>::getComm()); });
   if (root)
     for (const auto& n : r.enrichment.notes) std::cout << "target accuracy " << sc.targetAccuracy << ": " << n << '\n';
   if (!r.enrichment.reached) {

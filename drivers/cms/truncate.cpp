@@ -58,7 +58,7 @@ int truncate(int argc, char* argv[]) {
     table << ",vectors_" << io::csvField(structure.substructure(q).name);
   table << '\n' << std::setprecision(12);
   int findings = 0;
-  const auto r = search.run([&](const analysis::TruncationStep& s, const analysis::TruncationResult& sofar) {
+  const auto r = run.namingScene([&] { return search.run([&](const analysis::TruncationStep& s, const analysis::TruncationResult& sofar) {
     if (run.root && s.step == 0)
       std::cout << (truth ? "truth: " + std::to_string(sofar.truthSize) + " coordinates; " : "no truth solve; ")
                 << "target: the lowest " << sc.solve.get<int>("Number of Modes") << " within " << accuracy
@@ -75,7 +75,7 @@ int truncate(int argc, char* argv[]) {
     for (const auto& x : s.findings)
       std::cout << "  finding: inclusion principle violated at mode " << x.index + 1 << " (" << x.inequality << ", by "
                 << x.amount << ", above the solves' round-off) when adding to " << s.changed << '\n';
-  });
+  }); });
 
   // 3. The verdict and the suggested counts; the table only when reached.
   const auto& last = r.steps.back();
