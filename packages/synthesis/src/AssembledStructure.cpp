@@ -879,6 +879,32 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
                                "and without it they would read as divergence at the spin rate; remove the key "
                                "(stiffening is on by default)");
   }
+  // A free structure spins steadily about C's axis e only if nothing that
+  // spins relative to its frame carries angular momentum across e: a rotor
+  // whose axis a is tilted needs the torque Omega e x h (h = J omega a) to
+  // keep its axis turning with the frame, which nothing applies to a free
+  // body, so there is no steady spin to linearise about (the spacecraft
+  // with its wheel's axis across the bus's spin axis read as DIVERGENCE at
+  // 0.809 1/s; found reading theory §11.5). Clamped, the clamp reacts that
+  // torque (its steady prestress is not in K, theory §11.5).
+  if (out.free_ && parts.front()->frame.spinning && parts.front()->spec.spin->rate != 0.0)
+    for (const auto& p : parts) {
+      const bool relative = (p->spec.kind == SubstructureKind::Rigid || p->compound) && p->spec.spin &&
+                            p->spec.spin->rate != 0.0;
+      if (!relative) continue;
+      const Vec3 a = unit(p->spec.spin->axis), e = p->frame.axis;
+      const double across = norm(cross(a, e));
+      if (across <= 1e-9) continue;
+      std::ostringstream torque;
+      if (p->spec.kind == SubstructureKind::Rigid)
+        torque << " (here " << std::abs(p->spec.rotor.axialInertia * p->spec.spin->rate * parts.front()->spec.spin->rate) *
+                                   across
+               << " N m at the nominal rates)";
+      throw InputError(who(*p) + ": its spin axis is not along the spin axis of the free-floating '" +
+                       parts.front()->spec.name + "': a rotor spinning across that axis needs a steady torque Omega x h" +
+                       torque.str() + " to turn with the frame, which nothing applies to a free body, so there is no "
+                       "steady spin to linearise about; align the axes, or clamp the structure");
+    }
   for (auto& p : parts) setHeldDofs(*p, d.freeReference);  // 3.
   for (auto& p : parts)                                     // 4.
     if (p->spec.kind == SubstructureKind::Rigid) buildRigidRotor(*p, *parts[p->parent]);
