@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include <Teuchos_LAPACK.hpp>
@@ -230,6 +231,15 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
                                                                      "of its frequencies; move it" : count.failure) + ")");
     below = static_cast<int>(count.negative);
     vectors = below;
+    // The constrained problem has only rows - held - m modes in all, and
+    // with the m constraints left free the count can exceed that: a
+    // cut-off above them all takes them all (it was refused, blaming a
+    // "Vectors" the scene never gave; found by a review).
+    if (freedConstraints > 0) {
+      const std::set<GlobalOrdinal> rowsHeld(held.begin(), held.end());
+      const long long nfree = s.dofs().rows() - static_cast<long long>(rowsHeld.size()) - freedConstraints;
+      vectors = static_cast<int>(std::min<long long>(below, std::max<long long>(nfree, 0)));
+    }
     // What the modes found are checked against (FixedInterfaceModes.hpp):
     // a distributing interface's constraints may take up to m of them.
     sturmCut = {w * w, below - freedConstraints};
