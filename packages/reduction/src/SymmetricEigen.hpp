@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <vector>
 
 #include <Teuchos_LAPACK.hpp>
@@ -14,10 +15,13 @@ namespace cms::reduction::detail {
 /// eigenvectors on return. Returns LAPACK dsygv's info (0: success).
 inline int symmetricEigen(std::vector<double>& A, std::vector<double>& B, int n, bool vectors,
                           std::vector<double>& w) {
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < j; ++i) {
-      A[i + j * n] = A[j + i * n] = 0.5 * (A[i + j * n] + A[j + i * n]);
-      B[i + j * n] = B[j + i * n] = 0.5 * (B[i + j * n] + B[j + i * n]);
+  // (Indices in size_t: i + j n overflows an int past n = 46,341, a
+  // Partitioned part of many modes below its cut-off.)
+  const std::size_t N = static_cast<std::size_t>(n);
+  for (std::size_t j = 0; j < N; ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      A[i + j * N] = A[j + i * N] = 0.5 * (A[i + j * N] + A[j + i * N]);
+      B[i + j * N] = B[j + i * N] = 0.5 * (B[i + j * N] + B[j + i * N]);
     }
   Teuchos::LAPACK<int, double> lapack;
   w.assign(n, 0.0);
