@@ -570,6 +570,11 @@ TEST(Copies, ParentNodesNamedPerCopyAreTheTurnedOnes) {
     EXPECT_NEAR(a.result.modes[m].omega, b.result.modes[m].omega, tol) << "mode " << m;
   expectInputError([&] { assembled(arm("{Parent Nodes: end, Copy Parent Nodes: [end], Nodes: start}")); },
                    "names 1 node sets for 2 copies");
+  // In the wrong order each copy would hang on the other end of the arm,
+  // held there by a rigid link 0.4 m long: refused, naming the copy
+  // (accepted before; found by a review).
+  expectInputError([&] { assembled(arm("{Parent Nodes: end, Copy Parent Nodes: [start, end], Nodes: start}")); },
+                   "'blade[1]' (copy 1 of 'blade'): \"Copy Parent Nodes\" gives it 'start'");
 }
 
 TEST(Copies, JoinedByABooleanInterfaceAsTheWrittenOutBlades) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <optional>
@@ -21,6 +22,13 @@
 namespace cms::analysis {
 
 namespace {
+/// x to 3 significant digits: std::to_string's six fixed decimals printed
+/// a 1.4e-12 tolerance as 0.000000 (found by a review).
+std::string shortNumber(double x) {
+  std::ostringstream os;
+  os << std::setprecision(3) << x;
+  return os.str();
+}
 
 const double kEps = std::numeric_limits<double>::epsilon();
 
@@ -178,6 +186,13 @@ PeriodicStructure::PeriodicStructure(const synthesis::SynthesizedStructure& stru
     }
     blades_ = perBlade_ > 0 ? static_cast<int>(g.size()) : 0;
   }
+  // (It said "no copied blades below the hub" of two copied blades: found
+  // by a review.)
+  if (groups.empty()) noBlades_ = "no copied blades below the hub";
+  else if (groups.size() > 1) noBlades_ = std::to_string(groups.size()) + " copied families below the hub (the transform takes one)";
+  else if (groups.begin()->second.size() < 3)
+    noBlades_ = std::to_string(groups.begin()->second.size()) + " copied blades below the hub (the transform needs 3 or more)";
+  else if (blades_ == 0) noBlades_ = "copied blades with no coordinates of their own";
   // Fixed coordinates first (everything but b and the blades), then the blades.
   for (int i = 0; i < ne_; ++i)
     if (!(i >= hub_.offset && i < hub_.offset + 6) && (blades_ == 0 || !inBlade[static_cast<std::size_t>(i)]))
@@ -373,9 +388,9 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
   CMS_INPUT_CHECK(method == "Multi-Blade" && !constantForm,
                   "periodic structure: \"Method: Multi-Blade\" needs N >= 3 identical blades (Copies) on a rigid "
                   "hub; "
-                      << (mbc ? "the transformed matrices vary by " + std::to_string(out.constancyDefect) +
-                                    " over the azimuth (rounding allows " + std::to_string(out.constancyTolerance) + ")"
-                              : std::string("there are ") + std::to_string(blades_) + " blades"));
+                      << (mbc ? "the transformed matrices vary by " + shortNumber(out.constancyDefect) +
+                                    " over the azimuth (rounding allows " + shortNumber(out.constancyTolerance) + ")"
+                              : "there are " + noBlades_));
   const bool useMultiBlade = constantForm && (method != "Floquet" || atRest);
   auto& result = out.modes.result;
   out.modes.speeds = speeds_;
@@ -452,7 +467,7 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
       std::ostringstream why;
       if (method == "Floquet") why << "Floquet asked (the multi-blade transform " << (mbc ? "applies" : "does not") << ")";
       else if (mbc) why << "the multi-blade transform varies by " << out.constancyDefect << " over the azimuth";
-      else why << (blades_ > 0 ? "fewer than 3 blades" : "no copied blades below the hub");
+      else why << noBlades_;
       why << ": monodromy over one revolution, " << fl.steps
           << " Gauss-Legendre steps, error " << fl.monodromyError << (fl.converged ? "" : " (NOT CONVERGED)");
       out.reason = why.str();

@@ -200,6 +200,50 @@ void addTurnedNodeSet(SubstructureSpec& parent, const std::string& set, const fe
   parent.model = model;
 }
 
+/// A "Copy Parent Nodes" set given for a copy must lie where the written
+/// attachment set turns to: its centroid at the turned centroid, within a
+/// tenth of the written set's extent (a face meshed differently on each
+/// side) or 1e-6 of the parent's size (one node). A list in the wrong order
+/// or naming another face was accepted, and a Node or RigidFit attachment
+/// then held the copy to it through a long rigid link (found by a review:
+/// blade[3] of the helicopter hung on the hub's other end).
+void checkNamedParentNodes(const SubstructureSpec& parent, const std::string& written, const std::string& named,
+                           const fem::Rotation& turn, const fem::Vec3& origin, const std::string& who,
+                           double degrees) {
+  if (!parent.model || !parent.model->mesh) return;
+  const mesh::Mesh& mesh = *parent.model->mesh;
+  for (const std::string& set : {written, named})
+    CMS_INPUT_CHECK(!mesh.hasGroup(set), who << ": attachment node set '" << set << "' is not a physical group of '"
+                                             << parent.name << "' (" << mesh.source << ")");
+  auto centroid = [&](const std::string& set, double& extent) {
+    fem::Vec3 c{0, 0, 0}, lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    const auto nodes = mesh.nodeSet(set);
+    for (auto n : nodes)
+      for (int k = 0; k < 3; ++k) {
+        const double x = mesh.coordinates[3 * n + k];
+        c[k] += x / static_cast<double>(nodes.size()), lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x);
+      }
+    extent = nodes.empty() ? 0.0 : fem::norm(fem::sub(hi, lo));
+    return c;
+  };
+  double size = 0.0, extent = 0.0, unused = 0.0;
+  {
+    fem::Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
+      for (int k = 0; k < 3; ++k)
+        lo[k] = std::min(lo[k], mesh.coordinates[3 * n + k]), hi[k] = std::max(hi[k], mesh.coordinates[3 * n + k]);
+    size = fem::norm(fem::sub(hi, lo));
+  }
+  const fem::Vec3 target = fem::axpy(1.0, turn.apply(fem::sub(centroid(written, extent), origin)), origin);
+  const fem::Vec3 at = centroid(named, unused);
+  const double off = fem::norm(fem::sub(at, target));
+  CMS_INPUT_CHECK(off > std::max(0.1 * extent, 1e-6 * size),
+                  who << ": \"Copy Parent Nodes\" gives it '" << named << "', centred at (" << at[0] << ", " << at[1]
+                      << ", " << at[2] << "), " << off << " from (" << target[0] << ", " << target[1] << ", "
+                      << target[2] << "), where '" << written << "' turns to by " << degrees
+                      << " degrees about the parent's spin axis: list one set per copy, in the copies' order");
+}
+
 }  // namespace
 
 StructureDescription StructureDescription::withCopies() const {
@@ -269,6 +313,8 @@ StructureDescription StructureDescription::withCopies() const {
         if (&x == &*it && !top.copyParentNodes.empty()) {
           c.attachment.parentNodes = top.copyParentNodes[static_cast<std::size_t>(j)];
           c.copyParentNodes.clear();
+          checkNamedParentNodes(out.substructures[parentIndex], x.attachment.parentNodes, c.attachment.parentNodes, turn,
+                                origin, cwho, angle * 180 / M_PI);
         } else if (&x == &*it && angle != 0.0) {
           c.attachment.parentNodes = x.attachment.parentNodes + "@" + c.name;
           addTurnedNodeSet(out.substructures[parentIndex], x.attachment.parentNodes, turn, origin,

@@ -89,6 +89,9 @@ private:
   synthesis::MovingHub hub_;
   double omega_ = 0.0;
   int n_ = 0, ne_ = 0, blades_ = 0, perBlade_ = 0;
+  /// Why the multi-blade transform has no blades (blades_ == 0): what the
+  /// copies below the hub are, for the console and the results' reason.
+  std::string noBlades_;
   /// order_[i]: the q_e coordinate of permuted q coordinate i (b excluded).
   std::vector<int> order_;
   /// q = L xi: each blade's coordinates in its own (turned) axes, so that
