@@ -221,6 +221,57 @@ TEST(RotorOnAirframe, FloquetAgreesWithTheMultiBladeTransform) {
   }
 }
 
+TEST(RotorOnAirframe, AFreeYawIsRigidOnBothPaths) {
+  // The airframe free to turn about the mast (rz not held): a rigid motion,
+  // a multiplier at 1. The multi-blade path said "rigid"; Floquet said
+  // "stable" with damping ratios -1 and +1 on its split pair (found by a
+  // review). Both now say rigid, with zeta 0, and agree on the rest.
+  Rotor r;
+  r.E = 2.0e3;
+  r.mastE = 1.0e5;
+  r.bladeBasis = "Basis: Admissible, Vectors: 2";
+  r.airframeBasis = "Basis: Full";  // an Admissible basis needs it held
+  r.mastE = 1.0e1;                   // soft: its Full modes set Floquet's steps
+  std::string text = r.scene();
+  const std::string held = "Fixed: uz rx ry rz}";
+  ASSERT_NE(text.find(held), std::string::npos);
+  text.replace(text.find(held), held.size(), "Fixed: uz rx ry}");
+  const auto a = synthesis::AssembledStructure::assemble(scene::Scene::parse(text, "rotor.yaml").structure, world());
+  const auto s = synthesis::SynthesizedStructure::synthesize(a);
+  int rigid[2] = {0, 0};
+  std::vector<eigen::GyroscopicMode> elastic[2];
+  for (int path = 0; path < 2; ++path) {
+    Teuchos::ParameterList p;
+    p.set("Method", std::string(path == 0 ? "Multi-Blade" : "Floquet"));
+    const auto m = analysis::PeriodicStructure(s, {r.rate}).solve(8, p);
+    if (path == 1) EXPECT_TRUE(m.floquet.converged) << m.floquet.monodromyError;
+    for (const auto& mode : m.modes.result.modes) {
+      if (mode.stability == eigen::Stability::RigidBody) {
+        ++rigid[path];
+        EXPECT_EQ(mode.dampingRatio, 0.0) << m.method;
+        EXPECT_EQ(mode.logDecrement, 0.0) << m.method;
+      } else {
+        elastic[path].push_back(mode);
+        EXPECT_NE(mode.stability, eigen::Stability::Divergence) << m.method << " " << mode.lambda;
+        EXPECT_NE(mode.stability, eigen::Stability::Flutter) << m.method << " " << mode.lambda;
+      }
+    }
+  }
+  // The yaw is a defective zero (angle and rate), split by rounding into a
+  // real pair +-sigma: the multi-blade path keeps one member of an
+  // undamped pair, Floquet every real multiplier.
+  EXPECT_EQ(rigid[0], 1);
+  EXPECT_EQ(rigid[1], 2);
+  // The elastic exponents agree to Floquet's accuracy (1e-8 of the rotor
+  // speed, FloquetAgreesWithTheMultiBladeTransform).
+  for (const auto& f : elastic[1]) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& m : elastic[0])
+      for (auto l : {m.lambda, std::conj(m.lambda)}) best = std::min(best, std::abs(l - f.lambda));
+    EXPECT_LE(best, 1e-8 * r.rate) << f.lambda;
+  }
+}
+
 TEST(RotorOnAirframe, TwoBladesStayPeriodicAndFloquetAnswers) {
   // N = 2 has no constant form: the method is Floquet, and its largest
   // growth rate is the closed-form model's own Floquet growth (the two-blade

@@ -93,6 +93,7 @@ void classifyOnOwnScales(const eigen::GyroscopicSystem& sys, std::vector<eigen::
     if (std::abs(m.lambda) <= radius) m.stability = eigen::Stability::RigidBody;
     else if (m.growthRate > radius) m.stability = m.omega > radius ? eigen::Stability::Flutter : eigen::Stability::Divergence;
     else m.stability = eigen::Stability::Stable;
+    eigen::zeroRigidDamping(m);
   }
 }
 
@@ -490,9 +491,14 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
         const double mag = std::abs(m.lambda);
         m.dampingRatio = mag > 0 ? -f.growthRate / mag : 0.0;
         m.logDecrement = m.omega > 0 ? -2 * M_PI * f.growthRate / m.omega : 0.0;
-        m.stability = f.growthRate > f.growthRateError
+        // A multiplier at 1 within its own error is a rigid motion (the
+        // multi-blade path says "rigid"; this one said "stable", with a
+        // damping ratio of -1 or +1 on the split pair; found by a review).
+        m.stability = mag <= f.growthRateError ? eigen::Stability::RigidBody
+                      : f.growthRate > f.growthRateError
                           ? (m.omega > 0 ? eigen::Stability::Flutter : eigen::Stability::Divergence)
                           : eigen::Stability::Stable;
+        eigen::zeroRigidDamping(m);
         m.residual = f.residual;
         m.q = toExtended(std::vector<std::complex<double>>(f.eigenvector.begin(), f.eigenvector.begin() + n_));
         result.modes.push_back(m);

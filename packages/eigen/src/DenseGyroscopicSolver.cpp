@@ -587,6 +587,12 @@ Stability classify(cplx lambda, double scale, double rigidBodyTol, double instab
   return Stability::Stable;
 }
 
+void zeroRigidDamping(GyroscopicMode& m) {
+  // A rigid motion's lambda is zero to rounding: -Re/|lambda| of that
+  // rounding printed zeta = -1 or +1 (theory §13.3: 0 for lambda = 0).
+  if (m.stability == Stability::RigidBody) m.dampingRatio = m.logDecrement = 0.0;
+}
+
 void setDamping(GyroscopicMode& m) {
   const double a = std::abs(m.lambda), re = m.lambda.real(), im = std::abs(m.lambda.imag());
   m.dampingRatio = a > 0.0 ? -re / a : 0.0;
@@ -640,6 +646,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     for (auto& m : modes) {
       const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
       m.stability = classify(m.lambda, s, rigidBodyTol, instabilityTol);
+      zeroRigidDamping(m);
     }
     return;
   }
@@ -740,6 +747,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       s = Stability::Neutral;
     if (s == Stability::Stable && split) s = Stability::Neutral;
     m.stability = s;
+    zeroRigidDamping(m);
   }
 }
 

@@ -80,5 +80,8 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
 
 /// dampingRatio and logDecrement of a mode from its lambda.
 void setDamping(GyroscopicMode& mode);
+/// A mode labelled RigidBody gets damping ratio and log decrement 0: its
+/// lambda is zero to rounding, whose -Re/|lambda| is +-1, not a ratio.
+void zeroRigidDamping(GyroscopicMode& mode);
 
 }  // namespace cms::eigen
