@@ -298,6 +298,29 @@ TEST(Assembly, MatrixMarketRoundTripIsExact) {
   expectSameMatrix(*r.KS1(), *s.KS1(), "KS1");
 }
 
+TEST(Assembly, ADampedSubstructureIsNotWrittenAsMatrixMarket) {
+  // The sidecar format has no record for D or a modal ratio: they were
+  // dropped without a word, and read back the substructure was undamped
+  // (found by a review). Refused, and a substructure of the same name
+  // already there is left as it was (the old probe emptied its sidecar).
+  const std::string dir = (std::filesystem::temp_directory_path() / ("cms_mm_damped_np" + std::to_string(world()->getSize()))).string();
+  Substructure::fromFiniteElementModel(spinningBeam(), world()).writeMatrixMarket(dir);
+  const std::string sidecar = dir + "/spinning_beam.cms";
+  auto read = [&] {
+    std::ifstream in(sidecar);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string before = read();
+  ASSERT_FALSE(before.empty());
+  for (const fem::StructuralDamping damping : {fem::StructuralDamping{2.0, 0.0, 0.0}, fem::StructuralDamping{0.0, 0.0, 0.02}}) {
+    auto model = spinningBeam();
+    model.damping = damping;
+    const auto s = Substructure::fromFiniteElementModel(model, world());
+    expectInputError([&] { s.writeMatrixMarket(dir); }, "has no place in a Matrix Market substructure");
+    EXPECT_EQ(read(), before);
+  }
+}
+
 TEST(Assembly, MalformedMatrixMarketFilesAreReportedOnEveryRank) {
   const auto s = Substructure::fromFiniteElementModel(spinningBeam(), world());
   const std::string dir = (std::filesystem::temp_directory_path() / ("cms_mm_bad_np" + std::to_string(world()->getSize()))).string();

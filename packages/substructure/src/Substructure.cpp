@@ -431,14 +431,19 @@ std::string Substructure::fileStem() const {
 
 void Substructure::writeMatrixMarket(const std::string& directory) const {
   if (prototype_) return formed().writeMatrixMarket(directory);
+  // What the sidecar format has no record for would be lost without a word
+  // (read back, the substructure was undamped; found by a review).
+  CMS_INPUT_CHECK(!D_.is_null() || modalDampingRatio_ > 0.0,
+                  "substructure '" << name_ << "': its damping (" << (D_.is_null() ? "a Modal Damping Ratio" : "D")
+                                   << ") has no place in a Matrix Market substructure (theory §13.1): not written");
   const auto comm = map_->getComm();
   const std::string stem = fileStem();
+  const std::filesystem::path dir(directory);
   int ok = 1;
   if (comm->getRank() == 0) {
     std::error_code ec;
-    std::filesystem::create_directories(directory, ec);
-    std::ofstream probe(std::filesystem::path(directory) / (stem + ".cms"));
-    ok = probe ? 1 : 0;
+    std::filesystem::create_directories(dir, ec);
+    ok = std::filesystem::is_directory(dir, ec) ? 1 : 0;
   }
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(ok));
   CMS_INPUT_CHECK(!ok, directory << ": cannot write the substructure '" << name_ << "' there");
@@ -458,28 +463,49 @@ void Substructure::writeMatrixMarket(const std::string& directory) const {
     f.spinAxis = spin_->spin.axis;
     f.spinOrigin = spin_->spin.origin;
   }
+  // All or nothing: every file goes to <name>.tmp first and is renamed only
+  // when all were written (an existing substructure of the same name stays
+  // as it was on failure; the old probe opened the sidecar and emptied it).
+  std::vector<std::string> files;
   using Writer = Tpetra::MatrixMarket::Writer<CrsMatrix>;
-  auto write = [&](const char* key, const Teuchos::RCP<const CrsMatrix>& A) {
-    if (A.is_null()) return;
-    const std::string file = stem + "_" + key + ".mtx";
-    f.matrices[key] = file;
-    Writer::writeSparseFile((std::filesystem::path(directory) / file).string(), A, key,
-                            name_ + ": " + key + " (cms-substructure; theory §9)");
-  };
-  write("M", M_);
-  write("K", K_);
-  write("G1", G1_);
-  write("KT1", KT1_);
-  write("KS1", KS1_);
-  // Rank 0 writes the sidecar; its failure must reach every rank, not leave
-  // the others waiting.
   std::string failure;
+  try {
+    auto write = [&](const char* key, const Teuchos::RCP<const CrsMatrix>& A) {
+      if (A.is_null()) return;
+      const std::string file = stem + "_" + key + ".mtx";
+      f.matrices[key] = file;
+      files.push_back(file);
+      Writer::writeSparseFile((dir / (file + ".tmp")).string(), A, key,
+                              name_ + ": " + key + " (cms-substructure; theory §9)");
+    };
+    write("M", M_);
+    write("K", K_);
+    write("G1", G1_);
+    write("KT1", KT1_);
+    write("KS1", KS1_);
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  files.push_back(stem + ".cms");
+  // Rank 0 writes the sidecar and renames; its failure must reach every
+  // rank, not leave the others waiting.
   if (comm->getRank() == 0) {
     try {
-      fem::writeMatrixSubstructureFile(f, (std::filesystem::path(directory) / (stem + ".cms")).string());
+      if (failure.empty()) fem::writeMatrixSubstructureFile(f, (dir / (stem + ".cms.tmp")).string());
+      if (failure.empty())
+        for (const auto& file : files) {
+          std::error_code ec;
+          std::filesystem::rename(dir / (file + ".tmp"), dir / file, ec);
+          if (ec) throw InputError((dir / file).string() + ": " + ec.message());
+        }
     } catch (const std::exception& e) {
       failure = e.what();
     }
+    if (!failure.empty())
+      for (const auto& file : files) {
+        std::error_code ec;
+        std::filesystem::remove(dir / (file + ".tmp"), ec);
+      }
   }
   int len = static_cast<int>(failure.size());
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(len));

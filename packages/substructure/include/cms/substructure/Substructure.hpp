@@ -86,8 +86,11 @@ public:
   static Substructure fromMatrixMarket(const std::string& sidecarPath,
                                        const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
   /// Writes <directory>/<stem>.cms and <stem>_<matrix>.mtx for every matrix
-  /// present (collective; rank 0 writes), stem = fileStem(). Throws
-  /// cms::InputError if the directory cannot be written.
+  /// present (collective; rank 0 writes), stem = fileStem(), all or none:
+  /// each to a temporary renamed when all are written. Throws
+  /// cms::InputError if the directory cannot be written, or for a damped
+  /// substructure (D or a modal ratio: the format has no record for them,
+  /// and they were dropped without a word).
   void writeMatrixMarket(const std::string& directory) const;
   /// The name with every character but letters, digits, '-', '_' and '.'
   /// replaced by '_' (a file name without spaces, as the sidecar requires).
