@@ -309,7 +309,14 @@ private:
       if (t[0] != '*') return true;
       out.text = t;
       Line more;
-      while (endsWithComma(out.text) && physical(more)) {
+      // Continuations come from the keyword's own file: at its end, physical()
+      // would go on in the including file and read its next line as more
+      // parameters (found by a review).
+      const std::size_t depth = stack_.size();
+      while (endsWithComma(out.text)) {
+        if (stack_.size() != depth || stack_.back().pos >= stack_.back().bytes.size())
+          fail(out.at, "the keyword line ends with ',' (more parameters to come) at the end of its file");
+        if (!physical(more)) break;
         const std::string m = trim(more.text);
         if (m.compare(0, 2, "**") == 0) continue;
         out.text += m;

@@ -216,6 +216,12 @@ TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
   dir.write("loop/b.inp", "*INCLUDE, INPUT=../a.inp\n");
   const std::string a = dir.write("a.inp", "*NODE\n1, 0, 0, 0\n*INCLUDE, INPUT=loop/b.inp\n");
   expectInputError([&] { readInp(a); }, {"b.inp:1: including", "again makes a cycle", "is included from " + a + ":3"});
+  // A keyword line ending in ',' at the end of an included file: its
+  // continuation is not the including file's next line (read as more
+  // parameters before; found by a review).
+  dir.write("cont/k.inp", "*NSET, NSET=base,\n");
+  const std::string cont = dir.write("cont.inp", std::string(kTwoBricks) + "*INCLUDE, INPUT=cont/k.inp\n*ELSET, ELSET=e\n1\n");
+  expectInputError([&] { readInp(cont); }, {"k.inp:1: the keyword line ends with ','", "is included from " + cont});
   // INPUT= on a data keyword: its data lines from that file.
   dir.write("n.txt", "1, 0, 0, 0\n2, 1, 0, 0\n");
   const Mesh n = readInp(dir.write("input.inp", "*NODE, INPUT=n.txt, NSET=two\n"));
