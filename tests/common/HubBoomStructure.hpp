@@ -134,4 +134,34 @@ struct HubBoom {
   }
 };
 
+/// Two steel boxes a x b x c along x sharing the face x = a (a Boolean
+/// interface, compatible meshes of `cells` Hex8 cells each): "root" (C,
+/// clamped at x = 0, spinning at W about z, stress stiffening as given) and
+/// "tip" (E). The Reduction lists and any damping are the caller's.
+inline synthesis::StructureDescription booleanSplitBar(double a, double b, double c, std::array<int, 3> cells,
+                                                       double W, bool stiffening) {
+  using namespace synthesis;
+  const fem::IsotropicMaterial steel{2e11, 0.3, 7800};
+  StructureDescription s;
+  auto root = solidModel(boxMesh(a, b, c, cells, {a / 2, 0, 0}), steel);
+  root.fixed.push_back({"clamp", "xmin", {}, true});
+  SubstructureSpec C;
+  C.name = "root";
+  C.kind = SubstructureKind::Central;
+  C.model = std::make_shared<fem::FiniteElementModel>(root);
+  C.spin = SpinRate{{0, 0, 1}, {0, 0, 0}, W};
+  C.spin->stressStiffening = stiffening;
+  s.substructures.push_back(C);
+  SubstructureSpec E;
+  E.name = "tip";
+  E.kind = SubstructureKind::Elastic;
+  E.parent = "root";
+  E.attachment.type = Attachment::Type::Boolean;
+  E.attachment.parentNodes = "xmax";
+  E.attachment.childNodes = "xmin";
+  E.model = std::make_shared<fem::FiniteElementModel>(solidModel(boxMesh(a, b, c, cells, {1.5 * a, 0, 0}), steel));
+  s.substructures.push_back(E);
+  return s;
+}
+
 }  // namespace cms::fixtures

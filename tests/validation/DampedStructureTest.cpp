@@ -332,31 +332,13 @@ TEST(DampedStructure, ModalDampingAcrossABooleanInterfaceIsPrestressedAndRefused
   // structure before ("a Modal Damping Ratio needs a reduced basis"): the
   // truth now leaves the ratio out and says so, and the comparisons with it
   // refuse, naming the substructure.
-  const double a = 1.0, b = 0.2, c = 0.1;
-  const fem::IsotropicMaterial steel{2e11, 0.3, 7800};
-  StructureDescription d;
-  auto root = fixtures::solidModel(fixtures::boxMesh(a, b, c, {2, 1, 1}, {a / 2, 0, 0}), steel);
-  root.fixed.push_back({"clamp", "xmin", {}, true});
-  SubstructureSpec C;
-  C.name = "root";
-  C.kind = SubstructureKind::Central;
-  C.model = std::make_shared<fem::FiniteElementModel>(root);
-  C.spin = SpinRate{{0, 0, 1}, {0, 0, 0}, 30.0};
-  C.reduction.set("Basis", std::string("Full"));
-  d.substructures.push_back(C);
-  SubstructureSpec E;
-  E.name = "tip";
-  E.kind = SubstructureKind::Elastic;
-  E.parent = "root";
-  E.attachment.type = Attachment::Type::Boolean;
-  E.attachment.parentNodes = "xmax";
-  E.attachment.childNodes = "xmin";
-  auto tip = fixtures::solidModel(fixtures::boxMesh(a, b, c, {2, 1, 1}, {1.5 * a, 0, 0}), steel);
+  auto d = fixtures::booleanSplitBar(1.0, 0.2, 0.1, {2, 1, 1}, 30.0, true);
+  d.substructures[0].reduction.set("Basis", std::string("Full"));
+  auto tip = *d.substructures[1].model;
   tip.damping = {0.0, 0.0, 0.02};
-  E.model = std::make_shared<fem::FiniteElementModel>(tip);
-  E.reduction.set("Basis", std::string("Admissible"));
-  E.reduction.set("Vectors", 6);
-  d.substructures.push_back(E);
+  d.substructures[1].model = std::make_shared<fem::FiniteElementModel>(tip);
+  d.substructures[1].reduction.set("Basis", std::string("Admissible"));
+  d.substructures[1].reduction.set("Vectors", 6);
   const auto structure = AssembledStructure::assemble(d, world());
   bool joined = false;  // the prestress solved on the truth model
   for (const auto& n : structure.notes()) joined = joined || n.find("joined by Boolean interfaces") != std::string::npos;

@@ -23,6 +23,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 #include <Teuchos_DefaultComm.hpp>
 
@@ -55,6 +56,13 @@ StructureDescription freeBox(const fem::Vec3& axis, const std::string& basis, do
   d.substructures.push_back(C);
   d.freeReference = "reference";
   return d;
+}
+
+/// Mass, transverse and axial inertia of boxWithRotor's steel rod.
+std::tuple<double, double, double> rodInertias() {
+  const double r = 0.05, L = 0.2, rhoS = 7800;
+  const double m = rhoS * M_PI * r * r * L;
+  return {m, m * L * L / 12 + m * r * r / 4, m * r * r / 2};
 }
 
 StructureModes solveAll(const SynthesizedStructure& s) {
@@ -192,6 +200,43 @@ TEST(FreeBody, SpinAboutAnAxisOffTheCentreOfMassIsRefused) {
   EXPECT_THROW(AssembledStructure::assemble(d, Teuchos::DefaultComm<int>::getComm()), InputError);
 }
 
+namespace {
+/// The free box with a rotor at its centre on a RigidFit of its reference
+/// nodes, spinning at `rate` about `axis` relative to the box: a stiff
+/// axisymmetric steel rod along the axis (A, the stationary form; r = 0.05,
+/// L = 0.2, Full) or, not elastic, the rigid wheel (R) of its mass and
+/// inertias (rodInertias).
+StructureDescription boxWithRotor(bool elastic, const fem::Vec3& axis, double rate) {
+  const double r = 0.05, L = 0.2, rhoS = 7800;
+  const auto [m, It, Ia] = rodInertias();
+  auto d = freeBox({0, 0, 1}, "Admissible");
+  SubstructureSpec rotor;
+  rotor.name = "rotor";
+  rotor.parent = "box";
+  rotor.attachment.type = Attachment::Type::RigidFit;
+  rotor.attachment.parentNodes = "reference";
+  rotor.attachment.point = fem::Vec3{0, 0, 0};
+  rotor.spin = SpinRate{axis, {0, 0, 0}, rate, fem::SpinDefinition::Frame::Stationary};
+  if (elastic) {
+    fixtures::HubBoom hb;
+    fem::BeamSection sec{M_PI * r * r, M_PI * std::pow(r, 4) / 4, M_PI * std::pow(r, 4) / 4, M_PI * std::pow(r, 4) / 2};
+    const fem::Vec3 half{axis[0] * L / 2, axis[1] * L / 2, axis[2] * L / 2};
+    auto model = hb.frame(fixtures::segmentMesh({-half[0], -half[1], -half[2]}, half, 4, 100), {2e11, 0.3, rhoS}, sec,
+                          "rotor");
+    model.elementSets[0].section.orientation = std::abs(axis[0]) < 0.9 ? fem::Vec3{1.0, 0.0, 0.0} : fem::Vec3{0.0, 1.0, 0.0};
+    rotor.kind = SubstructureKind::Rotating;
+    rotor.model = std::make_shared<fem::FiniteElementModel>(model);
+    rotor.attachment.childNodes = "mid";
+    rotor.reduction.set("Basis", std::string("Full"));
+  } else {
+    rotor.kind = SubstructureKind::Rigid;
+    rotor.rotor = {m, It, Ia};
+  }
+  d.substructures.push_back(rotor);
+  return d;
+}
+}  // namespace
+
 TEST(DualSpin, ARotorAcrossTheSpinAxisOfAFreeBodyIsRefused) {
   // A wheel (R) or an elastic rotor (A, stationary frame) spinning about x
   // on a free box spinning about z: keeping its angular momentum h along
@@ -201,37 +246,10 @@ TEST(DualSpin, ARotorAcrossTheSpinAxisOfAFreeBodyIsRefused) {
   // axis: 0.809 1/s). Refused, naming the rotor; the same rotor along the
   // axis, at rest, or on a clamped box is accepted.
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const double r = 0.05, L = 0.2, rhoS = 7800, w = 1000.0;
-  const double m = rhoS * M_PI * r * r * L, Ia = m * r * r / 2, It = m * L * L / 12 + m * r * r / 4;
+  const double w = 1000.0, Ia = std::get<2>(rodInertias());
   for (bool elastic : {false, true}) {
     SCOPED_TRACE(elastic ? "elastic rotor (A)" : "wheel (R)");
-    auto with = [&](fem::Vec3 axis, double rate) {
-      auto d = freeBox({0, 0, 1}, "Admissible");
-      SubstructureSpec rotor;
-      rotor.name = "rotor";
-      rotor.parent = "box";
-      rotor.attachment.type = Attachment::Type::RigidFit;
-      rotor.attachment.parentNodes = "reference";
-      rotor.attachment.point = fem::Vec3{0, 0, 0};
-      rotor.spin = SpinRate{axis, {0, 0, 0}, rate, fem::SpinDefinition::Frame::Stationary};
-      if (elastic) {
-        fixtures::HubBoom hb;
-        fem::BeamSection sec{M_PI * r * r, M_PI * std::pow(r, 4) / 4, M_PI * std::pow(r, 4) / 4, M_PI * std::pow(r, 4) / 2};
-        const fem::Vec3 half{axis[0] * L / 2, axis[1] * L / 2, axis[2] * L / 2};
-        auto model = hb.frame(fixtures::segmentMesh({-half[0], -half[1], -half[2]}, half, 4, 100), {2e11, 0.3, rhoS},
-                              sec, "rotor");
-        model.elementSets[0].section.orientation = {0.0, 1.0, 0.0};
-        rotor.kind = SubstructureKind::Rotating;
-        rotor.model = std::make_shared<fem::FiniteElementModel>(model);
-        rotor.attachment.childNodes = "mid";
-        rotor.reduction.set("Basis", std::string("Full"));
-      } else {
-        rotor.kind = SubstructureKind::Rigid;
-        rotor.rotor = {m, It, Ia};
-      }
-      d.substructures.push_back(rotor);
-      return d;
-    };
+    auto with = [&](fem::Vec3 axis, double rate) { return boxWithRotor(elastic, axis, rate); };
     try {
       AssembledStructure::assemble(with({1, 0, 0}, w), comm);
       ADD_FAILURE() << "a rotor across the free body's spin axis was accepted";
@@ -263,32 +281,12 @@ TEST(DualSpin, ElasticRotorOnASpinningBodyMatchesTheRigidWheel) {
   // inertias, and the dual-spin closed form. The rod's bending frequencies
   // are ~1e4 rad/s: its flexibility shifts the nutation by ~(16/1e4)^2.
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const double r = 0.05, L = 0.2, rhoS = 7800, w = 1000.0;
-  const double m = rhoS * M_PI * r * r * L, Ia = m * r * r / 2, It = m * L * L / 12 + m * r * r / 4, h = Ia * w;
+  const double w = 1000.0;
+  const auto [m, It, Ia] = rodInertias();
+  const double h = Ia * w;
   std::vector<double> nutation;
   for (bool elastic : {true, false}) {
-    auto d = freeBox({0, 0, 1}, "Admissible");
-    SubstructureSpec rotor;
-    rotor.name = "rotor";
-    rotor.parent = "box";
-    rotor.attachment.type = Attachment::Type::RigidFit;
-    rotor.attachment.parentNodes = "reference";
-    rotor.attachment.point = fem::Vec3{0, 0, 0};
-    rotor.spin = SpinRate{{0, 0, 1}, {0, 0, 0}, w, fem::SpinDefinition::Frame::Stationary};
-    if (elastic) {
-      fixtures::HubBoom hb;
-      fem::BeamSection sec{M_PI * r * r, M_PI * std::pow(r, 4) / 4, M_PI * std::pow(r, 4) / 4, M_PI * std::pow(r, 4) / 2};
-      auto model = hb.frame(fixtures::segmentMesh({0, 0, -L / 2}, {0, 0, L / 2}, 4, 100), {2e11, 0.3, rhoS}, sec, "rotor");
-      model.elementSets[0].section.orientation = {1.0, 0.0, 0.0};
-      rotor.kind = SubstructureKind::Rotating;
-      rotor.model = std::make_shared<fem::FiniteElementModel>(model);
-      rotor.attachment.childNodes = "mid";
-      rotor.reduction.set("Basis", std::string("Full"));
-    } else {
-      rotor.kind = SubstructureKind::Rigid;
-      rotor.rotor = {m, It, Ia};
-    }
-    d.substructures.push_back(rotor);
+    const auto d = boxWithRotor(elastic, {0, 0, 1}, w);
     const auto s = SynthesizedStructure::synthesize(AssembledStructure::assemble(d, comm));
     Teuchos::ParameterList p;
     p.set("Number of Modes", 12);

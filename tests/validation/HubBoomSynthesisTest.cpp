@@ -511,32 +511,13 @@ TEST(BooleanInterface, SplitBarEqualsOneMeshAndCraigBamptonConverges) {
   const fem::IsotropicMaterial steel{2e11, 0.3, 7800};
   bool stiffening = false;
   auto d = [&](const std::string& basis, int k) {
-    StructureDescription s;
-    auto root = fixtures::solidModel(fixtures::boxMesh(a, b, c, {2, 2, 2}, {a / 2, 0, 0}), steel);
-    root.fixed.push_back({"clamp", "xmin", {}, true});
-    SubstructureSpec C;
-    C.name = "root";
-    C.kind = SubstructureKind::Central;
-    C.model = std::make_shared<fem::FiniteElementModel>(root);
-    C.spin = SpinRate{{0, 0, 1}, {0, 0, 0}, W};
-    C.spin->stressStiffening = stiffening;
-    C.reduction.set("Basis", basis);
+    auto s = fixtures::booleanSplitBar(a, b, c, {2, 2, 2}, W, stiffening);
+    s.substructures[0].reduction.set("Basis", basis);
     // The root has 27 DOFs off its clamp and its interface: all its
     // fixed-interface modes (asking more is an input error, issue 14 item 9).
-    C.reduction.set("Vectors", basis == "Craig-Bampton" ? std::min(k, 27) : k);
-    s.substructures.push_back(C);
-    SubstructureSpec E;
-    E.name = "tip";
-    E.kind = SubstructureKind::Elastic;
-    E.parent = "root";
-    E.attachment.type = Attachment::Type::Boolean;
-    E.attachment.parentNodes = "xmax";
-    E.attachment.childNodes = "xmin";
-    E.model = std::make_shared<fem::FiniteElementModel>(
-        fixtures::solidModel(fixtures::boxMesh(a, b, c, {2, 2, 2}, {1.5 * a, 0, 0}), steel));
-    E.reduction.set("Basis", basis);
-    E.reduction.set("Vectors", k);
-    s.substructures.push_back(E);
+    s.substructures[0].reduction.set("Vectors", basis == "Craig-Bampton" ? std::min(k, 27) : k);
+    s.substructures[1].reduction.set("Basis", basis);
+    s.substructures[1].reduction.set("Vectors", k);
     return s;
   };
   auto solveAt = [&](const SynthesizedStructure& s, int n) {
