@@ -17,10 +17,26 @@
 
 namespace cms {
 
+namespace detail {
+/// A "kB" field of /proc/self/status in bytes (0 where absent).
+inline double statusBytes(const char* field) {
+  std::ifstream f("/proc/self/status");
+  const std::string key = std::string(field) + ":";
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind(key, 0) == 0) return 1024.0 * std::strtod(line.c_str() + key.size(), nullptr);
+  return 0.0;
+}
+}  // namespace detail
+
 /// Memory this process may still use (bytes): the least of MemAvailable in
-/// /proc/meminfo, the address-space limit (ulimit -v), the cgroup's
-/// memory.max and the environment's CMS_MEMORY_LIMIT (bytes, e.g. 8e9: a
-/// budget on a shared machine); infinity when none is known.
+/// /proc/meminfo, what the address-space limit (ulimit -v) leaves above the
+/// process's mapped size (VmSize), what the cgroup's memory.max leaves above
+/// its memory.current (less its inactive file cache, which the kernel
+/// reclaims first), and the environment's CMS_MEMORY_LIMIT (bytes, e.g. 8e9:
+/// a budget on a shared machine); infinity when none is known. (The two
+/// limits were taken whole, as if nothing were in use: in a container,
+/// where /proc/meminfo shows the host, the guards then let through what the
+/// out-of-memory killer ended; found by a review.)
 inline double availableMemoryBytes() {
   double bytes = std::numeric_limits<double>::infinity();
   if (const char* limit = std::getenv("CMS_MEMORY_LIMIT")) {
@@ -36,10 +52,20 @@ inline double availableMemoryBytes() {
   }
   rlimit as{};
   if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
-    bytes = std::min(bytes, static_cast<double>(as.rlim_cur));
+    bytes = std::min(bytes, std::max(0.0, static_cast<double>(as.rlim_cur) - detail::statusBytes("VmSize")));
   std::ifstream cgroup("/sys/fs/cgroup/memory.max");
   double max = 0;
-  if (cgroup >> max && max > 0) bytes = std::min(bytes, max);  // "max" (no limit) does not read as a number
+  if (cgroup >> max && max > 0) {  // "max" (no limit) does not read as a number
+    double current = 0, inactiveFile = 0;
+    std::ifstream("/sys/fs/cgroup/memory.current") >> current;
+    std::ifstream stat("/sys/fs/cgroup/memory.stat");
+    for (std::string key; stat >> key;) {
+      double v = 0;
+      if (key == "inactive_file" && stat >> v) inactiveFile = v;
+      stat.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
+    bytes = std::min(bytes, std::max(0.0, max - std::max(0.0, current - inactiveFile)));
+  }
   return bytes;
 }
 
