@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <sstream>
 #include <vector>
 
@@ -197,7 +198,7 @@ struct SparseDirectSolver::Impl {
     const size_t nv = B.getNumVectors();
     MultiVector rootB(rootMap, nv), rootX(rootMap, nv);
     rootB.doImport(B, *toRoot, Tpetra::INSERT);
-    if (A->getComm()->getRank() == 0) {
+    onRootCollectively("an Amesos2 solve", [&] {
       const size_t n = serialMap->getNodeNumElements();
       MultiVector sb(serialMap, nv), sx(serialMap, nv);
       {
@@ -211,15 +212,40 @@ struct SparseDirectSolver::Impl {
       auto to = rootX.getLocalViewHost(Tpetra::Access::OverwriteAll);
       for (size_t j = 0; j < nv; ++j)
         for (size_t i = 0; i < n; ++i) to(i, j) = from(i, j);
-    }
+    });
     X.doExport(rootX, *toRoot, Tpetra::INSERT);
+  }
+
+  /// Runs rank 0's part `work` of a collective step and makes its failure
+  /// (an exception, or CHOLMOD's allocations returning null) every rank's:
+  /// a NumericalError naming `what` on all of them, where the other ranks
+  /// waited in the next collective before (found by a review).
+  template <class Work>
+  void onRootCollectively(const char* what, Work&& work) const {
+    const auto comm = A->getComm();
+    std::string failure;
+    if (comm->getRank() == 0) {
+      try {
+        work();
+      } catch (const std::bad_alloc&) {
+        failure = "out of memory";
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+    }
+    int len = static_cast<int>(failure.size());
+    Teuchos::broadcast(*comm, 0, &len);
+    if (len == 0) return;
+    failure.resize(static_cast<std::size_t>(len));
+    Teuchos::broadcast(*comm, 0, len, failure.data());
+    throw NumericalError(std::string("SparseDirectSolver: ") + what + " on rank 0 failed: " + failure);
   }
 
   Outcome factorCholmod(std::string& failure) {
     const auto comm = A->getComm();
     const GatheredRows rootA = gather();
     int status = 0;  // 0 factored, 1 not positive definite, 2 other failure
-    if (comm->getRank() == 0) {
+    onRootCollectively("the CHOLMOD factorisation", [&] {
       cholmod_start(&common);
       commonStarted = true;
       common.print = 0;  // failures are reported through Outcome and failure()
@@ -228,6 +254,7 @@ struct SparseDirectSolver::Impl {
       // CSR of a symmetric matrix is its CSC; keep the upper triangle (stype 1).
       cholmod_sparse* S = cholmod_allocate_sparse(n, n, rootA.entries(), /*sorted*/ 0, /*packed*/ 1, /*stype*/ 1,
                                                   CHOLMOD_REAL, &common);
+      if (!S) throw NumericalError("CHOLMOD could not allocate the matrix (status " + std::to_string(common.status) + ")");
       auto* Sp = static_cast<int*>(S->p);
       auto* Si = static_cast<int*>(S->i);
       auto* Sx = static_cast<double*>(S->x);
@@ -283,7 +310,7 @@ struct SparseDirectSolver::Impl {
       if (status == 2) failure = "CHOLMOD failed, status " + std::to_string(common.status);
       factorNonzeros = common.lnz;
       factorFlops = common.fl;
-    }
+    });
     Teuchos::broadcast(*comm, 0, &status);
     Teuchos::broadcast(*comm, 0, &factorNonzeros);
     Teuchos::broadcast(*comm, 0, &factorFlops);
@@ -295,22 +322,27 @@ struct SparseDirectSolver::Impl {
     const size_t nv = B.getNumVectors();
     MultiVector rootB(rootMap, nv), rootX(rootMap, nv);
     rootB.doImport(B, *toRoot, Tpetra::INSERT);
-    if (A->getComm()->getRank() == 0) {
+    onRootCollectively("a CHOLMOD solve", [&] {
       auto& c = const_cast<cholmod_common&>(common);
       const size_t n = rootMap->getNodeNumElements();
       auto b = rootB.getLocalViewHost(Tpetra::Access::ReadOnly);
       cholmod_dense* rhs = cholmod_allocate_dense(n, nv, n, CHOLMOD_REAL, &c);
+      if (!rhs) throw NumericalError("CHOLMOD could not allocate the right-hand sides (status " + std::to_string(c.status) + ")");
       auto* r = static_cast<double*>(rhs->x);
       for (size_t j = 0; j < nv; ++j)
         for (size_t i = 0; i < n; ++i) r[i + j * n] = b(i, j);
       cholmod_dense* sol = cholmod_solve(CHOLMOD_A, factor, rhs, &c);
+      if (!sol) {
+        cholmod_free_dense(&rhs, &c);
+        throw NumericalError("CHOLMOD's solve failed (status " + std::to_string(c.status) + ")");
+      }
       auto x = rootX.getLocalViewHost(Tpetra::Access::OverwriteAll);
       const auto* s = static_cast<const double*>(sol->x);
       for (size_t j = 0; j < nv; ++j)
         for (size_t i = 0; i < n; ++i) x(i, j) = s[i + j * n];
       cholmod_free_dense(&rhs, &c);
       cholmod_free_dense(&sol, &c);
-    }
+    });
     X.doExport(rootX, *toRoot, Tpetra::INSERT);
   }
 };

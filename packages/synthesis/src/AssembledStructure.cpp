@@ -834,6 +834,32 @@ const substructure::Substructure* AssembledStructure::assembled(std::size_t k) c
   return parts_.at(k)->sub ? &*parts_.at(k)->sub : nullptr;
 }
 
+std::string AssembledStructure::steadySpinDefect(const std::vector<double>& speeds) const {
+  if (relativeMomenta_.empty()) return "";
+  const Part& c = *parts_.front();
+  const double spin = speeds.at(static_cast<std::size_t>(c.speedParam));
+  if (spin == 0.0) return "";
+  // The relative angular momentum h = sum omega_i J_i a_i across C's axis e
+  // needs the torque Omega e x h; the rotors' own sizes give the scale of a
+  // cancellation (a counter-spinning pair) that is exact but for rounding.
+  Vec3 h{0, 0, 0};
+  double scale = 0.0;
+  for (const auto& [i, Ja] : relativeMomenta_) {
+    const double w = speeds.at(static_cast<std::size_t>(i));
+    for (int k = 0; k < 3; ++k) h[k] += w * Ja[k];
+    scale += std::abs(w) * norm(Ja);
+  }
+  const double across = norm(cross(h, c.frame.axis));
+  if (!(across > 1e-9 * scale)) return "";
+  std::ostringstream os;
+  os << "the rotors spinning relative to the free-floating '" << c.spec.name << "' carry angular momentum "
+     << across << " N m s across its spin axis: keeping it turning with the frame needs a steady torque "
+     << std::abs(spin) * across << " N m, which nothing applies to a free body, so there is no steady spin to "
+     << "linearise about at these speeds; align the rotors' axes with the spin axis (or let their momenta cancel), "
+     << "or clamp the structure";
+  return os.str();
+}
+
 std::vector<double> AssembledStructure::nominalSpeeds() const {
   std::vector<double> s;
   for (const auto& p : speeds_) s.push_back(p.nominal);
@@ -848,6 +874,45 @@ std::vector<std::pair<std::string, long long>> AssembledStructure::substructureD
 
 // The phases in the order they happen (theory §11.1-§11.5); each is a
 // function above with the why.
+/// The angular momentum per unit relative spin rate, J a (a vector in the
+/// structure's axes), of every part that spins relative to its frame: a
+/// rigid rotor's axial inertia along its axis, a stationary-frame elastic
+/// rotor's X^T M X a about its attachment point (X the rigid rotations'
+/// fields). For the steady-spin check of a free structure
+/// (AssembledStructure::steadySpinDefect). Collective.
+std::vector<std::pair<int, Vec3>> relativeMomenta(const Parts& parts) {
+  std::vector<std::pair<int, Vec3>> out;
+  for (const auto& p : parts) {
+    if (!p->spec.spin || !(p->spec.kind == SubstructureKind::Rigid || p->compound)) continue;
+    const Vec3 a = unit(p->spec.spin->axis);
+    if (p->spec.kind == SubstructureKind::Rigid) {
+      const double J = p->spec.rotor.axialInertia;
+      out.push_back({p->speedParam, {J * a[0], J * a[1], J * a[2]}});
+      continue;
+    }
+    const auto& sub = *p->sub;
+    const auto& t = sub.dofs();
+    const auto map = sub.map();
+    const auto nodeOf = t.rowNodes();
+    MultiVector X(map, 3), v(map, 1), Mv(map, 1);
+    for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+      const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+      const auto nd = nodeOf[g];
+      const auto x = detail::rigidRow({t.coordinates[3 * nd] - p->point[0], t.coordinates[3 * nd + 1] - p->point[1],
+                                       t.coordinates[3 * nd + 2] - p->point[2]},
+                                      static_cast<int>(t.components[g]));
+      double va = 0.0;
+      for (int k = 0; k < 3; ++k) X.replaceLocalValue(l, k, x[3 + k]), va += x[3 + k] * a[k];
+      v.replaceLocalValue(l, 0, va);
+    }
+    sub.apply(substructure::Matrix::M, v, Mv);
+    Vec3 h{0, 0, 0};
+    for (int k = 0; k < 3; ++k) h[k] = X.getVector(k)->dot(*Mv.getVector(0));
+    out.push_back({p->speedParam, h});
+  }
+  return out;
+}
+
 AssembledStructure AssembledStructure::assemble(const StructureDescription& description,
                                                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -879,32 +944,6 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
                                "and without it they would read as divergence at the spin rate; remove the key "
                                "(stiffening is on by default)");
   }
-  // A free structure spins steadily about C's axis e only if nothing that
-  // spins relative to its frame carries angular momentum across e: a rotor
-  // whose axis a is tilted needs the torque Omega e x h (h = J omega a) to
-  // keep its axis turning with the frame, which nothing applies to a free
-  // body, so there is no steady spin to linearise about (the spacecraft
-  // with its wheel's axis across the bus's spin axis read as DIVERGENCE at
-  // 0.809 1/s; found reading theory §11.5). Clamped, the clamp reacts that
-  // torque (its steady prestress is not in K, theory §11.5).
-  if (out.free_ && parts.front()->frame.spinning && parts.front()->spec.spin->rate != 0.0)
-    for (const auto& p : parts) {
-      const bool relative = (p->spec.kind == SubstructureKind::Rigid || p->compound) && p->spec.spin &&
-                            p->spec.spin->rate != 0.0;
-      if (!relative) continue;
-      const Vec3 a = unit(p->spec.spin->axis), e = p->frame.axis;
-      const double across = norm(cross(a, e));
-      if (across <= 1e-9) continue;
-      std::ostringstream torque;
-      if (p->spec.kind == SubstructureKind::Rigid)
-        torque << " (here " << std::abs(p->spec.rotor.axialInertia * p->spec.spin->rate * parts.front()->spec.spin->rate) *
-                                   across
-               << " N m at the nominal rates)";
-      throw InputError(who(*p) + ": its spin axis is not along the spin axis of the free-floating '" +
-                       parts.front()->spec.name + "': a rotor spinning across that axis needs a steady torque Omega x h" +
-                       torque.str() + " to turn with the frame, which nothing applies to a free body, so there is no "
-                       "steady spin to linearise about; align the axes, or clamp the structure");
-    }
   for (auto& p : parts) setHeldDofs(*p, d.freeReference);  // 3.
   for (auto& p : parts)                                     // 4.
     if (p->spec.kind == SubstructureKind::Rigid) buildRigidRotor(*p, *parts[p->parent]);
@@ -942,6 +981,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     if (p.parent >= 0 && p.prestressed()) passReactionToParent(p, *parts[p.parent]);
   }
   if (out.free_ && parts.front()->prestressed()) checkFreeSpinBalances(*parts.front());
+  if (out.free_ && parts.front()->frame.spinning) out.relativeMomenta_ = relativeMomenta(parts);
 
   for (auto& p : parts) {  // 6. nodal DOFs to rows, now that every layout is known
     if (p->sub) resolveHeldRows(*p, d.freeReference);

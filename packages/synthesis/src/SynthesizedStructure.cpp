@@ -1201,6 +1201,7 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
 eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<double>& s) const {
   CMS_INPUT_CHECK(s.size() != structure_->speeds().size(),
                   "synthesis: " << s.size() << " speeds given, the structure has " << structure_->speeds().size());
+  if (const auto why = structure_->steadySpinDefect(s); !why.empty()) throw InputError(why);
   eigen::SparseGyroscopicSystem sys;
   sys.M = M_;
   Teuchos::RCP<const CrsMatrix> G, K = K0_;
@@ -1226,6 +1227,7 @@ struct SynthesizedStructure::DensePieces {
 eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<double>& s) const {
   CMS_INPUT_CHECK(s.size() != structure_->speeds().size(),
                   "synthesis: " << s.size() << " speeds given, the structure has " << structure_->speeds().size());
+  if (const auto why = structure_->steadySpinDefect(s); !why.empty()) throw InputError(why);
   auto& pieces = const_cast<std::shared_ptr<DensePieces>&>(dense_);
   if (!pieces) {  // collective: every rank calls solve at the same speeds
     auto d = std::make_shared<DensePieces>();

@@ -85,6 +85,12 @@ public:
   const std::vector<SpeedParameter>& speeds() const { return speeds_; }
   std::vector<double> nominalSpeeds() const;
   bool freeFloating() const { return free_; }
+  /// Empty unless the structure is free-floating and, at these speeds, the
+  /// rotors spinning relative to its frame (R, stationary-frame A) carry
+  /// angular momentum across C's spin axis: then there is no steady spin to
+  /// linearise about (theory §11.6), and this says why. SynthesizedStructure
+  /// refuses such speeds.
+  std::string steadySpinDefect(const std::vector<double>& speeds) const;
   Teuchos::RCP<const Teuchos::Comm<int>> comm() const { return comm_; }
   /// Names and physical DOF counts, tree order.
   std::vector<std::pair<std::string, long long>> substructureDofs() const;
@@ -97,6 +103,9 @@ private:
   std::vector<std::shared_ptr<Part>> parts_;  ///< pre-order: parents before children
   std::vector<SpeedParameter> speeds_;
   bool free_ = false;
+  /// (speed parameter, J a per unit rate) of each part spinning relative to
+  /// a free C's frame (steadySpinDefect).
+  std::vector<std::pair<int, fem::Vec3>> relativeMomenta_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   double seconds_ = 0.0;
   std::vector<std::string> notes_;
