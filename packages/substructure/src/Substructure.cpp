@@ -443,7 +443,9 @@ void Substructure::writeMatrixMarket(const std::string& directory) const {
   if (comm->getRank() == 0) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    ok = std::filesystem::is_directory(dir, ec) ? 1 : 0;
+    // Writable: a temporary of the sidecar's, opened and removed.
+    ok = std::filesystem::is_directory(dir, ec) && std::ofstream(dir / (stem + ".cms.tmp")) ? 1 : 0;
+    std::filesystem::remove(dir / (stem + ".cms.tmp"), ec);
   }
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(ok));
   CMS_INPUT_CHECK(!ok, directory << ": cannot write the substructure '" << name_ << "' there");
@@ -463,49 +465,65 @@ void Substructure::writeMatrixMarket(const std::string& directory) const {
     f.spinAxis = spin_->spin.axis;
     f.spinOrigin = spin_->spin.origin;
   }
-  // All or nothing: every file goes to <name>.tmp first and is renamed only
-  // when all were written (an existing substructure of the same name stays
-  // as it was on failure; the old probe opened the sidecar and emptied it).
+  // All or nothing: every file goes to <name>.tmp through a stream whose
+  // state is checked (Tpetra's file writer does not check its own: a full
+  // disk passed unseen), and only when all are whole are they renamed, any
+  // file they replace set aside first and put back if a rename fails (the
+  // old probe opened the sidecar for writing and emptied it; found by a
+  // review).
+  namespace fs = std::filesystem;
+  const bool root = comm->getRank() == 0;
   std::vector<std::string> files;
-  using Writer = Tpetra::MatrixMarket::Writer<CrsMatrix>;
   std::string failure;
-  try {
-    auto write = [&](const char* key, const Teuchos::RCP<const CrsMatrix>& A) {
-      if (A.is_null()) return;
-      const std::string file = stem + "_" + key + ".mtx";
-      f.matrices[key] = file;
-      files.push_back(file);
-      Writer::writeSparseFile((dir / (file + ".tmp")).string(), A, key,
-                              name_ + ": " + key + " (cms-substructure; theory §9)");
-    };
-    write("M", M_);
-    write("K", K_);
-    write("G1", G1_);
-    write("KT1", KT1_);
-    write("KS1", KS1_);
-  } catch (const std::exception& e) {
-    failure = e.what();
-  }
+  using Writer = Tpetra::MatrixMarket::Writer<CrsMatrix>;
+  auto write = [&](const char* key, const Teuchos::RCP<const CrsMatrix>& A) {
+    if (A.is_null()) return;
+    const std::string file = stem + "_" + key + ".mtx";
+    f.matrices[key] = file;
+    files.push_back(file);
+    std::ofstream out;
+    if (root) out.open(dir / (file + ".tmp"));
+    Writer::writeSparse(out, *A, key, name_ + ": " + key + " (cms-substructure; theory §9)");  // collective
+    if (root && failure.empty() && !(out.flush() && out.good())) failure = (dir / file).string() + ": could not be written";
+  };
+  write("M", M_);
+  write("K", K_);
+  write("G1", G1_);
+  write("KT1", KT1_);
+  write("KS1", KS1_);
   files.push_back(stem + ".cms");
   // Rank 0 writes the sidecar and renames; its failure must reach every
   // rank, not leave the others waiting.
-  if (comm->getRank() == 0) {
+  if (root) {
+    std::vector<std::pair<fs::path, fs::path>> setAside;  // (name, its replaced copy)
+    std::size_t renamed = 0;
     try {
-      if (failure.empty()) fem::writeMatrixSubstructureFile(f, (dir / (stem + ".cms.tmp")).string());
-      if (failure.empty())
-        for (const auto& file : files) {
-          std::error_code ec;
-          std::filesystem::rename(dir / (file + ".tmp"), dir / file, ec);
-          if (ec) throw InputError((dir / file).string() + ": " + ec.message());
-        }
-    } catch (const std::exception& e) {
-      failure = e.what();
-    }
-    if (!failure.empty())
+      if (!failure.empty()) throw InputError(failure);
+      fem::writeMatrixSubstructureFile(f, (dir / (stem + ".cms.tmp")).string());
       for (const auto& file : files) {
         std::error_code ec;
-        std::filesystem::remove(dir / (file + ".tmp"), ec);
+        if (fs::exists(dir / file, ec)) {
+          fs::rename(dir / file, dir / (file + ".replaced"), ec);
+          if (ec) throw InputError((dir / file).string() + ": " + ec.message());
+          setAside.push_back({dir / file, dir / (file + ".replaced")});
+        }
       }
+      for (; renamed < files.size(); ++renamed) {
+        std::error_code ec;
+        fs::rename(dir / (files[renamed] + ".tmp"), dir / files[renamed], ec);
+        if (ec) throw InputError((dir / files[renamed]).string() + ": " + ec.message());
+      }
+      for (const auto& [name, aside] : setAside) {
+        std::error_code ec;
+        fs::remove(aside, ec);
+      }
+    } catch (const std::exception& e) {
+      failure = e.what();
+      std::error_code ec;
+      for (std::size_t i = 0; i < renamed; ++i) fs::remove(dir / files[i], ec);  // the new ones out
+      for (const auto& [name, aside] : setAside) fs::rename(aside, name, ec);    // the old ones back
+      for (const auto& file : files) fs::remove(dir / (file + ".tmp"), ec);
+    }
   }
   int len = static_cast<int>(failure.size());
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(len));
