@@ -163,6 +163,12 @@ TEST(DistributedDirectSolver, SolvesWithinBackwardStableBoundsAndAgreesWithCholm
     xu.norm2(d());
     for (int j = 0; j < 2; ++j) EXPECT_LT(d[j] / c[j], 2.0 * n * kEps * cond) << "MUMPS LU vs CHOLMOD";
     EXPECT_GT(ldlt.factorNonzeros(), 0.0);
+    // The kept-factor budget's bytes: CHOLMOD's supernodal L as allocated,
+    // at least its entries' 8 bytes (relaxed supernodes store zeros too) and
+    // its index arrays; it counted nnz(L) alone before (found by a review).
+    EXPECT_GT(chol.factorBytes(), 8.0 * chol.factorNonzeros());
+    EXPECT_LT(chol.factorBytes(), 4.0 * 8.0 * chol.factorNonzeros());
+    EXPECT_EQ(ldlt.factorBytes(), 8.0 * ldlt.factorNonzeros());
   }
 }
 

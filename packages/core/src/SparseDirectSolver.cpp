@@ -110,6 +110,7 @@ struct SparseDirectSolver::Impl {
   cholmod_factor* factor = nullptr;
   bool commonStarted = false;
   double factorNonzeros = 0.0, factorFlops = 0.0;  ///< CHOLMOD's nnz(L) and flop count
+  double factorBytes = 0.0;  ///< CHOLMOD's L as allocated (0: not known)
   // "MUMPS" (LU) and "MUMPS-LDLT" (L D L^T, definiteness as CHOLMOD reports
   // it): factored across the ranks, nothing gathered (DistributedDirectSolver).
   std::unique_ptr<DistributedDirectSolver> mumps;
@@ -310,9 +311,13 @@ struct SparseDirectSolver::Impl {
       if (status == 2) failure = "CHOLMOD failed, status " + std::to_string(common.status);
       factorNonzeros = common.lnz;
       factorFlops = common.fl;
+      if (factor && factor->is_super)
+        factorBytes = 8.0 * static_cast<double>(factor->xsize) + 4.0 * static_cast<double>(factor->ssize) +
+                      4.0 * (4.0 * static_cast<double>(factor->nsuper) + 3.0 * static_cast<double>(factor->n));
     });
     Teuchos::broadcast(*comm, 0, &status);
     Teuchos::broadcast(*comm, 0, &factorNonzeros);
+    Teuchos::broadcast(*comm, 0, &factorBytes);
     Teuchos::broadcast(*comm, 0, &factorFlops);
     return status == 0 ? Outcome::Factored
                        : (status == 1 ? Outcome::NotPositiveDefinite : Outcome::Singular);
@@ -409,6 +414,7 @@ SparseDirectSolver::Outcome SparseDirectSolver::factor() {
   factorSeconds_ = timer.stop();
   factorNonzeros_ = impl_->factorNonzeros;
   factorFlops_ = impl_->factorFlops;
+  factorBytes_ = impl_->factorBytes;
   return out;
 }
 

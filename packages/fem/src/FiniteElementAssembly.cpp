@@ -1105,9 +1105,9 @@ class Assembler {
       kept->matrix = Ksolve;
       kept->base = out_.K;
       kept->held = std::move(rows);
-      // L's entries, and the held copy of K when it is one (12 bytes an
+      // L as allocated, and the held copy of K when it is one (12 bytes an
       // entry, 8 a row): the same on every rank.
-      kept->bytes = 8.0 * solver->factorNonzeros() +
+      kept->bytes = solver->factorBytes() +
                     (heldRows.empty() ? 0.0
                                       : 12.0 * static_cast<double>(Ksolve->getGlobalNumEntries()) +
                                             8.0 * static_cast<double>(Ksolve->getGlobalNumRows()));

@@ -45,6 +45,12 @@ public:
   /// the numeric factorisation, for benchmarks (memory of L: 8 bytes each).
   double factorNonzeros() const { return factorNonzeros_; }
   double factorFlops() const { return factorFlops_; }
+  /// Bytes the factor holds: for CHOLMOD's supernodal L its allocated
+  /// values (xsize, with the zeros of relaxed supernodes, which nnz(L) leaves
+  /// out) and index arrays; else 8 bytes an entry of factorNonzeros(). The
+  /// kept-factor budget counts this (it counted nnz(L) alone; found by a
+  /// review).
+  double factorBytes() const { return factorBytes_ > 0.0 ? factorBytes_ : 8.0 * factorNonzeros_; }
   /// Human-readable detail of a failed factorisation.
   const std::string& failure() const { return failure_; }
 
@@ -54,7 +60,7 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::string method_, failure_;
-  double factorSeconds_ = 0.0, factorNonzeros_ = 0.0, factorFlops_ = 0.0;
+  double factorSeconds_ = 0.0, factorNonzeros_ = 0.0, factorFlops_ = 0.0, factorBytes_ = 0.0;
 };
 
 }  // namespace cms
