@@ -872,8 +872,6 @@ std::vector<std::pair<std::string, long long>> AssembledStructure::substructureD
   return out;
 }
 
-// The phases in the order they happen (theory §11.1-§11.5); each is a
-// function above with the why.
 /// The angular momentum per unit relative spin rate, J a (a vector in the
 /// structure's axes), of every part that spins relative to its frame: a
 /// rigid rotor's axial inertia along its axis, a stationary-frame elastic
@@ -913,6 +911,8 @@ std::vector<std::pair<int, Vec3>> relativeMomenta(const Parts& parts) {
   return out;
 }
 
+// The phases in the order they happen (theory §11.1-§11.5); each is a
+// function above with the why.
 AssembledStructure AssembledStructure::assemble(const StructureDescription& description,
                                                 const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const auto t0 = std::chrono::steady_clock::now();

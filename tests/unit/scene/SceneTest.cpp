@@ -284,6 +284,19 @@ TEST(Scene, ASecondYamlDocumentIsRefused) {
   EXPECT_NO_THROW(scene::Scene::parse("---\n" + std::string(kGood) + "...\n", "marked.yaml"));
 }
 
+// A document whose first token is ',' (a comment that lost its '#') made
+// yaml-cpp 0.7 allocate until killed: the scene fuzz test hung on it. It is
+// refused with its line before the parser sees it, also after "---", blank
+// and comment lines; a ',' further on stays the parser's to judge.
+TEST(Scene, ADocumentBeginningWithACommaIsRefusedNotHung) {
+  using fixtures::expectInputError;
+  expectInputError([] { scene::Scene::parse("# a scene\n, its comment\n" + std::string(kGood), "comma.yaml"); },
+                   "comma.yaml:2:1: not a valid scene file (a document cannot begin with ',')");
+  expectInputError([] { scene::Scene::parse("\n--- # first\n  , x\n", "marked.yaml"); }, "marked.yaml:3:3:");
+  expectInputError([] { scene::Scene::parse(std::string(kGood) + "--- , x\n", "second.yaml"); }, "second.yaml:35:5:");
+  expectInputError([] { scene::Scene::parse("Scene:\n  Name: x\n, y\n", "later.yaml"); }, "later.yaml:3:1");
+}
+
 // Spin keys the kind does not read were accepted and ignored (found by a
 // review): a C's Frame: Stationary (its frame spins with it), an A's or R's Origin
 // (they spin about their attachment point), a rigid rotor's or a
