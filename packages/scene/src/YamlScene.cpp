@@ -125,16 +125,28 @@ void refuseLeadingComma(const std::string& text, const std::string& path) {
   int line = 0;
   for (std::string l; std::getline(in, l);) {
     ++line;
-    std::size_t i = l.find_first_not_of(" \t\r");
+    if (!l.empty() && l.back() == '\r') l.pop_back();                          // CRLF
+    if (line == 1 && l.compare(0, 3, "\xEF\xBB\xBF") == 0) l.erase(0, 3);  // a byte-order mark
+    std::size_t i = l.find_first_not_of(" \t");
     if (i == std::string::npos || l[i] == '#' || (i == 0 && l[0] == '%')) continue;
-    for (const char* marker : {"---", "..."})
-      if (l.compare(i, 3, marker) == 0 && (l.size() == i + 3 || l[i + 3] == ' ' || l[i + 3] == '\t')) {
-        documentStart = true;
-        i = l.find_first_not_of(" \t\r", i + 3);
-        break;
-      }
-    if (i == std::string::npos || l[i] == '#') continue;
-    CMS_INPUT_CHECK(documentStart && l[i] == ',',
+    // Document markers only in column 0 (indented, they are content of a
+    // block scalar: found by a review).
+    if (i == 0 && (l.compare(0, 3, "---") == 0 || l.compare(0, 3, "...") == 0) &&
+        (l.size() == 3 || l[3] == ' ' || l[3] == '\t')) {
+      documentStart = true;
+      i = l.find_first_not_of(" \t", 3);
+      if (i == std::string::npos || l[i] == '#') continue;
+    }
+    if (!documentStart) continue;
+    // A node's properties (an anchor &a, a tag !t) may come first, on this
+    // line or alone on earlier ones.
+    while (i < l.size() && (l[i] == '&' || l[i] == '!')) {
+      i = l.find_first_of(" \t", i);
+      if (i != std::string::npos) i = l.find_first_not_of(" \t", i);
+      if (i == std::string::npos) break;
+    }
+    if (i == std::string::npos || l[i] == '#') continue;  // properties alone: the node is on a later line
+    CMS_INPUT_CHECK(l[i] == ',',
                     path << ":" << line << ":" << i + 1 << ": not a valid scene file (a document cannot begin with ',')");
     documentStart = false;
   }

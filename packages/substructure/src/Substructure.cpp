@@ -483,8 +483,17 @@ void Substructure::writeMatrixMarket(const std::string& directory) const {
     files.push_back(file);
     std::ofstream out;
     if (root) out.open(dir / (file + ".tmp"));
-    Writer::writeSparse(out, *A, key, name_ + ": " + key + " (cms-substructure; theory §9)");  // collective
-    if (root && failure.empty() && !(out.flush() && out.good())) failure = (dir / file).string() + ": could not be written";
+    // Collective (gathered to rank 0, which writes): a throw on rank 0 alone
+    // is kept as the failure, so every rank goes on to the same calls.
+    try {
+      Writer::writeSparse(out, *A, key, name_ + ": " + key + " (cms-substructure; theory §9)");
+    } catch (const std::exception& e) {
+      if (failure.empty()) failure = (dir / file).string() + ": " + e.what();
+    }
+    if (root) {
+      out.close();
+      if (failure.empty() && out.fail()) failure = (dir / file).string() + ": could not be written";
+    }
   };
   write("M", M_);
   write("K", K_);

@@ -837,24 +837,28 @@ const substructure::Substructure* AssembledStructure::assembled(std::size_t k) c
 std::string AssembledStructure::steadySpinDefect(const std::vector<double>& speeds) const {
   if (relativeMomenta_.empty()) return "";
   const Part& c = *parts_.front();
-  const double spin = speeds.at(static_cast<std::size_t>(c.speedParam));
-  if (spin == 0.0) return "";
-  // The relative angular momentum h = sum omega_i J_i a_i across C's axis e
-  // needs the torque Omega e x h; the rotors' own sizes give the scale of a
-  // cancellation (a counter-spinning pair) that is exact but for rounding.
-  Vec3 h{0, 0, 0};
-  double scale = 0.0;
-  for (const auto& [i, Ja] : relativeMomenta_) {
-    const double w = speeds.at(static_cast<std::size_t>(i));
-    for (int k = 0; k < 3; ++k) h[k] += w * Ja[k];
-    scale += std::abs(w) * norm(Ja);
+  // Each rotor's momentum h_i = omega_i J_i a_i turns with its frame, at
+  // that frame's rate W_i about e (C's, or an A's that spins about the same
+  // axis with it: found by a review): the torque sum W_i e x h_i must
+  // vanish. The rotors' own sizes give the scale of a cancellation (a
+  // counter-spinning pair) that is exact but for rounding.
+  Vec3 torque{0, 0, 0}, across{0, 0, 0};
+  double scale = 0.0, momentum = 0.0;
+  for (const auto& r : relativeMomenta_) {
+    const double w = speeds.at(static_cast<std::size_t>(r.speedParameter));
+    double W = 0.0;
+    for (auto [i, ci] : r.frame) W += ci * speeds.at(static_cast<std::size_t>(i));
+    const Vec3 h{w * r.perUnitRate[0], w * r.perUnitRate[1], w * r.perUnitRate[2]};
+    const Vec3 t = cross(r.frameAxis, h), e = cross(c.frame.axis, h);
+    for (int k = 0; k < 3; ++k) torque[k] += W * t[k], across[k] += e[k];
+    scale += std::abs(W) * std::abs(w) * norm(r.perUnitRate);
   }
-  const double across = norm(cross(h, c.frame.axis));
-  if (!(across > 1e-9 * scale)) return "";
+  momentum = norm(across);
+  if (!(norm(torque) > 1e-9 * scale)) return "";
   std::ostringstream os;
   os << "the rotors spinning relative to the free-floating '" << c.spec.name << "' carry angular momentum "
-     << across << " N m s across its spin axis: keeping it turning with the frame needs a steady torque "
-     << std::abs(spin) * across << " N m, which nothing applies to a free body, so there is no steady spin to "
+     << momentum << " N m s across its spin axis: keeping it turning with their frames needs a steady torque "
+     << norm(torque) << " N m, which nothing applies to a free body, so there is no steady spin to "
      << "linearise about at these speeds; align the rotors' axes with the spin axis (or let their momenta cancel), "
      << "or clamp the structure";
   return os.str();
@@ -878,14 +882,14 @@ std::vector<std::pair<std::string, long long>> AssembledStructure::substructureD
 /// rotor's X^T M X a about its attachment point (X the rigid rotations'
 /// fields). For the steady-spin check of a free structure
 /// (AssembledStructure::steadySpinDefect). Collective.
-std::vector<std::pair<int, Vec3>> relativeMomenta(const Parts& parts) {
-  std::vector<std::pair<int, Vec3>> out;
+std::vector<AssembledStructure::RelativeMomentum> relativeMomenta(const Parts& parts) {
+  std::vector<AssembledStructure::RelativeMomentum> out;
   for (const auto& p : parts) {
     if (!p->spec.spin || !(p->spec.kind == SubstructureKind::Rigid || p->compound)) continue;
     const Vec3 a = unit(p->spec.spin->axis);
     if (p->spec.kind == SubstructureKind::Rigid) {
       const double J = p->spec.rotor.axialInertia;
-      out.push_back({p->speedParam, {J * a[0], J * a[1], J * a[2]}});
+      out.push_back({p->speedParam, {J * a[0], J * a[1], J * a[2]}, p->frame.coefficients, p->frame.axis});
       continue;
     }
     const auto& sub = *p->sub;
@@ -906,7 +910,7 @@ std::vector<std::pair<int, Vec3>> relativeMomenta(const Parts& parts) {
     sub.apply(substructure::Matrix::M, v, Mv);
     Vec3 h{0, 0, 0};
     for (int k = 0; k < 3; ++k) h[k] = X.getVector(k)->dot(*Mv.getVector(0));
-    out.push_back({p->speedParam, h});
+    out.push_back({p->speedParam, h, p->frame.coefficients, p->frame.axis});
   }
   return out;
 }

@@ -295,6 +295,22 @@ TEST(Scene, ADocumentBeginningWithACommaIsRefusedNotHung) {
   expectInputError([] { scene::Scene::parse("\n--- # first\n  , x\n", "marked.yaml"); }, "marked.yaml:3:3:");
   expectInputError([] { scene::Scene::parse(std::string(kGood) + "--- , x\n", "second.yaml"); }, "second.yaml:35:5:");
   expectInputError([] { scene::Scene::parse("Scene:\n  Name: x\n, y\n", "later.yaml"); }, "later.yaml:3:1");
+  // The same behind CRLF line ends, a byte-order mark, an anchor or a tag
+  // (the first guard missed each, and the parser ran out of memory; found
+  // by a review).
+  const std::string refused = "a document cannot begin with ','";
+  expectInputError([&] { scene::Scene::parse("---\r\n, x\r\n", "crlf.yaml"); }, refused);
+  expectInputError([&] { scene::Scene::parse("\xEF\xBB\xBF, x\n", "bom.yaml"); }, refused);
+  expectInputError([&] { scene::Scene::parse("Scene: 1\r\n...\r\n, x\r\n", "end.yaml"); }, refused);
+  expectInputError([&] { scene::Scene::parse("--- &a\n, x\n", "anchor.yaml"); }, refused);
+  expectInputError([&] { scene::Scene::parse("!t , x\n", "tag.yaml"); }, refused);
+  // A "---" indented in a block scalar is content, not a document marker.
+  EXPECT_NO_THROW(scene::Scene::parse(
+      edit("  Substructures:\n", "  Name: |\n    Notes\n    ---\n    , with a comma\n  Substructures:\n"), "block.yaml"));
+  // A byte-order mark and CRLF line ends on a good scene: read as before.
+  std::string crlf;
+  for (char c : std::string(kGood)) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  EXPECT_NO_THROW(scene::Scene::parse("\xEF\xBB\xBF---\r\n" + crlf, "bom-crlf.yaml"));
 }
 
 // Spin keys the kind does not read were accepted and ignored (found by a

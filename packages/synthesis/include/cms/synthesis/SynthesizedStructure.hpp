@@ -91,6 +91,15 @@ public:
   /// linearise about (theory §11.6), and this says why. SynthesizedStructure
   /// refuses such speeds.
   std::string steadySpinDefect(const std::vector<double>& speeds) const;
+  /// A part spinning relative to a free C's frame (steadySpinDefect): its
+  /// speed parameter, its angular momentum per unit rate J a, and the rate
+  /// of the frame it turns with, as (speed parameter, coefficient) terms.
+  struct RelativeMomentum {
+    int speedParameter = -1;
+    fem::Vec3 perUnitRate{0, 0, 0};
+    std::vector<std::pair<int, double>> frame;
+    fem::Vec3 frameAxis{0, 0, 1};  ///< the axis the frame's rate turns it about
+  };
   Teuchos::RCP<const Teuchos::Comm<int>> comm() const { return comm_; }
   /// Names and physical DOF counts, tree order.
   std::vector<std::pair<std::string, long long>> substructureDofs() const;
@@ -103,9 +112,7 @@ private:
   std::vector<std::shared_ptr<Part>> parts_;  ///< pre-order: parents before children
   std::vector<SpeedParameter> speeds_;
   bool free_ = false;
-  /// (speed parameter, J a per unit rate) of each part spinning relative to
-  /// a free C's frame (steadySpinDefect).
-  std::vector<std::pair<int, fem::Vec3>> relativeMomenta_;
+  std::vector<RelativeMomentum> relativeMomenta_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   double seconds_ = 0.0;
   std::vector<std::string> notes_;
