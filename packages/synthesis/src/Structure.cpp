@@ -161,6 +161,15 @@ std::pair<fem::Vec3, fem::Vec3> patternAxis(const StructureDescription& d, const
 
 /// The parent's nodes where the nodes of its set `set` turn to, added to the
 /// parent's mesh as the node set `name` (the parent's model is copied).
+/// The diagonal of the mesh's bounding box.
+double meshSize(const mesh::Mesh& mesh) {
+  fem::Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
+    for (int k = 0; k < 3; ++k)
+      lo[k] = std::min(lo[k], mesh.coordinates[3 * n + k]), hi[k] = std::max(hi[k], mesh.coordinates[3 * n + k]);
+  return fem::norm(fem::sub(hi, lo));
+}
+
 void addTurnedNodeSet(SubstructureSpec& parent, const std::string& set, const fem::Rotation& turn,
                       const fem::Vec3& origin, const std::string& name, const std::string& who, double degrees) {
   const mesh::Mesh& mesh = *parent.model->mesh;
@@ -168,11 +177,7 @@ void addTurnedNodeSet(SubstructureSpec& parent, const std::string& set, const fe
                                            << parent.name << "' (" << mesh.source << ")");
   // Coincident within 1e-6 of the parent's size: a mesher's rounding of a
   // position it was asked for, far below any element.
-  fem::Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
-    for (int k = 0; k < 3; ++k)
-      lo[k] = std::min(lo[k], mesh.coordinates[3 * n + k]), hi[k] = std::max(hi[k], mesh.coordinates[3 * n + k]);
-  const double tol = 1e-6 * fem::norm(fem::sub(hi, lo));
+  const double tol = 1e-6 * meshSize(mesh);
   mesh::PhysicalGroup group{name, 0, 0, {}};
   for (const auto& g : mesh.groups) group.tag = std::max(group.tag, g.tag + 1);
   mesh::CellBlock points;
@@ -226,14 +231,8 @@ void checkNamedParentNodes(const SubstructureSpec& parent, const std::string& wr
     extent = nodes.empty() ? 0.0 : fem::norm(fem::sub(hi, lo));
     return c;
   };
-  double size = 0.0, extent = 0.0, unused = 0.0;
-  {
-    fem::Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
-      for (int k = 0; k < 3; ++k)
-        lo[k] = std::min(lo[k], mesh.coordinates[3 * n + k]), hi[k] = std::max(hi[k], mesh.coordinates[3 * n + k]);
-    size = fem::norm(fem::sub(hi, lo));
-  }
+  double extent = 0.0, unused = 0.0;
+  const double size = meshSize(mesh);
   const fem::Vec3 target = fem::axpy(1.0, turn.apply(fem::sub(centroid(written, extent), origin)), origin);
   const fem::Vec3 at = centroid(named, unused);
   const double off = fem::norm(fem::sub(at, target));
