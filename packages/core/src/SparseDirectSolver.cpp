@@ -247,6 +247,10 @@ struct SparseDirectSolver::Impl {
     const GatheredRows rootA = gather();
     int status = 0;  // 0 factored, 1 not positive definite, 2 other failure
     onRootCollectively("the CHOLMOD factorisation", [&] {
+      // A second factor() (new values) starts afresh: the former factor
+      // and workspace are freed, not dropped.
+      if (factor) cholmod_free_factor(&factor, &common);
+      if (commonStarted) cholmod_finish(&common), commonStarted = false;
       cholmod_start(&common);
       commonStarted = true;
       common.print = 0;  // failures are reported through Outcome and failure()
