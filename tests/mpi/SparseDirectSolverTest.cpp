@@ -17,6 +17,7 @@
 
 #include "RotatingChain.hpp"
 #include "cms/core/Error.hpp"
+#include "cms/core/HeldDofs.hpp"
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
 #include "cms/core/SparseProduct.hpp"
@@ -193,6 +194,58 @@ TEST(SparseDirectSolver, RefactoringFreesTheFormerFactor) {
 TEST(SparseDirectSolver, UnknownMethodIsAnInputError) {
   // MUMPS is a method since issue 18 (DistributedDirectSolver); SuperLU is not.
   EXPECT_THROW(SparseDirectSolver(chainK(1.0), "SuperLU"), InputError);
+}
+
+// holdDofsScaled on a stiffness that stores no diagonal in a held row (a
+// Matrix Market K may leave a zero out): the held row must still get its
+// diagonal, or the copy is singular where the held problem is not. K is the
+// grounded chain with row r's diagonal left out of the graph; held at r the
+// problem is the chain with that DOF fixed, positive definite. The held row
+// takes the largest diagonal (no own value), as the header says; the row on
+// one rank only makes the other ranks build alike (2 ranks).
+TEST(HeldDofs, AHeldRowWithoutAStoredDiagonalGetsOne) {
+  const auto K = chainK(1.0);
+  const GlobalOrdinal r = static_cast<GlobalOrdinal>(K->getGlobalNumRows() / 3);
+  auto noDiagonal = Teuchos::rcp(new CrsMatrix(K->getRowMap(), K->getNodeMaxNumRowEntries()));
+  double largest = 0.0;
+  {
+    Teuchos::Array<GlobalOrdinal> cols;
+    Teuchos::Array<double> vals;
+    double mine = 0.0;
+    for (std::size_t l = 0; l < K->getRowMap()->getNodeNumElements(); ++l) {
+      const GlobalOrdinal g = K->getRowMap()->getGlobalElement(l);
+      const std::size_t n = K->getNumEntriesInGlobalRow(g);
+      cols.resize(n), vals.resize(n);
+      std::size_t got = 0;
+      K->getGlobalRowCopy(g, cols(), vals(), got);
+      Teuchos::Array<GlobalOrdinal> c;
+      Teuchos::Array<double> v;
+      for (std::size_t k = 0; k < got; ++k) {
+        if (cols[k] == g) mine = std::max(mine, std::abs(vals[k]));
+        if (g == r && cols[k] == g) continue;
+        c.push_back(cols[k]), v.push_back(vals[k]);
+      }
+      noDiagonal->insertGlobalValues(g, c(), v());
+    }
+    noDiagonal->fillComplete(K->getDomainMap(), K->getRangeMap());
+    Teuchos::reduceAll(*K->getComm(), Teuchos::REDUCE_MAX, mine, Teuchos::outArg(largest));
+  }
+  const auto held = holdDofsScaled(*noDiagonal, {r});
+  SparseDirectSolver s(held, "CHOLMOD");
+  EXPECT_EQ(s.factor(), Outcome::Factored) << s.failure();
+  EXPECT_LT(forwardError(*held, s), 1e-9);
+  const LocalOrdinal lr = held->getRowMap()->getLocalElement(r);
+  if (lr != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) {
+    const std::size_t n = held->getNumEntriesInGlobalRow(r);
+    Teuchos::Array<GlobalOrdinal> cols(n);
+    Teuchos::Array<double> vals(n);
+    std::size_t got = 0;
+    held->getGlobalRowCopy(r, cols(), vals(), got);
+    for (std::size_t k = 0; k < got; ++k) EXPECT_EQ(vals[k], cols[k] == r ? largest : 0.0) << "column " << cols[k];
+  }
+  // The mass's held rows stay zero (diagonal 0): nothing is inserted then.
+  const auto zero = holdDofs(*noDiagonal, {r}, 0.0);
+  EXPECT_EQ(zero->getGlobalNumEntries(), noDiagonal->getGlobalNumEntries());
 }
 
 // matrixSum: on a shared graph, a A + b B costs values only (no graph of its

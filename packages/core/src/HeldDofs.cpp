@@ -3,6 +3,7 @@
 #include <unordered_set>
 
 #include <Teuchos_Array.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
 #include <Tpetra_Vector.hpp>
@@ -17,10 +18,58 @@ namespace {
 template <class Diagonal>
 Teuchos::RCP<CrsMatrix> hold(const CrsMatrix& A, const std::vector<GlobalOrdinal>& rows, Diagonal diagonal) {
   const std::unordered_set<GlobalOrdinal> held(rows.begin(), rows.end());
+  if (held.empty()) return Teuchos::rcp(new CrsMatrix(A, Teuchos::Copy));
+  // A held row whose diagonal A does not store (a Matrix Market K may leave
+  // out a zero) has no place for its value in A's graph: copied, the row
+  // would be all zero and the held matrix singular. Then the matrix is
+  // built anew with room for the diagonal, on every rank alike (the column
+  // map is made collectively).
+  const auto& rowMap = *A.getRowMap();
+  int missing = 0;
+  {
+    Teuchos::Array<GlobalOrdinal> cols;
+    Teuchos::Array<double> vals;
+    for (LocalOrdinal lr = 0; lr < static_cast<LocalOrdinal>(rowMap.getNodeNumElements()); ++lr) {
+      const GlobalOrdinal gr = rowMap.getGlobalElement(lr);
+      if (!held.count(gr)) continue;
+      const std::size_t n = A.getNumEntriesInGlobalRow(gr);
+      cols.resize(n), vals.resize(n);
+      std::size_t got = 0;
+      A.getGlobalRowCopy(gr, cols(), vals(), got);
+      if (std::find(cols.begin(), cols.begin() + static_cast<std::ptrdiff_t>(got), gr) ==
+              cols.begin() + static_cast<std::ptrdiff_t>(got) &&
+          diagonal(0.0) != 0.0)
+        missing = 1;
+    }
+    int anywhere = 0;
+    Teuchos::reduceAll(*A.getComm(), Teuchos::REDUCE_MAX, missing, Teuchos::outArg(anywhere));
+    missing = anywhere;
+  }
+  if (missing) {
+    auto B = Teuchos::rcp(new CrsMatrix(A.getRowMap(), A.getNodeMaxNumRowEntries() + 1));
+    Teuchos::Array<GlobalOrdinal> cols;
+    Teuchos::Array<double> vals;
+    for (LocalOrdinal lr = 0; lr < static_cast<LocalOrdinal>(rowMap.getNodeNumElements()); ++lr) {
+      const GlobalOrdinal gr = rowMap.getGlobalElement(lr);
+      const bool rowHeld = held.count(gr) > 0;
+      const std::size_t n = A.getNumEntriesInGlobalRow(gr);
+      cols.resize(n), vals.resize(n);
+      std::size_t got = 0;
+      A.getGlobalRowCopy(gr, cols(), vals(), got);
+      cols.resize(got), vals.resize(got);
+      bool hasDiagonal = false;
+      for (std::size_t k = 0; k < got; ++k) {
+        hasDiagonal = hasDiagonal || cols[k] == gr;
+        if (rowHeld || held.count(cols[k])) vals[k] = (rowHeld && cols[k] == gr) ? diagonal(vals[k]) : 0.0;
+      }
+      if (rowHeld && !hasDiagonal) cols.push_back(gr), vals.push_back(diagonal(0.0));
+      if (!cols.empty()) B->insertGlobalValues(gr, cols(), vals());
+    }
+    B->fillComplete(A.getDomainMap(), A.getRangeMap());
+    return B;
+  }
   auto B = Teuchos::rcp(new CrsMatrix(A, Teuchos::Copy));
-  if (held.empty()) return B;
   B->resumeFill();
-  const auto& rowMap = *B->getRowMap();
   const auto& colMap = *B->getColMap();
   Teuchos::Array<LocalOrdinal> cols;
   Teuchos::Array<double> vals;
