@@ -199,12 +199,18 @@ int modes(int argc, char* argv[]) {
   study.set("Check Count", checkCount);
   study.set("Periodic Method", periodic);
   analysis::ModalAnalysis modal(sc.structure, sc.solve, study);
-  if (root && sc.estimatedDofs > scene::Scene::kLargeDofs) {  // nobody waits minutes in silence
+  // Nobody waits minutes in silence: a large scene's every stage, and any
+  // scene's Floquet doubling (a periodic rotor's runs grow with its bases,
+  // not its DOFs), are said as they end.
+  const bool large = sc.estimatedDofs > scene::Scene::kLargeDofs;
+  if (root && large)
     std::cout << stamp(seconds()) << std::setprecision(3) << "assembling " << sc.structure.substructures.size()
               << " substructures: " << sc.estimatedDofs << " DOFs, at least " << sc.estimatedBytes / 1e9 << " GB of the "
               << scene::availableMemoryBytes() / 1e9 << " GB available" << std::endl;
-    modal.setProgress([&](const std::string& what) { std::cout << stamp(seconds()) << what << std::endl; });
-  }
+  if (root)
+    modal.setProgress([&, large](const std::string& what) {
+      if (large || what.find("Floquet: ") != std::string::npos) std::cout << stamp(seconds()) << what << std::endl;
+    });
   const auto r = run.namingScene([&] { return modal.run(Teuchos::DefaultComm<int>::getComm()); });
   if (root)
     for (const auto& n : r.enrichment.notes) std::cout << "target accuracy " << sc.targetAccuracy << ": " << n << '\n';

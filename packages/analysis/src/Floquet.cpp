@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 #include <Teuchos_LAPACK.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Teuchos_Time.hpp>
 
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
@@ -359,17 +362,44 @@ FloquetResult FloquetAnalysis::analyse(const PeriodicSystem& system) const {
 
   // 1. The monodromy matrix, doubling the steps until the Richardson estimate
   //    ||Phi_n - Phi_{n/2}|| / (2^8 - 1) meets the tolerance (relative).
+  //    Where the estimate is already below sqrt(eps), the integration is
+  //    in its order-8 regime (a doubling divides the error by ~2^8); an
+  //    estimate that then does not even halve is the rounding floor, which
+  //    more steps only raise: the doubling stops there (stalled), not at
+  //    "Maximum Steps Per Period". Above sqrt(eps) an estimate may stay flat
+  //    for a few doublings while the steps come to resolve the fastest
+  //    mode, so no stop is made there.
+  Teuchos::Time clock("Floquet", true);
   int steps = steps_;
   Run coarse = integrate(system, steps / 2, false);
   Run fine = integrate(system, steps, true);
+  double previous = std::numeric_limits<double>::infinity();
   for (;;) {
     const double diff = differenceNorm(fine.phi, coarse.phi);
     result.monodromyError = diff / (std::pow(2.0, kOrder) - 1.0) / std::max(frobenius(fine.phi), 1e-300);
     result.converged = result.monodromyError <= tolerance_;
-    if (result.converged || 2 * steps > maxSteps_) break;
+    result.stalled = !result.converged && previous < std::sqrt(kEps) && result.monodromyError > 0.5 * previous;
+    if (progress_) {
+      std::ostringstream os;
+      os << std::setprecision(3) << "Floquet: " << steps << " steps per period, monodromy error "
+         << result.monodromyError << " (tolerance " << tolerance_ << ")";
+      if (result.converged) os << ", converged";
+      if (result.stalled)
+        os << ", stopped falling from " << previous << " (rounding): the " << steps / 2 << "-step run is kept";
+      os << ", " << clock.totalElapsedTime(true) << " s";
+      progress_(os.str());
+    }
+    if (result.converged || result.stalled || 2 * steps > maxSteps_) break;
+    previous = result.monodromyError;
     steps *= 2;
     coarse = std::move(fine);
     fine = integrate(system, steps, true);
+  }
+  if (result.stalled) {
+    // The coarser run is the better one: it is the one kept.
+    steps /= 2;
+    fine = std::move(coarse);
+    result.monodromyError = previous;
   }
   result.steps = steps;
   result.monodromy = fine.phi;

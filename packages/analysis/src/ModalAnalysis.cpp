@@ -170,11 +170,16 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
   // azimuth 0, so the energy shares and cyclic labels hold.
   const auto& s = *r.reduced;
   const int nModes = solve_.get<int>("Number of Modes");
+  auto say = [&](const std::string& line) {
+    if (progress_) progress_(line);
+  };
   {
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
     Teuchos::ParameterList method;
     method.set("Method", options_.get<std::string>("Periodic Method"));
-    r.periodic = PeriodicStructure(s, r.speeds).solve(nModes, method);
+    PeriodicStructure periodic(s, r.speeds);
+    periodic.setProgress(say);
+    r.periodic = periodic.solve(nModes, method);
   }
   r.modes = r.periodic->modes;
   r.character = s.characterise(r.modes);
@@ -193,7 +198,9 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
     requireComparableTruth(truth);
     Teuchos::ParameterList method;
     method.set("Method", options_.get<std::string>("Periodic Method"));
-    const auto t = PeriodicStructure(truth, r.speeds).solve(2 * nModes, method);
+    PeriodicStructure truthPeriodic(truth, r.speeds);
+    truthPeriodic.setProgress([&](const std::string& line) { say("truth: " + line); });
+    const auto t = truthPeriodic.solve(2 * nModes, method);
     std::vector<std::complex<double>> reducedLambda, truthLambda;
     for (const auto& md : r.modes.result.modes) reducedLambda.push_back(md.lambda);
     for (const auto& tm : t.modes.result.modes) truthLambda.push_back(tm.lambda);

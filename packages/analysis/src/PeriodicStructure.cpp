@@ -461,7 +461,9 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
                         << ": reduce the substructures' bases (fewer vectors) or, with N >= 3 identical blades on a "
                            "rigid hub, use the multi-blade path");
     fo.set("Steps Per Period", steps);
-    out.floquet = FloquetAnalysis(fo).analyse(system);
+    FloquetAnalysis floquet(fo);
+    if (progress_) floquet.setProgress(progress_);
+    out.floquet = floquet.analyse(system);
     const auto& fl = out.floquet;
     if (!useMultiBlade) {
       out.method = "Floquet";
@@ -470,7 +472,9 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
       else if (mbc) why << "the multi-blade transform varies by " << out.constancyDefect << " over the azimuth";
       else why << noBlades_;
       why << ": monodromy over one revolution, " << fl.steps
-          << " Gauss-Legendre steps, error " << fl.monodromyError << (fl.converged ? "" : " (NOT CONVERGED)");
+          << " Gauss-Legendre steps, error " << fl.monodromyError
+          << (fl.converged ? "" : fl.stalled ? " (NOT CONVERGED: the error stopped falling, rounding above the tolerance)"
+                                             : " (NOT CONVERGED)");
       out.reason = why.str();
       result.solver = "Floquet (" + fl.integrator + ")";
       result.reason = out.reason;

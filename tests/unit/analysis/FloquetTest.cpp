@@ -117,6 +117,37 @@ TEST(Floquet, GaussLegendreMonodromyConvergesAtOrderEight) {
   EXPECT_LT(r.liouvilleDefect, 10.0 * actual + 1e3 * DBL_EPSILON);
 }
 
+// A tolerance below rounding (1e-20) cannot be met: the doubling stops when
+// the estimate, already below sqrt(eps) (the order-8 regime, where a
+// doubling divides it by ~256), no longer halves, and says so, rather than
+// doubling to "Maximum Steps Per Period" for nothing (on a large model,
+// minutes with no word: found by a review). Each integration is reported
+// through the progress callback. The answer kept is the stalled run's, at
+// the rounding floor (1e3 eps, as above).
+TEST(Floquet, DoublingStopsWhereTheErrorStopsFallingAndReportsEachRun) {
+  const RotatedConstantSystem rc;
+  Teuchos::ParameterList p;
+  p.set("Steps Per Period", 8);
+  p.set("Maximum Steps Per Period", 1 << 16);
+  p.set("Tolerance", 1e-20);
+  analysis::FloquetAnalysis floquet(p);
+  std::vector<std::string> lines;
+  floquet.setProgress([&](const std::string& s) { lines.push_back(s); });
+  const auto r = floquet.analyse(rc.system(false));
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(r.stalled);
+  for (const auto& l : lines) std::printf("%s\n", l.c_str());
+  EXPECT_LE(r.steps, 512) << "doubled on below the rounding floor";
+  EXPECT_LT(relativeError(r.monodromy, rc.exactMonodromy()), 1e3 * DBL_EPSILON);
+  // One line for each doubling after the first pair of runs, naming the steps.
+  ASSERT_GE(lines.size(), 2u);
+  EXPECT_NE(lines.front().find(std::to_string(p.get<int>("Steps Per Period")) + " steps"), std::string::npos)
+      << lines.front();
+  EXPECT_NE(lines.back().find("stopped falling"), std::string::npos) << lines.back();
+  EXPECT_NE(lines.back().find("the " + std::to_string(r.steps) + "-step run is kept"), std::string::npos)
+      << lines.back();
+}
+
 TEST(Floquet, ExponentsAndFixedFrameFrequenciesOfARotatedConstantSystem) {
   const RotatedConstantSystem rc;
   Teuchos::ParameterList p;

@@ -102,6 +102,9 @@ struct FloquetResult {
   /// ||Phi_n - Phi_{n/2}||_F / ((2^8 - 1) ||Phi_n||_F): relative error estimate of Phi(T).
   double monodromyError = 0.0;
   bool converged = false;  ///< monodromyError <= "Tolerance"
+  /// Not converged because the estimate, below sqrt(eps), stopped falling
+  /// when the steps were doubled: the rounding floor is above "Tolerance".
+  bool stalled = false;
   /// |ln|det Phi(T)| - int_0^T tr A dt| (Liouville), relative to int |tr A| + 1:
   /// a check of the integration independent of the error estimate.
   double liouvilleDefect = 0.0;
@@ -130,12 +133,18 @@ public:
   /// not finite or (second order) M(t) is singular, naming t.
   FloquetResult analyse(const PeriodicSystem& system) const;
 
+  /// Called after each run of the doubling with a line saying the steps,
+  /// the error estimate against the tolerance, and the seconds so far (a
+  /// large model's runs take minutes).
+  void setProgress(std::function<void(const std::string&)> progress) { progress_ = std::move(progress); }
+
   /// Phi(T) with exactly `steps` Gauss-Legendre steps (for convergence studies).
   static DenseMatrix monodromy(const PeriodicSystem& system, int steps);
 
 private:
   int steps_, maxSteps_;
   double tolerance_;
+  std::function<void(const std::string&)> progress_;
 };
 
 }  // namespace cms::analysis

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,9 @@ public:
   /// The lowest `numModes` fixed-frame modes (one of each conjugate pair).
   PeriodicModes solve(int numModes, const Teuchos::ParameterList& options = Teuchos::ParameterList()) const;
 
+  /// Where the Floquet path says how its doubling goes (FloquetAnalysis::setProgress).
+  void setProgress(std::function<void(const std::string&)> progress) { progress_ = std::move(progress); }
+
 private:
   /// q_e = Z(psi) q in the permuted order: derivative r = 0, 1, 2 in psi.
   DenseMatrix embedding(double psi, int r) const;
@@ -103,6 +107,7 @@ private:
   /// written in fixed axes through R(psi) (theory §16.8).
   std::vector<std::array<int, 3>> hubRows_;
   std::vector<int> hubPartner_;
+  std::function<void(const std::string&)> progress_;
 };
 
 }  // namespace cms::analysis
