@@ -207,6 +207,19 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // produce spurious Ritz values (large residual) near the target, and those
   // must lose to genuine modes, not be selected for being close.
   expandModes(sys, *Q, rm);
+  // Which scale judges a Ritz value (theory §4.3): its mode's own s_q (set
+  // by expandModes) only where the projected pencil was solved
+  // componentwise, by the Meirovitch path; dggev resolves the projection
+  // only normwise, to the projected pencil's scale, which a rigid mode's
+  // s_q (K and G zero on it: rounding) would undercut, its zero read as
+  // DIVERGENCE. Then every mode is judged on that projected scale, as the
+  // dense path judges its dggev modes on the system's.
+  if (ritzModes.solver.rfind("dense Meirovitch", 0) != 0) {
+    const double projected = frequencyScale(
+        frobeniusNorm(reduced.M), frobeniusNorm(reduced.G) + (reduced.D.numRows() ? frobeniusNorm(reduced.D) : 0.0),
+        frobeniusNorm(reduced.K));
+    for (auto& m : rm) m.scale = projected;
+  }
   const bool damped = !sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0;
   const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
                                       sys.G->getFrobeniusNorm() + (damped ? sys.D->getFrobeniusNorm() : 0.0),
