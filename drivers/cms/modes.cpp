@@ -146,7 +146,10 @@ void printModes(const analysis::ModalResult& r) {
               << toString(md.stability) << std::right << std::setw(11) << std::setprecision(3) << md.dampingRatio
               << std::setw(10) << std::setprecision(2) << md.residual
               << std::setw(11) << estimateText(r.estimates[m]) << std::setw(12) << boundText(r.accuracy[m]);
-    if (m < r.trueErrors.size()) std::cout << " (true " << std::setprecision(2) << r.trueErrors[m] << ")";
+    if (m < r.trueErrors.size()) {
+      if (std::isfinite(r.trueErrors[m])) std::cout << " (true " << std::setprecision(2) << r.trueErrors[m] << ")";
+      else std::cout << " (true: no truth mode of this shape computed)";
+    }
     std::cout << "  " << reps[top].name << " " << std::setprecision(3) << share[top]
               << (r.character[m].frameArtefact ? "  (rigid motion seen at the frame rate: not a vibration)" : "");
     for (const auto& w : r.whirls[m]) std::cout << "  " << w;

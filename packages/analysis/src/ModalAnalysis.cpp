@@ -120,10 +120,16 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
   if (options_.get<bool>("Truth")) {
     const auto& truth = *truthModel;
     requireComparableTruth(truth);  // before its solve
-    const auto truthModes = truth.solve(r.speeds, solve_);
+    // A few truth modes more than the reduced model's: the partners of
+    // reduced modes above a mode the bases lack (truthSolveParameters).
+    const auto truthModes = truth.solve(r.speeds, truthSolveParameters(solve_, truth.size()));
     const int n = static_cast<int>(std::min(r.modes.result.modes.size(), truthModes.result.modes.size()));
-    for (const auto& a : compareWithTruth(s, r.modes, truth, truthModes, n).modes)
-      r.trueErrors.push_back(std::abs(a.relativeError));
+    const auto compared = compareWithTruth(s, r.modes, truth, truthModes, n);
+    // An unmatched mode (no computed truth mode of its shape) has no true
+    // error to give: NaN, printed and written as such.
+    for (const auto& a : compared.modes)
+      r.trueErrors.push_back(a.unmatched ? std::numeric_limits<double>::quiet_NaN() : std::abs(a.relativeError));
+    r.truthMissing = compared.missingModes;
   }
   // Ritz frequencies lie above the truth's: the truth has at least as many
   // below just above the highest reduced one; more means modes missing.

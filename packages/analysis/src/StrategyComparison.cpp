@@ -42,7 +42,7 @@ ComparisonResult StrategyComparison::run(
   const Stopwatch t0;
   const auto model = synthesis::SynthesizedStructure::synthesize(structure_, true);
   requireComparableTruth(model);  // before its solve
-  auto truthModes = model.solve(speeds, solve_);
+  auto truthModes = model.solve(speeds, truthSolveParameters(solve_, model.size()));
   const double truthSeconds = t0.seconds();
   ComparisonResult out;
   if (truthModes.result.status == eigen::SolveStatus::Converged) {

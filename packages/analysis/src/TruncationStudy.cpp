@@ -49,7 +49,7 @@ TruncationResult TruncationStudy::run(
   if (options_.get<bool>("Truth")) {
     truth = synthesis::SynthesizedStructure::synthesize(structure, true);
     requireComparableTruth(*truth);  // before its solve
-    truthModes = truth->solve(speeds, solve_);
+    truthModes = truth->solve(speeds, truthSolveParameters(solve_, truth->size()));
     CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
                     "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);
     result.truthSize = truth->size();

@@ -25,17 +25,6 @@ namespace {
 using cplx = std::complex<double>;
 using Shape = std::vector<Teuchos::RCP<MultiVector>>;  // per substructure, (re, im)
 
-/// u^H v over every substructure's rows (collective).
-cplx inner(const Shape& u, const Shape& v) {
-  cplx s = 0.0;
-  for (std::size_t k = 0; k < u.size(); ++k) {
-    Teuchos::Array<double> d(2);
-    const auto ur = u[k]->getVector(0), ui = u[k]->getVector(1), vr = v[k]->getVector(0), vi = v[k]->getVector(1);
-    s += cplx(ur->dot(*vr) + ui->dot(*vi), ur->dot(*vi) - ui->dot(*vr));
-  }
-  return s;
-}
-
 /// x = G^-1 b for a small Hermitian positive definite G (Gaussian elimination
 /// with partial pivoting).
 std::vector<cplx> solveSmall(std::vector<std::vector<cplx>> G, std::vector<cplx> b) {
@@ -81,6 +70,70 @@ void requireComparableTruth(const synthesis::SynthesizedStructure& truth) {
                    "estimates, which need no truth (section 11.8)");
 }
 
+Teuchos::ParameterList truthSolveParameters(const Teuchos::ParameterList& solve, int truthSize) {
+  Teuchos::ParameterList p = solve;
+  const int n = p.isParameter("Number of Modes") ? p.get<int>("Number of Modes") : 0;
+  if (n > 0) p.set("Number of Modes", std::min(truthSize, n + std::max(2, (n + 3) / 4)));
+  return p;
+}
+
+namespace {
+
+/// a_i^H b_j for every pair (rows: a, columns: b), one reduce over the ranks.
+std::vector<std::vector<cplx>> innerProducts(const std::vector<Shape>& a, const std::vector<Shape>& b) {
+  const std::size_t na = a.size(), nb = b.size();
+  std::vector<double> local(2 * na * nb, 0.0), global(2 * na * nb, 0.0);
+  Teuchos::RCP<const Teuchos::Comm<int>> comm;
+  if (na > 0 && nb > 0) {
+    for (std::size_t k = 0; k < a[0].size(); ++k) {
+      if (a[0][k].is_null()) continue;
+      comm = a[0][k]->getMap()->getComm();
+      std::vector<decltype(a[0][k]->getLocalViewHost(Tpetra::Access::ReadOnly))> va, vb;
+      for (const auto& s : a) va.push_back(s[k]->getLocalViewHost(Tpetra::Access::ReadOnly));
+      for (const auto& s : b) vb.push_back(s[k]->getLocalViewHost(Tpetra::Access::ReadOnly));
+      const std::size_t rows = a[0][k]->getLocalLength();
+      for (std::size_t i = 0; i < na; ++i)
+        for (std::size_t j = 0; j < nb; ++j) {
+          double re = 0.0, im = 0.0;
+          for (std::size_t r = 0; r < rows; ++r) {
+            const double ar = va[i](r, 0), ai = va[i](r, 1), br = vb[j](r, 0), bi = vb[j](r, 1);
+            re += ar * br + ai * bi;
+            im += ar * bi - ai * br;
+          }
+          local[2 * (i * nb + j)] += re;
+          local[2 * (i * nb + j) + 1] += im;
+        }
+    }
+  }
+  if (!comm.is_null() && !local.empty())
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
+  else
+    global = local;
+  std::vector<std::vector<cplx>> out(na, std::vector<cplx>(nb));
+  for (std::size_t i = 0; i < na; ++i)
+    for (std::size_t j = 0; j < nb; ++j) out[i][j] = cplx(global[2 * (i * nb + j)], global[2 * (i * nb + j) + 1]);
+  return out;
+}
+
+/// How much of u lies in the span of the truth modes `cluster`: b^H G^-1 b
+/// / u^H u (P: truth-by-reduced inner products, G: the truth's Gram matrix).
+double subspaceMac(const std::vector<std::vector<cplx>>& P, const std::vector<std::vector<cplx>>& G, double uu,
+                   std::size_t m, const std::vector<int>& cluster) {
+  if (!(uu > 0.0) || cluster.empty()) return 0.0;
+  std::vector<std::vector<cplx>> Gc(cluster.size(), std::vector<cplx>(cluster.size()));
+  std::vector<cplx> b(cluster.size());
+  for (std::size_t i = 0; i < cluster.size(); ++i) {
+    b[i] = P[cluster[i]][m];
+    for (std::size_t j = 0; j < cluster.size(); ++j) Gc[i][j] = G[cluster[i]][cluster[j]];
+  }
+  const auto x = solveSmall(Gc, b);
+  cplx proj = 0.0;
+  for (std::size_t i = 0; i < cluster.size(); ++i) proj += std::conj(b[i]) * x[i];
+  return std::clamp(proj.real() / uu, 0.0, 1.0);
+}
+
+}  // namespace
+
 TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
                                  const synthesis::StructureModes& rm,
                                  const synthesis::SynthesizedStructure& truth,
@@ -90,62 +143,132 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
                       static_cast<int>(tm.result.modes.size()) < count,
                   "compareWithTruth: " << count << " modes asked; the reduced model has " << rm.result.modes.size()
                                        << " and the truth " << tm.result.modes.size());
+  const auto& rmodes = rm.result.modes;
+  const auto& tmodes = tm.result.modes;
+  const int T = static_cast<int>(tmodes.size());
   double scale = 0.0;
-  for (int m = 0; m < count; ++m) scale = std::max(scale, tm.result.modes[m].omega);
+  for (int m = 0; m < count; ++m) scale = std::max(scale, tmodes[m].omega);
   scale = std::max(scale, 1e-300);
-  std::vector<Shape> truthShapes(count);
-  for (int m = 0; m < count; ++m) truthShapes[m] = truth.expand(tm, m);
+  const auto isRigid = [&](double w) { return w < 1e-6 * scale; };
+
+  // 1. Every shape of both, and their inner products in three reduces.
+  std::vector<Shape> truthShapes(T), reducedShapes(count);
+  for (int t = 0; t < T; ++t) truthShapes[t] = truth.expand(tm, t);
+  for (int m = 0; m < count; ++m) reducedShapes[m] = reduced.expand(rm, m);
+  const auto P = innerProducts(truthShapes, reducedShapes);  // t^H u
+  const auto G = innerProducts(truthShapes, truthShapes);
+  const auto U = innerProducts(reducedShapes, reducedShapes);
+
+  // 2. The truth's clusters: its rigid-body zeros together (their computed
+  //    shapes are any combination of the rigid motions), and modes whose
+  //    frequencies follow within 1e-3 (a repeated pair of a symmetric rotor,
+  //    a spinning free body's defective frame-rate pair): what a reduced
+  //    shape is compared against as a whole.
+  std::vector<std::vector<int>> clusters;
+  std::vector<int> clusterOf(T, -1);
+  for (int t = 0; t < T; ++t) {
+    const double w = tmodes[t].omega;
+    bool joins = false;
+    if (!clusters.empty()) {
+      const double last = tmodes[clusters.back().back()].omega;
+      joins = isRigid(w) ? isRigid(last) : (!isRigid(last) && w - last <= 1e-3 * w);
+    }
+    if (!joins) clusters.emplace_back();
+    clusters.back().push_back(t);
+    clusterOf[t] = static_cast<int>(clusters.size()) - 1;
+  }
+
+  // 3. Pairing by shape: each reduced mode to the cluster holding most of
+  //    it (subspace MAC), best pairs first, a cluster taking as many reduced
+  //    modes as it has members; within a cluster, to the member of largest
+  //    MAC left. A reduced mode no cluster holds half of (MAC < 0.5 with
+  //    each one left) is unmatched: the truth mode of its shape is not
+  //    among those computed, or its shape is not converged; its error is
+  //    then against the nearest truth frequency, which it does not take.
+  std::vector<std::tuple<double, double, int, int>> candidates;  // (-mac, |dw|, m, cluster)
+  for (int m = 0; m < count; ++m)
+    for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
+      const double mac = subspaceMac(P, G, U[m][m].real(), static_cast<std::size_t>(m), clusters[c]);
+      if (mac >= 0.5)
+        candidates.emplace_back(-mac, std::abs(rmodes[m].omega - tmodes[clusters[c].front()].omega), m, c);
+    }
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<int> partner(count, -1), room(clusters.size());
+  for (std::size_t c = 0; c < clusters.size(); ++c) room[c] = static_cast<int>(clusters[c].size());
+  std::vector<bool> taken(T, false);
+  for (const auto& [negMac, dw, m, c] : candidates) {
+    if (partner[m] >= 0 || room[c] == 0) continue;
+    int best = -1;
+    double bestMac = -1.0;
+    for (int t : clusters[c]) {
+      if (taken[t]) continue;
+      const double gtt = G[t][t].real(), uu = U[m][m].real();
+      const double mac = gtt > 0.0 && uu > 0.0 ? std::norm(P[t][m]) / (gtt * uu) : 0.0;
+      if (mac > bestMac) best = t, bestMac = mac;
+    }
+    partner[m] = best;
+    taken[best] = true;
+    --room[c];
+  }
+
   TruthComparison out;
   double sum = 0.0;
   const auto character = reduced.characterise(rm);  // frame-rate modes (collective)
   std::vector<double> error(count);
+  std::vector<int> against(count);  // the partner, or for an unmatched mode the nearest truth frequency
   for (int m = 0; m < count; ++m) {
-    const double wt = tm.result.modes[m].omega;
-    error[m] = (rm.result.modes[m].omega - wt) / (wt < 1e-6 * scale ? scale : wt);
+    int t = partner[m];
+    if (t < 0) {
+      t = 0;
+      for (int j = 1; j < T; ++j)
+        if (std::abs(tmodes[j].omega - rmodes[m].omega) < std::abs(tmodes[t].omega - rmodes[m].omega)) t = j;
+    }
+    against[m] = t;
+    const double wt = tmodes[t].omega;
+    error[m] = (rmodes[m].omega - wt) / (isRigid(wt) ? scale : wt);
   }
   for (int m = 0; m < count; ++m) {
     ModeAccuracy a;
     a.index = m;
-    a.omega = rm.result.modes[m].omega;
-    a.truthOmega = tm.result.modes[m].omega;
-    a.rigid = a.truthOmega < 1e-6 * scale;
+    a.omega = rmodes[m].omega;
+    a.unmatched = partner[m] < 0;
+    a.truthIndex = partner[m];
+    a.truthOmega = tmodes[against[m]].omega;
+    a.rigid = isRigid(a.truthOmega);
     a.frameRate = m < static_cast<int>(character.size()) && character[m].frameArtefact;
     a.relativeError = error[m];
-    a.missing = std::abs(a.relativeError) > 1.0;
-    // The truth modes of (numerically) the same frequency as truth mode m:
-    // the subspace a reduced mode cannot be told apart within at its own
-    // accuracy. Rigid-body zeros form one cluster (their computed values
-    // are rounding); otherwise the truth modes within max(1e-6, twice this
-    // mode's or a neighbour's error, at most 10%) of truth mode m (close
-    // pairs or triples of symmetric structures split differently in each
-    // model, and a neighbour's error shifts the pairing).
+    // The MAC reported: against the truth modes (numerically) of the same
+    // frequency as the partner, the subspace a reduced mode cannot be told
+    // apart within at its own accuracy. Rigid-body zeros form one cluster;
+    // otherwise the truth modes within max(1e-6, twice this mode's or a
+    // neighbour's error, at most 10%) of the partner (close pairs or
+    // triples of symmetric structures split differently in each model).
     double spread = std::abs(error[m]);
     if (m > 0) spread = std::max(spread, std::abs(error[m - 1]));
     if (m + 1 < count) spread = std::max(spread, std::abs(error[m + 1]));
     const double window = std::min(0.1, std::max(1e-6, 2.0 * spread)) * a.truthOmega;
     std::vector<int> cluster;
-    for (int t = 0; t < count; ++t) {
-      const double wt = tm.result.modes[t].omega;
-      if (a.rigid ? wt < 1e-6 * scale : std::abs(wt - a.truthOmega) <= window) cluster.push_back(t);
+    for (int t = 0; t < T; ++t) {
+      const double wt = tmodes[t].omega;
+      if (a.rigid ? isRigid(wt) : std::abs(wt - a.truthOmega) <= window) cluster.push_back(t);
     }
-    const Shape u = reduced.expand(rm, m);
-    std::vector<std::vector<cplx>> G(cluster.size(), std::vector<cplx>(cluster.size()));
-    std::vector<cplx> b(cluster.size());
-    for (std::size_t i = 0; i < cluster.size(); ++i) {
-      b[i] = inner(truthShapes[cluster[i]], u);
-      for (std::size_t j = 0; j < cluster.size(); ++j) G[i][j] = inner(truthShapes[cluster[i]], truthShapes[cluster[j]]);
-    }
-    const auto x = solveSmall(G, b);
-    cplx proj = 0.0;
-    for (std::size_t i = 0; i < cluster.size(); ++i) proj += std::conj(b[i]) * x[i];
-    const double uu = inner(u, u).real();
-    a.mac = uu > 0.0 ? std::min(1.0, proj.real() / uu) : 0.0;
+    a.mac = subspaceMac(P, G, U[m][m].real(), static_cast<std::size_t>(m), cluster);
     out.maxRelativeError = std::max(out.maxRelativeError, std::abs(a.relativeError));
     if (!a.rigid && !a.frameRate) out.worstMac = std::min(out.worstMac, a.mac);
-    out.missingModes += a.missing;
+    out.unmatchedModes += a.unmatched;
     sum += std::abs(a.relativeError);
     out.modes.push_back(a);
   }
+  // 4. The truth's modes that no reduced mode took, in clusters below the
+  //    highest one a reduced mode took: modes the reduced model lacks. Not
+  //    in that cluster (a repeated pair the mode count cuts) nor above it
+  //    (the partners of reduced modes above the `count` compared: Ritz
+  //    values lie above the truth's, so truth modes just below the highest
+  //    reduced frequency may be theirs).
+  int highest = -1;
+  for (int m = 0; m < count; ++m)
+    if (partner[m] >= 0) highest = std::max(highest, clusterOf[partner[m]]);
+  for (int t = 0; t < T; ++t) out.missingModes += !taken[t] && clusterOf[t] < highest;
   out.meanRelativeError = sum / count;
   return out;
 }

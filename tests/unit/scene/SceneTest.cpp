@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -20,11 +21,14 @@
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
 
 #include "ExpectError.hpp"
 #include "cms/analysis/PeriodicStructure.hpp"
+#include "cms/analysis/TruthComparison.hpp"
 #include "cms/scene/Scene.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
 
@@ -487,6 +491,93 @@ TEST(SceneRegression, TheFreeSpacecraftsVerdictsOnTheSparsePathAreTheDensePaths)
       rigid += dm.stability == eigen::Stability::RigidBody;
     }
     EXPECT_GE(rigid, factor == 0.0 ? 6 : 2) << "the rigid motions the test is about";
+  }
+}
+
+// compareWithTruth pairs each reduced mode with the truth mode of its shape,
+// not the truth mode of the same index (found by a review: on the rotor
+// chain with every basis Craig-Bampton 3 the reduced model lacks the truth's
+// 141.6 Hz mode, so its 155.2 Hz mode, 3.4% above the truth's 150.1 Hz of
+// the same shape, was reported 9.6% off against 141.6, and nothing said a
+// mode was missing; on the free shaft at its critical speed with Modes 2,
+// two modes' order swaps and the worst error read 33% for 52%). Checked
+// here against the test's own pairing: each reduced shape's best individual
+// MAC (unweighted, over every truth mode computed) where that is clear
+// (>= 0.8, the next below 0.5), and the truth modes in the reduced range
+// that are no reduced mode's best counted missing.
+namespace {
+using Shape = std::vector<Teuchos::RCP<MultiVector>>;
+double macOf(const Shape& u, const Shape& v) {
+  std::complex<double> uv = 0.0;
+  double uu = 0.0, vv = 0.0;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const auto ur = u[k]->getVector(0), ui = u[k]->getVector(1), vr = v[k]->getVector(0), vi = v[k]->getVector(1);
+    uv += std::complex<double>(ur->dot(*vr) + ui->dot(*vi), ur->dot(*vi) - ui->dot(*vr));
+    uu += ur->dot(*ur) + ui->dot(*ui);
+    vv += vr->dot(*vr) + vi->dot(*vi);
+  }
+  return std::norm(uv) / (uu * vv);
+}
+}  // namespace
+
+TEST(SceneRegression, TruthComparisonPairsModesByShape) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  struct Case {
+    const char* scene;
+    const char* basis;
+    int vectors;
+    int lacking;  // truth modes in range the reduced model lacks (at least)
+  };
+  for (const Case c : {Case{"rotor-chain-target", "Craig-Bampton", 3, 1}, Case{"free-shaft-critical", "Modes", 2, 0}}) {
+    SCOPED_TRACE(c.scene);
+    auto sc = scene::Scene::read(std::string(CMS_TEST_DATA_DIR) + "/scenes/" + c.scene + ".yaml");
+    for (auto& spec : sc.structure.substructures) {
+      spec.reduction = Teuchos::ParameterList("Reduction");
+      spec.reduction.set("Basis", c.basis);
+      spec.reduction.set("Vectors", c.vectors);
+    }
+    const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
+    const auto s = synthesis::SynthesizedStructure::synthesize(a);
+    const auto truth = synthesis::SynthesizedStructure::synthesize(a, true);
+    auto speeds = a.nominalSpeeds();
+    for (double& v : speeds) v *= sc.speedFactor;
+    const int n = sc.solve.get<int>("Number of Modes");
+    Teuchos::ParameterList wide = sc.solve;
+    wide.set("Number of Modes", 2 * n);
+    const auto rm = s.solve(speeds, sc.solve), tm = truth.solve(speeds, wide);
+    ASSERT_EQ(rm.result.status, eigen::SolveStatus::Converged) << rm.result.reason;
+    ASSERT_EQ(tm.result.status, eigen::SolveStatus::Converged) << tm.result.reason;
+    const auto cmp = analysis::compareWithTruth(s, rm, truth, tm, n);
+    const int T = static_cast<int>(tm.result.modes.size());
+    std::vector<Shape> truthShapes;
+    for (int t = 0; t < T; ++t) truthShapes.push_back(truth.expand(tm, t));
+    std::vector<int> bestOf(static_cast<std::size_t>(n), -1);
+    double top = 0.0;
+    int checked = 0;
+    for (int m = 0; m < n; ++m) {
+      top = std::max(top, rm.result.modes[m].omega);
+      const Shape u = s.expand(rm, m);
+      std::vector<double> mac(static_cast<std::size_t>(T));
+      for (int t = 0; t < T; ++t) mac[t] = macOf(u, truthShapes[t]);
+      const int best = static_cast<int>(std::max_element(mac.begin(), mac.end()) - mac.begin());
+      double next = 0.0;
+      for (int t = 0; t < T; ++t)
+        if (t != best) next = std::max(next, mac[t]);
+      if (rm.result.modes[m].omega < 1e-3 * tm.result.modes[T - 1].omega || mac[best] < 0.8 || next >= 0.5) continue;
+      bestOf[m] = best;
+      ++checked;
+      EXPECT_EQ(cmp.modes[m].truthOmega, tm.result.modes[best].omega)
+          << "reduced mode " << m + 1 << " (" << rm.result.modes[m].omega << " rad/s) has the shape of truth mode "
+          << best + 1 << " (MAC " << mac[best] << ")";
+      EXPECT_NEAR(cmp.modes[m].relativeError,
+                  (rm.result.modes[m].omega - tm.result.modes[best].omega) / tm.result.modes[best].omega, 1e-12);
+    }
+    EXPECT_GE(checked, 3) << "too few clear shapes for the test to mean anything";
+    int unclaimed = 0;
+    for (int t = 0; t < T; ++t)
+      if (tm.result.modes[t].omega <= top && std::find(bestOf.begin(), bestOf.end(), t) == bestOf.end()) ++unclaimed;
+    EXPECT_GE(cmp.missingModes, c.lacking);
+    EXPECT_LE(cmp.missingModes, unclaimed);
   }
 }
 

@@ -44,9 +44,12 @@ struct ModalResult {
   /// Per mode the estimate with, where the structure is SPD (at rest,
   /// clamped), its rigorous bound (synthesis::ModeAccuracy, theory §11.8).
   std::vector<synthesis::ModeAccuracy> accuracy;
-  std::vector<double> trueErrors;  ///< |relative error| against the truth ("Truth" only)
+  /// |relative error| against the truth mode of each mode's shape ("Truth"
+  /// only); NaN where no computed truth mode has its shape.
+  std::vector<double> trueErrors;
   /// Truth modes within the reduced modes' range that none of them pairs
-  /// with (the periodic structure's truth comparison; -1: not compared).
+  /// with (by shape, compareWithTruth; by eigenvalue on the periodic path;
+  /// -1: not compared).
   int truthMissing = -1;
   std::vector<synthesis::SubstructureCoverage> coverage;  ///< at `cutoff` (theory §11.9)
   double cutoff = 0.0;             ///< rad/s: the highest frequency found

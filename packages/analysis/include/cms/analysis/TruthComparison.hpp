@@ -25,10 +25,14 @@ struct ModeAccuracy {
   double mac = 0.0;
   bool rigid = false;      ///< a zero frequency of the truth (rigid-body motion)
   bool frameRate = false;  ///< rigid motion seen at a spin rate (synthesis::ModeCharacter::frameArtefact)
-  /// |relativeError| > 1: the reduced mode pairs with a truth mode at less
-  /// than half its frequency — modes the reduced model lacks, not an error
-  /// of this one (the error is then not a number to read).
-  bool missing = false;
+  /// The truth mode of this mode's shape (index into the truth's modes), -1
+  /// when unmatched.
+  int truthIndex = -1;
+  /// No computed truth mode holds half of this shape (subspace MAC < 0.5):
+  /// its partner lies above the truth modes computed, or the shape is not
+  /// converged. truthOmega and relativeError are then against the nearest
+  /// truth frequency, a pointer rather than this mode's error.
+  bool unmatched = false;
 };
 
 struct TruthComparison {
@@ -37,7 +41,10 @@ struct TruthComparison {
   /// Smallest subspace MAC over the vibration modes (rigid and frame-rate
   /// modes excluded: their shapes are any combination of the rigid motions).
   double worstMac = 1.0;
-  int missingModes = 0;  ///< modes flagged `missing`
+  /// Truth modes that no reduced mode's shape took, below the highest truth
+  /// cluster one did take: modes the reduced model lacks.
+  int missingModes = 0;
+  int unmatchedModes = 0;  ///< reduced modes flagged `unmatched`
 };
 
 /// Throws cms::InputError when `truth` left out a Modal Damping Ratio that
@@ -46,9 +53,23 @@ struct TruthComparison {
 /// damped structure, and every difference a false error. Collective-free.
 void requireComparableTruth(const synthesis::SynthesizedStructure& truth);
 
-/// Pairs the lowest `count` modes of each in frequency order (both must have
-/// at least `count`; throws cms::InputError otherwise). The two structures
-/// must come from the same AssembledStructure. Collective.
+/// The lowest `count` reduced modes, each paired with the truth mode of its
+/// shape, not of its index (a reduced model lacking a mode, or two modes in
+/// the other order, made every later pair wrong and its error a false
+/// number, found by a review): each reduced mode goes to the cluster of
+/// truth modes (rigid zeros together; frequencies within 1e-3) holding
+/// most of its shape (subspace MAC of the expanded physical shapes, at
+/// least 0.5), best pairs first, one truth mode each; theory §11.7. Both
+/// must have at least `count` modes (cms::InputError otherwise); the truth
+/// should have more (truthSolveParameters), so that a reduced mode whose
+/// partner lies above the truth's `count`-th is still paired. The two
+/// structures must come from the same AssembledStructure. Collective.
+/// `solve` (the structure's "Solve" parameters) for the truth it is compared
+/// against: "Number of Modes" n raised to n + max(2, n/4) (at most
+/// `truthSize`), the partners of reduced modes whose order differs from
+/// the truth's or that lie above a mode the reduced model lacks.
+Teuchos::ParameterList truthSolveParameters(const Teuchos::ParameterList& solve, int truthSize);
+
 TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
                                  const synthesis::StructureModes& reducedModes,
                                  const synthesis::SynthesizedStructure& truth,
