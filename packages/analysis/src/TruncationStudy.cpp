@@ -121,14 +121,15 @@ TruncationResult TruncationStudy::run(
     model.definite = model.modes.result.solver.find("Meirovitch") != std::string::npos;
     return model;
   };
-  auto record = [&](const std::string& changed, const Model& m, std::vector<InclusionViolation> findings) {
+  auto record = [&](const std::string& changed, const Model& m, std::vector<InclusionViolation> findings,
+                    bool checked) {
     result.steps.push_back({static_cast<int>(result.steps.size()), changed, m.dofs, m.estimate, m.trueError,
-                            std::move(findings), count});
+                            std::move(findings), count, checked});
     if (onStep) onStep(result.steps.back(), result);
   };
   Model current = evaluate(red, nullptr);
   result.definite = current.definite;  // and every model compared after it (below)
-  record("(start)", current, {});
+  record("(start)", current, {}, false);
 
   // 4. Greedy: the addition that lowers the estimate most per added coordinate.
   for (int k = 1; current.estimate > accuracy && k <= options_.get<int>("Max Steps"); ++k) {
@@ -208,7 +209,8 @@ TruncationResult TruncationStudy::run(
     // evaluated last, and only the dense path's, found by a review).
     const bool checkable = current.definite && bestModel.definite;
     result.definite = result.definite && checkable;
-    if (checkable && !current.modes.result.modes.empty())
+    const bool checked = checkable && !current.modes.result.modes.empty();
+    if (checked)
       findings = checkInclusion(current.modes, bestModel.modes, static_cast<int>(bestModel.dofs - current.dofs));
     count[best] += added;
     red[best].set("Vectors", count[best]);
@@ -218,7 +220,7 @@ TruncationResult TruncationStudy::run(
         red[q] = red[best];
       }
     current = std::move(bestModel);
-    record(changed, current, std::move(findings));
+    record(changed, current, std::move(findings), checked);
   }
   result.reached = current.estimate <= accuracy;
   return result;
