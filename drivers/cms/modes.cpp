@@ -123,7 +123,10 @@ void printSubstructures(const analysis::ModalResult& r) {
   if (r.truthMissing > 0)
     std::cout << "\n  structure: the truth has " << r.truthMissing
               << " mode(s) in the reduced modes' range that none of them pairs with: MODES MISSING";
-  else if (r.truthMissing == 0)
+  if (r.truthUnmatched > 0)
+    std::cout << "\n  structure: " << r.truthUnmatched
+              << " reduced mode(s) have the shape of no truth mode computed (their true error not given)";
+  if (r.truthMissing == 0 && r.truthUnmatched <= 0)
     std::cout << "\n  structure: every truth mode in the reduced modes' range paired with one (one to one)";
   std::cout << '\n';
 }

@@ -24,6 +24,20 @@
 
 namespace cms::drivers {
 
+namespace {
+/// The largest true error of the modes paired by shape; a model lacking
+/// truth modes, or with modes of no computed truth shape, says that
+/// instead, as `cms compare` does (the CSV keeps the number and the counts).
+std::string trueText(const analysis::TruncationStep& s) {
+  std::ostringstream os;
+  os << std::setprecision(4);
+  if (s.trueMissing > 0) os << "MISSING " << s.trueMissing;
+  else if (s.trueUnmatched > 0) os << "UNMATCHED " << s.trueUnmatched;
+  else os << s.trueError;
+  return os.str();
+}
+}  // namespace
+
 int truncate(int argc, char* argv[]) {
   // 1. Options and scene.
   Options options("truncate",
@@ -53,7 +67,8 @@ int truncate(int argc, char* argv[]) {
   study.set("Speed Factor", sc.speedFactor);
   const analysis::TruncationStudy search(structure, sc.solve, study);
   std::ostringstream table;
-  table << "step,changed,dofs,max_rel_error,max_true_rel_error,inclusion_violations,inclusion_checked";
+  table << "step,changed,dofs,max_rel_error,max_true_rel_error,true_missing_modes,true_unmatched_modes,"
+           "inclusion_violations,inclusion_checked";
   for (std::size_t q = 0; q < structure.numSubstructures(); ++q)
     table << ",vectors_" << io::csvField(structure.substructure(q).name);
   table << '\n' << std::setprecision(12);
@@ -67,13 +82,15 @@ int truncate(int argc, char* argv[]) {
     checkedSteps += s.inclusionChecked;
     // Unchecked steps show no count ("-", an empty CSV field), not 0.
     const std::string violations = s.inclusionChecked ? std::to_string(s.findings.size()) : std::string();
+    const auto count = [](int n) { return n >= 0 ? std::to_string(n) : std::string(); };  // empty without truth
     table << s.step << ',' << io::csvField(s.changed) << ',' << s.dofs << ',' << s.estimate << ',' << s.trueError << ','
-          << violations << ',' << (s.inclusionChecked ? 1 : 0);
+          << count(s.trueMissing) << ',' << count(s.trueUnmatched) << ',' << violations << ','
+          << (s.inclusionChecked ? 1 : 0);
     for (int v : s.vectors) table << ',' << v;
     table << '\n';
     if (!run.root) return;
     std::cout << std::setw(4) << s.step << "  " << std::left << std::setw(12) << s.changed << std::right << std::setw(7)
-              << s.dofs << std::setw(13) << std::setprecision(4) << s.estimate << std::setw(13) << s.trueError
+              << s.dofs << std::setw(13) << std::setprecision(4) << s.estimate << std::setw(13) << trueText(s)
               << std::setw(6) << (s.inclusionChecked ? violations : std::string("-")) << '\n';
     for (const auto& x : s.findings)
       std::cout << "  finding: inclusion principle violated at mode " << x.index + 1 << " (" << x.inequality << ", by "
@@ -85,7 +102,7 @@ int truncate(int argc, char* argv[]) {
   if (!run.root) return r.reached ? ExitSuccess : kNotConverged.code;
   std::cout << "\n" << (r.reached ? "reached " : "NOT reached: ") << "max estimated relative error " << last.estimate
             << " with " << last.dofs << " coordinates";
-  if (truth) std::cout << " (true error " << last.trueError << ", truth " << r.truthSize << " coordinates)";
+  if (truth) std::cout << " (true error " << trueText(last) << ", truth " << r.truthSize << " coordinates)";
   const int comparable = static_cast<int>(r.steps.size()) - 1;  // every step after the first
   if (checkedSteps < comparable)
     std::cout << "\n(the inclusion principle was checked at " << checkedSteps << " of " << comparable

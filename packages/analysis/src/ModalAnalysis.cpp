@@ -120,16 +120,26 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
   if (options_.get<bool>("Truth")) {
     const auto& truth = *truthModel;
     requireComparableTruth(truth);  // before its solve
-    // A few truth modes more than the reduced model's: the partners of
-    // reduced modes above a mode the bases lack (truthSolveParameters).
-    const auto truthModes = truth.solve(r.speeds, truthSolveParameters(solve_, truth.size()));
-    const int n = static_cast<int>(std::min(r.modes.result.modes.size(), truthModes.result.modes.size()));
-    const auto compared = compareWithTruth(s, r.modes, truth, truthModes, n);
+    // Both solved for a few modes more than asked: the partners of reduced
+    // modes above a mode the bases lack, and of modes in the other order at
+    // the edge of the range (solveForComparison). The reduced model's first
+    // modes are r.modes again (its dense solve returns the lowest; a sparse
+    // one the same to its tolerance).
+    const auto truthModes = solveForComparison(truth, r.speeds, solve_);
+    TEUCHOS_TEST_FOR_EXCEPTION(truthModes.result.status != eigen::SolveStatus::Converged, NumericalError,
+                               "the truth model (every basis Full) did not converge ("
+                                   << eigen::toString(truthModes.result.status) << ": " << truthModes.result.reason
+                                   << "): no true errors to give");
+    const auto wider = solveForComparison(s, r.speeds, solve_);
+    const int n = static_cast<int>(
+        std::min({r.modes.result.modes.size(), wider.result.modes.size(), truthModes.result.modes.size()}));
+    const auto compared = compareWithTruth(s, wider, truth, truthModes, n);
     // An unmatched mode (no computed truth mode of its shape) has no true
     // error to give: NaN, printed and written as such.
     for (const auto& a : compared.modes)
       r.trueErrors.push_back(a.unmatched ? std::numeric_limits<double>::quiet_NaN() : std::abs(a.relativeError));
     r.truthMissing = compared.missingModes;
+    r.truthUnmatched = compared.unmatchedModes;
   }
   // Ritz frequencies lie above the truth's: the truth has at least as many
   // below just above the highest reduced one; more means modes missing.

@@ -49,7 +49,11 @@ TruncationResult TruncationStudy::run(
   if (options_.get<bool>("Truth")) {
     truth = synthesis::SynthesizedStructure::synthesize(structure, true);
     requireComparableTruth(*truth);  // before its solve
-    truthModes = truth->solve(speeds, truthSolveParameters(solve_, truth->size()));
+    truthModes = solveForComparison(*truth, speeds, solve_);
+    TEUCHOS_TEST_FOR_EXCEPTION(truthModes.result.status != eigen::SolveStatus::Converged, NumericalError,
+                               "the truth model (every basis Full) did not converge ("
+                                   << eigen::toString(truthModes.result.status) << ": " << truthModes.result.reason
+                                   << "): no true errors to give");
     CMS_INPUT_CHECK(static_cast<int>(truthModes.result.modes.size()) < nModes,
                     "the truth model gave " << truthModes.result.modes.size() << " modes of " << nModes);
     result.truthSize = truth->size();
@@ -96,6 +100,7 @@ TruncationResult TruncationStudy::run(
     /// relative measured on the rotor chain), which the check's round-off
     /// term does not know: there it is not checked, and the driver says so.
     bool definite = false;
+    int trueMissing = -1, trueUnmatched = -1;  ///< compareWithTruth's counts ("Truth")
   };
   auto evaluate = [&](const std::vector<Teuchos::ParameterList>& r, const Model* from) {
     Model model;
@@ -111,7 +116,15 @@ TruncationResult TruncationStudy::run(
     if (static_cast<int>(model.modes.result.modes.size()) < nModes ||
         model.modes.result.status != eigen::SolveStatus::Converged)
       return model;
-    if (truth) model.trueError = compareWithTruth(s, model.modes, *truth, truthModes, nModes).maxRelativeError;
+    if (truth) {
+      // Paired by shape with a few modes more on each side (solveForComparison);
+      // a mode the reduced model lacks or one of no truth shape is counted,
+      // not folded into the largest error.
+      const auto c = compareWithTruth(s, solveForComparison(s, speeds, solve_), *truth, truthModes, nModes);
+      model.trueError = c.maxRelativeError;
+      model.trueMissing = c.missingModes;
+      model.trueUnmatched = c.unmatchedModes;
+    }
     std::vector<std::vector<double>> shares;
     const auto e = s.errorEstimates(model.modes, &shares);
     model.estimate = 0.0;
@@ -124,7 +137,7 @@ TruncationResult TruncationStudy::run(
   auto record = [&](const std::string& changed, const Model& m, std::vector<InclusionViolation> findings,
                     bool checked) {
     result.steps.push_back({static_cast<int>(result.steps.size()), changed, m.dofs, m.estimate, m.trueError,
-                            std::move(findings), count, checked});
+                            std::move(findings), count, checked, m.trueMissing, m.trueUnmatched});
     if (onStep) onStep(result.steps.back(), result);
   };
   Model current = evaluate(red, nullptr);

@@ -8,6 +8,9 @@
 #include <tuple>
 
 #include <Teuchos_Array.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_LAPACK.hpp>
 #include <Tpetra_MultiVector.hpp>
 #include <Tpetra_Vector.hpp>
 
@@ -24,32 +27,6 @@ namespace {
 
 using cplx = std::complex<double>;
 using Shape = std::vector<Teuchos::RCP<MultiVector>>;  // per substructure, (re, im)
-
-/// x = G^-1 b for a small Hermitian positive definite G (Gaussian elimination
-/// with partial pivoting).
-std::vector<cplx> solveSmall(std::vector<std::vector<cplx>> G, std::vector<cplx> b) {
-  const std::size_t n = b.size();
-  for (std::size_t c = 0; c < n; ++c) {
-    std::size_t p = c;
-    for (std::size_t r = c + 1; r < n; ++r)
-      if (std::abs(G[r][c]) > std::abs(G[p][c])) p = r;
-    std::swap(G[c], G[p]);
-    std::swap(b[c], b[p]);
-    if (std::abs(G[c][c]) == 0.0) continue;
-    for (std::size_t r = c + 1; r < n; ++r) {
-      const cplx f = G[r][c] / G[c][c];
-      for (std::size_t k = c; k < n; ++k) G[r][k] -= f * G[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  std::vector<cplx> x(n);
-  for (std::size_t i = n; i-- > 0;) {
-    cplx s = b[i];
-    for (std::size_t k = i + 1; k < n; ++k) s -= G[i][k] * x[k];
-    x[i] = std::abs(G[i][i]) > 0.0 ? s / G[i][i] : 0.0;
-  }
-  return x;
-}
 
 }  // namespace
 
@@ -70,66 +47,94 @@ void requireComparableTruth(const synthesis::SynthesizedStructure& truth) {
                    "estimates, which need no truth (section 11.8)");
 }
 
-Teuchos::ParameterList truthSolveParameters(const Teuchos::ParameterList& solve, int truthSize) {
+Teuchos::ParameterList comparedSolveParameters(const Teuchos::ParameterList& solve, long long size) {
   Teuchos::ParameterList p = solve;
   const int n = p.isParameter("Number of Modes") ? p.get<int>("Number of Modes") : 0;
-  if (n > 0) p.set("Number of Modes", std::min(truthSize, n + std::max(2, (n + 3) / 4)));
+  if (n > 0)
+    p.set("Number of Modes", static_cast<int>(std::min<long long>(size, n + std::max(2, (n + 3) / 4))));
   return p;
+}
+
+synthesis::StructureModes solveForComparison(const synthesis::SynthesizedStructure& model,
+                                             const std::vector<double>& speeds, const Teuchos::ParameterList& solve) {
+  const auto wider = comparedSolveParameters(solve, model.size());
+  auto modes = model.solve(speeds, wider);
+  if (modes.result.status != eigen::SolveStatus::Converged &&
+      wider.get<int>("Number of Modes") != solve.get<int>("Number of Modes"))
+    modes = model.solve(speeds, solve);
+  return modes;
 }
 
 namespace {
 
-/// a_i^H b_j for every pair (rows: a, columns: b), one reduce over the ranks.
-std::vector<std::vector<cplx>> innerProducts(const std::vector<Shape>& a, const std::vector<Shape>& b) {
-  const std::size_t na = a.size(), nb = b.size();
-  std::vector<double> local(2 * na * nb, 0.0), global(2 * na * nb, 0.0);
-  Teuchos::RCP<const Teuchos::Comm<int>> comm;
-  if (na > 0 && nb > 0) {
-    for (std::size_t k = 0; k < a[0].size(); ++k) {
-      if (a[0][k].is_null()) continue;
-      comm = a[0][k]->getMap()->getComm();
-      std::vector<decltype(a[0][k]->getLocalViewHost(Tpetra::Access::ReadOnly))> va, vb;
-      for (const auto& s : a) va.push_back(s[k]->getLocalViewHost(Tpetra::Access::ReadOnly));
-      for (const auto& s : b) vb.push_back(s[k]->getLocalViewHost(Tpetra::Access::ReadOnly));
-      const std::size_t rows = a[0][k]->getLocalLength();
-      for (std::size_t i = 0; i < na; ++i)
-        for (std::size_t j = 0; j < nb; ++j) {
-          double re = 0.0, im = 0.0;
-          for (std::size_t r = 0; r < rows; ++r) {
-            const double ar = va[i](r, 0), ai = va[i](r, 1), br = vb[j](r, 0), bi = vb[j](r, 1);
-            re += ar * br + ai * bi;
-            im += ar * bi - ai * br;
-          }
-          local[2 * (i * nb + j)] += re;
-          local[2 * (i * nb + j) + 1] += im;
-        }
+/// Collective: a^H b summed over every substructure's rows and the ranks
+/// (each shape: per substructure, columns re and im).
+std::vector<cplx> reduceInner(const std::vector<cplx>& local, const Teuchos::Comm<int>& comm) {
+  std::vector<double> in(2 * local.size()), out(2 * local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) in[2 * i] = local[i].real(), in[2 * i + 1] = local[i].imag();
+  if (!in.empty()) Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, static_cast<int>(in.size()), in.data(), out.data());
+  std::vector<cplx> r(local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) r[i] = cplx(out[2 * i], out[2 * i + 1]);
+  return r;
+}
+
+/// This rank's part of a_i^H b for every a_i (no communication).
+std::vector<cplx> localInner(const std::vector<Shape>& a, const Shape& b) {
+  std::vector<cplx> out(a.size(), 0.0);
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const auto vb = b[k]->getLocalViewHost(Tpetra::Access::ReadOnly);
+    const std::size_t rows = b[k]->getLocalLength();
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const auto va = a[i][k]->getLocalViewHost(Tpetra::Access::ReadOnly);
+      double re = 0.0, im = 0.0;
+      for (std::size_t r = 0; r < rows; ++r) {
+        const double ar = va(r, 0), ai = va(r, 1), br = vb(r, 0), bi = vb(r, 1);
+        re += ar * br + ai * bi;
+        im += ar * bi - ai * br;
+      }
+      out[i] += cplx(re, im);
     }
   }
-  if (!comm.is_null() && !local.empty())
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
-  else
-    global = local;
-  std::vector<std::vector<cplx>> out(na, std::vector<cplx>(nb));
-  for (std::size_t i = 0; i < na; ++i)
-    for (std::size_t j = 0; j < nb; ++j) out[i][j] = cplx(global[2 * (i * nb + j)], global[2 * (i * nb + j) + 1]);
   return out;
 }
 
-/// How much of u lies in the span of the truth modes `cluster`: b^H G^-1 b
-/// / u^H u (P: truth-by-reduced inner products, G: the truth's Gram matrix).
+/// How much of u lies in the span of the truth modes `set`: b^H G^+ b /
+/// u^H u with b = T^H u and G = T^H T over the set. G by its eigenvalues,
+/// those below 1e-10 of the largest dropped: computed shapes of a
+/// defective or repeated pair can be nearly parallel, where an inverse
+/// would turn rounding into any number in [0, 1].
 double subspaceMac(const std::vector<std::vector<cplx>>& P, const std::vector<std::vector<cplx>>& G, double uu,
-                   std::size_t m, const std::vector<int>& cluster) {
-  if (!(uu > 0.0) || cluster.empty()) return 0.0;
-  std::vector<std::vector<cplx>> Gc(cluster.size(), std::vector<cplx>(cluster.size()));
-  std::vector<cplx> b(cluster.size());
-  for (std::size_t i = 0; i < cluster.size(); ++i) {
-    b[i] = P[cluster[i]][m];
-    for (std::size_t j = 0; j < cluster.size(); ++j) Gc[i][j] = G[cluster[i]][cluster[j]];
+                   std::size_t m, const std::vector<int>& set) {
+  // The Hermitian G = Gr + i Gi as the real symmetric [[Gr, -Gi], [Gi, Gr]]
+  // (each eigenvalue twice), b as [Re b; Im b]: b^H G^+ b unchanged.
+  const int k = static_cast<int>(set.size()), n = 2 * k;
+  if (!(uu > 0.0) || k == 0) return 0.0;
+  std::vector<double> A(static_cast<std::size_t>(n) * n), w(n), b(n);
+  for (int j = 0; j < k; ++j) {
+    b[j] = P[set[j]][m].real(), b[j + k] = P[set[j]][m].imag();
+    for (int i = 0; i < k; ++i) {
+      const cplx g = G[set[i]][set[j]];
+      A[i + j * n] = A[(i + k) + (j + k) * n] = g.real();
+      A[(i + k) + j * n] = g.imag();
+      A[i + (j + k) * n] = -g.imag();
+    }
   }
-  const auto x = solveSmall(Gc, b);
-  cplx proj = 0.0;
-  for (std::size_t i = 0; i < cluster.size(); ++i) proj += std::conj(b[i]) * x[i];
-  return std::clamp(proj.real() / uu, 0.0, 1.0);
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  double query = 0.0;
+  lapack.SYEV('V', 'U', n, A.data(), n, w.data(), &query, -1, &info);
+  std::vector<double> work(std::max(1, static_cast<int>(query)));
+  lapack.SYEV('V', 'U', n, A.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
+  if (info != 0) return 0.0;
+  const double top = w[n - 1];
+  double proj = 0.0;
+  for (int j = 0; j < n; ++j) {
+    if (!(w[j] > 1e-10 * top)) continue;
+    double vb = 0.0;
+    for (int i = 0; i < n; ++i) vb += A[i + j * n] * b[i];
+    proj += vb * vb / w[j];
+  }
+  return std::clamp(proj / uu, 0.0, 1.0);
 }
 
 }  // namespace
@@ -145,70 +150,124 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
                                        << " and the truth " << tm.result.modes.size());
   const auto& rmodes = rm.result.modes;
   const auto& tmodes = tm.result.modes;
-  const int T = static_cast<int>(tmodes.size());
+  const int T = static_cast<int>(tmodes.size()), R = static_cast<int>(rmodes.size());
   double scale = 0.0;
   for (int m = 0; m < count; ++m) scale = std::max(scale, tmodes[m].omega);
   scale = std::max(scale, 1e-300);
-  const auto isRigid = [&](double w) { return w < 1e-6 * scale; };
+  // A truth mode is a rigid-body zero by its solve's verdict (a full
+  // model's dggev leaves its zeros at ~sqrt(eps) of its own scale, which
+  // can exceed 1e-6 of the compared range) or by a frequency below 1e-6 of
+  // the compared range (the errors' convention: absolute over that scale).
+  std::vector<bool> rigid(T);
+  for (int t = 0; t < T; ++t)
+    rigid[t] = tmodes[t].stability == eigen::Stability::RigidBody || tmodes[t].omega < 1e-6 * scale;
 
-  // 1. Every shape of both, and their inner products in three reduces.
-  std::vector<Shape> truthShapes(T), reducedShapes(count);
+  // 1. The truth's shapes and their Gram matrix; each reduced shape (one at
+  //    a time: a large truth's shapes are memory enough) against them.
+  std::vector<Shape> truthShapes(T);
   for (int t = 0; t < T; ++t) truthShapes[t] = truth.expand(tm, t);
-  for (int m = 0; m < count; ++m) reducedShapes[m] = reduced.expand(rm, m);
-  const auto P = innerProducts(truthShapes, reducedShapes);  // t^H u
-  const auto G = innerProducts(truthShapes, truthShapes);
-  const auto U = innerProducts(reducedShapes, reducedShapes);
+  const auto comm = truthShapes.empty() || truthShapes[0].empty() ? Teuchos::DefaultComm<int>::getComm()
+                                                                    : truthShapes[0][0]->getMap()->getComm();
+  std::vector<std::vector<cplx>> G(T);
+  for (int t = 0; t < T; ++t) G[t] = reduceInner(localInner(truthShapes, truthShapes[t]), *comm);  // G[i][t]
+  std::vector<std::vector<cplx>> P(T, std::vector<cplx>(R));  // t^H u_m
+  std::vector<double> uu(R);
+  for (int m = 0; m < R; ++m) {
+    const Shape u = reduced.expand(rm, m);
+    auto local = localInner(truthShapes, u);
+    local.push_back(localInner({u}, u)[0]);
+    const auto inner = reduceInner(local, *comm);
+    for (int t = 0; t < T; ++t) P[t][m] = inner[t];
+    uu[m] = inner[T].real();
+  }
+  // G was filled column by column: G[t] holds (truth_i^H truth_t)_i.
+  for (int i = 0; i < T; ++i)
+    for (int j = i + 1; j < T; ++j) std::swap(G[i][j], G[j][i]);
 
-  // 2. The truth's clusters: its rigid-body zeros together (their computed
-  //    shapes are any combination of the rigid motions), and modes whose
-  //    frequencies follow within 1e-3 (a repeated pair of a symmetric rotor,
-  //    a spinning free body's defective frame-rate pair): what a reduced
+  // 2. The truth's clusters, in ascending frequency (the solvers order by
+  //    |lambda|, which damping or a real eigenvalue puts out of frequency
+  //    order): its rigid-body zeros together (their computed shapes are any
+  //    combination of the rigid motions), then eigenvalues that follow
+  //    within 1e-3 of each other (a repeated pair of a symmetric rotor, a
+  //    spinning free body's defective frame-rate pair): what a reduced
   //    shape is compared against as a whole.
+  std::vector<int> order;
+  for (int t = 0; t < T; ++t)
+    if (!rigid[t]) order.push_back(t);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return tmodes[a].omega != tmodes[b].omega ? tmodes[a].omega < tmodes[b].omega
+                                              : std::abs(tmodes[a].lambda) < std::abs(tmodes[b].lambda);
+  });
   std::vector<std::vector<int>> clusters;
   std::vector<int> clusterOf(T, -1);
-  for (int t = 0; t < T; ++t) {
-    const double w = tmodes[t].omega;
-    bool joins = false;
-    if (!clusters.empty()) {
-      const double last = tmodes[clusters.back().back()].omega;
-      joins = isRigid(w) ? isRigid(last) : (!isRigid(last) && w - last <= 1e-3 * w);
+  for (int t = 0; t < T; ++t)
+    if (rigid[t]) {
+      if (clusters.empty()) clusters.emplace_back();
+      clusters.back().push_back(t);
     }
+  bool first = true;
+  for (int t : order) {
+    const auto l = tmodes[t].lambda;
+    const bool joins = !first && [&] {
+      const auto last = tmodes[clusters.back().back()].lambda;
+      return std::abs(l - last) <= 1e-3 * std::max(std::abs(l), std::abs(last));
+    }();
     if (!joins) clusters.emplace_back();
     clusters.back().push_back(t);
-    clusterOf[t] = static_cast<int>(clusters.size()) - 1;
+    first = false;
   }
+  for (std::size_t c = 0; c < clusters.size(); ++c)
+    for (int t : clusters[c]) clusterOf[t] = static_cast<int>(c);
 
-  // 3. Pairing by shape: each reduced mode to the cluster holding most of
-  //    it (subspace MAC), best pairs first, a cluster taking as many reduced
-  //    modes as it has members; within a cluster, to the member of largest
-  //    MAC left. A reduced mode no cluster holds half of (MAC < 0.5 with
-  //    each one left) is unmatched: the truth mode of its shape is not
-  //    among those computed, or its shape is not converged; its error is
-  //    then against the nearest truth frequency, which it does not take.
-  std::vector<std::tuple<double, double, int, int>> candidates;  // (-mac, |dw|, m, cluster)
-  for (int m = 0; m < count; ++m)
-    for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
-      const double mac = subspaceMac(P, G, U[m][m].real(), static_cast<std::size_t>(m), clusters[c]);
-      if (mac >= 0.5)
-        candidates.emplace_back(-mac, std::abs(rmodes[m].omega - tmodes[clusters[c].front()].omega), m, c);
-    }
-  std::sort(candidates.begin(), candidates.end());
-  std::vector<int> partner(count, -1), room(clusters.size());
-  for (std::size_t c = 0; c < clusters.size(); ++c) room[c] = static_cast<int>(clusters[c].size());
+  // 3. Pairing by shape, over every reduced mode given (those above the
+  //    `count` compared take their partners too, so that two modes in the
+  //    other order at the edge of the range are not read as one missing):
+  //    each reduced mode to the cluster holding most of it (subspace MAC at
+  //    least 0.5), best pairs first, a cluster taking as many reduced modes
+  //    as it has members; within a cluster, to the member of largest single
+  //    MAC left.
+  std::vector<int> partner(R, -1), room(clusters.size());
   std::vector<bool> taken(T, false);
-  for (const auto& [negMac, dw, m, c] : candidates) {
-    if (partner[m] >= 0 || room[c] == 0) continue;
+  for (std::size_t c = 0; c < clusters.size(); ++c) room[c] = static_cast<int>(clusters[c].size());
+  const auto singleMac = [&](int t, int m) {
+    const double gtt = G[t][t].real();
+    return gtt > 0.0 && uu[m] > 0.0 ? std::norm(P[t][m]) / (gtt * uu[m]) : 0.0;
+  };
+  const auto take = [&](int m, const std::vector<int>& members) {
     int best = -1;
-    double bestMac = -1.0;
-    for (int t : clusters[c]) {
-      if (taken[t]) continue;
-      const double gtt = G[t][t].real(), uu = U[m][m].real();
-      const double mac = gtt > 0.0 && uu > 0.0 ? std::norm(P[t][m]) / (gtt * uu) : 0.0;
-      if (mac > bestMac) best = t, bestMac = mac;
-    }
+    for (int t : members)
+      if (!taken[t] && (best < 0 || singleMac(t, m) > singleMac(best, m))) best = t;
+    if (best < 0) return false;
     partner[m] = best;
     taken[best] = true;
-    --room[c];
+    --room[clusterOf[best]];
+    return true;
+  };
+  {
+    std::vector<std::tuple<double, double, int, int>> candidates;  // (-mac, |dw|, m, cluster)
+    for (int m = 0; m < R; ++m)
+      for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
+        const double mac = subspaceMac(P, G, uu[m], static_cast<std::size_t>(m), clusters[c]);
+        if (mac >= 0.5)
+          candidates.emplace_back(-mac, std::abs(rmodes[m].omega - tmodes[clusters[c].front()].omega), m, c);
+      }
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& [negMac, dw, m, c] : candidates)
+      if (partner[m] < 0 && room[c] > 0) take(m, clusters[c]);
+  }
+  //    A second pass for the modes left: a close pair split by more than
+  //    1e-3, whose shapes the two models mix differently, holds half of
+  //    neither member alone; the truth modes within 10% of the reduced
+  //    frequency together may hold it. A reduced mode that no such set
+  //    holds half of is unmatched: its partner lies above the truth modes
+  //    computed, or its shape has not converged; its error is then against
+  //    the nearest truth frequency, which it does not take.
+  for (int m = 0; m < R; ++m) {
+    if (partner[m] >= 0) continue;
+    std::vector<int> near;
+    for (int t = 0; t < T; ++t)
+      if (!rigid[t] && std::abs(tmodes[t].omega - rmodes[m].omega) <= 0.1 * rmodes[m].omega) near.push_back(t);
+    if (subspaceMac(P, G, uu[m], static_cast<std::size_t>(m), near) >= 0.5) take(m, near);
   }
 
   TruthComparison out;
@@ -224,8 +283,7 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
         if (std::abs(tmodes[j].omega - rmodes[m].omega) < std::abs(tmodes[t].omega - rmodes[m].omega)) t = j;
     }
     against[m] = t;
-    const double wt = tmodes[t].omega;
-    error[m] = (rmodes[m].omega - wt) / (isRigid(wt) ? scale : wt);
+    error[m] = (rmodes[m].omega - tmodes[t].omega) / (rigid[t] ? scale : tmodes[t].omega);
   }
   for (int m = 0; m < count; ++m) {
     ModeAccuracy a;
@@ -234,7 +292,7 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
     a.unmatched = partner[m] < 0;
     a.truthIndex = partner[m];
     a.truthOmega = tmodes[against[m]].omega;
-    a.rigid = isRigid(a.truthOmega);
+    a.rigid = rigid[against[m]];
     a.frameRate = m < static_cast<int>(character.size()) && character[m].frameArtefact;
     a.relativeError = error[m];
     // The MAC reported: against the truth modes (numerically) of the same
@@ -248,11 +306,9 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
     if (m + 1 < count) spread = std::max(spread, std::abs(error[m + 1]));
     const double window = std::min(0.1, std::max(1e-6, 2.0 * spread)) * a.truthOmega;
     std::vector<int> cluster;
-    for (int t = 0; t < T; ++t) {
-      const double wt = tmodes[t].omega;
-      if (a.rigid ? isRigid(wt) : std::abs(wt - a.truthOmega) <= window) cluster.push_back(t);
-    }
-    a.mac = subspaceMac(P, G, U[m][m].real(), static_cast<std::size_t>(m), cluster);
+    for (int t = 0; t < T; ++t)
+      if (a.rigid ? rigid[t] : (!rigid[t] && std::abs(tmodes[t].omega - a.truthOmega) <= window)) cluster.push_back(t);
+    a.mac = subspaceMac(P, G, uu[m], static_cast<std::size_t>(m), cluster);
     out.maxRelativeError = std::max(out.maxRelativeError, std::abs(a.relativeError));
     if (!a.rigid && !a.frameRate) out.worstMac = std::min(out.worstMac, a.mac);
     out.unmatchedModes += a.unmatched;
@@ -260,11 +316,10 @@ TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
     out.modes.push_back(a);
   }
   // 4. The truth's modes that no reduced mode took, in clusters below the
-  //    highest one a reduced mode took: modes the reduced model lacks. Not
-  //    in that cluster (a repeated pair the mode count cuts) nor above it
-  //    (the partners of reduced modes above the `count` compared: Ritz
-  //    values lie above the truth's, so truth modes just below the highest
-  //    reduced frequency may be theirs).
+  //    highest one a compared reduced mode took: modes the reduced model
+  //    lacks. Not in that cluster (a repeated pair the mode count cuts), nor
+  //    above it; a truth mode an unmatched reduced mode would have taken is
+  //    counted here too (that mode is counted unmatched).
   int highest = -1;
   for (int m = 0; m < count; ++m)
     if (partner[m] >= 0) highest = std::max(highest, clusterOf[partner[m]]);

@@ -375,6 +375,9 @@ SparseDirectSolver::~SparseDirectSolver() = default;
 SparseDirectSolver::Outcome SparseDirectSolver::factor() {
   Teuchos::Time timer("factor", true);
   Outcome out = Outcome::Factored;
+  // A refactorisation reports its own outcome, not the last one's.
+  failure_.clear();
+  impl_->factorNonzeros = impl_->factorFlops = impl_->factorBytes = 0.0;
   if (method_ == "CHOLMOD") {
     out = impl_->factorCholmod(failure_);
   } else {

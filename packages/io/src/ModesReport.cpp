@@ -76,6 +76,7 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
     coverage["structure_count_note"] = why;
   }
   if (r.truthMissing >= 0) coverage["truth_unpaired_in_range"] = r.truthMissing;
+  if (r.truthUnmatched >= 0) coverage["reduced_unmatched"] = r.truthUnmatched;
   o["coverage"] = coverage;
   o["solver"] = r.modes.result.solver;
   o["path"] = r.modes.path;

@@ -51,6 +51,9 @@ struct ModalResult {
   /// with (by shape, compareWithTruth; by eigenvalue on the periodic path;
   /// -1: not compared).
   int truthMissing = -1;
+  /// Reduced modes of no computed truth mode's shape (compareWithTruth; -1:
+  /// not compared).
+  int truthUnmatched = -1;
   std::vector<synthesis::SubstructureCoverage> coverage;  ///< at `cutoff` (theory §11.9)
   double cutoff = 0.0;             ///< rad/s: the highest frequency found
   long long truthCount = -2;       ///< truth frequencies below countAt; -1 unreliable, -2 not asked, -3 damped, -4 K(Omega) indefinite (not countable: truthFrequenciesBelow)

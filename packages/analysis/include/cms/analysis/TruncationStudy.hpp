@@ -30,10 +30,15 @@ struct TruncationStep {
   double estimate = 0.0;           ///< largest estimated relative error of the wanted modes
   double trueError = 0.0;          ///< largest true relative error ("Truth"), else NaN
   std::vector<InclusionViolation> findings;  ///< against the previous step
-  std::vector<int> vectors;        ///< per substructure ("Vectors" of the reducible ones, 0 others)  /// The inclusion principle was checked against the previous step (K > 0
+  std::vector<int> vectors;        ///< per substructure ("Vectors" of the reducible ones, 0 others)
+  /// The inclusion principle was checked against the previous step (K > 0
   /// and the dense Meirovitch solve in both); false for the first step and
   /// where it could not be, so that no findings is not read as none found.
   bool inclusionChecked = false;
+  /// Truth modes the model lacks and its modes of no computed truth shape
+  /// (compareWithTruth, "Truth"; -1 without): where either is above 0,
+  /// trueError covers only the modes paired.
+  int trueMissing = -1, trueUnmatched = -1;
 };
 
 struct TruncationResult {

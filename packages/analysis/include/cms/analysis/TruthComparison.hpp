@@ -53,23 +53,33 @@ struct TruthComparison {
 /// damped structure, and every difference a false error. Collective-free.
 void requireComparableTruth(const synthesis::SynthesizedStructure& truth);
 
+/// `solve` (the structure's "Solve" parameters) for a model whose modes are
+/// to be paired with another's (compareWithTruth): "Number of Modes" n
+/// raised to n + max(2, ceil(n/4)), at most `size` (the model's
+/// coordinates).
+Teuchos::ParameterList comparedSolveParameters(const Teuchos::ParameterList& solve, long long size);
+
+/// `model` solved at `speeds` with comparedSolveParameters(solve), or, where
+/// that does not converge (a sparse solve asked for more modes), with
+/// `solve` itself: the extra modes serve the pairing, never the verdict.
+/// Collective.
+synthesis::StructureModes solveForComparison(const synthesis::SynthesizedStructure& model,
+                                             const std::vector<double>& speeds, const Teuchos::ParameterList& solve);
+
 /// The lowest `count` reduced modes, each paired with the truth mode of its
 /// shape, not of its index (a reduced model lacking a mode, or two modes in
 /// the other order, made every later pair wrong and its error a false
 /// number, found by a review): each reduced mode goes to the cluster of
-/// truth modes (rigid zeros together; frequencies within 1e-3) holding
+/// truth modes (rigid zeros together; eigenvalues within 1e-3) holding
 /// most of its shape (subspace MAC of the expanded physical shapes, at
-/// least 0.5), best pairs first, one truth mode each; theory §11.7. Both
-/// must have at least `count` modes (cms::InputError otherwise); the truth
-/// should have more (truthSolveParameters), so that a reduced mode whose
-/// partner lies above the truth's `count`-th is still paired. The two
-/// structures must come from the same AssembledStructure. Collective.
-/// `solve` (the structure's "Solve" parameters) for the truth it is compared
-/// against: "Number of Modes" n raised to n + max(2, n/4) (at most
-/// `truthSize`), the partners of reduced modes whose order differs from
-/// the truth's or that lie above a mode the reduced model lacks.
-Teuchos::ParameterList truthSolveParameters(const Teuchos::ParameterList& solve, int truthSize);
-
+/// least 0.5; else the truth modes within 10% together), best pairs first,
+/// one truth mode each; theory §11.7. Both must have at least `count`
+/// modes (cms::InputError otherwise); both should have more
+/// (comparedSolveParameters): every reduced mode given takes its partner,
+/// so that two modes in the other order at the edge of the range are not
+/// read as a missing one, and a reduced mode whose partner lies above the
+/// truth's `count`-th is still paired. The two structures must come from
+/// the same AssembledStructure. Collective.
 TruthComparison compareWithTruth(const synthesis::SynthesizedStructure& reduced,
                                  const synthesis::StructureModes& reducedModes,
                                  const synthesis::SynthesizedStructure& truth,
