@@ -150,3 +150,49 @@ TEST(RotatingPointMass, IsotropicSpringsGiveShiftedFrequencies) {
     EXPECT_TRUE(r.isStable());
   }
 }
+
+// A critical speed on the sweep's grid (20 rad/s, of steps 0, 10, 20, 30):
+// the lower mode is zero there, and the 1X crossing of that mode below it
+// (between 10 and 20) was skipped with the whole interval, a critical speed
+// silently missed (found by a review; 6 steps found it). It must be found,
+// refined, where a fine sweep (31 steps) puts it, to the bisection's
+// tolerance (1e-9 of the speed, doubled for the two runs).
+TEST(RotatingPointMass, ACrossingBelowACriticalSpeedOnTheGridIsFound) {
+  const auto crossings = [](int steps) {
+    Teuchos::ParameterList study;
+    study.set("Steps", steps);
+    study.set("Max Factor", 1.0);
+    study.set("Crossing Tolerance", 1e-9);
+    return analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0)).crossings;
+  };
+  const auto fine = crossings(31);
+  ASSERT_EQ(fine.size(), 1u) << "the premise: one 1X crossing, of the lower mode below 20 rad/s";
+  EXPECT_GT(fine[0].speed, 10.0);
+  EXPECT_LT(fine[0].speed, 20.0);
+  const auto coarse = crossings(4);
+  ASSERT_EQ(coarse.size(), 1u) << "the crossing between 10 and the critical speed 20 on the grid";
+  EXPECT_TRUE(coarse[0].refined);
+  EXPECT_NEAR(coarse[0].speed, fine[0].speed, 2e-9 * fine[0].speed);
+}
+
+// An unstable range that reaches the end of the sweep has no upper edge in
+// it: swept to 22.5 rad/s, the divergence band (20, 25) is unstable from 20
+// to the sweep's end and beyond, which the description must say, not
+// "edges bisected" as if 22.5 were where it stabilises (found by a review).
+TEST(RotatingPointMass, AnUnstableRangeOpenAtTheSweepsEndSaysSo) {
+  Teuchos::ParameterList study;
+  study.set("Steps", 10);
+  study.set("Max Factor", 1.0);
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 22.5));
+  ASSERT_EQ(d.unstableRanges.size(), 1u);
+  ASSERT_EQ(d.unstableOpen.size(), 1u);
+  EXPECT_FALSE(d.unstableOpen[0].first);
+  EXPECT_TRUE(d.unstableOpen[0].second);
+  EXPECT_NEAR(d.unstableRanges[0].first, 20.0, 1e-6 * 20.0);
+  EXPECT_EQ(d.unstableRanges[0].second, 22.5);
+  std::ostringstream os;
+  d.printCrossings(os);
+  EXPECT_NE(os.str().find("unstable from 20 to 22.5 rad/s of 'frame' and beyond (still unstable at the sweep's end"),
+            std::string::npos)
+      << os.str();
+}

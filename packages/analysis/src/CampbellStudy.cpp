@@ -401,9 +401,11 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       if (k > 0 && !r.unstableRanges.empty() && r.unstableRanges.back().second == refAt(r.factors[k - 1])) {
         r.unstableRanges.back().second = refAt(f);
         unstableSteps.back().second = k;
+        r.unstableOpen.back().second = k + 1 == steps;
       } else {
         r.unstableRanges.push_back({refAt(f), refAt(f)});
         unstableSteps.push_back({k, k});
+        r.unstableOpen.push_back({k == 0, k + 1 == steps});
       }
     }
     if (k == 0) {
@@ -485,8 +487,15 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         // axis (negative) has the same lines (before, none was crossed).
         double lo = f0, hi = f, gLo = w0 - order * std::abs(refAt(lo)), gHi = modes[j].omega - order * std::abs(refAt(hi));
         // g_hi exactly 0 is a crossing at f_k, from either side (g_lo = 0
-        // was the previous interval's).
-        if (!ok0 || zeroFrequency(modes[j].stability) || gLo == 0.0 || (gHi != 0.0 && (gLo > 0) == (gHi > 0))) continue;
+        // was the previous interval's). A zero frequency at f_k ends the
+        // interval only where the track took it for being rigid-like (any
+        // MAC): where it is the same branch by shape (a mode at its critical
+        // speed on the grid, its frequency falling to zero), the crossing
+        // below it is there to find (it was skipped, a critical speed
+        // missed; found by a review).
+        const bool zeroAbove =
+            zeroFrequency(modes[j].stability) && spanMac(t, j) < macFloor;
+        if (!ok0 || zeroAbove || gLo == 0.0 || (gHi != 0.0 && (gLo > 0) == (gHi > 0))) continue;
         EngineOrderCrossing c;
         c.order = order;
         c.tracks = {static_cast<int>(t)};
@@ -799,10 +808,18 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     os << "track" << b.track + 1 << " jumps between two branches from " << b.from << " to " << b.to << " rad/s of '"
        << ref << "' (" << orderText(b.order) << " changes sign by the jump, not by a crossing: no critical speed "
        << "read there, and a crossing of either branch in between may be missed; a finer sweep follows them)\n";
-  for (const auto& [a, b] : unstableRanges)
-    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'"
-       << (unstableEdgesRefined ? " (edges bisected)" : " (the sweep's unstable speeds: the edges lie up to a step outside)")
-       << '\n';
+  for (std::size_t i = 0; i < unstableRanges.size(); ++i) {
+    const auto [a, b] = unstableRanges[i];
+    const auto [fromStart, toEnd] = i < unstableOpen.size() ? unstableOpen[i] : std::make_pair(false, false);
+    // An end of the sweep is no edge of the range: it goes on beyond it.
+    const char* edges = fromStart && toEnd ? "" : fromStart ? "its upper edge " : toEnd ? "its lower edge " : "edges ";
+    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'" << (toEnd ? " and beyond" : "") << " ("
+       << (fromStart ? "unstable from the sweep's first speed; " : "")
+       << (toEnd ? "still unstable at the sweep's end; " : "");
+    if (fromStart && toEnd) os << "no edge in the sweep)";
+    else os << edges << (unstableEdgesRefined ? "bisected)" : "the sweep's unstable speeds: up to a step outside)");
+    os << '\n';
+  }
   os.flags(flags);
   os.precision(prec);
 }

@@ -231,6 +231,10 @@ struct CampbellResult {
   /// speeds to "Crossing Tolerance" ("Refine Crossings"); else the first and
   /// last unstable grid speeds, up to a step inside the band.
   bool unstableEdgesRefined = false;
+  /// Per unstable range: (unstable at the sweep's first speed, at its last):
+  /// that end is the sweep's, not an edge of the range, which goes on
+  /// beyond it.
+  std::vector<std::pair<bool, bool>> unstableOpen;
   std::string whirlOf;               ///< the part whose orbit defines whirl
   bool whirlInRotorFrame = false;    ///< SpeedSweepProblem::whirlInRotorFrame: no unbalance note then
   std::string solver;                ///< the solver at the last speed
