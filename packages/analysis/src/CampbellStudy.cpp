@@ -454,9 +454,22 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         if (rate != 0.0 && atRate(m.omega, m.splitRadius, std::abs(rate))) return true;
       return false;
     };
+    // A vibration mode that becomes a zero frequency is matched by shape,
+    // like any mode (one at its critical speed is the same branch by MAC):
+    // a zero that took any mode let a track jump, silently, from a mode
+    // that left the set to an unrelated zero (an axial mode hidden at a
+    // critical speed by the in-plane pair's two zeros was followed by an
+    // in-plane track from there; found by a review). From a zero to a
+    // vibration mode any MAC is still taken: a mode through zero frequency
+    // comes back conjugated, its shape no longer comparable (the free
+    // shaft past its critical speed).
     const auto accept = [&](int t, int j) {
-      return rigidLike(last[static_cast<std::size_t>(t)], static_cast<std::size_t>(k - 1)) ||
-             rigidLike(modes[static_cast<std::size_t>(j)], static_cast<std::size_t>(k)) ||
+      const auto& a = last[static_cast<std::size_t>(t)];
+      const auto& b = modes[static_cast<std::size_t>(j)];
+      const bool becomesZero = !zeroFrequency(a.stability) && zeroFrequency(b.stability);
+      if (becomesZero && !rigidLike(a, static_cast<std::size_t>(k - 1)))
+        return spanMac(static_cast<std::size_t>(t), j) >= macFloor;
+      return rigidLike(a, static_cast<std::size_t>(k - 1)) || rigidLike(b, static_cast<std::size_t>(k)) ||
              spanMac(static_cast<std::size_t>(t), j) >= macFloor;
     };
     for (const auto& [v, t, j] : pairs)
@@ -799,10 +812,16 @@ void CampbellResult::printCrossings(std::ostream& os) const {
       os << "track" << t + 1 << " entered the requested modes at " << at(static_cast<std::size_t>(tr.firstStep))
          << " rad/s of '" << ref << "' (from above; its crossings below " << at(static_cast<std::size_t>(tr.firstStep))
          << " rad/s are not checked)\n";
-    for (std::size_t k = static_cast<std::size_t>(tr.firstStep) + 1; k < tr.lost.size(); ++k)
-      if (tr.lost[k] && !tr.lost[k - 1])
-        os << "track" << t + 1 << " left the requested modes at " << at(k) << " rad/s of '" << ref
-           << "' (lost from there: * in the table)\n";
+    for (std::size_t k = static_cast<std::size_t>(tr.firstStep) + 1; k < tr.lost.size(); ++k) {
+      if (!tr.lost[k] || tr.lost[k - 1]) continue;
+      std::size_t back = k;
+      while (back < tr.lost.size() && tr.lost[back]) ++back;
+      os << "track" << t + 1 << " left the requested modes at " << at(k) << " rad/s of '" << ref << "'";
+      if (back < tr.lost.size())  // its mode came back by shape: its crossings in between are not checked
+        os << " and came back at " << at(back) << " rad/s (* in the table between; its crossings there not checked)\n";
+      else
+        os << " (lost from there: * in the table)\n";
+    }
   }
   for (const auto& b : branchJumps)
     os << "track" << b.track + 1 << " jumps between two branches from " << b.from << " to " << b.to << " rad/s of '"
