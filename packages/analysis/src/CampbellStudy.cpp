@@ -709,10 +709,21 @@ bool unbalanceExcites(const EngineOrderCrossing& c, bool rotorFrame) {
 }
 
 std::string unbalanceNote(const EngineOrderCrossing& c, bool rotorFrame) {
-  if (rotorFrame && (c.whirl == Whirl::Forward || c.whirl == Whirl::Backward))
-    return std::string(c.whirl == Whirl::Forward ? "forward" : "backward") +
-           " in a spinning frame (there the rotor's unbalance is no 1X force; n per rev of a stationary force "
-           "excites it)";
+  if (rotorFrame && (c.whirl == Whirl::Forward || c.whirl == Whirl::Backward)) {
+    // A stationary force at nu, seen from a frame turning at Omega, is a
+    // forward force at nu - Omega and a backward one at nu + Omega: a whirl
+    // at n Omega in that frame is excited by a stationary force at (n + 1)
+    // Omega (forward) or (n - 1) Omega (backward), not at n Omega (theory
+    // §12.2; found by a review).
+    const bool forward = c.whirl == Whirl::Forward;
+    const double stationary = forward ? c.order + 1.0 : std::abs(c.order - 1.0);
+    std::ostringstream os;
+    os << (forward ? "forward" : "backward") << " in a spinning frame (the rotor's unbalance is no 1X force there; ";
+    if (stationary == 0.0) os << "a static stationary load, gravity or a side load, excites it";
+    else os << "a stationary force at " << orderText(stationary) << " excites it";
+    os << " where that frame turns at the reference rate)";
+    return os.str();
+  }
   if (c.whirl == Whirl::Forward)
     return unbalanceExcites(c, rotorFrame) ? "forward: unbalance excites it" : "forward";
   if (c.whirl == Whirl::Backward)

@@ -325,6 +325,9 @@ TEST(CampbellStudy, UnbalanceExcitesNoCrossingSeenFromTheRotorsOwnFrame) {
     r.writeCrossingsCsv(csv);
     EXPECT_EQ(text.str().find("unbalance excites it") != std::string::npos, !rotorFrame) << text.str();
     EXPECT_EQ(text.str().find("forward in a spinning frame") != std::string::npos, rotorFrame) << text.str();
+    // A 1X forward whirl in the rotor's frame is 2X in the stationary one:
+    // a stationary force at 2X excites it, not at 1X (found by a review).
+    EXPECT_EQ(text.str().find("a stationary force at 2X excites it") != std::string::npos, rotorFrame) << text.str();
     EXPECT_EQ(csv.str().find(",forward,yes,") != std::string::npos || csv.str().find(",FW,yes,") != std::string::npos,
               !rotorFrame)
         << csv.str();
