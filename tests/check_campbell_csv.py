@@ -17,7 +17,10 @@
   --rotor-frame=1: the whirl part is seen from a spinning frame in which
   its unbalance is no 1X force of the reference), and "dominant"
   names the part (or parts "a & b") of each track (among --parts when
-  given: the scene's substructures).
+  given: the scene's substructures); rows of order 0 are the zero-frequency
+  critical speeds (K(Omega) singular): frequency 0, whirl -, no track or
+  dominant part, and "unbalance" yes exactly with --rotor-frame=1 (there
+  the unbalance is a static load of the frame).
 Exit 0 on success, 1 with the reasons otherwise.
 """
 import csv
@@ -82,6 +85,13 @@ def main(argv):
         bad.append(f"{side}: header {header}")
     for c in crossings:
         order, w = float(c["order"]), float(c["speed_rad_per_s"])
+        if order == 0.0:
+            if (float(c["frequency_hz"]) != 0.0 or c["whirl"] != "-" or c["tracks"] or c["dominant"]
+                    or c["unbalance"] != ("yes" if rotor_frame else "no")):
+                bad.append(f"{side}: zero-frequency row {c}")
+            if not math.isclose(float(c["speed_rpm"]), w * 30 / math.pi, rel_tol=1e-9):
+                bad.append(f"{side}: {c['speed_rpm']} rpm is not {w} rad/s")
+            continue
         if order not in orders:
             bad.append(f"{side}: order {order} not asked")
         if not math.isclose(float(c["frequency_hz"]), order * w / (2 * math.pi), rel_tol=1e-9):

@@ -1,8 +1,10 @@
 #include "cms/analysis/CampbellStudy.hpp"
 #include "cms/analysis/PeriodicStructure.hpp"
+#include "cms/core/SparseInertia.hpp"
 #include "cms/core/SparseProduct.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <cmath>
 #include <iomanip>
@@ -39,6 +41,52 @@ eigen::GyroscopicSystem SpeedDependentSystem::at(double Omega) const {
       for (int i = 0; i < K0.numRows(); ++i) s.K(i, j) += Omega * Omega * K2(i, j);
   }
   return s;
+}
+
+extern "C" void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work,
+                        const int* lwork, int* info);
+
+namespace {
+/// Negative eigenvalues of a dense symmetric K by its Bunch-Kaufman L D L^T
+/// (Sylvester: the signs of D's 1x1 pivots and 2x2 blocks); a pivot within
+/// 1e-13 of K's largest diagonal magnitude (rounding) is not counted.
+long long denseNegatives(const DenseMatrix& K) {
+  const int n = K.numRows();
+  if (n == 0) return 0;
+  DenseMatrix A = K;
+  double scale = 0.0;
+  for (int i = 0; i < n; ++i) scale = std::max(scale, std::abs(K(i, i)));
+  const double tiny = 1e-13 * std::max(scale, std::numeric_limits<double>::min());
+  std::vector<int> piv(n);
+  int info = 0, lda = A.stride(), lwork = -1;
+  double query = 0.0;
+  const char uplo = 'L';
+  dsytrf_(&uplo, &n, A.values(), &lda, piv.data(), &query, &lwork, &info);
+  lwork = std::max(1, static_cast<int>(query));
+  std::vector<double> work(static_cast<std::size_t>(lwork));
+  dsytrf_(&uplo, &n, A.values(), &lda, piv.data(), work.data(), &lwork, &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info < 0, NumericalError, "Campbell: LAPACK dsytrf on K failed, info = " << info);
+  long long negative = 0;
+  for (int i = 0; i < n; ++i) {
+    if (piv[i] > 0) {  // 1x1 pivot
+      negative += A(i, i) < -tiny;
+      continue;
+    }
+    // 2x2 block [a b; b c] (rows i, i+1): its two eigenvalues' signs.
+    const double a = A(i, i), b = A(i + 1, i), c = A(i + 1, i + 1);
+    const double disc = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
+    const double lo = 0.5 * (a + c) - disc, hi = 0.5 * (a + c) + disc;
+    negative += (lo < -tiny) + (hi < -tiny);
+    ++i;
+  }
+  return negative;
+}
+}  // namespace
+
+long long DenseSweepProblem::stiffnessNegatives(const std::vector<double>& speeds) const {
+  CMS_INPUT_CHECK(speeds.size() != 1 || !std::isfinite(speeds[0]),
+                  "DenseSweepProblem: one finite speed expected, got " << speeds.size());
+  return denseNegatives(system_.at(speeds[0]).K);
 }
 
 DenseSweepProblem::DenseSweepProblem(SpeedDependentSystem system, std::string name, double nominal,
@@ -159,6 +207,16 @@ synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<doubl
         .solve(solveParams_.isParameter("Number of Modes") ? solveParams_.get<int>("Number of Modes") : 10)
         .modes;
   return reduced_.solve(speeds, solveParams_);
+}
+
+long long SynthesizedSweepProblem::stiffnessNegatives(const std::vector<double>& speeds) const {
+  // A free body's K is singular at every speed (its rigid motions), and
+  // spinning, indefinite from the first speed on: no count to read.
+  if (structure_.freeFloating() || !reduced_.movingHubs().empty()) return -1;
+  const int limit = solveParams_.isParameter("Dense Limit") ? solveParams_.get<int>("Dense Limit") : 1500;
+  if (reduced_.size() <= limit) return denseNegatives(reduced_.denseSystem(speeds).K);
+  const auto count = inertia(reduced_.system(speeds).K);
+  return count.failure.empty() ? count.negative : -1;
 }
 
 std::vector<synthesis::StructureModes> SynthesizedSweepProblem::solveAll(const std::vector<std::vector<double>>& speeds,
@@ -628,6 +686,46 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     r.unstableEdgesRefined = true;
   }
 
+  // Speeds where a frequency passes through zero (theory §12.1): K(Omega)
+  // singular, where the count of its negative eigenvalues changes. The
+  // tracks cannot show it (a mode through zero comes back conjugated, its
+  // shape no longer comparable, and the grid rarely falls on it): a disc on
+  // a spinning shaft, swept in the shaft's frame, had its unbalance critical
+  // speed nowhere in the output (found by a review). Each change between
+  // grid speeds is bisected on the count; an interval whose count changes
+  // by more than one is split until each change stands alone. Two changes
+  // that cancel within one step are not seen.
+  {
+    std::vector<long long> counts(r.factors.size());
+    bool counted = true;
+    for (std::size_t k = 0; k < r.factors.size() && counted; ++k) {
+      counts[k] = problem.stiffnessNegatives(speedsAt(r.factors[k]));
+      counted = counts[k] >= 0;
+    }
+    r.zeroCountsTaken = counted;
+    const std::function<void(double, long long, double, long long)> search = [&](double lo, long long cLo, double hi,
+                                                                              long long cHi) {
+      if (cLo == cHi) return;
+      const bool closed = !refine || hi - lo <= crossingTol * std::max(std::abs(lo), std::abs(hi));
+      if (closed) {
+        // Without bisection: the middle of the grid interval, as a crossing
+        // read linearly would be.
+        r.zeroFrequencySpeeds.push_back(refAt(0.5 * (lo + hi)));
+        return;
+      }
+      const double mid = 0.5 * (lo + hi);
+      const long long cMid = problem.stiffnessNegatives(speedsAt(mid));
+      if (cMid < 0) {
+        r.zeroFrequencySpeeds.push_back(refAt(mid));
+        return;
+      }
+      search(lo, cLo, mid, cMid);
+      search(mid, cMid, hi, cHi);
+    };
+    if (counted)
+      for (std::size_t k = 1; k < r.factors.size(); ++k) search(r.factors[k - 1], counts[k - 1], r.factors[k], counts[k]);
+  }
+
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
   for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
   // A frame-rate track's jumps are rounding about a rate, like its crossings.
@@ -796,6 +894,21 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     os << '\n';
     os.flags(flags);
   }
+  // Zero frequencies (K(Omega) singular): a static mode of the swept frame.
+  if (!zeroFrequencySpeeds.empty()) {
+    os << "zero-frequency critical speeds of '" << ref << "' (a frequency passes through zero: K(Omega) singular; "
+       << (whirlInRotorFrame ? "in the rotor's own frame its unbalance, a static load there, excites it"
+                             : "a static load in the swept frame excites it")
+       << (unstableEdgesRefined ? "" : "; the middle of the sweep step holding it") << "):\n";
+    for (const double w : zeroFrequencySpeeds) {
+      os << "  " << std::setw(5) << "0X" << std::fixed << std::setprecision(4) << std::setw(25) << w << " rad/s"
+         << std::setw(14) << w * 30.0 / M_PI << " rpm\n";
+      os.flags(flags);
+    }
+  } else if (!zeroCountsTaken) {
+    os << "zero-frequency critical speeds: not sought (a free body's stiffness is singular at every speed, or a "
+          "rotor on a moving hub)\n";
+  }
   std::vector<int> frame;
   for (std::size_t t = 0; t < tracks.size(); ++t)
     if (tracks[t].frameRate) frame.push_back(static_cast<int>(t));
@@ -889,6 +1002,10 @@ void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
     for (std::size_t i = 0; i < c.dominant.size(); ++i) os << (i ? ";" : "") << c.dominant[i];
     os << '\n';
   }
+  // Zero-frequency critical speeds: order 0, no track (theory §12.1).
+  for (const double w : zeroFrequencySpeeds)
+    os << 0 << ',' << w << ',' << w * 30.0 / M_PI << ',' << 0 << ',' << toString(Whirl::Neutral) << ','
+       << (whirlInRotorFrame ? "yes" : "no") << ",," << (unstableEdgesRefined ? "yes" : "no") << ",\n";
   os.precision(prec);
 }
 

@@ -90,6 +90,16 @@ public:
   /// Per mode of `modes`, the part that carries the largest share of its
   /// kinetic energy (a substructure's name; theory §11.6).
   virtual std::vector<std::string> dominant(const synthesis::StructureModes& modes) const = 0;
+  /// How many eigenvalues of the stiffness K(speeds) (spin softening and
+  /// stress stiffening included) are negative: where the count changes, K
+  /// is singular and a frequency passes through zero (theory §12.1); -1
+  /// where no count is made (a free body, whose K is singular at every
+  /// speed; a rotor on a moving hub). A pivot within rounding of zero is
+  /// not counted negative.
+  virtual long long stiffnessNegatives(const std::vector<double>& speeds) const {
+    (void)speeds;
+    return -1;
+  }
 };
 
 /// One speed, dense: eigen::DenseGyroscopicSolver with `solverParams`.
@@ -107,6 +117,7 @@ public:
   std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override {
     return std::vector<std::string>(modes.result.modes.size(), name_);
   }
+  long long stiffnessNegatives(const std::vector<double>& speeds) const override;
 
 private:
   SpeedDependentSystem system_;
@@ -136,6 +147,9 @@ public:
   /// shares agree with the largest to 1e-3 are named together, "a & b"
   /// (identical parts in a symmetric mode).
   std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override;
+  /// Dense L D L^T of K up to "Dense Limit" coordinates, else the sparse
+  /// inertia (cms::inertia); -1 for a free-floating structure or a moving hub.
+  long long stiffnessNegatives(const std::vector<double>& speeds) const override;
 
 private:
   const synthesis::AssembledStructure& structure_;
@@ -235,6 +249,14 @@ struct CampbellResult {
   /// that end is the sweep's, not an edge of the range, which goes on
   /// beyond it.
   std::vector<std::pair<bool, bool>> unstableOpen;
+  /// Reference speeds (rad/s) where a frequency passes through zero: the
+  /// count of K(Omega)'s negative eigenvalues changes there (bisected to
+  /// "Crossing Tolerance" with "Refine Crossings", else linear between the
+  /// sweep's speeds). In a spinning frame a zero frequency is a static
+  /// mode of that frame: in the rotor's own frame the unbalance critical
+  /// speed. Empty with `zeroCountsTaken` false where no count is made.
+  std::vector<double> zeroFrequencySpeeds;
+  bool zeroCountsTaken = false;
   std::string whirlOf;               ///< the part whose orbit defines whirl
   bool whirlInRotorFrame = false;    ///< SpeedSweepProblem::whirlInRotorFrame: no unbalance note then
   std::string solver;                ///< the solver at the last speed
