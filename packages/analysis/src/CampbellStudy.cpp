@@ -374,7 +374,10 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   const int steps = params_.get<int>("Steps");
   const double maxFactor = params_.get<double>("Max Factor"), speedFactor = params_.get<double>("Speed Factor");
   const std::string swept = params_.get<std::string>("Speed Parameter");
-  const auto orders = params_.get<Teuchos::Array<double>>("Engine Orders");
+  // Each order once ("1,1.0" listed every crossing twice; a review).
+  auto orders = params_.get<Teuchos::Array<double>>("Engine Orders");
+  std::sort(orders.begin(), orders.end());
+  orders.erase(std::unique(orders.begin(), orders.end()), orders.end());
   const bool refine = params_.get<bool>("Refine Crossings");
   const double crossingTol = params_.get<double>("Crossing Tolerance"), frameTol = params_.get<double>("Frame Rate Tolerance");
   const WhirlClassification rule(params_.sublist("Whirl"));
@@ -865,8 +868,10 @@ void CampbellResult::printTable(std::ostream& os, SpeedAxis axis) const {
     for (double v : speeds[k]) os << std::setw(16) << std::setprecision(6) << v;
     for (const auto& tr : tracks) {
       const double y = axis == SpeedAxis::PerRev ? tr.omega[k] / std::abs(Omega) : tr.omega[k] / (2 * M_PI);
-      os << std::setw(13) << std::setprecision(6) << y << (flagged(tr, k) ? '*' : ' ') << std::setw(11)
-         << toString(tr.whirl[k]);
+      // Per rev at rest is no number (inf or nan printed before): "-".
+      if (axis == SpeedAxis::PerRev && Omega == 0.0 && !std::isnan(tr.omega[k])) os << std::setw(13) << "-";
+      else os << std::setw(13) << std::setprecision(6) << y;
+      os << (flagged(tr, k) ? '*' : ' ') << std::setw(11) << toString(tr.whirl[k]);
     }
     os << '\n';
   }

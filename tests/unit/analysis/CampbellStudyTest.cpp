@@ -180,6 +180,25 @@ TEST(CampbellStudy, EngineOrderCriticalSpeedsMatchTheClosedForm) {
   }
 }
 
+// An order given twice ("1,1.0") is swept once: each crossing was listed
+// twice, its tracks "2,2" (found by a review). And the per-rev axis at
+// rest, where frequency over speed is no number, prints "-", not inf/nan.
+TEST(CampbellStudy, AnOrderGivenTwiceIsSweptOnceAndPerRevAtRestIsNoNumber) {
+  const analysis::DenseSweepProblem problem(twoDof(4.0, 1.0, 1.0, 0.0), "spin", 3.0);
+  const auto once = analysis::CampbellStudy(sweep(31, 1.0, {1.0, 2.0})).run(problem);
+  const auto twice = analysis::CampbellStudy(sweep(31, 1.0, {2.0, 1.0, 1.0, 2.0})).run(problem);
+  ASSERT_EQ(twice.crossings.size(), once.crossings.size());
+  EXPECT_EQ(twice.orders, once.orders);
+  for (std::size_t i = 0; i < once.crossings.size(); ++i) {
+    EXPECT_EQ(twice.crossings[i].order, once.crossings[i].order);
+    EXPECT_EQ(twice.crossings[i].tracks, once.crossings[i].tracks);
+  }
+  std::ostringstream table;
+  once.printTable(table, analysis::SpeedAxis::PerRev);
+  EXPECT_EQ(table.str().find("inf"), std::string::npos) << table.str();
+  EXPECT_EQ(table.str().find("nan"), std::string::npos) << table.str();
+}
+
 TEST(CampbellStudy, ASpinAgainstItsAxisHasTheSameCriticalSpeeds) {
   // A negative rate turns the other way about the same axis: K(Omega)
   // depends on Omega^2 and the frequencies do not change, and an engine
