@@ -264,3 +264,25 @@ TEST(RotatingPointMass, ZeroFrequencyCriticalSpeedsAreFoundByTheStiffnessCount) 
   d.writeCrossingsCsv(csv);
   EXPECT_NE(csv.str().find("\n0,25"), std::string::npos) << csv.str();
 }
+
+// A crossing bisected from a repeated pair: on isotropic springs (k = 800,
+// m = 2: 20 -/+ Omega in the rotating frame) the pair is double at rest, and
+// its lower branch meets 1.25X at 20 / 2.25 = 8.889 rad/s. With the grid 0,
+// 10 the bisection starts from the double mode, any combination of the two
+// branches (MAC ~0.5 with each once the speed splits them): it followed the
+// upper branch, which never crosses, and reported a jump instead of the
+// crossing (found by a review). Bisected to 1e-9, doubled for the two ends.
+TEST(RotatingPointMass, ACrossingBisectedFromARepeatedPairFollowsItsOwnBranch) {
+  auto s = pointMass();
+  s.K0(1, 1) = kx;
+  Teuchos::ParameterList study;
+  study.set("Steps", 2);
+  study.set("Max Factor", 1.0);
+  study.set("Crossing Tolerance", 1e-9);
+  study.set("Engine Orders", Teuchos::Array<double>(1, 1.25));
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(s, "frame", 10.0));
+  EXPECT_TRUE(d.branchJumps.empty()) << d.branchJumps.size() << " jump(s) reported";
+  ASSERT_EQ(d.crossings.size(), 1u);
+  EXPECT_TRUE(d.crossings[0].refined);
+  EXPECT_NEAR(d.crossings[0].speed, 20.0 / 2.25, 2e-9 * 20.0 / 2.25);
+}

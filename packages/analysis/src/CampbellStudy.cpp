@@ -589,8 +589,25 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
               auto m = problem.solve(speedsAt(mid));
               if (m.result.status != eigen::SolveStatus::Converged || m.result.modes.empty()) break;
               const auto row = problem.mac({followed}, m.result.modes).front();
-              const int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
+              int best = static_cast<int>(std::max_element(row.begin(), row.end()) - row.begin());
               if (row[static_cast<std::size_t>(best)] < macFloor) break;  // the mode left the set in between
+              // Followed from a repeated mode (a symmetric rotor's pair at
+              // rest: any combination of the two, MAC ~0.5 with each branch
+              // once the speed splits them), the lower end does not say
+              // which branch is the track's: the upper end's mode, the
+              // track's by the grid's matching, does. Without it the
+              // bisection followed the other branch, closed on a "jump"
+              // and lost the crossing (found by a review).
+              {
+                const double top = row[static_cast<std::size_t>(best)];
+                int rivals = 0;
+                for (const double v : row) rivals += v >= 0.8 * top;
+                if (rivals > 1) {
+                  const auto upper = problem.mac({modes[static_cast<std::size_t>(j)]}, m.result.modes).front();
+                  for (std::size_t i = 0; i < row.size(); ++i)
+                    if (row[i] >= 0.8 * top && upper[i] > upper[static_cast<std::size_t>(best)]) best = static_cast<int>(i);
+                }
+              }
               const double g = m.result.modes[best].omega - order * std::abs(refAt(mid));
               if ((g > 0) == (gLo > 0)) lo = mid, gLo = g, followed = m.result.modes[best];
               else hi = mid, gHi = g;
