@@ -19,8 +19,8 @@
   names the part (or parts "a & b") of each track (among --parts when
   given: the scene's substructures); rows of order 0 are the zero-frequency
   critical speeds (K(Omega) singular): frequency 0, whirl -, no track or
-  dominant part, and "unbalance" yes exactly with --rotor-frame=1 (there
-  the unbalance is a static load of the frame).
+  dominant part, a speed above 0, and "unbalance" frame (a static load of
+  the swept frame excites it).
 Exit 0 on success, 1 with the reasons otherwise.
 """
 import csv
@@ -87,7 +87,7 @@ def main(argv):
         order, w = float(c["order"]), float(c["speed_rad_per_s"])
         if order == 0.0:
             if (float(c["frequency_hz"]) != 0.0 or c["whirl"] != "-" or c["tracks"] or c["dominant"]
-                    or c["unbalance"] != ("yes" if rotor_frame else "no")):
+                    or c["unbalance"] != "frame" or c["refined"] not in ("yes", "no") or not w > 0.0):
                 bad.append(f"{side}: zero-frequency row {c}")
             if not math.isclose(float(c["speed_rpm"]), w * 30 / math.pi, rel_tol=1e-9):
                 bad.append(f"{side}: {c['speed_rpm']} rpm is not {w} rad/s")

@@ -286,3 +286,34 @@ TEST(RotatingPointMass, ACrossingBisectedFromARepeatedPairFollowsItsOwnBranch) {
   EXPECT_TRUE(d.crossings[0].refined);
   EXPECT_NEAR(d.crossings[0].speed, 20.0 / 2.25, 2e-9 * 20.0 / 2.25);
 }
+
+// The stiffness count judges a pivot zero against its own row's stiffness:
+// a soft spring (k = 100, m = 1: zero frequency at Omega = 10) beside a
+// spring 1e14 times stiffer. Judged against the largest diagonal, the soft
+// pivot went negative only well past 10 rad/s (5% late at 1e12, never at
+// 1e16; a review). And two zero frequencies in one step are two speeds
+// with or without "Refine Crossings" (the count is always bisected).
+TEST(RotatingPointMass, ZeroFrequenciesBesideAStiffSpringAndTwoInOneStep) {
+  analysis::SpeedDependentSystem s;
+  s.M.shape(2, 2), s.G1.shape(2, 2), s.K0.shape(2, 2), s.K2.shape(2, 2);
+  s.M(0, 0) = s.M(1, 1) = 1.0;
+  s.K0(0, 0) = 100.0, s.K0(1, 1) = 1e16;
+  s.K2(0, 0) = -1.0;
+  Teuchos::ParameterList study;
+  study.set("Steps", 4);
+  study.set("Max Factor", 1.0);
+  study.set("Crossing Tolerance", 1e-9);
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(s, "frame", 20.0));
+  ASSERT_EQ(d.zeroFrequencySpeeds.size(), 1u);
+  EXPECT_NEAR(d.zeroFrequencySpeeds[0], 10.0, 2e-9 * 10.0);
+
+  Teuchos::ParameterList coarse;
+  coarse.set("Steps", 2);  // 0 and 30: both zero frequencies, 20 and 25, in one step
+  coarse.set("Max Factor", 1.0);
+  coarse.set("Refine Crossings", false);
+  coarse.set("Crossing Tolerance", 1e-9);
+  const auto two = analysis::CampbellStudy(coarse).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
+  ASSERT_EQ(two.zeroFrequencySpeeds.size(), 2u);
+  EXPECT_NEAR(two.zeroFrequencySpeeds[0], 20.0, 2e-9 * 20.0);
+  EXPECT_NEAR(two.zeroFrequencySpeeds[1], 25.0, 2e-9 * 25.0);
+}

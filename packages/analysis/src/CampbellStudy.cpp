@@ -48,15 +48,24 @@ extern "C" void dsytrf_(const char* uplo, const int* n, double* a, const int* ld
 
 namespace {
 /// Negative eigenvalues of a dense symmetric K by its Bunch-Kaufman L D L^T
-/// (Sylvester: the signs of D's 1x1 pivots and 2x2 blocks); a pivot within
-/// 1e-13 of K's largest diagonal magnitude (rounding) is not counted.
-long long denseNegatives(const DenseMatrix& K) {
+/// (Sylvester: the signs of D's 1x1 pivots and 2x2 blocks), K first scaled
+/// symmetrically by its diagonal's magnitudes (S K S, S = |diag K|^-1/2
+/// where the diagonal is not zero; the inertia is unchanged) so that a
+/// pivot's "zero to rounding", 1e-13, is relative to its own row's
+/// stiffness: against the largest diagonal a soft spring on a chain 1e12
+/// times stiffer went negative 5% late, and at 1e16 never (a review).
+StiffnessCount denseStiffnessCount(const DenseMatrix& K) {
+  StiffnessCount out;
   const int n = K.numRows();
-  if (n == 0) return 0;
-  DenseMatrix A = K;
-  double scale = 0.0;
-  for (int i = 0; i < n; ++i) scale = std::max(scale, std::abs(K(i, i)));
-  const double tiny = 1e-13 * std::max(scale, std::numeric_limits<double>::min());
+  out.negative = 0;
+  if (n == 0) return out;
+  std::vector<double> sc(n, 1.0);
+  for (int i = 0; i < n; ++i)
+    if (std::abs(K(i, i)) > 0.0) sc[i] = 1.0 / std::sqrt(std::abs(K(i, i)));
+  DenseMatrix A(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) A(i, j) = sc[i] * K(i, j) * sc[j];
+  const double tiny = 1e-13;
   std::vector<int> piv(n);
   int info = 0, lda = A.stride(), lwork = -1;
   double query = 0.0;
@@ -65,28 +74,33 @@ long long denseNegatives(const DenseMatrix& K) {
   lwork = std::max(1, static_cast<int>(query));
   std::vector<double> work(static_cast<std::size_t>(lwork));
   dsytrf_(&uplo, &n, A.values(), &lda, piv.data(), work.data(), &lwork, &info);
-  TEUCHOS_TEST_FOR_EXCEPTION(info < 0, NumericalError, "Campbell: LAPACK dsytrf on K failed, info = " << info);
-  long long negative = 0;
+  if (info < 0 || !std::isfinite(A(0, 0))) {
+    out.negative = -1;
+    out.why = "LAPACK dsytrf on K failed (info " + std::to_string(info) + ")";
+    return out;
+  }
   for (int i = 0; i < n; ++i) {
-    if (piv[i] > 0) {  // 1x1 pivot
-      negative += A(i, i) < -tiny;
+    double lo = A(i, i), hi = A(i, i);
+    if (piv[i] < 0 && i + 1 < n) {  // 2x2 block [a b; b c] (rows i, i+1): its two eigenvalues
+      const double a = A(i, i), b = A(i + 1, i), c = A(i + 1, i + 1);
+      const double disc = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
+      lo = 0.5 * (a + c) - disc, hi = 0.5 * (a + c) + disc;
+      out.negative += (lo < -tiny) + (hi < -tiny);
+      out.singular = out.singular || std::abs(lo) <= tiny || std::abs(hi) <= tiny;
+      ++i;
       continue;
     }
-    // 2x2 block [a b; b c] (rows i, i+1): its two eigenvalues' signs.
-    const double a = A(i, i), b = A(i + 1, i), c = A(i + 1, i + 1);
-    const double disc = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
-    const double lo = 0.5 * (a + c) - disc, hi = 0.5 * (a + c) + disc;
-    negative += (lo < -tiny) + (hi < -tiny);
-    ++i;
+    out.negative += lo < -tiny;
+    out.singular = out.singular || std::abs(lo) <= tiny;
   }
-  return negative;
+  return out;
 }
 }  // namespace
 
-long long DenseSweepProblem::stiffnessNegatives(const std::vector<double>& speeds) const {
+StiffnessCount DenseSweepProblem::stiffnessCount(const std::vector<double>& speeds) const {
   CMS_INPUT_CHECK(speeds.size() != 1 || !std::isfinite(speeds[0]),
                   "DenseSweepProblem: one finite speed expected, got " << speeds.size());
-  return denseNegatives(system_.at(speeds[0]).K);
+  return denseStiffnessCount(system_.at(speeds[0]).K);
 }
 
 DenseSweepProblem::DenseSweepProblem(SpeedDependentSystem system, std::string name, double nominal,
@@ -209,14 +223,39 @@ synthesis::StructureModes SynthesizedSweepProblem::solve(const std::vector<doubl
   return reduced_.solve(speeds, solveParams_);
 }
 
-long long SynthesizedSweepProblem::stiffnessNegatives(const std::vector<double>& speeds) const {
+StiffnessCount SynthesizedSweepProblem::stiffnessCount(const std::vector<double>& speeds) const {
   // A free body's K is singular at every speed (its rigid motions), and
-  // spinning, indefinite from the first speed on: no count to read.
-  if (structure_.freeFloating() || !reduced_.movingHubs().empty()) return -1;
+  // spinning, indefinite from the first speed on: not sought.
+  StiffnessCount out;
+  if (structure_.freeFloating()) {
+    out.why = "a free body's stiffness is singular at every speed";
+    return out;
+  }
+  if (!reduced_.movingHubs().empty()) {
+    out.why = "a rotor on a moving hub (periodic, theory 16.8)";
+    return out;
+  }
   const int limit = solveParams_.isParameter("Dense Limit") ? solveParams_.get<int>("Dense Limit") : 1500;
-  if (reduced_.size() <= limit) return denseNegatives(reduced_.denseSystem(speeds).K);
-  const auto count = inertia(reduced_.system(speeds).K);
-  return count.failure.empty() ? count.negative : -1;
+  if (reduced_.size() <= limit) return denseStiffnessCount(reduced_.denseSystem(speeds).K);
+  // The sparse inertia, K scaled by its diagonal's magnitudes first, as the
+  // dense count is (its zero-pivot test is against the largest diagonal).
+  auto K = Teuchos::rcp(new CrsMatrix(*reduced_.system(speeds).K, Teuchos::Copy));
+  Vector d(K->getRowMap());
+  K->getLocalDiagCopy(d);
+  {
+    auto v = d.getLocalViewHost(Tpetra::Access::ReadWrite);
+    for (std::size_t i = 0; i < d.getLocalLength(); ++i) v(i, 0) = std::abs(v(i, 0)) > 0.0 ? 1.0 / std::sqrt(std::abs(v(i, 0))) : 1.0;
+  }
+  K->leftScale(d);
+  K->rightScale(d);
+  const auto count = inertia(Teuchos::RCP<const CrsMatrix>(K));
+  if (!count.failure.empty()) {
+    out.why = "the sparse inertia failed: " + count.failure;
+    return out;
+  }
+  out.negative = count.negative;
+  out.singular = count.tinyPivots > 0;
+  return out;
 }
 
 std::vector<synthesis::StructureModes> SynthesizedSweepProblem::solveAll(const std::vector<std::vector<double>>& speeds,
@@ -715,35 +754,44 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   // grid speeds is bisected on the count; an interval whose count changes
   // by more than one is split until each change stands alone. Two changes
   // that cancel within one step are not seen.
+  //    The count is bisected whether or not "Refine Crossings" is set (a
+  //    factorisation a step, no eigensolve), so that two changes in one
+  //    step are two speeds. A change that closes on speed 0 is dropped: K
+  //    singular at rest is a mechanism or a rigid motion that spin softens,
+  //    not a critical speed.
   {
-    std::vector<long long> counts(r.factors.size());
+    std::vector<StiffnessCount> counts(r.factors.size());
     bool counted = true;
     for (std::size_t k = 0; k < r.factors.size() && counted; ++k) {
-      counts[k] = problem.stiffnessNegatives(speedsAt(r.factors[k]));
-      counted = counts[k] >= 0;
+      counts[k] = problem.stiffnessCount(speedsAt(r.factors[k]));
+      counted = counts[k].negative >= 0;
+      if (!counted)  // at the first speed: the model gives none; later: a count failed there
+        r.zeroCountsNote = counts[k].why + (k == 0 ? "" : " (at " + std::to_string(refAt(r.factors[k])) + " rad/s)");
     }
     r.zeroCountsTaken = counted;
+    const double step = r.factors.size() > 1 ? std::abs(r.factors[1] - r.factors[0]) : 1.0;
     const std::function<void(double, long long, double, long long)> search = [&](double lo, long long cLo, double hi,
                                                                               long long cHi) {
       if (cLo == cHi) return;
-      const bool closed = !refine || hi - lo <= crossingTol * std::max(std::abs(lo), std::abs(hi));
-      if (closed) {
-        // Without bisection: the middle of the grid interval, as a crossing
-        // read linearly would be.
-        r.zeroFrequencySpeeds.push_back(refAt(0.5 * (lo + hi)));
-        return;
-      }
+      const double width = crossingTol * std::max({std::abs(lo), std::abs(hi), step});
+      const auto record = [&](double f, bool refined) {
+        if (std::abs(f) <= width) return;  // at rest: no critical speed
+        r.zeroFrequencySpeeds.push_back(refAt(f));
+        r.zeroFrequencyRefined.push_back(refined);
+      };
+      if (hi - lo <= width) return record(0.5 * (lo + hi), true);
       const double mid = 0.5 * (lo + hi);
-      const long long cMid = problem.stiffnessNegatives(speedsAt(mid));
-      if (cMid < 0) {
-        r.zeroFrequencySpeeds.push_back(refAt(mid));
-        return;
+      const auto cMid = problem.stiffnessCount(speedsAt(mid));
+      if (cMid.negative < 0) {  // said, and the middle of what is known
+        r.zeroCountsNote = cMid.why + " (at " + std::to_string(refAt(mid)) + " rad/s, inside a bracket)";
+        return record(mid, false);
       }
-      search(lo, cLo, mid, cMid);
-      search(mid, cMid, hi, cHi);
+      search(lo, cLo, mid, cMid.negative);
+      search(mid, cMid.negative, hi, cHi);
     };
     if (counted)
-      for (std::size_t k = 1; k < r.factors.size(); ++k) search(r.factors[k - 1], counts[k - 1], r.factors[k], counts[k]);
+      for (std::size_t k = 1; k < r.factors.size(); ++k)
+        search(r.factors[k - 1], counts[k - 1].negative, r.factors[k], counts[k].negative);
   }
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
@@ -918,19 +966,22 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   }
   // Zero frequencies (K(Omega) singular): a static mode of the swept frame.
   if (!zeroFrequencySpeeds.empty()) {
-    os << "zero-frequency critical speeds of '" << ref << "' (a frequency passes through zero: K(Omega) singular; "
-       << (whirlInRotorFrame ? "in the rotor's own frame its unbalance, a static load there, excites it"
-                             : "a static load in the swept frame excites it")
-       << (unstableEdgesRefined ? "" : "; the middle of the sweep step holding it") << "):\n";
-    for (const double w : zeroFrequencySpeeds) {
+    os << "zero-frequency critical speeds of '" << ref
+       << "' (a frequency passes through zero: K(Omega) singular; a static load of the swept frame excites it, "
+          "such as the unbalance of a part turning with that frame):\n";
+    for (std::size_t i = 0; i < zeroFrequencySpeeds.size(); ++i) {
+      const double w = zeroFrequencySpeeds[i];
       os << "  " << std::setw(5) << "0X" << std::fixed << std::setprecision(4) << std::setw(25) << w << " rad/s"
-         << std::setw(14) << w * 30.0 / M_PI << " rpm\n";
+         << std::setw(14) << w * 30.0 / M_PI << " rpm"
+         << (i < zeroFrequencyRefined.size() && !zeroFrequencyRefined[i] ? " (not bisected: a count failed)" : "")
+         << '\n';
       os.flags(flags);
     }
-  } else if (!zeroCountsTaken) {
-    os << "zero-frequency critical speeds: not sought (a free body's stiffness is singular at every speed, or a "
-          "rotor on a moving hub)\n";
   }
+  if (!zeroCountsNote.empty())
+    os << "zero-frequency critical speeds: "
+       << (zeroCountsTaken || !zeroFrequencySpeeds.empty() ? "a count failed: " : "not sought: ") << zeroCountsNote
+       << '\n';
   std::vector<int> frame;
   for (std::size_t t = 0; t < tracks.size(); ++t)
     if (tracks[t].frameRate) frame.push_back(static_cast<int>(t));
@@ -1025,9 +1076,14 @@ void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
     os << '\n';
   }
   // Zero-frequency critical speeds: order 0, no track (theory §12.1).
-  for (const double w : zeroFrequencySpeeds)
-    os << 0 << ',' << w << ',' << w * 30.0 / M_PI << ',' << 0 << ',' << toString(Whirl::Neutral) << ','
-       << (whirlInRotorFrame ? "yes" : "no") << ",," << (unstableEdgesRefined ? "yes" : "no") << ",\n";
+  // unbalance "frame": a static load of the swept frame excites it (the
+  // unbalance of a part turning with that frame; theory §12.1).
+  for (std::size_t i = 0; i < zeroFrequencySpeeds.size(); ++i) {
+    const double w = zeroFrequencySpeeds[i];
+    const bool refinedHere = i >= zeroFrequencyRefined.size() || zeroFrequencyRefined[i];
+    os << 0 << ',' << w << ',' << w * 30.0 / M_PI << ',' << 0 << ',' << toString(Whirl::Neutral) << ",frame,,"
+       << (refinedHere ? "yes" : "no") << ",\n";
+  }
   os.precision(prec);
 }
 

@@ -407,6 +407,14 @@ TEST(CampbellStudy, FrameRateTracksGiveNoCriticalSpeeds) {
   }
   EXPECT_EQ(frame, 2);  // the free mass's two translations, nothing elastic
   ASSERT_EQ(r.crossings.size(), 2u) << "a frame-rate track was listed as a critical speed";
+  // K = diag(-m Omega^2 (twice), k - m Omega^2 (twice)): singular at rest
+  // (the free mass) and negative from the first speed on, which is no
+  // critical speed (a review found one "at 0.0000 rad/s"); the elastic
+  // mass's zero frequency at sqrt(k / m) (here above the sweep or in it)
+  // is the only one.
+  for (const double w : r.zeroFrequencySpeeds)
+    EXPECT_NEAR(w, std::sqrt(k / m), 2e-6 * std::sqrt(k / m)) << "a zero-frequency speed that is not sqrt(k/m)";
+  EXPECT_EQ(r.zeroFrequencySpeeds.size(), std::sqrt(k / m) < 15.0 ? 1u : 0u);
   // Its tracks follow the swept rate, on the 1X line: rounding, not listed.
   EXPECT_TRUE(r.frameRateCrossings.empty());
   EXPECT_EQ(r.crossings[0].order, 1.0);

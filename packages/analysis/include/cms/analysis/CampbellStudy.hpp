@@ -52,6 +52,13 @@ struct SpeedDependentSystem {
   eigen::GyroscopicSystem at(double Omega) const;
 };
 
+/// The inertia of a stiffness K(speeds) (SpeedSweepProblem::stiffnessCount).
+struct StiffnessCount {
+  long long negative = -1;  ///< negative eigenvalues; -1: not counted
+  bool singular = false;    ///< a pivot zero to rounding: K singular there
+  std::string why;          ///< why not counted
+};
+
 /// What a Campbell study needs of a model. Every method is collective.
 class SpeedSweepProblem {
 public:
@@ -92,13 +99,16 @@ public:
   virtual std::vector<std::string> dominant(const synthesis::StructureModes& modes) const = 0;
   /// How many eigenvalues of the stiffness K(speeds) (spin softening and
   /// stress stiffening included) are negative: where the count changes, K
-  /// is singular and a frequency passes through zero (theory §12.1); -1
-  /// where no count is made (a free body, whose K is singular at every
-  /// speed; a rotor on a moving hub). A pivot within rounding of zero is
-  /// not counted negative.
-  virtual long long stiffnessNegatives(const std::vector<double>& speeds) const {
+  /// is singular and a frequency passes through zero (theory §12.1).
+  /// `negative` -1 with `why` where no count is made (this default; a
+  /// free body, whose K is singular at every speed; a rotor on a moving
+  /// hub). A pivot within rounding of zero (1e-13 of its row's own
+  /// stiffness) is not counted negative, and sets `singular`.
+  virtual StiffnessCount stiffnessCount(const std::vector<double>& speeds) const {
     (void)speeds;
-    return -1;
+    StiffnessCount none;
+    none.why = "the model gives no stiffness count";
+    return none;
   }
 };
 
@@ -117,7 +127,7 @@ public:
   std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override {
     return std::vector<std::string>(modes.result.modes.size(), name_);
   }
-  long long stiffnessNegatives(const std::vector<double>& speeds) const override;
+  StiffnessCount stiffnessCount(const std::vector<double>& speeds) const override;
 
 private:
   SpeedDependentSystem system_;
@@ -148,8 +158,9 @@ public:
   /// (identical parts in a symmetric mode).
   std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override;
   /// Dense L D L^T of K up to "Dense Limit" coordinates, else the sparse
-  /// inertia (cms::inertia); -1 for a free-floating structure or a moving hub.
-  long long stiffnessNegatives(const std::vector<double>& speeds) const override;
+  /// inertia (cms::inertia), K scaled by its diagonal first; not counted
+  /// for a free-floating structure or a moving hub.
+  StiffnessCount stiffnessCount(const std::vector<double>& speeds) const override;
 
 private:
   const synthesis::AssembledStructure& structure_;
@@ -250,13 +261,14 @@ struct CampbellResult {
   /// beyond it.
   std::vector<std::pair<bool, bool>> unstableOpen;
   /// Reference speeds (rad/s) where a frequency passes through zero: the
-  /// count of K(Omega)'s negative eigenvalues changes there (bisected to
-  /// "Crossing Tolerance" with "Refine Crossings", else linear between the
-  /// sweep's speeds). In a spinning frame a zero frequency is a static
-  /// mode of that frame: in the rotor's own frame the unbalance critical
-  /// speed. Empty with `zeroCountsTaken` false where no count is made.
+  /// count of K(Omega)'s negative eigenvalues changes there, bisected on
+  /// the count to "Crossing Tolerance" (always: a factorisation a step);
+  /// none at rest. In a spinning frame a zero frequency is a static mode of
+  /// that frame: in a rotor's own frame its unbalance critical speed.
   std::vector<double> zeroFrequencySpeeds;
-  bool zeroCountsTaken = false;
+  std::vector<bool> zeroFrequencyRefined;  ///< per speed: false where a count failed inside its bracket
+  bool zeroCountsTaken = false;            ///< counted at every grid speed
+  std::string zeroCountsNote;              ///< why not counted, or where a count failed
   std::string whirlOf;               ///< the part whose orbit defines whirl
   bool whirlInRotorFrame = false;    ///< SpeedSweepProblem::whirlInRotorFrame: no unbalance note then
   std::string solver;                ///< the solver at the last speed
