@@ -55,7 +55,6 @@ struct SpeedDependentSystem {
 /// The inertia of a stiffness K(speeds) (SpeedSweepProblem::stiffnessCount).
 struct StiffnessCount {
   long long negative = -1;  ///< negative eigenvalues; -1: not counted
-  bool singular = false;    ///< a pivot zero to rounding: K singular there
   std::string why;          ///< why not counted
 };
 
@@ -103,7 +102,7 @@ public:
   /// `negative` -1 with `why` where no count is made (this default; a
   /// free body, whose K is singular at every speed; a rotor on a moving
   /// hub). A pivot within rounding of zero (1e-13 of its row's own
-  /// stiffness) is not counted negative, and sets `singular`.
+  /// stiffness) is not counted negative.
   virtual StiffnessCount stiffnessCount(const std::vector<double>& speeds) const {
     (void)speeds;
     StiffnessCount none;
