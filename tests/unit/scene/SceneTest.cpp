@@ -27,6 +27,7 @@
 #include <Teuchos_YamlParameterListCoreHelpers.hpp>
 
 #include "ExpectError.hpp"
+#include "cms/analysis/CampbellStudy.hpp"
 #include "cms/analysis/PeriodicStructure.hpp"
 #include "cms/analysis/TruncationStudy.hpp"
 #include "cms/analysis/TruthComparison.hpp"
@@ -622,6 +623,33 @@ TEST(SceneRegression, TruncationSaysWhichStepsTheInclusionPrincipleChecked) {
       EXPECT_TRUE(r.steps[i].findings.empty()) << "step " << i;
     }
   }
+}
+
+// The Campbell study's zero-frequency critical speed of the disc on a
+// spinning C shaft (the shaft's first bending passing through zero in its
+// own frame, theory §12.1) by the dense count and by the sparse inertia
+// ("Dense Limit" below the model's size), on 1 and 2 ranks: the same speed
+// to the bisection's tolerance (1e-6 of the speed, the default, doubled).
+TEST(SceneRegression, ZeroFrequencyCriticalSpeedByTheDenseAndTheSparseCount) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto sc = scene::Scene::read(std::string(CMS_TEST_DATA_DIR) + "/scenes/disc-on-spinning-shaft.yaml");
+  const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto s = synthesis::SynthesizedStructure::synthesize(a);
+  Teuchos::ParameterList study;
+  study.set("Steps", 11);
+  std::vector<double> found;
+  for (const int limit : {100000, 4}) {
+    SCOPED_TRACE("Dense Limit " + std::to_string(limit));
+    Teuchos::ParameterList solve = sc.solve;
+    solve.set("Dense Limit", limit);
+    const auto r = analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, solve));
+    ASSERT_TRUE(r.zeroCountsTaken) << r.zeroCountsNote;
+    ASSERT_EQ(r.zeroFrequencySpeeds.size(), 1u) << r.zeroCountsNote;
+    found.push_back(r.zeroFrequencySpeeds[0]);
+  }
+  EXPECT_GT(found[0], 170.0);
+  EXPECT_LT(found[0], 185.0);
+  EXPECT_NEAR(found[1], found[0], 2e-6 * found[0]);
 }
 
 // Issue 18: a sweep's dense solves run on threads (SynthesizedStructure::
