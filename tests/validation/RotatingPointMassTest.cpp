@@ -317,3 +317,32 @@ TEST(RotatingPointMass, ZeroFrequenciesBesideAStiffSpringAndTwoInOneStep) {
   EXPECT_NEAR(two.zeroFrequencySpeeds[0], 20.0, 2e-9 * 20.0);
   EXPECT_NEAR(two.zeroFrequencySpeeds[1], 25.0, 2e-9 * 25.0);
 }
+
+// A count refused at a grid speed (the sparse inertia's pivot zero to
+// rounding where a critical speed falls on the grid) is taken again a
+// tolerance of a step above it: the critical speeds at 20 (on the grid
+// 0, 10, 20, 30) and 25 are still found. Before, one refusal ended the
+// whole search, "not sought" (a review).
+TEST(RotatingPointMass, ACountRefusedOnTheGridIsTakenJustAboveIt) {
+  class RefusingOnTheGrid : public analysis::DenseSweepProblem {
+  public:
+    RefusingOnTheGrid() : DenseSweepProblem(pointMass(), "frame", 30.0) {}
+    analysis::StiffnessCount stiffnessCount(const std::vector<double>& speeds) const override {
+      if (speeds[0] == 20.0) {
+        analysis::StiffnessCount refused;
+        refused.why = "a pivot zero to rounding (this test's)";
+        return refused;
+      }
+      return DenseSweepProblem::stiffnessCount(speeds);
+    }
+  };
+  Teuchos::ParameterList study;
+  study.set("Steps", 4);
+  study.set("Max Factor", 1.0);
+  study.set("Crossing Tolerance", 1e-9);
+  const auto d = analysis::CampbellStudy(study).run(RefusingOnTheGrid());
+  EXPECT_TRUE(d.zeroCountsTaken);
+  ASSERT_EQ(d.zeroFrequencySpeeds.size(), 2u) << d.zeroCountsNote;
+  EXPECT_NEAR(d.zeroFrequencySpeeds[0], 20.0, 2e-8 * 20.0);
+  EXPECT_NEAR(d.zeroFrequencySpeeds[1], 25.0, 2e-9 * 25.0);
+}

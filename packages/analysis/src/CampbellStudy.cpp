@@ -74,9 +74,11 @@ StiffnessCount denseStiffnessCount(const DenseMatrix& K) {
   lwork = std::max(1, static_cast<int>(query));
   std::vector<double> work(static_cast<std::size_t>(lwork));
   dsytrf_(&uplo, &n, A.values(), &lda, piv.data(), work.data(), &lwork, &info);
-  if (info < 0 || !std::isfinite(A(0, 0))) {
+  bool finite = true;
+  for (int i = 0; i < n; ++i) finite = finite && std::isfinite(A(i, i));
+  if (info < 0 || !finite) {
     out.negative = -1;
-    out.why = "LAPACK dsytrf on K failed (info " + std::to_string(info) + ")";
+    out.why = "LAPACK dsytrf on K failed (info " + std::to_string(info) + (finite ? ")" : ", a pivot not finite)");
     return out;
   }
   for (int i = 0; i < n; ++i) {
@@ -226,10 +228,12 @@ StiffnessCount SynthesizedSweepProblem::stiffnessCount(const std::vector<double>
   // spinning, indefinite from the first speed on: not sought.
   StiffnessCount out;
   if (structure_.freeFloating()) {
+    out.available = false;
     out.why = "a free body's stiffness is singular at every speed";
     return out;
   }
   if (!reduced_.movingHubs().empty()) {
+    out.available = false;
     out.why = "a rotor on a moving hub (periodic, theory 16.8)";
     return out;
   }
@@ -762,23 +766,36 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   //    step are two speeds. A change that closes on speed 0 is dropped: K
   //    singular at rest is a mechanism or a rigid motion that spin softens,
   //    not a critical speed.
+  //    A count refused at a grid speed (the sparse inertia met a pivot zero
+  //    to rounding: a critical speed on the grid, or a mechanism at rest)
+  //    is taken again a crossing tolerance of a step above it, and that
+  //    speed is the bracket's end; refused there too, the brackets beside
+  //    it are not searched, and the note says where.
   {
-    std::vector<StiffnessCount> counts(r.factors.size());
-    bool counted = true;
-    for (std::size_t k = 0; k < r.factors.size() && counted; ++k) {
-      counts[k] = problem.stiffnessCount(speedsAt(r.factors[k]));
-      counted = counts[k].negative >= 0;
-      if (!counted)  // at the first speed: the model gives none; later: a count failed there
-        r.zeroCountsNote = counts[k].why + (k == 0 ? "" : " (at " + std::to_string(refAt(r.factors[k])) + " rad/s)");
-    }
-    r.zeroCountsTaken = counted;
     const double step = r.factors.size() > 1 ? std::abs(r.factors[1] - r.factors[0]) : 1.0;
+    std::vector<StiffnessCount> counts(r.factors.size());
+    std::vector<double> at(r.factors.begin(), r.factors.end());
+    const StiffnessCount first = problem.stiffnessCount(speedsAt(r.factors[0]));
+    r.zeroCountsTaken = first.available;
+    if (!r.zeroCountsTaken) r.zeroCountsNote = first.why;  // the model gives none
+    for (std::size_t k = 0; k < r.factors.size() && r.zeroCountsTaken; ++k) {
+      counts[k] = k == 0 ? first : problem.stiffnessCount(speedsAt(r.factors[k]));
+      if (counts[k].negative < 0) {
+        at[k] = r.factors[k] + crossingTol * step;
+        counts[k] = problem.stiffnessCount(speedsAt(at[k]));
+      }
+      if (counts[k].negative < 0)
+        r.zeroCountsNote = counts[k].why + " (at " + std::to_string(refAt(r.factors[k])) + " rad/s; the steps beside "
+                           "it not searched)";
+    }
     const std::function<void(double, long long, double, long long)> search = [&](double lo, long long cLo, double hi,
                                                                               long long cHi) {
       if (cLo == cHi) return;
       const double width = crossingTol * std::max({std::abs(lo), std::abs(hi), step});
       const auto record = [&](double f, bool refined) {
-        if (std::abs(f) <= width) return;  // at rest: no critical speed
+        // A bracket that closed on rest: K singular at rest (a mechanism,
+        // a rigid motion that spin softens) is no critical speed.
+        if (lo == r.factors[0] && r.factors[0] == 0.0 && hi <= crossingTol * step) return;
         r.zeroFrequencySpeeds.push_back(refAt(f));
         r.zeroFrequencyRefined.push_back(refined);
       };
@@ -792,9 +809,10 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       search(lo, cLo, mid, cMid.negative);
       search(mid, cMid.negative, hi, cHi);
     };
-    if (counted)
+    if (r.zeroCountsTaken)
       for (std::size_t k = 1; k < r.factors.size(); ++k)
-        search(r.factors[k - 1], counts[k - 1].negative, r.factors[k], counts[k].negative);
+        if (counts[k - 1].negative >= 0 && counts[k].negative >= 0)
+          search(at[k - 1], counts[k - 1].negative, at[k], counts[k].negative);
   }
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
@@ -982,9 +1000,8 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     }
   }
   if (!zeroCountsNote.empty())
-    os << "zero-frequency critical speeds: "
-       << (zeroCountsTaken || !zeroFrequencySpeeds.empty() ? "a count failed: " : "not sought: ") << zeroCountsNote
-       << '\n';
+    os << "zero-frequency critical speeds: " << (zeroCountsTaken ? "a count failed: " : "not sought: ")
+       << zeroCountsNote << '\n';
   std::vector<int> frame;
   for (std::size_t t = 0; t < tracks.size(); ++t)
     if (tracks[t].frameRate) frame.push_back(static_cast<int>(t));

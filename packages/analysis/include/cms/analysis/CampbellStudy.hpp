@@ -55,6 +55,7 @@ struct SpeedDependentSystem {
 /// The inertia of a stiffness K(speeds) (SpeedSweepProblem::stiffnessCount).
 struct StiffnessCount {
   long long negative = -1;  ///< negative eigenvalues; -1: not counted
+  bool available = true;    ///< false: the model gives no count at any speed
   std::string why;          ///< why not counted
 };
 
@@ -106,6 +107,7 @@ public:
   virtual StiffnessCount stiffnessCount(const std::vector<double>& speeds) const {
     (void)speeds;
     StiffnessCount none;
+    none.available = false;
     none.why = "the model gives no stiffness count";
     return none;
   }
@@ -266,7 +268,7 @@ struct CampbellResult {
   /// that frame: in a rotor's own frame its unbalance critical speed.
   std::vector<double> zeroFrequencySpeeds;
   std::vector<bool> zeroFrequencyRefined;  ///< per speed: false where a count failed inside its bracket
-  bool zeroCountsTaken = false;            ///< counted at every grid speed
+  bool zeroCountsTaken = false;            ///< sought (the model gives counts)
   std::string zeroCountsNote;              ///< why not counted, or where a count failed
   std::string whirlOf;               ///< the part whose orbit defines whirl
   bool whirlInRotorFrame = false;    ///< SpeedSweepProblem::whirlInRotorFrame: no unbalance note then
