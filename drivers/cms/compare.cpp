@@ -26,19 +26,6 @@
 
 namespace cms::drivers {
 
-namespace {
-/// The worst error of the modes paired by shape; a reduced model lacking
-/// truth modes in its range, or with modes of no computed truth shape, says
-/// that instead (the CSV keeps the number and the counts).
-std::string errorText(const analysis::TruthComparison& c) {
-  std::ostringstream os;
-  os << std::setprecision(4);
-  if (c.missingModes > 0) os << "MISSING " << c.missingModes;
-  else if (c.unmatchedModes > 0) os << "UNMATCHED " << c.unmatchedModes;
-  else os << c.maxRelativeError;
-  return os.str();
-}
-}  // namespace
 
 int compare(int argc, char* argv[]) {
   // 1. Options and scene.
@@ -67,7 +54,7 @@ int compare(int argc, char* argv[]) {
         if (!run.root) return;
         if (row)
           std::cout << "[" << row->basis << " " << row->vectors << "] " << row->dofs << " DOFs, max error "
-                    << errorText(row->accuracy) << '\n';
+                    << analysis::trueErrorText(row->accuracy.maxRelativeError, row->accuracy.missingModes, row->accuracy.unmatchedModes) << '\n';
         else if (other->failed)
           std::cout << "FAILED " << other->basis << " with " << other->vectors << " vectors: "
                     << outcome(other->status).message << " (" << toString(other->status) << "): " << condense(other->why)
@@ -101,7 +88,7 @@ int compare(int argc, char* argv[]) {
   for (const auto& r : c.rows)
     std::cout << std::left << std::setw(16) << r.basis << std::right << std::setw(7) << r.vectors << std::setw(7)
               << r.dofs << std::setw(10) << std::setprecision(3) << r.reduceSeconds << std::setw(10) << r.solveSeconds
-              << std::setw(10) << std::setprecision(4) << r.peakMiB << std::setw(13) << errorText(r.accuracy)
+              << std::setw(10) << std::setprecision(4) << r.peakMiB << std::setw(13) << analysis::trueErrorText(r.accuracy.maxRelativeError, r.accuracy.missingModes, r.accuracy.unmatchedModes)
               << std::setw(13) << r.estimate << std::setw(14) << r.accuracy.meanRelativeError << std::setw(11)
               << r.accuracy.worstMac << '\n';
   if (!sc.csv) {  // Output/CSV false (read by cms modes alone before; a review)

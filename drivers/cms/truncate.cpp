@@ -20,23 +20,10 @@
 #include "../DriverBoundary.hpp"
 #include "Command.hpp"
 #include "cms/analysis/TruncationStudy.hpp"
+#include "cms/analysis/TruthComparison.hpp"
 #include "cms/io/OutputFiles.hpp"
 
 namespace cms::drivers {
-
-namespace {
-/// The largest true error of the modes paired by shape; a model lacking
-/// truth modes, or with modes of no computed truth shape, says that
-/// instead, as `cms compare` does (the CSV keeps the number and the counts).
-std::string trueText(const analysis::TruncationStep& s) {
-  std::ostringstream os;
-  os << std::setprecision(4);
-  if (s.trueMissing > 0) os << "MISSING " << s.trueMissing;
-  else if (s.trueUnmatched > 0) os << "UNMATCHED " << s.trueUnmatched;
-  else os << s.trueError;
-  return os.str();
-}
-}  // namespace
 
 int truncate(int argc, char* argv[]) {
   // 1. Options and scene.
@@ -90,7 +77,7 @@ int truncate(int argc, char* argv[]) {
     table << '\n';
     if (!run.root) return;
     std::cout << std::setw(4) << s.step << "  " << std::left << std::setw(12) << s.changed << std::right << std::setw(7)
-              << s.dofs << std::setw(13) << std::setprecision(4) << s.estimate << std::setw(13) << trueText(s)
+              << s.dofs << std::setw(13) << std::setprecision(4) << s.estimate << std::setw(13) << analysis::trueErrorText(s.trueError, s.trueMissing, s.trueUnmatched)
               << std::setw(6) << (s.inclusionChecked ? violations : std::string("-")) << '\n';
     for (const auto& x : s.findings)
       std::cout << "  finding: inclusion principle violated at mode " << x.index + 1 << " (" << x.inequality << ", by "
@@ -102,7 +89,7 @@ int truncate(int argc, char* argv[]) {
   if (!run.root) return r.reached ? ExitSuccess : kNotConverged.code;
   std::cout << "\n" << (r.reached ? "reached " : "NOT reached: ") << "max estimated relative error " << last.estimate
             << " with " << last.dofs << " coordinates";
-  if (truth) std::cout << " (true error " << trueText(last) << ", truth " << r.truthSize << " coordinates)";
+  if (truth) std::cout << " (true error " << analysis::trueErrorText(last.trueError, last.trueMissing, last.trueUnmatched) << ", truth " << r.truthSize << " coordinates)";
   const int comparable = static_cast<int>(r.steps.size()) - 1;  // every step after the first
   if (checkedSteps < comparable)
     std::cout << "\n(the inclusion principle was checked at " << checkedSteps << " of " << comparable

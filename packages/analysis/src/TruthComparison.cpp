@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <iomanip>
+#include <sstream>
 #include <tuple>
 
 #include <Teuchos_Array.hpp>
@@ -18,6 +20,7 @@
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/SparseInertia.hpp"
 #include "cms/eigen/SturmCount.hpp"
+#include "HermitianEmbedding.hpp"
 #include <Tpetra_CrsMatrix.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 
@@ -45,6 +48,15 @@ void requireComparableTruth(const synthesis::SynthesizedStructure& truth) {
                    names + " (doc/theory.md section 13.1), so it would be a less damped structure and every "
                    "difference a false error: compare with Rayleigh Alpha / Beta instead, or read the error "
                    "estimates, which need no truth (section 11.8)");
+}
+
+std::string trueErrorText(double maxRelativeError, int missingModes, int unmatchedModes) {
+  std::ostringstream os;
+  os << std::setprecision(4);
+  if (missingModes > 0) os << "MISSING " << missingModes;
+  else if (unmatchedModes > 0) os << "UNMATCHED " << unmatchedModes;
+  else os << maxRelativeError;
+  return os.str();
 }
 
 Teuchos::ParameterList comparedSolveParameters(const Teuchos::ParameterList& solve, long long size) {
@@ -105,27 +117,18 @@ std::vector<cplx> localInner(const std::vector<Shape>& a, const Shape& b) {
 /// would turn rounding into any number in [0, 1].
 double subspaceMac(const std::vector<std::vector<cplx>>& P, const std::vector<std::vector<cplx>>& G, double uu,
                    std::size_t m, const std::vector<int>& set) {
-  // The Hermitian G = Gr + i Gi as the real symmetric [[Gr, -Gi], [Gi, Gr]]
-  // (each eigenvalue twice), b as [Re b; Im b]: b^H G^+ b unchanged.
+  // The Hermitian G as its real symmetric embedding (each eigenvalue
+  // twice), b as [Re b; Im b]: b^H G^+ b unchanged.
   const int k = static_cast<int>(set.size()), n = 2 * k;
   if (!(uu > 0.0) || k == 0) return 0.0;
-  std::vector<double> A(static_cast<std::size_t>(n) * n), w(n), b(n);
+  std::vector<std::complex<double>> Gs(static_cast<std::size_t>(k) * k);
+  std::vector<double> b(n);
   for (int j = 0; j < k; ++j) {
     b[j] = P[set[j]][m].real(), b[j + k] = P[set[j]][m].imag();
-    for (int i = 0; i < k; ++i) {
-      const cplx g = G[set[i]][set[j]];
-      A[i + j * n] = A[(i + k) + (j + k) * n] = g.real();
-      A[(i + k) + j * n] = g.imag();
-      A[i + (j + k) * n] = -g.imag();
-    }
+    for (int i = 0; i < k; ++i) Gs[i + k * j] = G[set[i]][set[j]];
   }
-  Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
-  double query = 0.0;
-  lapack.SYEV('V', 'U', n, A.data(), n, w.data(), &query, -1, &info);
-  std::vector<double> work(std::max(1, static_cast<int>(query)));
-  lapack.SYEV('V', 'U', n, A.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
-  if (info != 0) return 0.0;
+  std::vector<double> A = detail::hermitianEmbedding(Gs, k);
+  const std::vector<double> w = detail::symmetricEigen(A, n, "compareWithTruth");
   const double top = w[n - 1];
   double proj = 0.0;
   for (int j = 0; j < n; ++j) {

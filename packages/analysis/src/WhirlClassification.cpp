@@ -13,6 +13,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/core/ParameterReading.hpp"
 #include "cms/synthesis/SynthesizedStructure.hpp"
+#include "HermitianEmbedding.hpp"
 
 namespace cms::analysis {
 
@@ -37,36 +38,6 @@ bool zeroFrequency(const eigen::GyroscopicMode& m) {
   return m.stability == eigen::Stability::RigidBody || m.stability == eigen::Stability::Critical || m.omega == 0.0;
 }
 
-/// Eigenvalues (ascending) and, in `A` on return, eigenvectors (columns) of
-/// the symmetric n x n matrix A (column-major).
-std::vector<double> symmetricEigen(std::vector<double>& A, int n) {
-  std::vector<double> w(n);
-  if (n == 0) return w;
-  Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
-  double query = 0.0;
-  lapack.SYEV('V', 'U', n, A.data(), n, w.data(), &query, -1, &info);
-  std::vector<double> work(std::max(1, static_cast<int>(query)));
-  lapack.SYEV('V', 'U', n, A.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
-  if (info != 0) throw NumericalError("WhirlClassification: LAPACK dsyev failed (info " + std::to_string(info) + ")");
-  return w;
-}
-
-/// The real symmetric 2k x 2k embedding [[Re H, -Im H], [Im H, Re H]] of a
-/// Hermitian k x k H: z^H H z = [x; y]^T S [x; y] for z = x + i y, and each
-/// eigenvalue of H appears twice. Column-major.
-std::vector<double> embed(const std::vector<std::complex<double>>& H, int k) {
-  const int n = 2 * k;
-  std::vector<double> S(n * n);
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      const auto h = H[i + k * j];
-      S[i + n * j] = h.real(), S[(i + k) + n * (j + k)] = h.real();
-      S[(i + k) + n * j] = h.imag(), S[i + n * (j + k)] = -h.imag();
-    }
-  return S;
-}
-
 /// Eigenvalues of the pencil (S, N) on the range of N: N = V D V^T, W = V_r
 /// D_r^{-1/2} (the eigenvalues of N above 1e-12 of the largest), the
 /// eigenvalues of W^T S W. Invariant under any change of basis.
@@ -89,7 +60,7 @@ std::vector<double> pencilEigenvalues(const std::vector<double>& S, const std::v
       for (int i = 0; i < n; ++i) T[a + r * b] += W[i + n * a] * SW[i + n * b];
   for (int b = 0; b < r; ++b)  // symmetrise the rounding
     for (int a = 0; a < b; ++a) T[a + r * b] = T[b + r * a] = 0.5 * (T[a + r * b] + T[b + r * a]);
-  return symmetricEigen(T, r);
+  return detail::symmetricEigen(T, r, "WhirlClassification");
 }
 
 }  // namespace
@@ -215,12 +186,12 @@ Whirl WhirlClassification::classifyCluster(const std::vector<int>& members, cons
     N[e] = {global[6 * e + 4], global[6 * e + 5]};
   }
   const int n = 2 * k;
-  std::vector<double> Nv = embed(N, k);
-  const std::vector<double> d = symmetricEigen(Nv, n);
+  std::vector<double> Nv = detail::hermitianEmbedding(N, k);
+  const std::vector<double> d = detail::symmetricEigen(Nv, n, "WhirlClassification");
   // The part does not take part: its orbit would be rounding.
   if (!(d.back() > participation_ * participation_ * largest)) return Whirl::Neutral;
-  const auto share = pencilEigenvalues(embed(P, k), Nv, d, n);
-  const auto circ = pencilEigenvalues(embed(C, k), Nv, d, n);
+  const auto share = pencilEigenvalues(detail::hermitianEmbedding(P, k), Nv, d, n);
+  const auto circ = pencilEigenvalues(detail::hermitianEmbedding(C, k), Nv, d, n);
   const double maxShare = share.empty() ? 0.0 : share.back();
   if (!(maxShare > transverseShare_)) return Whirl::Neutral;
   const double tau = circularity_ * maxShare;

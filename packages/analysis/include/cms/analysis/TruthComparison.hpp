@@ -47,6 +47,12 @@ struct TruthComparison {
   int unmatchedModes = 0;  ///< reduced modes flagged `unmatched`
 };
 
+/// What a table prints for a model's true error (cms compare, cms truncate
+/// --truth): "MISSING n" where it lacks truth modes, else "UNMATCHED n"
+/// where modes have no computed truth shape, else the largest error of the
+/// modes paired (4 digits).
+std::string trueErrorText(double maxRelativeError, int missingModes, int unmatchedModes);
+
 /// Throws cms::InputError when `truth` left out a Modal Damping Ratio that
 /// the reduced model of the same structure carries (it lives in reduced
 /// coordinates only, theory §13.1): its modes would be those of a less
