@@ -120,8 +120,12 @@ ComparisonResult StrategyComparison::run(const SolvedTruth& truth, const Strateg
         row.path = m.path;
         for (int j = 0; j < nModes; ++j) row.hz.push_back(m.result.modes[j].hz);
         if (options_.get<bool>("Error Estimates")) {
+          // The compared modes' estimates only: the ones beyond serve the
+          // pairing, and would be time the row does not need.
           const Stopwatch te;
-          const auto estimates = s.errorEstimates(m);
+          auto compared = m;
+          if (static_cast<int>(compared.result.modes.size()) > nModes) compared.result.modes.resize(nModes);
+          const auto estimates = s.errorEstimates(compared);
           row.estimateSeconds = te.seconds();
           for (int j = 0; j < nModes && j < static_cast<int>(estimates.size()); ++j)
             row.estimate = std::max(row.estimate, estimates[j]);
