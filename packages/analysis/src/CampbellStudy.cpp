@@ -21,6 +21,7 @@
 
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
+#include "cms/eigen/SturmCount.hpp"
 
 namespace cms::analysis {
 
@@ -43,12 +44,9 @@ eigen::GyroscopicSystem SpeedDependentSystem::at(double Omega) const {
   return s;
 }
 
-extern "C" void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work,
-                        const int* lwork, int* info);
-
 namespace {
 /// Negative eigenvalues of a dense symmetric K by its Bunch-Kaufman L D L^T
-/// (Sylvester: the signs of D's 1x1 pivots and 2x2 blocks), K first scaled
+/// (eigen::symmetricNegatives, read as the Sturm count reads its factor), K first scaled
 /// symmetrically by its diagonal's magnitudes (S K S, S = |diag K|^-1/2
 /// where the diagonal is not zero; the inertia is unchanged) so that a
 /// pivot's "zero to rounding", 1e-13, is relative to its own row's
@@ -62,36 +60,14 @@ StiffnessCount denseStiffnessCount(const DenseMatrix& K) {
   std::vector<double> sc(n, 1.0);
   for (int i = 0; i < n; ++i)
     if (std::abs(K(i, i)) > 0.0) sc[i] = 1.0 / std::sqrt(std::abs(K(i, i)));
-  DenseMatrix A(n, n);
+  std::vector<double> A(static_cast<std::size_t>(n) * n);  // lower triangle read
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) A(i, j) = sc[i] * K(i, j) * sc[j];
-  const double tiny = 1e-13;
-  std::vector<int> piv(n);
-  int info = 0, lda = A.stride(), lwork = -1;
-  double query = 0.0;
-  const char uplo = 'L';
-  dsytrf_(&uplo, &n, A.values(), &lda, piv.data(), &query, &lwork, &info);
-  lwork = std::max(1, static_cast<int>(query));
-  std::vector<double> work(static_cast<std::size_t>(lwork));
-  dsytrf_(&uplo, &n, A.values(), &lda, piv.data(), work.data(), &lwork, &info);
-  bool finite = true;
-  for (int i = 0; i < n; ++i) finite = finite && std::isfinite(A(i, i));
-  if (info < 0 || !finite) {
+    for (int i = j; i < n; ++i) A[static_cast<std::size_t>(j) * n + i] = sc[i] * K(i, j) * sc[j];
+  try {
+    out.negative = eigen::symmetricNegatives(A, n, /*tiny*/ 1e-13);
+  } catch (const NumericalError& e) {
     out.negative = -1;
-    out.why = "LAPACK dsytrf on K failed (info " + std::to_string(info) + (finite ? ")" : ", a pivot not finite)");
-    return out;
-  }
-  for (int i = 0; i < n; ++i) {
-    double lo = A(i, i), hi = A(i, i);
-    if (piv[i] < 0 && i + 1 < n) {  // 2x2 block [a b; b c] (rows i, i+1): its two eigenvalues
-      const double a = A(i, i), b = A(i + 1, i), c = A(i + 1, i + 1);
-      const double disc = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
-      lo = 0.5 * (a + c) - disc, hi = 0.5 * (a + c) + disc;
-      out.negative += (lo < -tiny) + (hi < -tiny);
-      ++i;
-      continue;
-    }
-    out.negative += lo < -tiny;
+    out.why = e.what();
   }
   return out;
 }

@@ -17,6 +17,8 @@
 extern "C" void zhetrf_(const char* uplo, const int* n, std::complex<double>* a, const int* lda,
                         int* ipiv, std::complex<double>* work, const int* lwork, int* info,
                         std::size_t);
+extern "C" void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work,
+                        const int* lwork, int* info, std::size_t);
 
 namespace cms::eigen {
 
@@ -30,6 +32,39 @@ int sturmCount(const GyroscopicSystem& sys, double omega) {
   for (int j = 0; j < n; ++j)
     for (int i = j; i < n; ++i)
       Q[static_cast<std::size_t>(j) * n + i] = {sys.K(i, j) - omega * omega * sys.M(i, j), omega * sys.G(i, j)};
+  // An exactly zero 1x1 pivot (zhetrf's info > 0) is omega at an
+  // eigenfrequency to working precision: the count is that of the nonzero
+  // pivots.
+  return hermitianNegatives(Q, n);
+}
+
+namespace {
+/// Inertia of D from a Bunch-Kaufman factor (Sylvester): 1x1 pivots by
+/// sign; a 2x2 block [a b; conj(b) c] by its two eigenvalues (a + c)/2 -/+
+/// sqrt((a - c)^2 / 4 + |b|^2); each negative only below -tiny.
+template <class Scalar>
+int negativePivots(const std::vector<Scalar>& F, const std::vector<int>& ipiv, int n, double tiny) {
+  const auto d = [&](int i, int j) { return F[static_cast<std::size_t>(j) * n + i]; };
+  int negative = 0;
+  for (int k = 0; k < n;) {
+    TEUCHOS_TEST_FOR_EXCEPTION(!std::isfinite(std::real(d(k, k))), NumericalError,
+                               "Bunch-Kaufman L D L^T: pivot " << k << " is not finite");
+    if (ipiv[k] > 0 || k + 1 == n) {
+      negative += std::real(d(k, k)) < -tiny;
+      k += 1;
+    } else {
+      const double a = std::real(d(k, k)), c = std::real(d(k + 1, k + 1));
+      const double r = std::sqrt(0.25 * (a - c) * (a - c) + std::norm(d(k + 1, k)));
+      negative += (0.5 * (a + c) - r < -tiny) + (0.5 * (a + c) + r < -tiny);
+      k += 2;
+    }
+  }
+  return negative;
+}
+}  // namespace
+
+int hermitianNegatives(std::vector<std::complex<double>>& Q, int n, double tiny) {
+  if (n == 0) return 0;
   std::vector<int> ipiv(n);
   int info = 0, lwork = -1;
   std::complex<double> wq;
@@ -37,25 +72,21 @@ int sturmCount(const GyroscopicSystem& sys, double omega) {
   lwork = std::max(1, static_cast<int>(wq.real()));
   std::vector<std::complex<double>> work(lwork);
   zhetrf_("L", &n, Q.data(), &n, ipiv.data(), work.data(), &lwork, &info, 1);
-  TEUCHOS_TEST_FOR_EXCEPTION(info < 0, NumericalError, "sturmCount: LAPACK zhetrf failed, info = " << info);
-  // info > 0 is an exactly zero 1x1 pivot: omega is an eigenfrequency to
-  // working precision, and the count is taken as that of the nonzero pivots.
-  // Inertia of D (Sylvester): 1x1 pivots by sign; a 2x2 block [a b; conj(b) c]
-  // has one eigenvalue of each sign when a c - |b|^2 < 0, else both of a's sign.
-  int negative = 0;
-  for (int k = 0; k < n;) {
-    const auto d = [&](int i, int j) { return Q[static_cast<std::size_t>(j) * n + i]; };
-    if (ipiv[k] > 0) {
-      negative += d(k, k).real() < 0.0;
-      k += 1;
-    } else {
-      const double a = d(k, k).real(), c = d(k + 1, k + 1).real(), b2 = std::norm(d(k + 1, k));
-      const double det = a * c - b2;
-      negative += det < 0.0 ? 1 : (a < 0.0 ? 2 : 0);
-      k += 2;
-    }
-  }
-  return negative;
+  TEUCHOS_TEST_FOR_EXCEPTION(info < 0, NumericalError, "LAPACK zhetrf failed, info = " << info);
+  return negativePivots(Q, ipiv, n, tiny);
+}
+
+int symmetricNegatives(std::vector<double>& A, int n, double tiny) {
+  if (n == 0) return 0;
+  std::vector<int> ipiv(n);
+  int info = 0, lwork = -1;
+  double wq = 0.0;
+  dsytrf_("L", &n, A.data(), &n, ipiv.data(), &wq, &lwork, &info, 1);
+  lwork = std::max(1, static_cast<int>(wq));
+  std::vector<double> work(lwork);
+  dsytrf_("L", &n, A.data(), &n, ipiv.data(), work.data(), &lwork, &info, 1);
+  TEUCHOS_TEST_FOR_EXCEPTION(info < 0, NumericalError, "LAPACK dsytrf failed, info = " << info);
+  return negativePivots(A, ipiv, n, tiny);
 }
 
 SparseSturmCount sturmCount(const SparseGyroscopicSystem& sys, double omega) {

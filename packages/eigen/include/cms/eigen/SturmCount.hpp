@@ -3,6 +3,9 @@
 // any eigensolver (doc/theory.md, "Sturm count of a gyroscopic system").
 #pragma once
 
+#include <complex>
+#include <vector>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -11,6 +14,18 @@
 #include "cms/eigen/SparseGyroscopicSystem.hpp"
 
 namespace cms::eigen {
+
+/// The number of negative eigenvalues of the dense Hermitian n x n matrix
+/// whose lower triangle `lower` holds (column-major; overwritten by its
+/// Bunch-Kaufman factor, LAPACK zhetrf): Sylvester's law on D's 1x1 pivots
+/// and 2x2 blocks' eigenvalues, each counted negative only below -tiny.
+/// Throws NumericalError if zhetrf fails or a pivot is not finite. Shared
+/// by sturmCount and (symmetricNegatives) the Campbell study's stiffness
+/// count.
+int hermitianNegatives(std::vector<std::complex<double>>& lower, int n, double tiny = 0.0);
+/// The same for a real symmetric matrix (LAPACK dsytrf: a quarter of the
+/// complex factorisation's flops).
+int symmetricNegatives(std::vector<double>& lower, int n, double tiny = 0.0);
 
 /// The number of eigenfrequencies omega_j < omega (counted with multiplicity,
 /// one per +/- pair) of M q'' + G q' + K q = 0 with M > 0 and K > 0: the number
