@@ -824,16 +824,21 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   };
   std::stable_sort(kept.begin(), kept.end(), byOrderThenSpeed);
   std::stable_sort(r.frameRateCrossings.begin(), r.frameRateCrossings.end(), byOrderThenSpeed);
+  // Every entry of the same order within the tolerance below is a
+  // candidate, not only the last: one of another whirl may lie between
+  // two identical parts' crossings.
   for (const auto& c : kept) {
-    if (!r.crossings.empty()) {
-      auto& p = r.crossings.back();
-      if (p.order == c.order && p.whirl == c.whirl && std::abs(p.speed - c.speed) <= clusterTol * std::abs(c.speed)) {
-        p.tracks.push_back(c.tracks.front());
-        p.dominant.push_back(c.dominant.front());
-        continue;
+    bool merged = false;
+    for (auto p = r.crossings.rbegin(); p != r.crossings.rend(); ++p) {
+      if (p->order != c.order || std::abs(c.speed) - std::abs(p->speed) > clusterTol * std::abs(c.speed)) break;
+      if (p->whirl == c.whirl && std::abs(p->speed - c.speed) <= clusterTol * std::abs(c.speed)) {
+        p->tracks.push_back(c.tracks.front());
+        p->dominant.push_back(c.dominant.front());
+        merged = true;
+        break;
       }
     }
-    r.crossings.push_back(c);
+    if (!merged) r.crossings.push_back(c);
   }
   return r;
 }

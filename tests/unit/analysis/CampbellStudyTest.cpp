@@ -532,3 +532,52 @@ TEST(CampbellStudy, CrossingsNameTheDominantPartOfEachTrack) {
   EXPECT_NE(csv.str().find(",track2,yes,spin\n"), std::string::npos) << csv.str();
   EXPECT_NE(console.str().find("track 2 (spin)"), std::string::npos) << console.str();
 }
+
+/// Three modes of one frequency, omega = Omega^2 - 2 Omega + 2: tracks 1
+/// and 3 whirl forward (identical parts), track 2 backward (another part at
+/// the same frequency). Each meets 1X at 1 and at 2.
+class TwoForwardOneBackward : public ParabolaProblem {
+public:
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+    auto out = ParabolaProblem::solve(speeds);
+    const auto m = out.result.modes.front();
+    out.result.modes.assign(3, m);
+    for (std::size_t k = 0; k < 3; ++k) out.result.modes[k].q = {k == 0 ? 1.0 : 0.0, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0};
+    return out;
+  }
+  std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
+                                       const std::vector<eigen::GyroscopicMode>& b) const override {
+    std::vector<std::vector<double>> m(a.size(), std::vector<double>(b.size()));
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < b.size(); ++j)
+        m[i][j] = std::norm(a[i].q[0] * b[j].q[0] + a[i].q[1] * b[j].q[1] + a[i].q[2] * b[j].q[2]);
+    return m;
+  }
+  std::vector<analysis::Whirl> whirl(const synthesis::StructureModes& modes,
+                                     const analysis::WhirlClassification&) const override {
+    std::vector<analysis::Whirl> w;
+    for (const auto& m : modes.result.modes) w.push_back(m.q[1] == 1.0 ? analysis::Whirl::Backward : analysis::Whirl::Forward);
+    return w;
+  }
+  std::string whirlOf() const override { return "rotor"; }
+};
+
+TEST(CampbellStudy, IdenticalCrossingsAreMergedPastOneOfAnotherWhirl) {
+  // At each speed the forward crossings of tracks 1 and 3 are one entry
+  // and the backward one of track 2 another: two entries a speed, four in
+  // all. Before, a crossing was compared with the last entry only: the
+  // backward one between them kept track 3 apart (six entries; found by a
+  // review).
+  auto params = sweep(4, 1.0, {1.0});
+  params.set("Crossing Tolerance", 1e-9);
+  const auto r = analysis::CampbellStudy(params).run(TwoForwardOneBackward());
+  ASSERT_EQ(r.tracks.size(), 3u);
+  ASSERT_EQ(r.crossings.size(), 4u);
+  for (const auto& c : r.crossings) {
+    const bool forward = c.whirl == analysis::Whirl::Forward;
+    const std::vector<int> want = forward ? std::vector<int>{0, 2} : std::vector<int>{1};
+    EXPECT_EQ(c.tracks, want) << "at " << c.speed;
+    EXPECT_EQ(c.dominant.size(), c.tracks.size());
+    EXPECT_NEAR(c.speed, c.speed < 1.5 ? 1.0 : 2.0, 2e-9 * 2.0);
+  }
+}
