@@ -446,16 +446,21 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   const auto atRate = [&](double omega, double split, double rate) {
     return std::abs(omega - rate) <= frameTol * rate + split;
   };
-  auto rateLike = [&](const CampbellTrack& tr) {  // equals a spin rate at every step so far
+  // Equals a spin rate at every step so far where it was found: a step
+  // where the track was lost says nothing either way (before, one such
+  // step made a frame-rate track's crossings critical speeds).
+  auto rateLike = [&](const CampbellTrack& tr) {
     for (std::size_t p = 0; p < r.parameters.size(); ++p) {
       double top = 0.0;  // over the speeds tracked so far (the grid is solved ahead)
-      for (std::size_t k = 0; k < tr.omega.size() && k < r.speeds.size(); ++k) top = std::max(top, std::abs(r.speeds[k][p]));
+      for (std::size_t k = 0; k < tr.omega.size() && k < r.speeds.size(); ++k)
+        if (!tr.lost[k]) top = std::max(top, std::abs(r.speeds[k][p]));
       if (top == 0.0) continue;
       bool all = true;
       for (std::size_t k = 0; k < tr.omega.size() && all; ++k) {
+        if (tr.lost[k]) continue;
         const double rate = std::abs(r.speeds[k][p]), split = tr.splitRadius[k];
-        all = !tr.lost[k] && (rate > 0.0 ? atRate(tr.omega[k], split, rate)
-                                         : zeroFrequency(tr.stability[k]) || tr.omega[k] <= frameTol * top + split);
+        all = rate > 0.0 ? atRate(tr.omega[k], split, rate)
+                         : zeroFrequency(tr.stability[k]) || tr.omega[k] <= frameTol * top + split;
       }
       if (all) return static_cast<int>(p);
     }

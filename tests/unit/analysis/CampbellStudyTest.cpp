@@ -581,3 +581,26 @@ TEST(CampbellStudy, IdenticalCrossingsAreMergedPastOneOfAnotherWhirl) {
     EXPECT_NEAR(c.speed, c.speed < 1.5 ? 1.0 : 2.0, 2e-9 * 2.0);
   }
 }
+
+TEST(CampbellStudy, AFrameRateTrackMissingAtOneSpeedStaysAFrameRateTrack) {
+  // TwoRateProblem whose wheel mode is missing from the solve at bus = 5
+  // (as a mode leaving the requested set for one speed does): its track is
+  // lost there and found again, and is still the wheel's rate wherever it
+  // was found. Its crossing of 1X near bus = 10 is no critical speed.
+  class Gap : public TwoRateProblem {
+  public:
+    synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+      auto out = TwoRateProblem::solve(speeds);
+      if (speeds[0] == 5.0) out.result.modes.erase(out.result.modes.begin());
+      return out;
+    }
+  };
+  auto params = sweep(21, 20.0, {1.0});
+  params.set("Speed Parameter", std::string("bus"));
+  const auto r = analysis::CampbellStudy(params).run(Gap());
+  ASSERT_FALSE(r.tracks.empty());
+  EXPECT_TRUE(r.tracks[0].lost[5]);
+  EXPECT_TRUE(r.tracks[0].frameRate);
+  EXPECT_TRUE(r.crossings.empty()) << "a frame-rate track was listed as a critical speed";
+  EXPECT_EQ(r.frameRateCrossings.size(), 1u);
+}
