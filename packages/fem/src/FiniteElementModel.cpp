@@ -456,6 +456,24 @@ void FiniteElementModel::validate() const {
                                                                       : "Solid sets (Tet4, Tet10, Hex8, Hex20, Wedge15, Hex27, Hex64, Hex125)"));
     }
   }
+  // An element in two listed sets would be assembled twice (decks list
+  // EALL beside a part's own set as a matter of course): refused, naming
+  // one such element and its two sets. By element tag, which a Gmsh mesh
+  // and a deck both keep unique.
+  {
+    std::vector<std::pair<std::size_t, std::size_t>> tagSet;  // (tag, set index)
+    for (std::size_t s = 0; s < elementSets.size(); ++s)
+      for (const mesh::CellBlock& b : mesh->group(elementSets[s].group).blocks)
+        for (std::size_t t : b.cellTags) tagSet.emplace_back(t, s);
+    std::sort(tagSet.begin(), tagSet.end());
+    for (std::size_t i = 1; i < tagSet.size(); ++i)
+      CMS_INPUT_CHECK(tagSet[i].first == tagSet[i - 1].first,
+                      name << ": element " << tagSet[i].first << " is in element sets '"
+                           << elementSets[tagSet[i - 1].second].group << "' and '" << elementSets[tagSet[i].second].group
+                           << "' of " << mesh->source
+                           << ": it would be assembled twice; list sets that share no element (a deck's EALL, or its "
+                              "parts' own sets, not both)");
+  }
   for (const PointMassSet& p : pointMasses) mesh->group(p.nodeSet);
   for (const SpringSet& s : springs) {
     mesh->group(s.nodeSet);

@@ -96,10 +96,17 @@ namespace {
 /// Gmsh Physical Curve and Physical Surface of one name) are refused: which
 /// one a node or element set meant cannot be told, and taking the first
 /// silently clamped a root face's perimeter only (found by a review).
+bool sameName(const Mesh& mesh, const std::string& a, const std::string& b) {
+  if (!mesh.namesIgnoreCase) return a == b;
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::toupper(static_cast<unsigned char>(x)) == std::toupper(static_cast<unsigned char>(y));
+         });
+}
+
 std::pair<const PhysicalGroup*, const PhysicalGroup*> namedGroups(const Mesh& mesh, const std::string& name) {
   const PhysicalGroup *points = nullptr, *cells = nullptr;
   for (const PhysicalGroup& g : mesh.groups) {
-    if (g.name != name) continue;
+    if (!sameName(mesh, g.name, name)) continue;
     if (g.dim == 0) {
       if (!points) points = &g;
       continue;
@@ -125,7 +132,7 @@ const PhysicalGroup& Mesh::group(const std::string& name) const {
 
 bool Mesh::hasGroup(const std::string& name) const {
   return std::any_of(groups.begin(), groups.end(),
-                     [&](const PhysicalGroup& g) { return g.name == name; });
+                     [&](const PhysicalGroup& g) { return sameName(*this, g.name, name); });
 }
 
 std::vector<std::int64_t> Mesh::nodeSet(const std::string& name) const {

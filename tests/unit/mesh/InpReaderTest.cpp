@@ -504,10 +504,43 @@ TEST(InpReader, MalformedDecksNameFileLineAndWhat) {
   refused(nodes + "*NSET\n1\n", {":6: *NSET: NSET= names no set"});
   refused("1, 0, 0, 0\n*NODE\n", {":1: a data line before any keyword"});
   refused(nodes + "*NGEN, NSET=x\n1, 4\n", {":6: *NGEN is not supported"});
+  // Constraints between nodes change the structure: refused, not skipped
+  // with a note (found by a review).
+  for (const char* k : {"*TIE, NAME=t\ns1, s2\n", "*EQUATION\n2\n1, 1, 1., 2, 1, -1.\n", "*MPC\nBEAM, 1, 2\n",
+                        "*RIGID BODY, NSET=n, REF NODE=1\n", "*COUPLING, REF NODE=1, SURFACE=s\n*KINEMATIC\n",
+                        "*SPRING, ELSET=s\n\n1.e4\n"}) {
+    const std::string name = std::string(k).substr(1, std::string(k).find_first_of(",\n") - 1);
+    refused(nodes + k, {":6: *" + name + " is not supported: it joins or constrains nodes"});
+  }
+  // A flag no keyword here knows (a set name on the line after a keyword
+  // line ending with a comma; a misspelt GENERATE) is refused, not noted.
+  refused(nodes + "*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3, 4\n*NSET, NSET=ROOT,\nR2\n",
+          {":8: *NSET: \"R2\" is not a parameter of *NSET", "remove the comma"});
+  refused(nodes + "*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3, 4\n*NSET, NSET=a, GENERAT\n1, 4, 1\n",
+          {":8: *NSET: \"GENERAT\" is not a parameter"});
   refused("*PART, NAME=p\n" + nodes, {":1: *PART is not supported"});
   refused("*NODE, SYSTEM=C\n1, 1, 0, 0\n", {":1: *NODE, SYSTEM=C: only rectangular coordinates"});
   refused("*HEADING\nonly a title\n", {"no nodes"});
   refused(nodes, {"no node or element sets"});
   refused(nodes + "*INCLUDE\n", {":6: *INCLUDE: INPUT= names no file"});
   refused(nodes + "*NSET, NSET=a, NSET=b\n1\n", {":6: *NSET: parameter NSET given twice"});
+}
+
+TEST(InpReader, ANodeSetAndAnElementSetSpelledDifferentlyAreOneName) {
+  // Abaqus and CalculiX read set names in any case: *NSET, NSET=ROOT and
+  // *ELSET, ELSET=Root are one name, and a support on "Root" (or "root")
+  // is the node set's. Before, names were compared as spelled: "Root"
+  // found the element set only, and the support clamped its 8 nodes
+  // instead of the node set's 4 (found by a review).
+  TempDir dir;
+  std::string deck = kTwoBricks;
+  deck += "*ELSET, ELSET=Root\n 7\n";
+  deck.replace(deck.find("*NSET, NSET=root"), 16, "*NSET, NSET=ROOT");
+  const Mesh m = readInp(dir.write("case.inp", deck));
+  for (const char* name : {"Root", "root", "ROOT"}) {
+    EXPECT_EQ(ids(m, m.nodeSet(name)), (std::vector<std::size_t>{10, 40, 50, 80})) << name;
+    EXPECT_TRUE(m.hasGroup(name)) << name;
+    EXPECT_EQ(m.group(name).dim, 3) << name << ": the element set serves Element Sets";
+  }
+  EXPECT_FALSE(m.hasGroup("Roots"));
 }

@@ -83,6 +83,10 @@ struct Mesh {
   /// mesh, parameters ignored, ids a GENERATE range named but the deck does
   /// not define. Empty for Gmsh meshes.
   std::vector<std::string> notes;
+  /// Group names compared in any case (an .inp deck's, as Abaqus and
+  /// CalculiX read them: *NSET ROOT and *ELSET Root are one name); Gmsh's
+  /// physical names are compared as spelled.
+  bool namesIgnoreCase = false;
 
   std::size_t nodeCount() const { return nodeTags.size(); }
   const double* x(std::int64_t node) const { return &coordinates[3 * node]; }
