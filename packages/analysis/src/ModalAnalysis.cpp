@@ -106,11 +106,20 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     r.accuracy = s.accuracy(r.modes);
     for (const auto& a : r.accuracy) r.estimates.push_back(a.estimate);
     r.estimateSeconds = t5.seconds();
-    for (const auto& md : r.modes.result.modes) r.cutoff = std::max(r.cutoff, md.omega);
+    // The cut-off is the highest mode, known to its estimated error: a
+    // substructure's Ritz value above it by less is its mode below it,
+    // approximated from above (4x: the estimate is not a bound).
+    double band = 0.0;
+    for (std::size_t i = 0; i < r.modes.result.modes.size(); ++i) {
+      const double w = r.modes.result.modes[i].omega;
+      if (w < r.cutoff) continue;
+      r.cutoff = w;
+      band = i < r.estimates.size() && r.estimates[i] > 0.0 && std::isfinite(r.estimates[i]) ? 4.0 * r.estimates[i] : 0.0;
+    }
     // The estimates' factors are not needed again: freed before the counts'
     // factorisations, they no longer add to the run's peak memory.
     r.reduced->releaseFlexibilities();
-    r.coverage = s.coverage(r.cutoff);
+    r.coverage = s.coverage(r.cutoff, band);
   }
   r.accuracySeconds = t5.seconds();
   // The truth, synthesised once for both "Truth" and "Check Count".

@@ -2093,7 +2093,9 @@ std::string SynthesizedStructure::boundsUnavailable(const std::vector<double>& s
   return "";
 }
 
-std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) const {
+std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega, double band) const {
+  TEUCHOS_TEST_FOR_EXCEPTION(!(band >= 0.0) || !std::isfinite(band), std::logic_error,
+                             "SynthesizedStructure::coverage: band " << band << " must be finite and >= 0");
   const auto& parts = structure_->parts();
   std::vector<SubstructureCoverage> out;
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -2144,9 +2146,27 @@ std::vector<SubstructureCoverage> SynthesizedStructure::coverage(double omega) c
         std::ostringstream os;
         // Ritz values lie above the modes they approximate (the seed's
         // inclusion principle), so represented <= sturmCount.
+        // A mode just below the cut-off whose Ritz value lies just above it,
+        // within the cut-off's own uncertainty, is represented from above:
+        // the values above omega, lowest first, fill the count within the band.
+        const long long short_ = c.sturmCount - c.represented;
+        if (short_ > 0 && band > 0.0) {
+          std::vector<double> above;
+          for (double w : rep.frequencyEstimates)
+            if (w >= omega) above.push_back(w);
+          std::sort(above.begin(), above.end());
+          for (std::size_t i = 0; i < above.size() && static_cast<long long>(i) < short_; ++i)
+            if (above[i] <= omega * (1.0 + band)) ++c.withinBand;
+            else break;
+        }
         if (c.represented >= c.sturmCount) os << "complete";
+        else if (c.represented + c.withinBand >= c.sturmCount)
+          os << "complete to the cut-off's accuracy (" << c.sturmCount << " below " << omega / (2.0 * M_PI)
+             << " Hz, the basis represents " << c.represented << " and has " << c.withinBand
+             << " more above it by less than " << std::setprecision(2) << band
+             << ", the cut-off's own uncertainty: approximated from above)";
         else
-          os << "can miss " << c.sturmCount - c.represented << " mode" << (c.sturmCount - c.represented == 1 ? "" : "s")
+          os << "can miss " << short_ << " mode" << (short_ == 1 ? "" : "s")
              << " below " << omega / (2.0 * M_PI) << " Hz (" << c.sturmCount << " below, the basis represents "
              << c.represented << ")";
         c.verdict = os.str();

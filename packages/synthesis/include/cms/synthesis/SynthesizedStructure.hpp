@@ -170,6 +170,7 @@ struct SubstructureCoverage {
   double cutoff = 0.0;        ///< rad/s
   long long sturmCount = -1;  ///< its modes below the cut-off, attachment held (-1: not counted)
   int represented = 0;        ///< its Ritz estimates below the cut-off
+  int withinBand = 0;         ///< its Ritz estimates above the cut-off, within the band, taken as the missing count's modes
   int coordinates = 0;
   std::string verdict;        ///< "complete", "can miss N modes below X Hz", "Full", "rigid", or why not counted
 };
@@ -382,8 +383,12 @@ public:
   std::string boundsUnavailable(const std::vector<double>& speeds) const;
   /// Per substructure, at cut-off `omega` (rad/s): its modes below it with
   /// its attachment held (one sparse LDL^T inertia, never of the assembled
-  /// structure) against those its basis represents. Collective.
-  std::vector<SubstructureCoverage> coverage(double omega) const;
+  /// structure) against those its basis represents. `band` (relative, >=
+  /// 0): how far above omega a Ritz value still counts as representing a
+  /// mode below it, the cut-off's own uncertainty (the highest mode's
+  /// estimated error): a value there is the mode approximated from above,
+  /// and "can miss" would be a false alarm (theory §11.9). Collective.
+  std::vector<SubstructureCoverage> coverage(double omega, double band = 0.0) const;
   /// Frees the factored held stiffnesses kept for the error estimates (the
   /// reduction's own factors, theory §11.8), here and in every synthesis
   /// sharing them: a caller done with estimates releases them before the
