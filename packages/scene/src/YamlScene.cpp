@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <regex>
+#include <cctype>
 #include <sstream>
 
 #include <Teuchos_Array.hpp>
@@ -119,36 +120,79 @@ void fill(Teuchos::ParameterList& list, const YAML::Node& map, const std::string
 /// allocates nodes until killed. The scene fuzz test found it (a comment
 /// line that lost its '#'). Such a document is not YAML (',' cannot begin a
 /// plain scalar): refused here, with its line, before the parser sees it.
+/// The same happens where a ',' begins a line at or left of the root node's
+/// column, after a root sequence or an indented root mapping ("  x: 1" then
+/// ", y"; the long fuzz run). Outside a flow collection, a block scalar or a
+/// plain scalar's continuation (all indented past the root) a ',' cannot
+/// begin a line there either: refused too.
 void refuseLeadingComma(const std::string& text, const std::string& path) {
   std::istringstream in(text);
   bool documentStart = true;
   int line = 0;
+  int rootIndent = -1;          // the document's root node's column (-1: none yet)
+  bool rootScalar = false;      // a root block scalar ("--- |"): its content may start at column 0
+  int flow = 0;                 // open [ and { on the lines so far
+  int blockParent = -1;         // a block scalar's parent column: lines indented past it are content
+  const auto refuse = [&](std::size_t i, const char* why) {
+    CMS_INPUT_CHECK(true, path << ":" << line << ":" << i + 1 << ": not a valid scene file (" << why << ")");
+  };
   for (std::string l; std::getline(in, l);) {
     ++line;
     if (!l.empty() && l.back() == '\r') l.pop_back();                          // CRLF
     if (line == 1 && l.compare(0, 3, "\xEF\xBB\xBF") == 0) l.erase(0, 3);  // a byte-order mark
     std::size_t i = l.find_first_not_of(" \t");
-    if (i == std::string::npos || l[i] == '#' || (i == 0 && l[0] == '%')) continue;
+    if (i == std::string::npos) continue;
+    if (blockParent >= 0) {
+      if (static_cast<int>(i) > blockParent) continue;  // block scalar content
+      blockParent = -1;
+    }
+    if (l[i] == '#' || (i == 0 && l[0] == '%')) continue;
     // Document markers only in column 0 (indented, they are content of a
     // block scalar: found by a review).
     if (i == 0 && (l.compare(0, 3, "---") == 0 || l.compare(0, 3, "...") == 0) &&
         (l.size() == 3 || l[3] == ' ' || l[3] == '\t')) {
-      documentStart = true;
+      documentStart = true, rootIndent = -1, rootScalar = false, flow = 0;
       i = l.find_first_not_of(" \t", 3);
       if (i == std::string::npos || l[i] == '#') continue;
     }
-    if (!documentStart) continue;
-    // A node's properties (an anchor &a, a tag !t) may come first, on this
-    // line or alone on earlier ones.
-    while (i < l.size() && (l[i] == '&' || l[i] == '!')) {
-      i = l.find_first_of(" \t", i);
-      if (i != std::string::npos) i = l.find_first_not_of(" \t", i);
-      if (i == std::string::npos) break;
+    if (documentStart) {
+      // A node's properties (an anchor &a, a tag !t) may come first, on this
+      // line or alone on earlier ones.
+      while (i < l.size() && (l[i] == '&' || l[i] == '!')) {
+        i = l.find_first_of(" \t", i);
+        if (i != std::string::npos) i = l.find_first_not_of(" \t", i);
+        if (i == std::string::npos) break;
+      }
+      if (i == std::string::npos || l[i] == '#') continue;  // properties alone: the node is on a later line
+      if (l[i] == ',') refuse(i, "a document cannot begin with ','");
+      documentStart = false;
+      rootIndent = static_cast<int>(l.compare(0, 3, "---") == 0 ? 0 : i);
+      rootScalar = l[i] == '|' || l[i] == '>';
+    } else if (l[i] == ',' && flow == 0 && !rootScalar && static_cast<int>(i) <= rootIndent) {
+      refuse(i, "a ',' at the start of a line there begins no node: a comment line that lost its '#'?");
     }
-    if (i == std::string::npos || l[i] == '#') continue;  // properties alone: the node is on a later line
-    CMS_INPUT_CHECK(l[i] == ',',
-                    path << ":" << line << ":" << i + 1 << ": not a valid scene file (a document cannot begin with ',')");
-    documentStart = false;
+    // Brackets outside quotes and comments; a block scalar's header ("key: |",
+    // "- >-") makes the more indented lines after it content.
+    char quote = 0;
+    std::size_t last = std::string::npos;
+    for (std::size_t k = i; k < l.size(); ++k) {
+      const char c = l[k];
+      if (quote) {
+        if (c == quote) quote = 0;
+        continue;
+      }
+      if (c == '\'' || c == '"') quote = c;
+      else if (c == '#' && (k == 0 || l[k - 1] == ' ' || l[k - 1] == '\t')) break;
+      else if (c == '[' || c == '{') ++flow;
+      else if ((c == ']' || c == '}') && flow > 0) --flow;
+      if (c != ' ' && c != '\t') last = k;
+    }
+    if (flow == 0 && last != std::string::npos) {
+      std::size_t h = last;
+      while (h > i && (std::isdigit(static_cast<unsigned char>(l[h])) || l[h] == '-' || l[h] == '+')) --h;
+      if ((l[h] == '|' || l[h] == '>') && (h == i || l[h - 1] == ' ' || l[h - 1] == '\t'))
+        blockParent = static_cast<int>(i);
+    }
   }
 }
 

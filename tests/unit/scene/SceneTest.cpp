@@ -311,6 +311,22 @@ TEST(Scene, ADocumentBeginningWithACommaIsRefusedNotHung) {
   expectInputError([&] { scene::Scene::parse("Scene: 1\r\n...\r\n, x\r\n", "end.yaml"); }, refused);
   expectInputError([&] { scene::Scene::parse("--- &a\n, x\n", "anchor.yaml"); }, refused);
   expectInputError([&] { scene::Scene::parse("!t , x\n", "tag.yaml"); }, refused);
+  // A ',' that begins a line at or left of the document's root node, after
+  // an indented root mapping or a root sequence: yaml-cpp 0.7 allocates
+  // until killed there too (the long fuzz run, seed 2, cases 33586 and
+  // 88744: a comment line broken by "    x: 1" and ", rad)." in the
+  // spacecraft scene).
+  const std::string atRoot = "a ',' at the start of a line there";
+  expectInputError([&] { scene::Scene::parse("# c\n    x: 1\n, rad).\n" + std::string(kGood), "fuzz.yaml"); },
+                   "fuzz.yaml:3:1: not a valid scene file (" + atRoot);
+  expectInputError([&] { scene::Scene::parse("  x: 1\n\n# c\n, y\n", "indented.yaml"); }, "indented.yaml:4:1:");
+  expectInputError([&] { scene::Scene::parse("- a\n- b\n, y\n", "sequence.yaml"); }, "sequence.yaml:3:1:");
+  // Where a ',' begins a line validly: inside a flow collection, a plain
+  // scalar's continuation, a block scalar's content (indented past the root).
+  EXPECT_NO_THROW(scene::Scene::parse(edit("        From: [0.0, 0.0, 0.0]\n", "        From: [0.0\n, 0.0, 0.0]\n"),
+                                      "flow.yaml"));
+  EXPECT_NO_THROW(scene::Scene::parse(edit("  Substructures:\n", "  Name: a hub\n    , and an arm\n  Substructures:\n"),
+                                      "plain.yaml"));
   // A "---" indented in a block scalar is content, not a document marker.
   EXPECT_NO_THROW(scene::Scene::parse(
       edit("  Substructures:\n", "  Name: |\n    Notes\n    ---\n    , with a comma\n  Substructures:\n"), "block.yaml"));
