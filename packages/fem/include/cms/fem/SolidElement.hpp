@@ -38,8 +38,10 @@ struct SolidElement {
 };
 
 /// All throw cms::NumericalError when the Jacobian determinant is not
-/// positive at an integration point (an inverted or degenerate element); the
-/// assembler adds the element tag to the message.
+/// positive at an integration point (an inverted or degenerate element) or
+/// negative at a node (a mid-edge node nearer a corner than the quarter
+/// point: part of the element inside out, which its Gauss points may not
+/// see); the assembler adds the element tag to the message.
 ElementMatrix solidStiffness(const SolidElement& e);
 ElementMatrix solidMass(const SolidElement& e);
 double solidVolume(const SolidElement& e);
