@@ -826,8 +826,9 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
       w.MpB = MpB;
       if (factor.factor() != SparseDirectSolver::Outcome::Factored)
         throw NumericalError(what + ": its stiffness with the separator held is not positive definite (" +
-                             factor.failure() + "): the part is not restrained by the rest; fewer parts, or "
-                             "check the substructure's supports: " + detail::notPositiveDefiniteReasons());
+                             factor.failure() + "): K_pp is a principal block of the substructure's held "
+                             "stiffness, so that is not positive definite either (fewer parts would not help): " +
+                             detail::notPositiveDefiniteReasons());
       for (const auto& [i, b, v] : KpB) w.boundary.push_back(b);
       for (const auto& [i, b, v] : MpB) w.boundary.push_back(b);
       std::sort(w.boundary.begin(), w.boundary.end());
@@ -1202,17 +1203,23 @@ RitzBasis partitionedBasis(const substructure::Substructure& s, const Substructu
     if (rowClass[r] >= 0) ++partSizes[rowClass[r]];
   const long long smallest = *std::min_element(partSizes.begin(), partSizes.end());
   const long long largest = *std::max_element(partSizes.begin(), partSizes.end());
-  // Which eigensolver found the part modes (LAPACK below 600 DOFs, else ARPACK).
-  int usedArpack = 0, anyArpack = 0;
-  for (const auto& w : work) usedArpack |= w.modes.method == "ARPACK";
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, usedArpack, Teuchos::outArg(anyArpack));
+  // Which eigensolvers found the part modes (LAPACK below 600 DOFs, else
+  // ARPACK; none where no part has a mode below the cut-off: the Sturm
+  // count said so, and "LAPACK" was printed for a solve never made).
+  int used[2] = {0, 0}, any[2] = {0, 0};
+  for (const auto& w : work) used[0] |= w.modes.method == "LAPACK", used[1] |= w.modes.method == "ARPACK";
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 2, used, any);
+  const std::string solvers = any[0] && any[1] ? "LAPACK and ARPACK"
+                              : any[1]         ? "ARPACK"
+                              : any[0]         ? "LAPACK"
+                                               : "none below the cut-off by the Sturm count, no eigensolve";
   double slowest = 0.0, local = 0.0;
   for (const auto& w : work) local = std::max(local, w.seconds);
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, local, Teuchos::outArg(slowest));
   std::ostringstream os;
   os << "partitioned by Scotch into " << parts << " parts of " << smallest << "-" << largest << " interior DOFs, "
      << nB << " separator DOFs; " << nf << " static shapes, " << offset[parts] - nf << " part modes ("
-     << (anyArpack ? "ARPACK" : "LAPACK") << ") below " << options.cutoffHz << " Hz, "
+     << solvers << ") below " << options.cutoffHz << " Hz, "
      << interface.m << " interface modes below " << options.interfaceCutoffFactor * options.cutoffHz << " Hz" << (residuals > 0 ? " and their residual vectors" : "") << "; partition " << partitionSeconds << " s, parts " << partsSeconds
      << " s (slowest part " << slowest << " s), interface " << interfaceSeconds << " s";
   if (reduced) os << "; " << shapesNote << " in " << shapesSeconds << " s" << (staticNote.empty() ? "" : "; ") << staticNote;

@@ -381,6 +381,12 @@ SubstructureSpec substructure(const ParameterList& p, const std::string& name, c
     } catch (const std::exception& e) {
       throw InputError(path + "/Reduction: " + e.what());
     }
+    // A Partition under another basis would be read and ignored.
+    const std::string basis =
+        s.reduction.isParameter("Basis") ? s.reduction.get<std::string>("Basis") : std::string("Admissible");
+    CMS_INPUT_CHECK(s.reduction.isSublist("Partition") && basis != "Partitioned",
+                    path << "/Reduction/Partition: read by Basis: Partitioned only, not by " << basis
+                         << " (remove it, or set Basis: Partitioned)");
   }
   return s;
 }

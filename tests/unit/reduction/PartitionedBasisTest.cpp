@@ -527,6 +527,18 @@ TEST(PartitionedBasis, AFreeSubstructureIsRefusedWithTheReasonOnEveryRank) {
   EXPECT_GT(buildRitzBasis(s, heldSet(s, "root"), partitioned(2000.0, 4)).size(), 0);
 }
 
+TEST(PartitionedBasis, ACutoffBelowEveryPartModeSaysNoEigensolveRan) {
+  // No part has a mode below 1e-3 Hz (the Sturm count says so, and no
+  // eigensolver runs): the report said "0 part modes (LAPACK)" (found by a
+  // review). The basis is the static shapes and the interface's.
+  const auto s = clampedBar(40, 4, 2);
+  const auto basis = buildRitzBasis(s, heldSet(s, "root"), partitioned(1e-3, 4));
+  EXPECT_NE(basis.eigensolverReport.find(" 0 part modes (none below the cut-off by the Sturm count, no eigensolve)"),
+            std::string::npos)
+      << basis.eigensolverReport;
+  EXPECT_GT(basis.size(), 0);
+}
+
 TEST(PartitionedBasis, StoredZerosDoNotMoveThePartition) {
   // Which zeros a matrix stores depends on how it was assembled: on 1 and
   // on 2 ranks the benchmark hub's K differed by 66 node pairs stored as

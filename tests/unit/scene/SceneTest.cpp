@@ -141,6 +141,11 @@ TEST(Scene, MalformedScenesNameTheKey) {
   expectInputError([] { parse(edit("Elements: 4", "Elements: 5")); }, "Elements = 5 must be an even integer");
   expectInputError([] { parse(edit("Clamp: start", "Clamp: top")); }, "Clamp = \"top\"");
   expectInputError([] { parse(edit("Basis: Modes", "Basis: Eigen")); }, "Scene/Substructures/arm/Reduction");
+  // A Partition under another basis was read and ignored (found by a review).
+  expectInputError([] { parse(edit("Basis: Modes", "Basis: Modes\n        Partition: {Parts: 4}")); },
+                   "Scene/Substructures/arm/Reduction/Partition: read by Basis: Partitioned only, not by Modes");
+  expectInputError([] { parse(edit("Basis: Modes\n        Vectors: 4", "Partition: {Parts: 4}")); },
+                   "not by Admissible");
   expectInputError([] { parse(edit("Parent Nodes: end", "Parnt Nodes: end")); }, "unknown key \"Parnt Nodes\"");
   expectInputError([] { parse(edit("Scene:\n", "Scene:\n  Units: imperial\n")); }, "only SI");
   expectInputError([] { parse(edit("      Beam:\n        From: [1.0", "      Rotor:\n        Mass: 1.0\n      Beam:\n        From: [1.0")); },
