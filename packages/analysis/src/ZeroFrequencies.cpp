@@ -13,6 +13,7 @@
 
 #include "cms/core/Error.hpp"
 #include "cms/core/TpetraTypes.hpp"
+#include "cms/fem/FiniteElementModel.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
 
 namespace cms::analysis {
@@ -73,6 +74,18 @@ std::string freeMotion(const synthesis::AssembledStructure& s, std::size_t k, co
   return os.str();
 }
 
+/// Whether substructure k's mesh holds reduced-integration Hex20 cells.
+bool hasReducedHex20(const synthesis::AssembledStructure& structure, std::size_t k) {
+  const auto& model = structure.substructure(k).model;
+  if (!model || !model->mesh) return false;
+  for (const auto& set : model->elementSets) {
+    if (set.kind != fem::ElementSet::Kind::Solid || !model->mesh->hasGroup(set.group)) continue;
+    for (const auto& b : model->mesh->group(set.group).blocks)
+      if (b.type == mesh::CellType::Hex20 && fem::solidTypeOf(set, b) == fem::SolidType::Hex20Reduced) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 int rigidBodyMotions(const synthesis::AssembledStructure& structure) {
@@ -92,7 +105,16 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   report.zeros = static_cast<int>(zeros.size());
   const bool spinning =
       std::any_of(modes.speeds.begin(), modes.speeds.end(), [](double w) { return w != 0.0; });
-  if (report.zeros <= report.expected) {
+  // An unstable mode at speed may be the spin's softening of a zero mode
+  // the structure has at rest beyond its rigid motions (a reduced Hex20
+  // column's hourglass modes diverged, exit 0, found by a review): then the
+  // at-rest check below is made too, and refuses the structure as it does
+  // at rest. A structure with no such zero at rest keeps its instability,
+  // an answer.
+  const bool unstable = spinning && std::any_of(modes.result.modes.begin(), modes.result.modes.end(), [](const auto& m) {
+                          return m.stability == eigen::Stability::Divergence || m.stability == eigen::Stability::Flutter;
+                        });
+  if (report.zeros <= report.expected && !unstable) {
     // At speed a free body's rigid motions need not stay at zero: in a
     // spinning frame four of its six move to the frame rate, and a spinning
     // wheel turns its tilts into nutation. A zero within the count of six
@@ -109,7 +131,8 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   };
   if (spinning) {
     atSpeed = reduced.characterise(modes);
-    if (report.zeros <= report.expected && std::none_of(zeros.begin(), zeros.end(), strained)) return report;
+    if (report.zeros <= report.expected && std::none_of(zeros.begin(), zeros.end(), strained) && !unstable)
+      return report;
   }
 
   // 1. At a critical speed, K(Omega) is singular but K(0) is not: the zeros
@@ -162,6 +185,14 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
        << "' moves freely (" << freeMotion(structure, k, *u[k]) << " of its motion, "
        << character[m].kineticShare[k] << " of the mode's kinetic energy): clamp it (\"Clamp\", "
        << "\"Boundary Conditions\"), attach it, or let C float (\"Free Reference\")";
+    // A strain-free zero of a clamped mesh: the reduced Hex20's zero-energy
+    // modes, which communicate through a column one element across.
+    if (hasReducedHex20(structure, k))
+      os << "; or, clamped as it may be, the zero-energy (hourglass) modes of its reduced-integration Hex20 "
+            "elements (Hex20: Reduced, a deck's C3D20R), which a mesh one element across lets through: set "
+            "\"Hex20: Full\" on its element set, or mesh two elements across";
+    if (unstable && zeros.size() <= static_cast<std::size_t>(report.expected))
+      os << " (seen at speed as unstable modes: the spin's softening of these zero modes)";
     throw InputError(os.str());
   }
   // Ill-conditioned: the mode deforms substructure j (its strain well above

@@ -864,3 +864,50 @@ TEST(SceneRegression, ACoverageValueJustAboveTheCutoffIsNoMissingMode) {
   }
   EXPECT_TRUE(seen);
 }
+
+// A clamped bar of C3D20R bricks one element across: the reduced brick's
+// zero-energy (hourglass) modes communicate along the column, and the model
+// has seven zero frequencies at rest. Spinning without stress stiffening,
+// the softening turned each into a real root: seven DIVERGENCE modes (growth
+// 70.7 1/s), exit 0, where the bar is stable (found by a review). At speed,
+// unstable modes now send the structure to the at-rest check too, and both
+// refuse it naming the hourglass modes (at rest it said "clamp it" of a
+// clamped bar).
+TEST(SceneRegression, AReducedHex20ColumnsHourglassModesAreNamed) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const std::string scene = std::string(R"(Scene:
+  Name: c3d20r-column
+  Substructures:
+    bar:
+      Kind: C
+      Finite Element Model:
+        Mesh: )") + CMS_TEST_DATA_DIR + R"(/meshes/bar_c3d20r_one_across.inp
+        Materials:
+          steel: {Young's Modulus: 2.1e11, Poisson's Ratio: 0.3, Density: 7850.0}
+        Element Sets:
+          bar: {Type: Solid, Material: steel}
+        Boundary Conditions:
+          root: {Node Set: root, Fixed: all}
+      Spin: {Axis: [0, 0, 1], Origin: [-0.1, 0, 0], Stress Stiffening: false, Rate: 100}
+      Reduction: {Basis: Full}
+  Analysis:
+    Number of Modes: 8
+    Solver: Dense
+)";
+  const auto sc = scene::Scene::parse(scene, "c3d20r-column.yaml");
+  for (const double factor : {1.0, 0.0}) {
+    SCOPED_TRACE(factor);
+    Teuchos::ParameterList options;
+    options.set("Speed Factor", factor);
+    fixtures::expectInputError([&] { analysis::ModalAnalysis(sc.structure, sc.solve, options).run(comm); },
+                               "zero-energy (hourglass) modes of its reduced-integration Hex20 elements");
+  }
+  // The same column with Hex20: Full: a stable bar.
+  std::string full = scene;
+  const std::string set = "bar: {Type: Solid, Material: steel}";
+  full.replace(full.find(set), set.size(), "bar: {Type: Solid, Material: steel, Hex20: Full}");
+  Teuchos::ParameterList options;
+  const auto r = analysis::ModalAnalysis(scene::Scene::parse(full, "full.yaml").structure, sc.solve, options).run(comm);
+  ASSERT_FALSE(r.modes.result.modes.empty());
+  EXPECT_TRUE(r.modes.result.isStable());
+}
