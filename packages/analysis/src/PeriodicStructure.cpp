@@ -485,8 +485,14 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
         if (m.frequency > 0.0 || (m.frequency == 0.0 && m.multiplier.imag() >= 0.0)) chosen.push_back(&m);
       std::sort(chosen.begin(), chosen.end(),
                 [](const FloquetMultiplier* x, const FloquetMultiplier* y) { return x->frequency < y->frequency; });
-      for (int i = 0; i < numModes && i < static_cast<int>(chosen.size()); ++i) {
+      // The numModes lowest, and every unstable one past them: the monodromy
+      // has them all, and a growing mode beyond the count was dropped with
+      // the verdict (one mode asked of a rotor in ground resonance read
+      // "stable", exit 0; found by a review).
+      for (int i = 0; i < static_cast<int>(chosen.size()); ++i) {
         const auto& f = *chosen[static_cast<std::size_t>(i)];
+        if (i >= numModes && !(f.growthRate > f.growthRateError && std::abs(f.fixedFrameExponent()) > f.growthRateError))
+          continue;
         eigen::GyroscopicMode m;
         m.lambda = f.fixedFrameExponent();
         m.omega = std::abs(f.frequency);
