@@ -16,7 +16,6 @@
 
 namespace cms::eigen {
 
-
 using cplx = std::complex<double>;
 
 namespace {
@@ -493,29 +492,14 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
                                       "in the given coordinates and in those with M = I");
     std::fill(be.begin(), be.end(), 1.0);
   } else {
-    // Balanced ('B': permuted and scaled, Ward's method; dggev only
-    // permutes, where dgeev, the path below, also scales): a K whose
-    // entries span many orders (a massless stub 1e8 times stiffer than the
-    // hub carrying it) left the low modes to the pencil's normwise rounding,
-    // and a wheel's 4.31 and 5.36 Hz came out 5.36 and 10.7 Hz with
-    // rounding-sized residuals, or right, by the CPU's BLAS kernel (found
-    // when the suite ran on another machine; theory §2). The eigenvectors
-    // come back in the original coordinates (dggbak).
-    int ilo = 0, ihi = 0;
-    std::vector<double> lscale(N), rscale(N);
-    std::vector<int> iwork(N + 6), bwork(N);
-    double abnrm = 0.0, bbnrm = 0.0, rconde = 0.0, rcondv = 0.0;
-    const auto ggevx = [&](double* work, int lw) {
-      lapack.GGEVX('B', 'N', 'V', 'N', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
-                   VR.values(), N, &ilo, &ihi, lscale.data(), rscale.data(), &abnrm, &bbnrm, &rconde, &rcondv, work,
-                   lw, iwork.data(), bwork.data(), &info);
-    };
-    ggevx(&wq, lwork);
-    lwork = std::max(static_cast<int>(wq), 6 * N + 16);  // dggevx's minimum with BALANC = 'B'
+    lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
+                VR.values(), N, &wq, lwork, &info);
+    lwork = static_cast<int>(wq);
     std::vector<double> work(std::max(1, lwork));
-    ggevx(work.data(), lwork);
+    lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1,
+                VR.values(), N, work.data(), lwork, &info);
     TEUCHOS_TEST_FOR_EXCEPTION(info < 0, std::logic_error,
-                               "DenseGyroscopicSolver: LAPACK dggevx rejected argument " << -info);
+                               "DenseGyroscopicSolver: LAPACK dggev rejected argument " << -info);
     if (info > 0)
       throw QzFailure("DenseGyroscopicSolver: LAPACK dggev's QZ iteration failed, info = " + std::to_string(info));
   }
@@ -903,6 +887,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       frobeniusNorm(sys.K) + (sys.N.numRows() > 0 ? frobeniusNorm(sys.N) : 0.0));
 
   std::string whyNotSymmetric;
+  bool spreadOnly = false;  // K positive definite, only its pivots' spread past the tolerance
   DenseMatrix Lk(sys.K);
   if (sys.damped()) {
     // Damping (D) or circulatory (N) terms: the spectrum is no longer
@@ -914,6 +899,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
                                             "system, but " << whyNotSymmetric << "; use \"Auto\" or \"General\"");
   } else if (method != "General") {
     const int infoK = choleskyLower(Lk, params_.get<double>("Definiteness Tolerance"));
+    spreadOnly = infoK == n + 1;
     if (infoK == n + 1)
       whyNotSymmetric = "K is positive definite only to rounding (smallest Cholesky pivot^2 / "
                         "largest below \"Definiteness Tolerance\")";
@@ -984,6 +970,17 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     } else if (params_.get<std::string>("General Coordinates") == "Mass Congruent") {
       solveCongruent(how);
       also("requested in the coordinates with M = I");
+    } else if (spreadOnly) {
+      // K positive definite, its pivots spread past the Definiteness
+      // Tolerance (a stub 1e8 times stiffer than its hub, massless): the
+      // pencil in the given coordinates left the low modes to its normwise
+      // rounding, and a wheel's 4.31 and 5.36 Hz came out 5.36 and 10.7 Hz
+      // with rounding-sized residuals on two of OpenBLAS's kernels (right on
+      // a third, where dggev met an infinite eigenvalue and came here). In
+      // the coordinates with M = I (B = I) every kernel gives 4.31 and 5.36
+      // (found when the suite ran on a new machine; theory §4.3).
+      solveCongruent(how);
+      also("K spans too many orders for the symmetric form: the pencil in the coordinates with M = I");
     } else {
       try {
         result.modes = generalModes(sys, every ? 2 * n : nModes, scale, unreturned);
