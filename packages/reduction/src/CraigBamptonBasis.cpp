@@ -1,18 +1,64 @@
 #include "cms/reduction/CraigBamptonBasis.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
+#include <string>
+#include <vector>
+
+#include <Teuchos_LAPACK.hpp>
 
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "cms/core/Error.hpp"
+#include "cms/core/TpetraTypes.hpp"
 #include "cms/core/SparseProduct.hpp"
 #include "cms/core/HeldDofs.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
 
 namespace cms::reduction {
+
+namespace {
+/// The columns of F (n x m, distributed) replaced in place, in their first
+/// `rank` columns, by an orthonormal basis of their range: F V_k
+/// Lambda_k^-1/2 with (Lambda, V) the eigenpairs of the Gram matrix F^T F
+/// above 1e-10 of its largest. Returns the rank; F untouched when full.
+int compressToRange(MultiVector& F, int m) {
+  if (m == 0) return 0;
+  auto small = Teuchos::rcp(new Map(m, 0, F.getMap()->getComm(), Tpetra::LocallyReplicated));
+  MultiVector G(small, m);
+  G.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, F, F, 0.0);
+  std::vector<double> A(static_cast<std::size_t>(m) * m), w(m), work(static_cast<std::size_t>(64) * m);
+  for (int j = 0; j < m; ++j) {
+    const auto c = G.getData(j);
+    for (int i = 0; i < m; ++i) A[i + static_cast<std::size_t>(j) * m] = c[i];
+  }
+  int info = 0;
+  Teuchos::LAPACK<int, double>().SYEV('V', 'L', m, A.data(), m, w.data(), work.data(), static_cast<int>(work.size()),
+                                      &info);
+  TEUCHOS_TEST_FOR_EXCEPTION(info != 0, NumericalError,
+                             "Craig-Bampton: the distributing constraints' Gram matrix: LAPACK dsyev info " << info);
+  const double top = w[m - 1];
+  int rank = 0;
+  for (int k = 0; k < m; ++k) rank += w[k] > 1e-10 * top;
+  if (rank == m) return m;
+  // Columns of the kept eigenvectors (the largest rank of them), scaled.
+  MultiVector C(small, rank);
+  for (int k = 0; k < rank; ++k) {
+    const int e = m - 1 - k;
+    const double sc = 1.0 / std::sqrt(w[e]);
+    auto col = C.getDataNonConst(k);
+    for (int i = 0; i < m; ++i) col[i] = A[i + static_cast<std::size_t>(e) * m] * sc;
+  }
+  MultiVector Fk(F.getMap(), rank);
+  Fk.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, 1.0, F, C, 0.0);
+  for (int k = 0; k < rank; ++k) F.getVectorNonConst(k)->assign(*Fk.getVector(k));
+  return rank;
+}
+}  // namespace
 
 namespace {
 
@@ -74,6 +120,44 @@ std::vector<GlobalOrdinal> craigBamptonHeldRows(const SubstructureBoundary& boun
   return {all.begin(), all.end()};
 }
 
+Teuchos::RCP<MultiVector> distributingConstraints(const substructure::Substructure& s,
+                                                  const SubstructureBoundary& boundary,
+                                                  const std::vector<GlobalOrdinal>& held,
+                                                  std::vector<std::string>& labels) {
+  std::vector<std::size_t> distributing;
+  pointInterfaceRows(boundary, &distributing);
+  const auto map = s.map();
+  int nf = 0;
+  for (std::size_t c : distributing) nf += static_cast<int>(boundary.interfaceLoads[c].size());
+  auto F = Teuchos::rcp(new MultiVector(map, nf));
+  labels.clear();
+  int j = 0;
+  for (std::size_t c : distributing)
+    for (std::size_t k = 0; k < boundary.interfaceLoads[c].size(); ++k, ++j) {
+      labels.push_back("constraint mode of interface " + std::to_string(c + 1) + " coordinate " +
+                       std::to_string(k + 1));
+      for (auto [g, v] : boundary.interfaceLoads[c][k]) {
+        const auto l = map->getLocalElement(g);
+        if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) F->sumIntoLocalValue(l, j, v);
+      }
+    }
+  zeroHeldRows(*F, held);
+  // Dependent constraints (two children fitted to one face, a grandchild's
+  // face on its parent's held rows) made H rank deficient: the fixed-
+  // interface problem then dropped random directions (symmetric pairs
+  // split, results by rounding) or stopped on an "internal error" (found
+  // by a review). F is replaced by an orthonormal basis of its range.
+  if (const int rank = compressToRange(*F, nf); rank < nf) {
+    F = F->subCopy(Teuchos::Range1D(0, rank - 1));
+    labels.clear();
+    for (int k = 0; k < rank; ++k)
+      labels.push_back("constraint mode of the distributing interfaces, independent combination " +
+                       std::to_string(k + 1) + " of " + std::to_string(rank) + " (" + std::to_string(nf) +
+                       " constraints)");
+  }
+  return F;
+}
+
 RitzBasis craigBamptonBasis(const substructure::Substructure& s, const SubstructureBoundary& boundary, int modes,
                             double eigTol, double depTol, const SturmCut& cut) {
   std::vector<std::size_t> distributing;
@@ -97,23 +181,10 @@ RitzBasis craigBamptonBasis(const substructure::Substructure& s, const Substruct
   }
   ModeConstraints constraints;
   if (!distributing.empty()) {
-    const auto map = s.map();
-    int nf = 0;
-    for (std::size_t c : distributing) nf += static_cast<int>(boundary.interfaceLoads[c].size());
-    auto F = Teuchos::rcp(new MultiVector(map, nf));
-    auto X = Teuchos::rcp(new MultiVector(map, nf));
     std::vector<std::string> labels;
-    int j = 0;
-    for (std::size_t c : distributing)
-      for (std::size_t k = 0; k < boundary.interfaceLoads[c].size(); ++k, ++j) {
-        labels.push_back("constraint mode of interface " + std::to_string(c + 1) + " coordinate " +
-                         std::to_string(k + 1));
-        for (auto [g, v] : boundary.interfaceLoads[c][k]) {
-          const auto l = map->getLocalElement(g);
-          if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) F->sumIntoLocalValue(l, j, v);
-        }
-      }
-    zeroHeldRows(*F, heldAll);
+    auto F = distributingConstraints(s, boundary, heldAll, labels);
+    const int nf = static_cast<int>(F->getNumVectors());
+    auto X = Teuchos::rcp(new MultiVector(s.map(), nf));
     K.solve(*F, *X);
     appendOrthonormal(*s.M(), *X, labels, depTol, basis.size() + nf, basis);
     // The modes of the fixed interface satisfy H u = 0 (theory §11.3).

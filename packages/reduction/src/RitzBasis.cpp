@@ -214,9 +214,15 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
       // has between count - m and count modes below (interlacing), never
       // more; the basis takes `count`, at most m more than needed.
       held = craigBamptonHeldRows(boundary);
+      // m: the independent constraints (two children fitted to one face
+      // constrain it once; counted 12 for 6, the basis took 6 modes short).
+      bool anyDistributing = false;
       for (std::size_t c = 0; c < boundary.interfaces.size() && c < boundary.interfaceLoads.size(); ++c)
-        if (boundary.interfaceLoads[c].size() < boundary.interfaces[c].size())
-          freedConstraints += static_cast<int>(boundary.interfaceLoads[c].size());
+        anyDistributing = anyDistributing || boundary.interfaceLoads[c].size() < boundary.interfaces[c].size();
+      if (anyDistributing) {
+        std::vector<std::string> unused;
+        freedConstraints = static_cast<int>(distributingConstraints(s, boundary, held, unused)->getNumVectors());
+      }
     }
     const double w = 2.0 * M_PI * cutoffHz;
     Teuchos::RCP<const CrsMatrix> A =

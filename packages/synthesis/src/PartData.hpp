@@ -64,6 +64,7 @@ struct AssembledStructure::Part {
   Frame frame;
   int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
   fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)
+  std::string gapNote;       ///< its attachment nodes' rigid link to P, where long (AssembledStructure notes)
   bool floating = false;     ///< free C: a = the six rigid-body coordinates
   /// A rotor spinning in its own frame on an attachment that moves (a hub on
   /// an airframe): a = six coordinates b of its own, the attachment motion in

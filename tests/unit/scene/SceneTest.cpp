@@ -964,9 +964,10 @@ TEST(SceneRegression, AnInstabilityBeyondTheAskedModesIsListed) {
 // A child's attachment nodes off its parent's attachment: the rotor chain's
 // tip moved 1 m beyond the blade's end hung on a 1 m massless rigid link,
 // and the first frequency fell from 3.97 to 2.48 Hz without a word (found
-// by a review). Refused, naming the node and the gap; a gap within 1e-3 of
-// the model's size (a mesh's rounding) is accepted.
-TEST(Scene, AChildsAttachmentNodesOffItsParentAreRefused) {
+// by a review). Offsets are rigid links by design (a solid child on a
+// rigid link, a shaft off its support's axis), so this is a note, naming
+// the node and the gap; a gap within 1e-3 of the model's size is none.
+TEST(Scene, AChildsAttachmentNodesOffItsParentAreNoted) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
   std::ifstream in(std::string(CMS_SCENE_DIR) + "/rotor-chain.yaml");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -977,12 +978,55 @@ TEST(Scene, AChildsAttachmentNodesOffItsParentAreRefused) {
     EXPECT_NE(at, std::string::npos);
     return t.replace(at, was.size(), "        From: " + from + "\n        To: " + to + "\n");
   };
-  fixtures::expectInputError(
-      [&] {
-        synthesis::AssembledStructure::assemble(
-            scene::Scene::parse(moved("[3.3, 0.0, 0.0]", "[3.5, 0.0, 0.0]"), "gap.yaml").structure, comm);
-      },
-      "substructure 'tip': attachment node 1 at (3.3, 0, 0) is 1 from its parent 'blade''s attachment nodes 'end'");
-  EXPECT_NO_THROW(synthesis::AssembledStructure::assemble(
-      scene::Scene::parse(moved("[2.3000001, 0.0, 0.0]", "[2.5, 0.0, 0.0]"), "rounding.yaml").structure, comm));
+  const auto notes = [&](const std::string& scene) {
+    std::string all;
+    const auto a = synthesis::AssembledStructure::assemble(scene::Scene::parse(scene, "gap.yaml").structure, comm);
+    for (const auto& n : a.notes()) all += n + "\n";
+    return all;
+  };
+  const std::string gap = notes(moved("[3.3, 0.0, 0.0]", "[3.5, 0.0, 0.0]"));
+  EXPECT_NE(gap.find("tip: its attachment node 1 lies 1 from blade's attachment nodes 'end': it hangs on a massless "
+                     "rigid link"),
+            std::string::npos)
+      << gap;
+  EXPECT_EQ(notes(moved("[2.3000001, 0.0, 0.0]", "[2.5, 0.0, 0.0]")).find("rigid link"), std::string::npos);
+  EXPECT_EQ(notes(text).find("rigid link"), std::string::npos);
+}
+
+// Two arms fitted (RigidFit) to one face of a Craig-Bampton hub: the second
+// arm's constraints are the first's, so the hub's fixed-interface problem is
+// the one-arm problem. Its 12 constraints, 6 independent, were taken as 12:
+// six random directions were removed with them, the hub's Ritz estimates
+// moved (1193.83 Hz -> 1194.15, symmetric pairs split) and 6 coordinates
+// were lost; on the sparse path an "internal error" (found by a review).
+// Now the constraints are reduced to their range first.
+TEST(SceneRegression, TwoChildrenFittedToOneFaceConstrainTheHubOnce) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const std::string path = std::string(CMS_TEST_DATA_DIR) + "/scenes/craig-bampton-cutoff-rigidfit.yaml";
+  std::ifstream in(path);
+  const std::string one((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string two = one;
+  const auto arm = two.find("    arm:\n"), end = two.find("  Analysis:");
+  ASSERT_NE(arm, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  std::string second = two.substr(arm, end - arm);
+  second.replace(0, 8, "    arm2:");
+  two.insert(end, second);
+  std::vector<double> hz[2];
+  long long coordinates[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const auto a = synthesis::AssembledStructure::assemble(scene::Scene::parse(k ? two : one, path).structure, comm);
+    const auto s = synthesis::SynthesizedStructure::synthesize(a);
+    ASSERT_EQ(s.reductions().front().name, "hub");
+    hz[k] = s.reductions().front().frequencyEstimates;
+    coordinates[k] = s.reductions().front().coordinates;
+    std::sort(hz[k].begin(), hz[k].end());
+  }
+  EXPECT_EQ(coordinates[1], coordinates[0]);
+  ASSERT_EQ(hz[1].size(), hz[0].size());
+  // The same Rayleigh-Ritz problem: its values to rounding, eps lambda_max /
+  // lambda_i of a projection (1e-8 here is far above it, and far below the
+  // 2.7e-4 of the dependent constraints).
+  for (std::size_t i = 0; i < std::min<std::size_t>(hz[0].size(), 12); ++i)
+    EXPECT_NEAR(hz[1][i] / hz[0][i], 1.0, 1e-8) << "hub value " << i;
 }

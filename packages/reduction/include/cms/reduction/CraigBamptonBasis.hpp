@@ -28,6 +28,14 @@ Teuchos::RCP<MultiVector> constraintModes(const substructure::Substructure& s, c
 /// (a distributing interface is represented by its 6 static load shapes
 /// instead), sorted and unique.
 std::vector<GlobalOrdinal> craigBamptonHeldRows(const SubstructureBoundary& boundary);
+/// H^T of the distributing interfaces (their load shapes, `held` rows
+/// zeroed), reduced to an orthonormal basis of its range when dependent
+/// (eigenvalues of F^T F above 1e-10 of the largest): its column count is
+/// the number of independent constraints H u = 0. `labels` names each.
+Teuchos::RCP<MultiVector> distributingConstraints(const substructure::Substructure& s,
+                                                  const SubstructureBoundary& boundary,
+                                                  const std::vector<GlobalOrdinal>& held,
+                                                  std::vector<std::string>& labels);
 
 /// `cut`: the cut-off's Sturm count, which the fixed-interface modes are
 /// checked against (FixedInterfaceModes.hpp).
