@@ -114,7 +114,12 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
       const double w = r.modes.result.modes[i].omega;
       if (w < r.cutoff) continue;
       r.cutoff = w;
-      band = i < r.estimates.size() && r.estimates[i] > 0.0 && std::isfinite(r.estimates[i]) ? 4.0 * r.estimates[i] : 0.0;
+      // Capped at 1e-3: a coarse model's top estimate (1e-2 and more) would
+      // open a window wide enough to take an unrelated value for a missing
+      // mode (found by a review).
+      band = i < r.estimates.size() && r.estimates[i] > 0.0 && std::isfinite(r.estimates[i])
+                 ? std::min(4.0 * r.estimates[i], 1e-3)
+                 : 0.0;
     }
     // The estimates' factors are not needed again: freed before the counts'
     // factorisations, they no longer add to the run's peak memory.

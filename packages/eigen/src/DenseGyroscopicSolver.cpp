@@ -841,9 +841,9 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
         Teuchos::tuple<std::string>("Skew Tridiagonal", "Bidiagonal"), pl.get());
     Teuchos::setStringToIntegralParameter<int>(
         "General Coordinates", "Given",
-        "the general path's coordinates: Given (the pencil with M; the coordinates congruent to M = I only "
-        "when dggev returns an infinite eigenvalue for the positive definite M), or Mass Congruent (always "
-        "M = I by q = L^-T p, M = L L^T)",
+        "the general path's coordinates: Given (the pencil with M; the coordinates congruent to M = I "
+        "when dggev returns an infinite eigenvalue or its QZ fails, and for a K positive definite whose pivots "
+        "only spread past the Definiteness Tolerance), or Mass Congruent (always M = I by q = L^-T p, M = L L^T)",
         Teuchos::tuple<std::string>("Given", "Mass Congruent"), pl.get());
     Teuchos::setStringToIntegralParameter<int>(
         "General Eigensolver", "QZ",

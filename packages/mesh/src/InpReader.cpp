@@ -438,9 +438,9 @@ private:
       else if (kw.name == "NSET") set(kw, true);
       else if (kw.name == "ELSET") set(kw, false);
       else if (constraintKeyword(kw.name))
-        fail(kw.at, "*" + kw.name + " is not supported: it joins or constrains nodes, and skipping it would leave "
-                    "the parts it joins unconnected or flexible where the deck makes them rigid (merge the nodes in "
-                    "the mesh, or remove it where the scene's attachments or supports replace it)");
+        fail(kw.at, "*" + kw.name + " is not supported: it joins or constrains nodes or gives them mass, springs or "
+                    "dampers, and skipping it would change the structure (merge the nodes in the mesh, or remove it "
+                    "where the scene's attachments, supports, point masses or springs replace it)");
       else if (refusedKeyword(kw.name))
         fail(kw.at, "*" + kw.name + " is not supported: it would generate, copy or place nodes or elements that "
                     "this reader does not follow (write the nodes and elements out, e.g. with the solver's "

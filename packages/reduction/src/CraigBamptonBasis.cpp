@@ -28,6 +28,19 @@ namespace {
 /// above 1e-10 of its largest. Returns the rank; F untouched when full.
 int compressToRange(MultiVector& F, int m) {
   if (m == 0) return 0;
+  // Columns to unit norm first: a small face's rotations beside a large
+  // face's translations differ in norm by its size ratio, and the rank
+  // test must not take one for the other's rounding (found by a review).
+  // A column of zeros (every row held) counts as dependent.
+  {
+    Teuchos::Array<double> norms(m);
+    F.norm2(norms());
+    double top = 0.0;
+    for (double v : norms) top = std::max(top, v);
+    Teuchos::Array<double> scale(m);
+    for (int k = 0; k < m; ++k) scale[k] = norms[k] > 1e-14 * top && norms[k] > 0.0 ? 1.0 / norms[k] : 0.0;
+    F.scale(scale());
+  }
   auto small = Teuchos::rcp(new Map(m, 0, F.getMap()->getComm(), Tpetra::LocallyReplicated));
   MultiVector G(small, m);
   G.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, F, F, 0.0);
@@ -43,7 +56,9 @@ int compressToRange(MultiVector& F, int m) {
                              "Craig-Bampton: the distributing constraints' Gram matrix: LAPACK dsyev info " << info);
   const double top = w[m - 1];
   int rank = 0;
-  for (int k = 0; k < m; ++k) rank += w[k] > 1e-10 * top;
+  for (int k = 0; k < m; ++k) rank += w[k] > 1e-10 * top && top > 0.0;
+  TEUCHOS_TEST_FOR_EXCEPTION(rank == 0, InputError,
+                             "Craig-Bampton: every distributing interface's rows are held (no constraint left)");
   if (rank == m) return m;
   // Columns of the kept eigenvectors (the largest rank of them), scaled.
   MultiVector C(small, rank);

@@ -74,8 +74,7 @@ Vec3 nodePosition(const mesh::Mesh& mesh, std::int64_t n) {
 /// Node indices of a named set of a model's mesh, with the error naming both.
 std::vector<std::int64_t> nodeSet(const SubstructureSpec& s, const std::string& set, const char* role) {
   const mesh::Mesh& mesh = *s.model->mesh;
-  const bool known = std::any_of(mesh.groups.begin(), mesh.groups.end(),
-                                 [&](const mesh::PhysicalGroup& g) { return g.name == set; });
+  const bool known = mesh.hasGroup(set);  // a deck's names in any case, as Mesh compares them
   CMS_INPUT_CHECK(!known, "substructure '" << s.name << "': " << role << " node set '" << set
                                            << "' is not a physical group of " << mesh.source);
   auto nodes = mesh.nodeSet(set);

@@ -6,8 +6,10 @@
 // from a spinning frame) give no critical speeds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <complex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -49,6 +51,20 @@ Teuchos::ParameterList sweep(int steps, double maxFactor, std::vector<double> or
   return p;
 }
 
+/// MAC of modes whose shapes q are unit vectors of an orthonormal basis:
+/// |a^H b|^2 over the components both have.
+std::vector<std::vector<double>> coordinateMac(const std::vector<eigen::GyroscopicMode>& a,
+                                               const std::vector<eigen::GyroscopicMode>& b) {
+  std::vector<std::vector<double>> m(a.size(), std::vector<double>(b.size()));
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      std::complex<double> d = 0.0;
+      for (std::size_t k = 0; k < std::min(a[i].q.size(), b[j].q.size()); ++k) d += std::conj(a[i].q[k]) * b[j].q[k];
+      m[i][j] = std::norm(d);
+    }
+  return m;
+}
+
 /// Two spin rates, "bus" (swept) and "wheel" (held at 10 rad/s), and two
 /// modes in closed form: one whose frequency is the wheel's rate within
 /// a(bus)^2 (a rigid motion of the wheel seen at its rate, slightly bent by
@@ -73,11 +89,7 @@ public:
   }
   std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
                                        const std::vector<eigen::GyroscopicMode>& b) const override {
-    std::vector<std::vector<double>> m(a.size(), std::vector<double>(b.size()));
-    for (std::size_t i = 0; i < a.size(); ++i)
-      for (std::size_t j = 0; j < b.size(); ++j)
-        m[i][j] = std::norm(a[i].q[0] * b[j].q[0] + a[i].q[1] * b[j].q[1]);
-    return m;
+    return coordinateMac(a, b);
   }
   std::vector<analysis::Whirl> whirl(const synthesis::StructureModes& modes,
                                      const analysis::WhirlClassification&) const override {
@@ -547,11 +559,7 @@ public:
   }
   std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
                                        const std::vector<eigen::GyroscopicMode>& b) const override {
-    std::vector<std::vector<double>> m(a.size(), std::vector<double>(b.size()));
-    for (std::size_t i = 0; i < a.size(); ++i)
-      for (std::size_t j = 0; j < b.size(); ++j)
-        m[i][j] = std::norm(a[i].q[0] * b[j].q[0] + a[i].q[1] * b[j].q[1] + a[i].q[2] * b[j].q[2]);
-    return m;
+    return coordinateMac(a, b);
   }
   std::vector<analysis::Whirl> whirl(const synthesis::StructureModes& modes,
                                      const analysis::WhirlClassification&) const override {

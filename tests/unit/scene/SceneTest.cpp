@@ -1030,3 +1030,66 @@ TEST(SceneRegression, TwoChildrenFittedToOneFaceConstrainTheHubOnce) {
   for (std::size_t i = 0; i < std::min<std::size_t>(hz[0].size(), 12); ++i)
     EXPECT_NEAR(hz[1][i] / hz[0][i], 1.0, 1e-8) << "hub value " << i;
 }
+
+// A shaft of unequal bending stiffness (unstable between its two critical
+// speeds) carrying a blade on a free lag hinge, at 240 rad/s: the
+// divergence is the answer. When every unstable structure was checked at
+// rest, the free hinge's zero there refused it as "ill-conditioned" (exit
+// 3; found by a review of that change): only structures holding reduced
+// Hex20 cells are so checked now.
+TEST(SceneRegression, AFreeHingeOnAnUnstableShaftIsAnswered) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto sc = scene::Scene::parse(R"(Scene:
+  Substructures:
+    shaft:
+      Kind: C
+      Spin:
+        Axis: [0.0, 0.0, 1.0]
+        Origin: [0.0, 0.0, 0.0]
+        Rate: 240.0
+      Beam:
+        From: [0.0, 0.0, 0.0]
+        To: [0.0, 0.0, 1.0]
+        Elements: 10
+        Young's Modulus: 2.0e11
+        Density: 7800.0
+        Area: 1.2566e-3
+        Iy: 1.0e-7
+        Iz: 4.0e-7
+        Torsion Constant: 2.5e-7
+        Orientation: [1.0, 0.0, 0.0]
+        Clamp: start
+      Reduction:
+        Basis: Full
+    blade:
+      Kind: E
+      Parent: shaft
+      Attachment:
+        Type: Node
+        Parent Nodes: end
+        Nodes: start
+      Beam:
+        From: [0.0, 0.0, 1.0]
+        To: [0.5, 0.0, 1.0]
+        Elements: 8
+        Young's Modulus: 7.0e10
+        Density: 100.0
+        Area: 1.0e-4
+        Iy: 1.0e-9
+        Iz: 1.0e-9
+        Torsion Constant: 2.0e-9
+        Orientation: [0.0, 1.0, 0.0]
+        Hinges:
+          lag:
+            Station: 0.25
+            Axis: [0.0, 0.0, 1.0]
+            Stiffness: 0.0
+      Reduction:
+        Basis: Full
+  Analysis:
+    Number of Modes: 6
+)", "hinge.yaml");
+  const auto r = analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm);
+  ASSERT_FALSE(r.modes.result.modes.empty());
+  EXPECT_EQ(r.modes.result.modes.front().stability, eigen::Stability::Divergence);
+}
