@@ -436,6 +436,26 @@ TEST(StructureErrors, PeriodicCombinationsAndMalformedTreesAreRefused) {
     d.substructures[1].attachment.parentNodes = "no such set";
     expectInputError([&] { AssembledStructure::assemble(d, comm); }, "'no such set'");
   }
+  // RigidFit on three non-collinear nodes of a 10 um block (SI units): a
+  // rigid motion is fixed whatever the size. The collinearity test compared
+  // translation and rotation terms of N unscaled (n against n L^2) and
+  // refused it as collinear (found by a review).
+  {
+    StructureDescription d;
+    SubstructureSpec C;
+    C.name = "chip";
+    C.kind = SubstructureKind::Central;
+    auto block = fixtures::solidModel(fixtures::boxMesh(1e-5, 1e-5, 1e-5, 2), {2e11, 0.3, 7800});
+    block.fixed.push_back({"ref", "reference", {}, true});
+    C.model = std::make_shared<fem::FiniteElementModel>(block);
+    d.substructures.push_back(C);
+    d.substructures.push_back(frameChild(
+        "chip", "reference",
+        frame(fixtures::segmentMesh({0, 0, 0}, {0, 2e-5, 0}, 4, 100), {7e10, 0.3, 2700}, {1e-12, 1e-25, 1e-25, 2e-25},
+              "lead")));
+    d.substructures[1].attachment.type = Attachment::Type::RigidFit;
+    EXPECT_NO_THROW(AssembledStructure::assemble(d, comm));
+  }
   // An attachment point off the parent.
   {
     auto d = supportWith(true, 100.0);

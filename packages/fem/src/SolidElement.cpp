@@ -432,7 +432,8 @@ public:
       if (!(det >= -minDet_))
         throw NumericalError("solid element: Jacobian determinant < 0 at node " + std::to_string(q) +
                              " (a mid-edge node nearer a corner than the quarter point, or an inverted corner: the "
-                             "element maps part of itself inside out)");
+                             "element maps part of itself inside out; a coarse curved mesh: refine it there, or let "
+                             "Gmsh optimise the high-order mesh, Mesh.HighOrderOptimize)");
     }
   }
 

@@ -150,8 +150,20 @@ std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const Substruct
         for (int b = 0; b < 6; ++b) N[a + 6 * b] += x[a] * x[b];
     }
   }
+  // The rank test on N with its rotation rows and columns divided by the
+  // set's RMS radius L: N mixes translations (~n) with rotations (~n L^2),
+  // and a 10 um face was refused as collinear in SI units (found by a
+  // review). Scaled, the test is the set's shape, not its size.
+  double L2 = 0.0;
+  for (auto n : nodes) {
+    const Vec3 r = sub(nodePosition(mesh, n), point);
+    L2 += r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+  }
+  const double L = std::sqrt(L2 / static_cast<double>(nodes.size()));
   double E[36];
-  std::copy(N, N + 36, E);
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < 6; ++b)
+      E[a + 6 * b] = N[a + 6 * b] * (a >= 3 && L > 0.0 ? 1.0 / L : 1.0) * (b >= 3 && L > 0.0 ? 1.0 / L : 1.0);
   double w[6], work[64];
   int info = 0;
   Teuchos::LAPACK<int, double> lapack;
