@@ -491,8 +491,6 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
       // "stable", exit 0; found by a review).
       for (int i = 0; i < static_cast<int>(chosen.size()); ++i) {
         const auto& f = *chosen[static_cast<std::size_t>(i)];
-        if (i >= numModes && !(f.growthRate > f.growthRateError && std::abs(f.fixedFrameExponent()) > f.growthRateError))
-          continue;
         eigen::GyroscopicMode m;
         m.lambda = f.fixedFrameExponent();
         m.omega = std::abs(f.frequency);
@@ -508,6 +506,8 @@ PeriodicModes PeriodicStructure::solve(int numModes, const Teuchos::ParameterLis
                       : f.growthRate > f.growthRateError
                           ? (m.omega > 0 ? eigen::Stability::Flutter : eigen::Stability::Divergence)
                           : eigen::Stability::Stable;
+        if (i >= numModes && m.stability != eigen::Stability::Flutter && m.stability != eigen::Stability::Divergence)
+          continue;
         eigen::zeroRigidDamping(m);
         m.residual = f.residual;
         m.q = toExtended(std::vector<std::complex<double>>(f.eigenvector.begin(), f.eigenvector.begin() + n_));

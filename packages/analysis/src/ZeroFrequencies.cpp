@@ -105,21 +105,16 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   report.zeros = static_cast<int>(zeros.size());
   const bool spinning =
       std::any_of(modes.speeds.begin(), modes.speeds.end(), [](double w) { return w != 0.0; });
-  // An unstable mode at speed may be the spin's softening of a zero mode
-  // the structure has at rest beyond its rigid motions (a reduced Hex20
-  // column's hourglass modes diverged, exit 0, found by a review): then the
-  // at-rest check below is made too, and refuses the structure as it does
-  // at rest. A structure with no such zero at rest keeps its instability,
-  // an answer.
-  // Only where a substructure holds reduced Hex20 cells: a free hinge is a
-  // zero at rest too, and a shaft carrying one, unstable between its
-  // critical speeds for its own reasons, was refused (found by a review).
+  // In a structure holding reduced Hex20 cells, an unstable mode at speed
+  // may be the spin's softening of their zero-energy modes (a C3D20R column
+  // one element across diverged, exit 0; found by a review): the at-rest
+  // check below is then made too, and refuses the structure as it does at
+  // rest. Not elsewhere: a free hinge is a zero at rest too, and a shaft
+  // carrying one, unstable between its critical speeds for its own reasons,
+  // was refused when every structure was (found by a review).
   bool reducedHex20 = false;
   for (std::size_t k = 0; k < structure.numSubstructures(); ++k) reducedHex20 = reducedHex20 || hasReducedHex20(structure, k);
-  const bool unstable = spinning && reducedHex20 &&
-                        std::any_of(modes.result.modes.begin(), modes.result.modes.end(), [](const auto& m) {
-                          return m.stability == eigen::Stability::Divergence || m.stability == eigen::Stability::Flutter;
-                        });
+  const bool unstable = spinning && reducedHex20 && !modes.result.isStable();
   if (report.zeros <= report.expected && !unstable) {
     // At speed a free body's rigid motions need not stay at zero: in a
     // spinning frame four of its six move to the frame rate, and a spinning

@@ -22,10 +22,11 @@
 namespace cms::reduction {
 
 namespace {
-/// The columns of F (n x m, distributed) replaced in place, in their first
-/// `rank` columns, by an orthonormal basis of their range: F V_k
-/// Lambda_k^-1/2 with (Lambda, V) the eigenpairs of the Gram matrix F^T F
-/// above 1e-10 of its largest. Returns the rank; F untouched when full.
+/// The columns of F (n x m, distributed) scaled to unit norm, and, when
+/// they are dependent, their first `rank` columns replaced by an
+/// orthonormal basis of their range: F V_k Lambda_k^-1/2 with (Lambda, V)
+/// the eigenpairs of the Gram matrix F^T F above 1e-10 of its largest.
+/// Returns the rank. Scaling a column leaves its constraint H u = 0 as it was.
 int compressToRange(MultiVector& F, int m) {
   if (m == 0) return 0;
   // Columns to unit norm first: a small face's rotations beside a large

@@ -8,12 +8,12 @@
 // Array<double>, of other scalars an Array<string>; a mapping a sublist.
 #include "YamlScene.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <limits>
 #include <map>
 #include <regex>
-#include <cctype>
 #include <sstream>
 
 #include <Teuchos_Array.hpp>

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_LAPACK.hpp>
@@ -100,6 +101,19 @@ Vec3 centroid(const mesh::Mesh& mesh, const std::vector<std::int64_t>& nodes) {
   return c;
 }
 
+/// The bounding box (lo, hi) of `nodes` of `mesh` (every node when empty).
+std::pair<Vec3, Vec3> boundingBox(const mesh::Mesh& mesh, const std::vector<std::int64_t>& nodes = {}) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  const auto take = [&](std::int64_t n) {
+    for (int d = 0; d < 3; ++d)
+      lo[d] = std::min(lo[d], mesh.coordinates[3 * n + d]), hi[d] = std::max(hi[d], mesh.coordinates[3 * n + d]);
+  };
+  if (nodes.empty())
+    for (std::size_t n = 0; n < mesh.nodeCount(); ++n) take(static_cast<std::int64_t>(n));
+  for (auto n : nodes) take(n);
+  return {lo, hi};
+}
+
 /// H for a Node attachment (u_P = u_n + theta_n x (P - x_n), theta_P = theta_n)
 /// or a RigidFit (least-squares rigid motion of the set's translations).
 std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const SubstructureSpec& child,
@@ -111,10 +125,7 @@ std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const Substruct
     // A point given by the user may sit off the parent's nodes (a rotor's
     // centre, an offset bracket) but not off the parent itself: within its
     // bounding box grown by 10% of its diagonal.
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (std::size_t n = 0; n < mesh.nodeCount(); ++n)
-      for (int d = 0; d < 3; ++d)
-        lo[d] = std::min(lo[d], mesh.coordinates[3 * n + d]), hi[d] = std::max(hi[d], mesh.coordinates[3 * n + d]);
+    const auto [lo, hi] = boundingBox(mesh);
     const double margin = 0.1 * norm(sub(hi, lo));
     const Vec3& p = *child.attachment.point;
     for (int d = 0; d < 3; ++d)
@@ -382,18 +393,12 @@ std::string attachmentGapNote(const SubstructureSpec& child, const SubstructureS
   const mesh::Mesh& pm = *parent.model->mesh;
   const mesh::Mesh& cm = *child.model->mesh;
   const auto extent = [](const mesh::Mesh& m) {
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (std::size_t n = 0; n < m.nodeCount(); ++n)
-      for (int d = 0; d < 3; ++d)
-        lo[d] = std::min(lo[d], m.coordinates[3 * n + d]), hi[d] = std::max(hi[d], m.coordinates[3 * n + d]);
+    const auto [lo, hi] = boundingBox(m);
     return norm(sub(hi, lo));
   };
   const double tol = 1e-3 * std::max(extent(pm), extent(cm));
-  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (auto n : nodeSet(parent, child.attachment.parentNodes, ("attachment of '" + child.name + "':").c_str())) {
-    const Vec3 x = nodePosition(pm, n);
-    for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
-  }
+  const auto [lo, hi] =
+      boundingBox(pm, nodeSet(parent, child.attachment.parentNodes, ("attachment of '" + child.name + "':").c_str()));
   double worst = 0.0;
   std::int64_t at = -1;
   for (auto n : nodeSet(child, child.attachment.childNodes, "attachment")) {
