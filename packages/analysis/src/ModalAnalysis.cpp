@@ -215,7 +215,13 @@ ModalResult& ModalAnalysis::runPeriodic(ModalResult& r) const {
   r.character = s.characterise(r.modes);
   r.accuracy.assign(r.modes.result.modes.size(), synthesis::ModeAccuracy());
   r.estimates.assign(r.modes.result.modes.size(), -1.0);
-  for (const auto& md : r.modes.result.modes) r.cutoff = std::max(r.cutoff, md.omega);
+  // The cut-off is the highest of the asked modes: the unstable ones listed
+  // past the count (PeriodicStructure) are not a range the basis claims.
+  const auto& listed = r.modes.result.modes;
+  const std::size_t asked = r.modes.result.numRequested > 0
+                                ? std::min(listed.size(), static_cast<std::size_t>(r.modes.result.numRequested))
+                                : listed.size();
+  for (std::size_t i = 0; i < asked; ++i) r.cutoff = std::max(r.cutoff, listed[i].omega);
   const Stopwatch t5;
   r.coverage = s.coverage(r.cutoff);
   r.accuracySeconds = t5.seconds();

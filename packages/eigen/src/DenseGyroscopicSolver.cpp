@@ -454,8 +454,9 @@ public:
 /// of its own) solves A x = lambda x instead, the last resort when dggev's QZ
 /// failed on the pencil in both coordinates. `unreturned` receives the
 /// eigenvalues (Im >= 0) past the nModes returned, for the stability
-/// verdict's mirror test (classifyModes).
-std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale,
+/// verdict's mirror test (classifyModes). `rigidBodyTol`: of the scaled
+/// |lambda| (frequency scale 1), as classifyModes takes it.
+std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale, double rigidBodyTol,
                                          std::vector<cplx>& unreturned, bool standard = false) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
@@ -535,6 +536,42 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   }
   std::sort(real.begin(), real.end(),
             [](const Cand& a, const Cand& b) { return a.lambda.real() > b.lambda.real(); });
+  // A rigid motion D does not damp is a double, defective zero of the damped
+  // pencil too (theory §13): its two eigenvectors are one shape, split by
+  // rounding (by O(|lambda|), within the rigid tolerance). One is kept: a
+  // zero whose shape lies in the M-span of the zeros kept before it, to
+  // sqrt(rigid tolerance), is the same mode (a rigid motion D damps is one
+  // zero and one decaying root, both kept). The undamped path halves the
+  // +/- pairs instead.
+  if (damped) {
+    std::vector<std::vector<cplx>> basis;  // M-orthonormal shapes of the kept zeros
+    std::vector<Cand> kept;
+    for (Cand& c : real) {
+      if (std::abs(c.lambda) > rigidBodyTol) {
+        kept.push_back(std::move(c));
+        continue;
+      }
+      std::vector<cplx> v = c.q;
+      auto mDot = [&](const std::vector<cplx>& a, const std::vector<cplx>& b) {
+        cplx s = 0.0;
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) s += std::conj(a[i]) * sys.M(i, j) * b[j];
+        return s;
+      };
+      const double before = std::sqrt(std::abs(mDot(v, v)));
+      for (int pass = 0; pass < 2; ++pass)  // twice is enough (Gram-Schmidt)
+        for (const auto& b : basis) {
+          const cplx h = mDot(b, v);
+          for (int i = 0; i < n; ++i) v[i] -= h * b[i];
+        }
+      const double after = std::sqrt(std::abs(mDot(v, v)));
+      if (!(before > 0.0) || after <= std::sqrt(rigidBodyTol) * before) continue;
+      for (auto& x : v) x /= after;
+      basis.push_back(std::move(v));
+      kept.push_back(std::move(c));
+    }
+    real = std::move(kept);
+  }
   const std::size_t keepReal = damped ? real.size() : (real.size() + 1) / 2;
   for (std::size_t k = 0; k < keepReal; ++k) {
     real[k].lambda = cplx(real[k].lambda.real(), 0.0);
@@ -942,14 +979,14 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       bool qr = params_.get<std::string>("General Eigensolver") == "Hessenberg QR";
       if (!qr) {
         try {
-          result.modes = generalModes(c, every ? 2 * n : nModes, scale, unreturned);
+          result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned);
         } catch (const QzFailure& e) {
           qr = true;
           how = std::string("; there too ") + e.what() +
                 ": solved by LAPACK dgeev (Hessenberg QR) on the standard problem, B = I";
         }
       }
-      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, unreturned, /*standard=*/true);
+      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, /*standard=*/true);
       std::vector<double> re(n), im(n);
       for (auto& m : result.modes) {
         for (int i = 0; i < n; ++i) re[i] = m.q[i].real(), im[i] = m.q[i].imag();
@@ -983,7 +1020,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       also("K spans too many orders for the symmetric form: the pencil in the coordinates with M = I");
     } else {
       try {
-        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, unreturned);
+        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, rigidTol, unreturned);
       } catch (const InfiniteEigenvalue&) {
         solveCongruent(how);
         also("dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "

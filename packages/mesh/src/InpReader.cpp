@@ -276,13 +276,33 @@ private:
     stack_.push_back({file, std::move(text), 0, 0, key});
   }
 
-  /// A file named by INPUT= (of *INCLUDE or of a data keyword), relative to
-  /// the file that names it; read from here on.
+  /// A file named by INPUT= (of *INCLUDE or of a data keyword); read from
+  /// here on. A relative name is taken from the top deck's folder, as
+  /// CalculiX and Abaqus take it from the folder they run in (the deck's):
+  /// a nested include's name is not relative to the file that names it. Only
+  /// where no such file exists is the including file's folder tried (the
+  /// reader's earlier rule), with a note.
   void include(const Keyword& kw) {
     const std::string* input = kw.get("INPUT");
     if (!input || input->empty()) fail(kw.at, "*" + kw.name + ": INPUT= names no file");
     fs::path p = *input;
-    if (p.is_relative()) p = fs::path(files_[kw.at.file].path).parent_path() / p;
+    if (p.is_relative()) {
+      const fs::path fromTop = fs::path(top_).parent_path() / p;
+      const fs::path fromHere = fs::path(files_[kw.at.file].path).parent_path() / p;
+      std::error_code ec;
+      p = fromTop;
+      if (fromHere != fromTop) {
+        const bool top = fs::exists(fromTop, ec), here = fs::exists(fromHere, ec);
+        if (!top && here) {
+          p = fromHere;
+          note(kw.at, "INPUT=" + shown(*input) + " is not in the deck's folder (where CalculiX looks for it); read " +
+                          fromHere.string() + ", beside the including file");
+        } else if (top && here) {
+          note(kw.at, "INPUT=" + shown(*input) + " read from the deck's folder, as CalculiX does: " +
+                          fromTop.string() + " (not " + fromHere.string() + ", beside the including file)");
+        }
+      }
+    }
     files_.push_back({p.string(), kw.at});
     push(static_cast<int>(files_.size()) - 1, p.string(), kw.at);
   }
@@ -406,10 +426,15 @@ private:
   }
 
   double real(const std::string& s, Place at, const std::string& what) const {
-    std::string t = s;
+    std::string t;
     bool digit = false;
-    for (char& c : t) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      char c = s[i];
       if (c == 'd' || c == 'D') c = 'e';  // Fortran's 1.5D+03
+      // Fortran's 1.5+03: a sign after a digit or a point is an exponent's
+      // (CalculiX reads numbers with Fortran's F edit descriptor).
+      if ((c == '+' || c == '-') && i > 0 && ((s[i - 1] >= '0' && s[i - 1] <= '9') || s[i - 1] == '.')) t += 'e';
+      t += c;
       digit = digit || (c >= '0' && c <= '9');
     }
     const bool plain = std::all_of(t.begin(), t.end(), [](char c) {
@@ -550,20 +575,30 @@ private:
     Line l;
     while (nextData(l)) {
       std::vector<std::string> f = fields(l.text);
-      // A line ending with a comma goes on while the element lacks nodes.
+      // An element's nodes go on onto the next data line while it lacks
+      // nodes, whether or not the line ends with a comma: CalculiX reads a
+      // C3D20 so (its elements.f), and decks written without the comma exist.
+      auto filled = [&f] {
+        while (!f.empty() && f.back().empty()) f.pop_back();
+        return static_cast<int>(f.size()) - 1;
+      };
       Line more;
-      while (f.size() >= 2 && f.back().empty() && static_cast<int>(f.size()) - 2 < type->nodes && nextData(more)) {
-        f.pop_back();
+      int lines = 1;
+      while (filled() >= 0 && filled() < type->nodes && nextData(more)) {
         for (std::string& g : fields(more.text)) f.push_back(std::move(g));
+        ++lines;
       }
-      while (!f.empty() && f.back().empty()) f.pop_back();
+      filled();
       if (f.empty()) fail(l.at, "an empty *ELEMENT line");
       const long long id = integer(f[0], l.at, "element");
       for (std::size_t k = 1; k < f.size(); ++k)
         if (f[k].empty()) fail(l.at, "element " + std::to_string(id) + ": node " + std::to_string(k) + " is empty");
       if (static_cast<int>(f.size()) - 1 != type->nodes)
-        fail(l.at, "element " + std::to_string(id) + " has " + std::to_string(f.size() - 1) + " nodes; " +
-                       type->name + " has " + std::to_string(type->nodes));
+        fail(l.at, "element " + std::to_string(id) + " has " + std::to_string(f.size() - 1) + " nodes" +
+                       (lines > 1 ? " on " + std::to_string(lines) + " lines (a line short of the type's nodes "
+                                                                     "goes on onto the next)"
+                                  : std::string()) +
+                       "; " + type->name + " has " + std::to_string(type->nodes));
       block.ids.push_back(id);
       block.at.push_back(l.at);
       for (std::size_t k = 1; k < f.size(); ++k)

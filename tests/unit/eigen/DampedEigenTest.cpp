@@ -219,3 +219,38 @@ TEST(DampedEigen, RefusesMeirovitchWithDampingAndAnUnsymmetricD) {
     EXPECT_NE(std::string(e.what()).find("D is not symmetric"), std::string::npos) << e.what();
   }
 }
+
+TEST(DampedEigen, AFreeBodysRigidZeroIsListedOnceWhateverTheDamping) {
+  // Two masses on a spring, free: one rigid translation, one vibration of
+  // w^2 = k (1/m1 + 1/m2). With D = beta K the rigid motion is undamped:
+  // lambda = 0 is a double (defective) root of the pencil, one mode, and
+  // the vibration's zeta = beta w / 2. With D = alpha M + beta K the rigid
+  // motion decays: lambda = 0 and lambda = -alpha, two modes; the
+  // vibration's zeta = alpha / (2 w) + beta w / 2. Each rigid
+  // zero was listed twice with D = beta K, pushing the vibration out of two
+  // asked modes (found by a review).
+  const double m1 = 1.0, m2 = 3.0, k = 40.0, alpha = 0.2, beta = 1e-3;
+  const double w = std::sqrt(k * (1.0 / m1 + 1.0 / m2));
+  DenseMatrix M = diag({m1, m2}), K(2, 2);
+  K(0, 0) = K(1, 1) = k, K(0, 1) = K(1, 0) = -k;
+  for (double a : {0.0, alpha}) {
+    SCOPED_TRACE("alpha = " + std::to_string(a));
+    DenseMatrix D(2, 2);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) D(i, j) = a * M(i, j) + beta * K(i, j);
+    Teuchos::ParameterList p;
+    // Two asked of the undamped rigid motion; every mode (-1: a damped
+    // system can have more than n) of the damped one, three.
+    p.set("Number of Modes", a == 0.0 ? 2 : -1);
+    const auto r = DenseGyroscopicSolver(p).solve({M, DenseMatrix(2, 2), K, D});
+    ASSERT_EQ(r.modes.size(), a == 0.0 ? 2u : 3u);
+    int zeros = 0;
+    for (const auto& mode : r.modes) zeros += mode.stability == Stability::RigidBody;
+    EXPECT_EQ(zeros, 1) << "the rigid translation once";
+    // The vibration is the last mode either way, zeta = alpha / (2 w) +
+    // beta w / 2; the decaying rigid motion (-alpha, real) between.
+    const double zeta = a / (2.0 * w) + beta * w / 2.0;
+    EXPECT_LE(std::abs(r.modes.back().lambda - dampedRoot(w, zeta)), tolOf(w, 2));
+    if (a > 0.0) EXPECT_LE(std::abs(r.modes[1].lambda - cplx(-a, 0.0)), tolOf(w, 2));
+  }
+}

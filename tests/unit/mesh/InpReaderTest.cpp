@@ -188,11 +188,13 @@ TEST(InpReader, GenerateTakesTheDefinedIdsOfItsRange) {
   EXPECT_EQ(e.group("all").blocks.size(), 2u);
 }
 
-TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
+TEST(InpReader, IncludesAreReadInPlaceFromTheDecksFolder) {
   TempDir dir;
   // The nodes' data lines in one file two folders down, which includes a
-  // sibling with the last node; the elements and a set in another.
-  dir.write("parts/nodes/a.inp", "** nodes\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n*INCLUDE, INPUT=b.inp\n");
+  // sibling with the last node by its name from the deck's folder, as
+  // CalculiX reads it (from the folder it runs in); the elements and a set
+  // in another.
+  dir.write("parts/nodes/a.inp", "** nodes\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n*INCLUDE, INPUT=parts/nodes/b.inp\n");
   dir.write("parts/nodes/b.inp", "4, 0, 0, 1\n");
   dir.write("parts/tet.inp", "*ELEMENT, TYPE=C3D4, ELSET=tet\n5, 1, 2, 3, 4\n*NSET, NSET=base\n1, 2, 3\n");
   const std::string top = dir.write("deck.inp",
@@ -202,6 +204,22 @@ TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
   EXPECT_EQ(m.x(node(m, 4))[2], 1.0);
   EXPECT_EQ(m.group("tet").blocks.at(0).type, CellType::Tet4);
   EXPECT_EQ(m.nodeSet("base").size(), 3u);
+  EXPECT_FALSE(noted(m, "INPUT="));
+
+  // A nested include named relative to its own file (the reader's earlier
+  // rule; before, "parts/nodes/b.inp" above was looked for in
+  // parts/nodes/parts/nodes/ and not found): read where only that file
+  // exists, with a note.
+  dir.write("near/a.inp", "1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n*INCLUDE, INPUT=b.inp\n");
+  dir.write("near/b.inp", "4, 0, 0, 1\n");
+  const Mesh near = readInp(dir.write("near.inp", "*NODE, NSET=all\n*INCLUDE, INPUT=near/a.inp\n"));
+  EXPECT_EQ(near.nodeCount(), 4u);
+  EXPECT_TRUE(noted(near, "INPUT=b.inp is not in the deck's folder")) << "no note of the include's folder";
+  // Where both exist, the deck's folder's (CalculiX's), with a note naming the other.
+  dir.write("b.inp", "4, 0, 0, 2\n");
+  const Mesh both = readInp(dir.write("both.inp", "*NODE, NSET=all\n*INCLUDE, INPUT=near/a.inp\n"));
+  EXPECT_EQ(both.x(node(both, 4))[2], 2.0);
+  EXPECT_TRUE(noted(both, "read from the deck's folder, as CalculiX does")) << "no note of the other file";
 
   // An error inside an included file names it, its line, and where it was included from.
   dir.write("bad/x.inp", "1, 0, 0, 0\n2, 0, zero, 0\n");
@@ -251,6 +269,26 @@ TEST(InpReader, ContinuationLinesAndSetsSharingANameWithAnElementSet) {
   ASSERT_EQ(g.blocks.at(0).type, CellType::Hex20);
   EXPECT_EQ(g.blocks[0].size(), 1u);
   EXPECT_EQ(ids(m, m.nodeSet("brick")), (std::vector<std::size_t>{1, 2}));
+
+  // The same element without the first line's trailing comma, and over
+  // three lines: CalculiX reads on while an element lacks nodes (refused
+  // before: "element 1 has 15 nodes"). Coordinates in Fortran's form
+  // without an exponent letter (1.0+00, 5.0-01), as CalculiX reads them.
+  std::string bare = deck;
+  bare.replace(bare.find("15,\n16"), 6, "15\n16");
+  std::string three = deck;
+  three.replace(three.find("15,\n16"), 6, "15\n16");
+  three.replace(three.find("\n1, 1, 2, 3"), 11, "\n1, 1\n2, 3");
+  for (const std::string& d : {bare, three}) {
+    const Mesh b = readInp(dir.write("bare.inp", d));
+    ASSERT_EQ(b.group("brick").blocks.at(0).size(), 1u);
+    EXPECT_EQ(b.group("brick").blocks[0].nodes, g.blocks[0].nodes);
+  }
+  const Mesh fortran = readInp(dir.write("fortran.inp", "*NODE, NSET=n\n1, 1.0+00, 5.0-01, -2.5+1\n2, 1.-3, 0, 0\n"));
+  EXPECT_EQ(fortran.x(node(fortran, 1))[0], 1.0);
+  EXPECT_EQ(fortran.x(node(fortran, 1))[1], 0.5);
+  EXPECT_EQ(fortran.x(node(fortran, 1))[2], -25.0);
+  EXPECT_EQ(fortran.x(node(fortran, 2))[0], 1e-3);
 }
 
 // ---------------------------------------------------------------------------
@@ -476,6 +514,12 @@ TEST(InpReader, MalformedDecksNameFileLineAndWhat) {
   refused(nodes + "*ELEMENT, ELSET=s\n1, 1, 2, 3, 4\n", {":6: *ELEMENT needs TYPE="});
   refused(nodes + "*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3\n", {":7: element 1 has 3 nodes; C3D4 has 4"});
   refused(nodes + "*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3, 4, 1\n", {":7: element 1 has 5 nodes; C3D4 has 4"});
+  // A short line goes on onto the next (CalculiX's rule): a line short by
+  // mistake runs into the next element, and the message says so.
+  refused(nodes + "*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3\n2, 1, 2, 3, 4\n",
+          {":7: element 1 has 8 nodes on 2 lines (a line short of the type's nodes goes on onto the next); C3D4 has 4"});
+  refused("*NODE\n1, 0, 0, 1.5+\n", {":2: coordinate z of node 1 \"1.5+\" is not a number"});
+  refused("*NODE\n1, 0, 0, 1.5+3+4\n", {":2: coordinate z of node 1 \"1.5+3+4\" is not a number"});
   refused(nodes + "*NODE\n3, 5, 5, 5\n", {":7: node 3 is defined twice (first at", ":4)"});
   refused(nodes + "*ELEMENT, TYPE=C3D4, ELSET=t\n1, 1, 2, 3, 4\n1, 4, 3, 2, 1\n", {":8: element 1 is defined twice"});
   refused("*NODE\n1, 0, 0, 1.2.3\n", {":2: coordinate z of node 1 \"1.2.3\" is not a number"});

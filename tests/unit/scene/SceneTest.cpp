@@ -959,6 +959,10 @@ TEST(SceneRegression, AnInstabilityBeyondTheAskedModesIsListed) {
   bool growing = false;
   for (std::size_t i = 1; i < modes.size(); ++i) growing = growing || modes[i].stability == eigen::Stability::Flutter;
   EXPECT_TRUE(growing);
+  // The coverage's cut-off is the highest asked mode, not an unstable one
+  // listed past the count (it was: the count check then ran to a frequency
+  // no mode was asked for).
+  EXPECT_EQ(r.cutoff, modes[0].omega);
 }
 
 // A child's attachment nodes off its parent's attachment: the rotor chain's
