@@ -117,7 +117,14 @@ void printSubstructures(const analysis::ModalResult& r) {
               << " Hz, the reduced model " << r.reducedCount
               << (r.truthCount > r.reducedCount
                       ? ": MODES MISSING (a family the bases lack, or errors that push modes past it)"
-                      : ": none missing");
+                      : ": none missing")
+              << (r.countBand > 0.0 ? " (reduced frequencies counted up to " +
+                                          [&] {
+                                            std::ostringstream b;
+                                            b << std::setprecision(2) << r.countBand;
+                                            return b.str();
+                                          }() + " above it, the highest mode's estimated error: theory §11.9)"
+                                    : std::string());
   else if (const std::string why = analysis::truthCountNote(r.truthCount); !why.empty())
     std::cout << "\n  structure: " << why << (r.truthCount == -1 ? "" : " (theory §11.9)");
   if (r.truthMissing > 0)

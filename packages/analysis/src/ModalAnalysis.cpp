@@ -96,6 +96,11 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewCounter("cms: 3. eigensolution"));
     return s.solve(r.speeds, solve_);
   }();
+  // A solve that returned no mode (an eigensolver's breakdown) is the
+  // answer: the steps below would compare nothing with the truth and count
+  // below frequency 0, and said "bad input" (exit 2) in place of the
+  // breakdown (found by a review).
+  if (r.modes.result.modes.empty()) return r;
   checkZeroFrequencies(structure, s, r.modes, solve_);
 
   // 5. Accuracy, without the truth (theory §11.8, §11.9), and with it on request.
@@ -125,6 +130,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
     // factorisations, they no longer add to the run's peak memory.
     r.reduced->releaseFlexibilities();
     r.coverage = s.coverage(r.cutoff, band);
+    r.countBand = band;
   }
   r.accuracySeconds = t5.seconds();
   // The truth, synthesised once for both "Truth" and "Check Count".
@@ -160,7 +166,12 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
   r.countAt = r.cutoff * (1.0 + 1e-6);
   if (options_.get<bool>("Check Count")) {
     r.truthCount = truthFrequenciesBelow(*truthModel, r.speeds, r.countAt);  // -3 damped, -4 K indefinite: not counted
-    for (const auto& md : r.modes.result.modes) r.reducedCount += md.omega < r.countAt;
+    // A reduced frequency within the band above countAt is the partner, from
+    // above, of a truth mode just below it: a near-repeated pair cut by the
+    // count had its second reduced member 3e-5 above it and read "MODES
+    // MISSING" beside "every truth mode paired" (a review).
+    const double reducedAt = r.countAt * (1.0 + r.countBand);
+    for (const auto& md : r.modes.result.modes) r.reducedCount += md.omega < reducedAt;
     // Fewer returned than the truth counts may be modes the reduced model
     // has and was not asked for: "Number of Modes" cutting a repeated
     // frequency returns one member and the truth counts both (a cantilever
@@ -174,7 +185,7 @@ ModalResult ModalAnalysis::run(const Teuchos::RCP<const Teuchos::Comm<int>>& com
       more.set("Number of Modes", static_cast<int>(asked));
       const auto wider = s.solve(r.speeds, more);
       long long below = 0;
-      for (const auto& md : wider.result.modes) below += md.omega < r.countAt;
+      for (const auto& md : wider.result.modes) below += md.omega < reducedAt;
       // Only a converged solve answers (one that did not could hide a
       // missing mode; a review).
       if (wider.result.status == eigen::SolveStatus::Converged) r.reducedCount = std::max(r.reducedCount, below);

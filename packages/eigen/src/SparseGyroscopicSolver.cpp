@@ -240,7 +240,10 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   // for any Krylov subspace is reported, not attempted: the dense solver is
   // the right tool there.
   const int nev = static_cast<int>(std::min<GlobalOrdinal>(2 * c.nModes, 2 * N - 1));
-  const int maxBlocks = static_cast<int>(std::min<GlobalOrdinal>(2 * N / c.blockSize, 1 << 20));
+  // Block Krylov-Schur keeps numBlocks + 1 blocks: they must fit in 2N
+  // with room to spare (2N exactly broke down, "Orthogonalization
+  // constraints not feasible", on 22 DOFs asked for 7 modes; a review).
+  const int maxBlocks = static_cast<int>(std::min<GlobalOrdinal>((2 * N - 1) / c.blockSize - 1, 1 << 20));
   const int numBlocks =
       c.numBlocks > 0 ? c.numBlocks : std::min(std::max(3 * nev / c.blockSize + 1, 10), maxBlocks);
   if (c.eigensolver != "ARPACK" && numBlocks * c.blockSize < nev + c.blockSize) {

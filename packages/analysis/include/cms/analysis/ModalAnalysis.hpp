@@ -57,8 +57,12 @@ struct ModalResult {
   std::vector<synthesis::SubstructureCoverage> coverage;  ///< at `cutoff` (theory §11.9)
   double cutoff = 0.0;             ///< rad/s: the highest frequency found
   long long truthCount = -2;       ///< truth frequencies below countAt; -1 unreliable, -2 not asked, -3 damped, -4 K(Omega) indefinite (not countable: truthFrequenciesBelow)
-  long long reducedCount = 0;      ///< reduced frequencies below countAt
+  long long reducedCount = 0;      ///< reduced frequencies below countAt (1 + countBand)
   double countAt = 0.0;            ///< rad/s
+  /// Relative band above countAt where a reduced frequency still counts:
+  /// the partner, from above, of a truth mode just below (the coverage's
+  /// band, theory §11.9).
+  double countBand = 0.0;
   std::vector<std::vector<std::string>> whirls;  ///< per mode: "<substructure> FW|BW|-"
   Enrichment enrichment;           ///< "Target Accuracy": the steps and whether it was reached
   double assemblySeconds = 0.0, reductionSeconds = 0.0;
