@@ -258,11 +258,8 @@ int modes(int argc, char* argv[]) {
       io::writeCoverageCsv(files, base.string() + "-coverage.csv", r);
     }
     if (sc.json) {
-      std::ifstream sceneFile(sc.path);
-      std::stringstream text;
-      text << sceneFile.rdbuf();
       io::writeModesJson(files, base.string() + ".json", r,
-                         {sc.path, text.str(), sc.name, sc.units, CMS_VERSION,
+                         {sc.path, sc.text, sc.name, sc.units, CMS_VERSION,
                           Teuchos::DefaultComm<int>::getComm()->getSize(), peakRssMiB()});
     }
   }

@@ -1,5 +1,6 @@
 #include "cms/analysis/CampbellStudy.hpp"
 #include "cms/analysis/PeriodicStructure.hpp"
+#include "cms/core/CsvField.hpp"
 #include "cms/core/SparseInertia.hpp"
 #include "cms/core/SparseProduct.hpp"
 
@@ -1052,7 +1053,7 @@ void CampbellResult::writeCsv(std::ostream& os) const {
   std::vector<std::size_t> order{static_cast<std::size_t>(reference)};
   for (std::size_t p = 0; p < parameters.size(); ++p)
     if (static_cast<int>(p) != reference) order.push_back(p);
-  for (auto p : order) os << ',' << parameters[p].name << "_rad_per_s";
+  for (auto p : order) os << ',' << csvField(parameters[p].name + "_rad_per_s");
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     const auto n = "track" + std::to_string(t + 1);
     os << ',' << n << "_hz," << n << "_stability," << n << "_damping_ratio," << n << "_whirl," << n << "_frame_rate";
@@ -1078,7 +1079,9 @@ void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
        << toString(c.whirl) << ',' << (unbalanceExcites(c, whirlInRotorFrame) ? "yes" : "no") << ',';
     for (std::size_t i = 0; i < c.tracks.size(); ++i) os << (i ? ";" : "") << "track" << c.tracks[i] + 1;
     os << ',' << (c.refined ? "yes" : "no") << ',';
-    for (std::size_t i = 0; i < c.dominant.size(); ++i) os << (i ? ";" : "") << c.dominant[i];
+    std::string dominant;
+    for (std::size_t i = 0; i < c.dominant.size(); ++i) dominant += (i ? ";" : "") + c.dominant[i];
+    os << csvField(dominant);
     os << '\n';
   }
   // Zero-frequency critical speeds: order 0, no track (theory §12.1).

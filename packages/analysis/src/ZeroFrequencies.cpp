@@ -41,6 +41,25 @@ std::size_t argmax(const std::vector<double>& v) {
   return static_cast<std::size_t>(std::max_element(v.begin(), v.end()) - v.begin());
 }
 
+// The substructure a mode strains most, among those that take part in it.
+// relativeStrain divides by each substructure's own motion, so one whose
+// kinetic share is rounding (below eps: a motion below ~sqrt(eps) of the
+// mode's) reads its own conditioning, not the mode's: a clamped hub under a
+// solid child free to turn about a line of nodes read 7.4e-5 at a share of
+// 3e-24, and the child's rigid turn was called "ill-conditioned" (found by
+// a review). Substructure 0 where none takes part.
+std::size_t mostStrained(const ModeCharacter& c) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  std::size_t at = 0;
+  double worst = -1.0;
+  for (std::size_t s = 0; s < c.relativeStrain.size(); ++s)
+    if (c.kineticShare[s] > eps && c.relativeStrain[s] > worst) worst = c.relativeStrain[s], at = s;
+  return at;
+}
+double modeStrain(const ModeCharacter& c) {
+  return c.relativeStrain.empty() ? 0.0 : c.relativeStrain[mostStrained(c)];
+}
+
 // ||K||_F / ||M||_F of substructure k: its stiffness scale in (rad/s)^2.
 double stiffnessScale(const synthesis::AssembledStructure& s, std::size_t k) {
   const auto* sub = s.assembled(k);
@@ -128,7 +147,7 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   // per mode; it was formed a second time for the relabelling below).
   std::vector<synthesis::ModeCharacter> atSpeed;
   const auto strained = [&](int m) {
-    return atSpeed[m].relativeStrain[argmax(atSpeed[m].relativeStrain)] > kStrainSplit;
+    return modeStrain(atSpeed[m]) > kStrainSplit;
   };
   if (spinning) {
     atSpeed = reduced.characterise(modes);
@@ -166,9 +185,8 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   const auto character = reduced.characterise(at);
   int rigid = 0, worst = -1;
   for (int m : z) {
-    const auto& strain = character[m].relativeStrain;
-    if (strain[argmax(strain)] <= kStrainSplit) ++rigid;
-    else if (worst < 0 || strain[argmax(strain)] < character[worst].relativeStrain[argmax(character[worst].relativeStrain)])
+    if (modeStrain(character[m]) <= kStrainSplit) ++rigid;
+    else if (worst < 0 || modeStrain(character[m]) < modeStrain(character[worst]))
       worst = m;
   }
   std::ostringstream os;
@@ -177,7 +195,7 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
     // that carries most of its kinetic energy.
     int m = z.back();
     for (int k : z)
-      if (character[k].relativeStrain[argmax(character[k].relativeStrain)] <= kStrainSplit) m = k;
+      if (modeStrain(character[k]) <= kStrainSplit) m = k;
     const std::size_t k = argmax(character[m].kineticShare);
     const auto u = reduced.expand(at, m);
     os << "unrestrained: " << rigid << " rigid-body motion" << (rigid == 1 ? "" : "s") << " at rest where the structure has "
@@ -201,7 +219,7 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
   // frequency it has is about strain_j * scale_j; the coupled K's rounding
   // is set by the stiffest substructure's scale.
   const auto& strain = character[worst].relativeStrain;
-  const std::size_t j = argmax(strain);
+  const std::size_t j = mostStrained(character[worst]);
   std::size_t stiffest = 0;
   for (std::size_t k = 1; k < structure.numSubstructures(); ++k)
     if (stiffnessScale(structure, k) > stiffnessScale(structure, stiffest)) stiffest = k;

@@ -17,6 +17,23 @@ namespace cms::io {
 
 namespace {
 
+/// Text as an XML attribute value: a scene named "R&D <rig>" made a .pvd
+/// ParaView could not read (found by a review).
+std::string xmlAttribute(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 /// VTK cell type and the Gmsh-to-VTK node order of each supported cell.
 int vtkType(fem::CellType t) {
   switch (t) {
@@ -208,7 +225,7 @@ std::vector<std::string> writeModeShapes(OutputFiles& files, const synthesis::As
       o << "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
     }
     written.push_back(path.string());
-    pvd << "    <DataSet timestep=\"" << m + 1 << "\" part=\"0\" file=\"" << file << "\"/>\n";
+    pvd << "    <DataSet timestep=\"" << m + 1 << "\" part=\"0\" file=\"" << xmlAttribute(file) << "\"/>\n";
   }
   if (root) {
     pvd << "  </Collection>\n</VTKFile>\n";

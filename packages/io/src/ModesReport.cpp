@@ -111,7 +111,11 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
       j["cyclic"][c.group] = {{"label", c.label()}, {"harmonic", c.dominant}, {"share", c.share}};
     o["modes"].push_back(j);
   }
-  files.open(file) << o.dump(2) << '\n';
+  // Text that is not UTF-8 (a Latin-1 comment in the scene, recorded in
+  // scene_text) is written with U+FFFD in its place: JSON is UTF-8, and the
+  // exception nlohmann throws otherwise ended a finished run as an internal
+  // error, and under MPI hung the ranks waiting for rank 0 (found by a review).
+  files.open(file) << o.dump(2, ' ', false, json::error_handler_t::replace) << '\n';
 }
 
 void writeModesCsv(OutputFiles& files, const std::filesystem::path& file, const analysis::ModalResult& r) {

@@ -118,14 +118,4 @@ std::vector<std::string> OutputFiles::commit(const Teuchos::Comm<int>& comm) {
 
 OutputFiles::~OutputFiles() { discard(); }
 
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"') o += '"';
-    o += c;
-  }
-  return o + "\"";
-}
-
 }  // namespace cms::io

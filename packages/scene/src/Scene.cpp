@@ -232,6 +232,20 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
   set.section.Iz = getNumber(b, "Iz", path);
   set.section.J = getNumber(b, "Torsion Constant", path);
   set.section.orientation = vec3(b, "Orientation", path, std::vector<double>{0, 0, 1});
+  {
+    // Checked here to name the key (and the default a user never wrote): the
+    // element's own check named only its coordinates (a review).
+    const fem::Vec3& o = set.section.orientation;
+    const double axis[3] = {(p1[0] - p0[0]) / length, (p1[1] - p0[1]) / length, (p1[2] - p0[2]) / length};
+    const double along = o[0] * axis[0] + o[1] * axis[1] + o[2] * axis[2];
+    const double on = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    const double across = std::sqrt(std::max(0.0, on * on - along * along));
+    CMS_INPUT_CHECK(!(across >= 1e-8 * on && across > 0.0),
+                    path << "/Orientation = [" << o[0] << ", " << o[1] << ", " << o[2] << "]"
+                         << (b.isParameter("Orientation") ? "" : " (the default)")
+                         << " is parallel to the beam from \"From\" to \"To\": give an Orientation across it (a "
+                            "vector in the local x-y plane)");
+  }
   set.section.validate(path.c_str());
   m->elementSets.push_back(set);
   const std::string clamp = getString(b, "Clamp", path, std::string());
@@ -698,15 +712,21 @@ Scene Scene::read(const std::string& path, const std::map<std::string, double>& 
     // <ParameterList name="Scene"> as the root or as its only sublist.
     ParameterList& root = p->isSublist("Scene") && p->numParams() == 1 ? p->sublist("Scene") : *p;
     setMeshParameters(root, meshParameters);
-    return fromParameters(root, path);
+    Scene s = fromParameters(root, path);
+    s.text = text.str();
+    return s;
   }
   auto p = yamlScene(text.str(), path);
   setMeshParameters(*p, meshParameters);
-  return fromParameters(*p, path);
+  Scene s = fromParameters(*p, path);
+  s.text = text.str();
+  return s;
 }
 
 Scene Scene::parse(const std::string& text, const std::string& path) {
-  return fromParameters(*yamlScene(text, path), path);
+  Scene s = fromParameters(*yamlScene(text, path), path);
+  s.text = text;
+  return s;
 }
 
 }  // namespace cms::scene

@@ -47,11 +47,14 @@ Teuchos::RCP<const Map> nodeBlockMap(const DofTable& t, const Teuchos::RCP<const
 /// reader sees it: Tpetra reads on rank 0 only, and a malformed file must
 /// give the same error, with its line, on every rank rather than a hang.
 void checkMatrixMarketFile(const std::string& path, long long rows) {
+  std::error_code ec;
+  CMS_INPUT_CHECK(std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec),
+                  path << ": not a regular file (a directory?), not a matrix file");
   std::ifstream in(path);
   CMS_INPUT_CHECK(!in, path << ": cannot open matrix file");
   std::string line;
   long long lineNo = 0;
-  CMS_INPUT_CHECK(!std::getline(in, line), path << ": empty file");
+  CMS_INPUT_CHECK(!std::getline(in, line), path << (in.bad() ? ": cannot read the file" : ": empty file"));
   ++lineNo;
   // Tpetra's reader wants the banner at the first column (a leading space
   // made it throw std::invalid_argument, found by the fuzz driver).

@@ -114,6 +114,35 @@ std::pair<Vec3, Vec3> boundingBox(const mesh::Mesh& mesh, const std::vector<std:
   return {lo, hi};
 }
 
+/// Whether nodal DOFs (component c of a node at r from a point, c < 3 a
+/// translation, else a rotation) fix every rigid motion (t, theta) about
+/// that point: the rank test of N = sum x x^T over their rows x, in the
+/// parameters (t, L theta), L the RMS radius of the translations' nodes.
+/// A translation's row is then that of [I, -[r / L]x] and a rotation's
+/// (weighed by L: the motion it makes at that radius) a unit row. N mixes
+/// translations (~n) with rotations (~n L^2) otherwise, and a 10 um face was
+/// refused as collinear in SI units (found by a review); scaled, the test
+/// is the set's shape, not its size.
+bool fixRigidMotion(const std::vector<std::pair<Vec3, int>>& dofs) {
+  double L2 = 0.0;
+  int translations = 0;
+  for (const auto& [r, c] : dofs)
+    if (c < 3) L2 += r[0] * r[0] + r[1] * r[1] + r[2] * r[2], ++translations;
+  const double L = translations > 0 ? std::sqrt(L2 / translations) : 0.0;
+  double N[36] = {0};
+  for (const auto& [r, c] : dofs) {
+    const Vec3 s = L > 0.0 ? Vec3{r[0] / L, r[1] / L, r[2] / L} : r;
+    const auto x = detail::rigidRow(s, c);
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) N[a + 6 * b] += x[a] * x[b];
+  }
+  double w[6], work[64];
+  int info = 0;
+  Teuchos::LAPACK<int, double> lapack;
+  lapack.SYEV('N', 'U', 6, N, 6, w, work, 64, &info);
+  return info == 0 && w[0] > 1e-10 * w[5];
+}
+
 /// H for a Node attachment (u_P = u_n + theta_n x (P - x_n), theta_P = theta_n)
 /// or a RigidFit (least-squares rigid motion of the set's translations).
 std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const SubstructureSpec& child,
@@ -161,29 +190,17 @@ std::vector<std::vector<detail::NodalCoefficient>> attachmentMap(const Substruct
         for (int b = 0; b < 6; ++b) N[a + 6 * b] += x[a] * x[b];
     }
   }
-  // The rank test on N with its rotation rows and columns divided by the
-  // set's RMS radius L: N mixes translations (~n) with rotations (~n L^2),
-  // and a 10 um face was refused as collinear in SI units (found by a
-  // review). Scaled, the test is the set's shape, not its size.
-  double L2 = 0.0;
-  for (auto n : nodes) {
-    const Vec3 r = sub(nodePosition(mesh, n), point);
-    L2 += r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-  }
-  const double L = std::sqrt(L2 / static_cast<double>(nodes.size()));
-  double E[36];
-  for (int a = 0; a < 6; ++a)
-    for (int b = 0; b < 6; ++b)
-      E[a + 6 * b] = N[a + 6 * b] * (a >= 3 && L > 0.0 ? 1.0 / L : 1.0) * (b >= 3 && L > 0.0 ? 1.0 / L : 1.0);
-  double w[6], work[64];
-  int info = 0;
-  Teuchos::LAPACK<int, double> lapack;
-  lapack.SYEV('N', 'U', 6, E, 6, w, work, 64, &info);
-  CMS_INPUT_CHECK(info != 0 || !(w[0] > 1e-10 * w[5]),
+  std::vector<std::pair<Vec3, int>> translations;
+  for (auto n : nodes)
+    for (int c = 0; c < 3; ++c) translations.push_back({sub(nodePosition(mesh, n), point), c});
+  CMS_INPUT_CHECK(!fixRigidMotion(translations),
                   "substructure '" << child.name << "': the RigidFit nodes '" << child.attachment.parentNodes << "' of '"
                                    << parent.name << "' (" << nodes.size()
                                    << " nodes) cannot fix a rigid motion: they are collinear or coincident");
   // Inverse of N by Cholesky.
+  double work[64];
+  int info = 0;
+  Teuchos::LAPACK<int, double> lapack;
   int ipiv[6];
   double Ninv[36];
   std::copy(N, N + 36, Ninv);
@@ -752,6 +769,32 @@ void resolveHeldRows(Part& p, const std::string& freeReference) {
   }
   std::sort(p.held.begin(), p.held.end());
   p.held.erase(std::unique(p.held.begin(), p.held.end()), p.held.end());
+  // A child held only where its DOFs cannot fix a rigid motion (a solid's
+  // nodes on a line, or one node: translations only) turns freely about
+  // them. Said here, naming the set: a Full basis called it
+  // "ill-conditioned" and a reduced one "not positive definite", exit 3
+  // (found by a review). Not where the child's own supports or springs may
+  // restrain it.
+  if (!p.floating && p.spec.kind != SubstructureKind::Central && p.spec.model->fixed.empty() &&
+      p.spec.model->springs.empty()) {
+    const mesh::Mesh& mesh = *p.spec.model->mesh;
+    std::vector<std::pair<Vec3, int>> held;
+    std::set<std::int64_t> nodes;
+    bool rotations = false;
+    for (const auto& h : p.heldDofs)
+      if (t.row(h.node, h.component) >= 0) {
+        held.push_back({sub(nodePosition(mesh, h.node), p.point), static_cast<int>(h.component)});
+        nodes.insert(h.node);
+        rotations = rotations || h.component >= Component::RX;
+      }
+    CMS_INPUT_CHECK(!held.empty() && !fixRigidMotion(held),
+                    who(p) << ": its attachment nodes '" << p.spec.attachment.childNodes << "' (" << nodes.size()
+                           << (nodes.size() == 1 ? " node" : " nodes") << (rotations ? "" : ", translations only")
+                           << ") cannot hold it: "
+                           << (nodes.size() == 1 ? "it would turn freely about the node"
+                                                 : "they lie on a line, and it would turn freely about it")
+                           << "; attach it by nodes not on one line (a face), or by nodes with rotations");
+  }
   if (p.floating)
     CMS_INPUT_CHECK(p.held.size() != 6,
                     who(p) << ": the free reference '" << freeReference << "' gives " << p.held.size()

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "cms/core/CsvField.hpp"
+
 namespace Teuchos { template <class Ordinal> class Comm; }
 
 namespace cms::io {
@@ -47,7 +49,8 @@ private:
   void discard();
 };
 
-/// One CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
-std::string csvField(const std::string& s);
+/// One CSV field: quoted (with "" for ") when it holds a comma, quote or
+/// newline (cms/core/CsvField.hpp).
+using cms::csvField;
 
 }  // namespace cms::io

@@ -19,6 +19,10 @@ namespace cms::scene {
 
 struct Scene {
   std::string path;          ///< the file it was read from
+  /// The text read (read, parse; empty from fromParameters): what the
+  /// results record as the scene, not the file as it is when they are
+  /// written (a review: a scene edited during a run was recorded edited).
+  std::string text;
   std::string name;          ///< "Name", default the file's stem
   std::string units = "SI";  ///< the only system supported: m, kg, s, N, rad
   synthesis::StructureDescription structure;
