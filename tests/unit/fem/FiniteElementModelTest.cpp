@@ -249,3 +249,32 @@ Finite Element Model:
   EXPECT_NO_THROW(read(disjoint));
   std::remove(deck.c_str());
 }
+
+TEST(FiniteElementModelYaml, AFrameElementFarShorterThanItsNeighbourIsRefused) {
+  // Two nodes of a B31 deck 1e-4 apart between 0.5 m elements: the short
+  // element is 1e11 times stiffer, and a circular beam's double frequencies
+  // split by 8.4e-5 with residuals of 1e-17; at gaps of 1e-5 and less the
+  // clamped beam read "unrestrained" (found by a review). Refused below a
+  // length ratio of 1e-3; at 2e-3 a model.
+  const std::string dir = ::testing::TempDir();
+  const auto deckWithGap = [&](const std::string& x3) {
+    const std::string deck = dir + "/cms_short_" + x3 + ".inp";
+    std::ofstream(deck) << "*NODE, NSET=ALL\n1, 0.0, 0.0, 0.0\n2, 0.5, 0.0, 0.0\n3, " << x3
+                        << ", 0.0, 0.0\n4, 1.0, 0.0, 0.0\n*NSET, NSET=ROOT\n1\n"
+                           "*ELEMENT, TYPE=B31, ELSET=BEAM\n1, 1, 2\n2, 2, 3\n3, 3, 4\n";
+    return R"(
+Finite Element Model:
+  Name: short
+  Mesh: )" + deck + R"(
+  Materials:
+    al: {Young's Modulus: 7.0e10, Poisson's Ratio: 0.3, Density: 2700}
+  Element Sets:
+    BEAM: {Type: Frame, Material: al, Area: 1.0e-3, Iy: 1.0e-7, Iz: 1.0e-7, Torsion Constant: 2.0e-7, Orientation: [0, 1, 0]}
+  Boundary Conditions:
+    root: {Node Set: ROOT}
+)";
+  };
+  expectRefused(deckWithGap("0.5001"), "frame element 2 of ");
+  expectRefused(deckWithGap("0.5001"), "merge its two nodes, or join them by a Spring or a Hinge");
+  EXPECT_NO_THROW(read(deckWithGap("0.501")));
+}
