@@ -374,6 +374,19 @@ TEST(Assembly, MalformedMatrixMarketFilesAreReportedOnEveryRank) {
   expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "_K.mtx");
   rewrite("%%MatrixMarket matrix coordinate real general\n3 3 0\n");
   expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); }, "lays out");
+  // A directory where the matrix file should be: said so ("empty file"
+  // before; found by a review).
+  world()->barrier();
+  if (world()->getRank() == 0) {
+    std::filesystem::remove(K);
+    std::filesystem::create_directory(K);
+  }
+  world()->barrier();
+  expectInputError([&] { Substructure::fromMatrixMarket(dir + "/spinning_beam.cms", world()); },
+                   "spinning_beam_K.mtx: not a regular file (a directory?)");
+  world()->barrier();
+  if (world()->getRank() == 0) std::filesystem::remove(K);
+  world()->barrier();
 }
 
 /// Every stored value of A and B (the same rows on this rank) identical.
