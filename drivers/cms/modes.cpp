@@ -34,18 +34,31 @@ namespace cms::drivers {
 
 namespace {
 
-/// A basis with fewer vectors than its "Vectors" asks: one line naming the
+/// A basis whose size is not what its "Vectors" asks: one line naming the
 /// substructure, the counts asked and kept, and why (the JSON's "dropped"
-/// lists every candidate); empty when nothing is lost.
+/// lists every candidate); empty when it is. Under a cut-off the count is
+/// the cut-off's, not "Vectors" (whose default 6 was reported as asked;
+/// found by a review): nothing to compare with.
 std::string droppedNote(const synthesis::SubstructureReduction& r, const Teuchos::ParameterList& reduction) {
-  if (r.dropped.empty()) return {};
   Teuchos::ParameterList p(reduction);
   p.validateParametersAndSetDefaults(*reduction::validParameters());
+  if (p.get<double>("Cutoff Frequency") > 0.0) return {};
   const int asked = p.get<int>("Vectors");
   const bool modes = r.basis == "Craig-Bampton";  // "Vectors" counts its fixed-interface modes
-  int kept = 0;
+  int kept = 0, shapesLeft = 0;
   for (const auto& l : r.labels) kept += !modes || l.rfind("mode ", 0) == 0;
-  if (kept >= asked) return {};
+  for (const auto& d : r.dropped) shapesLeft += d.find("attachment shapes of the children") != std::string::npos;
+  // Admissible: "Vectors" below its children's attachment shapes holds the
+  // later children rigidly (theory §11.3).
+  if (shapesLeft > 0) {
+    std::ostringstream os;
+    os << "note: " << r.name << ": Admissible basis: " << asked << " vectors keep " << kept << " of the "
+       << kept + shapesLeft << " static shapes under its children's interface loads: " << shapesLeft
+       << " left out, the later children's attachments held rigidly to the basis; ask Vectors >= "
+       << kept + shapesLeft << " (theory §11.3)";
+    return os.str();
+  }
+  if (r.dropped.empty() || kept >= asked) return {};
   int dependent = 0, massless = 0;
   std::string other;
   for (const auto& d : r.dropped) {

@@ -89,6 +89,16 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
         dst(i, nr + j) = src(i, j);     // v
       }
   }
+  // Each column at unit norm first: v ~ omega q, so in seconds a mode at
+  // 1e4 rad/s has its q-half 1e-4 of its v-half, and the cut below, relative
+  // to the largest column, would judge the q-halves' directions against the
+  // v-halves' (found by a review). Scaling columns leaves the span alone.
+  {
+    std::vector<double> norms(2 * nr);
+    halves.norm2(Teuchos::ArrayView<double>(norms));
+    for (size_t j = 0; j < 2 * nr; ++j)
+      if (norms[j] > 0.0) halves.getVectorNonConst(j)->scale(1.0 / norms[j]);
+  }
   // The threshold is on the Gram matrix's eigenvalues, the squares of the
   // singular values: 1e-20 keeps directions down to 1e-10 of the largest
   // (1e-12 kept only those above 1e-6, and dropped the correction that

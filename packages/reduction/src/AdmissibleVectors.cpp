@@ -194,8 +194,13 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   MultiVector X(F->getMap(), F->getNumVectors()), KX(F->getMap(), F->getNumVectors());
   K.solve(*F, X, &KX);
 
-  // 1. The static shapes under the children's interface loads come first and
-  //    are always kept: they carry the coupling (attachment modes).
+  // 1. The static shapes under the children's interface loads come first:
+  //    they carry the coupling (attachment modes). "Vectors" counts them:
+  //    fewer than they are keeps the first children's and holds the later
+  //    ones' attachments rigidly to the rest of the basis (a hub with three
+  //    blades and Vectors 6 gave a 16.12 Hz triple as 16.12, 43.64, 43.64),
+  //    which was silent (found by a review): each shape left out is listed
+  //    in `dropped`, and cms modes says how many Vectors would keep them.
   std::size_t interfaceColumns = 0;
   while (interfaceColumns < labels.size() && labels[interfaceColumns].rfind("static: interface", 0) == 0)
     ++interfaceColumns;
@@ -203,6 +208,11 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     auto XI = X.subView(Teuchos::Range1D(0, interfaceColumns - 1));
     appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin(), labels.begin() + interfaceColumns),
                       tol, count, basis);
+    const std::size_t kept = basis.vectors.is_null() ? 0 : basis.vectors->getNumVectors();
+    if (static_cast<std::size_t>(count) <= kept && kept < interfaceColumns)
+      for (std::size_t j = kept + basis.dropped.size(); j < interfaceColumns; ++j)
+        basis.dropped.push_back(labels[j] + " (not kept: \"Vectors\" " + std::to_string(count) + " is fewer than the " +
+                                std::to_string(interfaceColumns) + " attachment shapes of the children)");
   }
 
   // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order

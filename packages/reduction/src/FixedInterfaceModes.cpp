@@ -222,7 +222,19 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
   Teuchos::RCP<MultiVector> V;
   std::vector<double> omega;
   std::ostringstream report;
-  if (nfree <= 400 || (count > nfree / 4 && nfree <= 3000)) {
+  // A Krylov space for count modes needs more than 2 count + 20 vectors of
+  // the nfree: where that does not fit, the dense solve (a cut-off at 1e12
+  // Hz on 3012 free DOFs ended as "internal error", Anasazi refusing its
+  // "Num Blocks"; found by a review), refused only where dense would not fit
+  // in memory either.
+  const bool krylovFits = 2LL * count + 20 < nfree - 1;
+  CMS_INPUT_CHECK(!krylovFits && nfree > 20000,
+                  "Scene/Substructures/" << s.name() << "/Reduction: " << count << " of the " << nfree
+                                         << " fixed-interface modes of \"" << s.name()
+                                         << "\" asked: too many for a Krylov space and too large a dense problem; "
+                                            "ask fewer (a lower \"Cutoff Frequency\" or \"Vectors\"), or use "
+                                            "Basis: Full");
+  if (nfree <= 400 || (count > nfree / 4 && nfree <= 3000) || !krylovFits) {
     V = denseModes(s, heldRows, count, omega, constraints);
     report << "LAPACK dsygv on " << nfree << " free DOFs";
   } else {
@@ -301,6 +313,9 @@ RitzBasis detail::fixedInterfaceModes(const substructure::Substructure& s, const
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return sol.Evals[a].realpart > sol.Evals[b].realpart; });
+    TEUCHOS_TEST_FOR_EXCEPTION(sol.numVecs < count, NumericalError,
+                               s.name() << ": the fixed-interface eigensolve returned " << sol.numVecs << " of the "
+                                        << count << " modes asked (" << report.str() << ")");
     std::vector<double> lambda(sol.numVecs);
     for (int j = 0; j < sol.numVecs; ++j) lambda[j] = 1.0 / std::max(sol.Evals[order[j]].realpart, 1e-300);
     count = completeCluster(lambda, count, sol.numVecs);

@@ -64,9 +64,18 @@ std::optional<reduction::RitzBasis> turnedBasis(const substructure::Substructure
     why = "its DOFs are not the prototype's (node by node)";
     return std::nullopt;
   }
-  if (basis.full || basis.vectors.is_null()) {
+  if (basis.full) {
     why = "the prototype's basis is Full";
     return std::nullopt;
+  }
+  // An empty basis (Guyan on a leaf, Vectors 0, a cut-off below every
+  // mode) turns into an empty basis: it was taken for Full, and each copy
+  // reduced on its own with a false FINDING (found by a review).
+  if (basis.vectors.is_null()) {
+    reduction::RitzBasis out = basis;
+    out.flexibility.reset();
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
   }
   const auto& Vp = *basis.vectors;
   const int ncols = static_cast<int>(Vp.getNumVectors());

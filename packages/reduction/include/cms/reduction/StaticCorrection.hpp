@@ -1,6 +1,7 @@
 // The static correction of a substructure: x = K_b^-1 r, K_b its stiffness
-// with the attachment and its children's interface rows held (the
-// fixed-interface flexibility that Craig-Bampton's constraint modes leave
+// with the rows its caller holds (every caller holds its attachment only,
+// as theory §11.8 has it; with the children's interface rows held too it is
+// the fixed-interface flexibility Craig-Bampton's constraint modes leave
 // out). Applied to the residual of a reduced mode's full equations it gives
 // the mode's error estimate (doc/theory.md §11.8). One CHOLMOD factorisation
 // of the substructure (never of the assembled structure), then one solve per
