@@ -42,23 +42,26 @@ namespace {
 std::string droppedNote(const synthesis::SubstructureReduction& r, const Teuchos::ParameterList& reduction) {
   Teuchos::ParameterList p(reduction);
   p.validateParametersAndSetDefaults(*reduction::validParameters());
-  if (p.get<double>("Cutoff Frequency") > 0.0) return {};
+  const bool cutoff = p.get<double>("Cutoff Frequency") > 0.0;
   const int asked = p.get<int>("Vectors");
   const bool modes = r.basis == "Craig-Bampton";  // "Vectors" counts its fixed-interface modes
   int kept = 0, shapesLeft = 0;
   for (const auto& l : r.labels) kept += !modes || l.rfind("mode ", 0) == 0;
   for (const auto& d : r.dropped) shapesLeft += d.find("attachment shapes of the children") != std::string::npos;
-  // Admissible: "Vectors" below its children's attachment shapes holds the
-  // later children rigidly (theory §11.3).
+  // Admissible: fewer vectors than its children's attachment shapes hold the
+  // later children rigidly (theory §11.3), whether Vectors or a cut-off's
+  // count set them (found by a review).
   if (shapesLeft > 0) {
     std::ostringstream os;
-    os << "note: " << r.name << ": Admissible basis: " << asked << " vectors keep " << kept << " of the "
-       << kept + shapesLeft << " static shapes under its children's interface loads: " << shapesLeft
-       << " left out, the later children's attachments held rigidly to the basis; ask Vectors >= "
-       << kept + shapesLeft << " (theory §11.3)";
+    os << "note: " << r.name << ": Admissible basis: its " << kept << " vectors"
+       << (cutoff ? " (the cut-off's count)" : "") << " keep " << kept << " of the " << kept + shapesLeft
+       << " static shapes under its children's interface loads: " << shapesLeft
+       << " left out, the later children's attachments held rigidly to the basis; "
+       << (cutoff ? "raise the cut-off, or replace it by Vectors >= " : "ask Vectors >= ") << kept + shapesLeft
+       << " (theory §11.3)";
     return os.str();
   }
-  if (r.dropped.empty() || kept >= asked) return {};
+  if (cutoff || r.dropped.empty() || kept >= asked) return {};
   int dependent = 0, massless = 0;
   std::string other;
   for (const auto& d : r.dropped) {

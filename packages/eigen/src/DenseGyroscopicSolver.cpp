@@ -537,40 +537,74 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   std::sort(real.begin(), real.end(),
             [](const Cand& a, const Cand& b) { return a.lambda.real() > b.lambda.real(); });
   // A rigid motion D does not damp is a double, defective zero of the damped
-  // pencil too (theory §13): its two eigenvectors are one shape, split by
-  // rounding (by O(|lambda|), within the rigid tolerance). One is kept: a
-  // zero whose shape lies in the M-span of the zeros kept before it, to
-  // sqrt(rigid tolerance), is the same mode (a rigid motion D damps is one
-  // zero and one decaying root, both kept). The undamped path halves the
-  // +/- pairs instead.
+  // pencil too (theory §13.2): dggev returns two eigenvectors of one shape,
+  // split by rounding into two real zeros or a pair +/- i delta, and with
+  // several rigid motions the cluster's vectors are ill-conditioned mixes
+  // of them. So the zeros are not told apart one by one (a threshold on
+  // each vector's remainder kept 8 of 6 rigid motions and dropped one of 3;
+  // found by a review): their number is K's, the count r of eigenvalues of
+  // (K + N symmetric part, M) within the rigid tolerance, and the r rigid
+  // modes are the r dominant directions of the span of every zero's shape
+  // (an M-orthonormal basis: the null space of K). A rigid motion D damps is
+  // one zero and one decaying root, the root kept as any real eigenvalue.
+  // The undamped path halves the +/- pairs instead.
   if (damped) {
-    std::vector<std::vector<cplx>> basis;  // M-orthonormal shapes of the kept zeros
-    std::vector<Cand> kept;
-    for (Cand& c : real) {
-      if (std::abs(c.lambda) > rigidBodyTol) {
-        kept.push_back(std::move(c));
-        continue;
-      }
-      std::vector<cplx> v = c.q;
-      auto mDot = [&](const std::vector<cplx>& a, const std::vector<cplx>& b) {
-        cplx s = 0.0;
-        for (int i = 0; i < n; ++i)
-          for (int j = 0; j < n; ++j) s += std::conj(a[i]) * sys.M(i, j) * b[j];
-        return s;
-      };
-      const double before = std::sqrt(std::abs(mDot(v, v)));
-      for (int pass = 0; pass < 2; ++pass)  // twice is enough (Gram-Schmidt)
-        for (const auto& b : basis) {
-          const cplx h = mDot(b, v);
-          for (int i = 0; i < n; ++i) v[i] -= h * b[i];
-        }
-      const double after = std::sqrt(std::abs(mDot(v, v)));
-      if (!(before > 0.0) || after <= std::sqrt(rigidBodyTol) * before) continue;
-      for (auto& x : v) x /= after;
-      basis.push_back(std::move(v));
-      kept.push_back(std::move(c));
+    std::vector<Cand> zeros;
+    for (std::vector<Cand>* list : {&real, &upper}) {
+      std::vector<Cand> rest;
+      for (Cand& c : *list) (std::abs(c.lambda) <= rigidBodyTol ? zeros : rest).push_back(std::move(c));
+      *list = std::move(rest);
     }
-    real = std::move(kept);
+    int r = static_cast<int>(zeros.size());
+    if (zeros.size() > 1) {
+      // r: (K_sym / s^2) x = mu M x, mu = omega^2 in the scaled time.
+      DenseMatrix Ks(n, n), Mc(sys.M);
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          Ks(i, j) = (0.5 * (sys.K(i, j) + sys.K(j, i)) +
+                      (hasN ? 0.5 * (sys.N(i, j) + sys.N(j, i)) : 0.0)) / (scale * scale);
+      std::vector<double> mu(n), work(std::max(1, 3 * n));
+      int info = 0;
+      lapack.SYGV(1, 'N', 'U', n, Ks.values(), n, Mc.values(), n, mu.data(), work.data(), static_cast<int>(work.size()),
+                  &info);
+      if (info == 0) {
+        int count = 0;
+        for (double m : mu) count += std::abs(m) <= rigidBodyTol * rigidBodyTol;
+        r = std::min(r, count);
+      }
+    }
+    if (r > 0 && r < static_cast<int>(zeros.size())) {
+      // The span of the zeros' shapes (real and imaginary parts) in M's inner
+      // product: its r largest directions, M-orthonormal.
+      const int z = static_cast<int>(zeros.size());
+      DenseMatrix Z(n, 2 * z), MZ, G;
+      for (int j = 0; j < z; ++j)
+        for (int i = 0; i < n; ++i) Z(i, j) = zeros[j].q[i].real(), Z(i, z + j) = zeros[j].q[i].imag();
+      gemm(false, false, 1.0, sys.M, Z, 0.0, MZ);
+      gemm(true, false, 1.0, Z, MZ, 0.0, G);
+      std::vector<double> w(2 * z), work(std::max(1, 6 * z));
+      int info = 0;
+      lapack.SYEV('V', 'U', 2 * z, G.values(), 2 * z, w.data(), work.data(), static_cast<int>(work.size()), &info);
+      if (info == 0 && w[2 * z - 1] > 0.0) {
+        std::vector<Cand> rigid;
+        for (int k = 0; k < r; ++k) {
+          const int col = 2 * z - 1 - k;  // dsyev's eigenvalues ascend
+          Cand c{cplx(0.0, 0.0), std::vector<cplx>(n)};
+          const double norm = std::sqrt(std::max(w[col], 0.0));
+          if (!(norm > 0.0)) break;
+          for (int i = 0; i < n; ++i) {
+            double v = 0.0;
+            for (int m = 0; m < 2 * z; ++m) v += Z(i, m) * G(m, col);
+            c.q[i] = v / norm;
+          }
+          rigid.push_back(std::move(c));
+        }
+        zeros = std::move(rigid);
+      }
+    }
+    for (Cand& c : zeros) real.push_back(std::move(c));
+    std::sort(real.begin(), real.end(),
+              [](const Cand& a, const Cand& b) { return a.lambda.real() > b.lambda.real(); });
   }
   const std::size_t keepReal = damped ? real.size() : (real.size() + 1) / 2;
   for (std::size_t k = 0; k < keepReal; ++k) {

@@ -484,7 +484,7 @@ void FiniteElementModel::validate() const {
   {
     struct Line { std::size_t tag; std::int64_t a, b; double length; };
     std::vector<Line> lines;
-    std::map<std::int64_t, double> longest;  // node -> longest frame element there
+    std::vector<double> longest(mesh->nodeCount(), 0.0);  // node -> longest frame element there
     for (const ElementSet& s : elementSets) {
       if (s.kind != ElementSet::Kind::Frame) continue;
       for (const mesh::CellBlock& b : mesh->group(s.group).blocks)
@@ -494,17 +494,19 @@ void FiniteElementModel::validate() const {
           for (int k = 0; k < 3; ++k) d2 += std::pow(mesh->x(e)[k] - mesh->x(a)[k], 2);
           const double length = std::sqrt(d2);
           lines.push_back({c < b.cellTags.size() ? b.cellTags[c] : c, a, e, length});
-          for (std::int64_t n : {a, e}) longest[n] = std::max(longest[n], length);
+          for (std::int64_t n : {a, e})
+            longest[static_cast<std::size_t>(n)] = std::max(longest[static_cast<std::size_t>(n)], length);
         }
     }
     for (const Line& l : lines) {
-      const double neighbour = std::max(longest[l.a], longest[l.b]);
+      const double neighbour = std::max(longest[static_cast<std::size_t>(l.a)], longest[static_cast<std::size_t>(l.b)]);
       CMS_INPUT_CHECK(l.length > 0.0 && l.length < 1e-3 * neighbour,
                       name << ": frame element " << l.tag << " of " << mesh->source << " is " << l.length
                            << " long beside a neighbour " << neighbour << " long (ratio " << l.length / neighbour
                            << "): its stiffness, ~1/L^3, would be " << std::pow(neighbour / l.length, 3)
-                           << " times theirs and the solve would lose as many digits; merge its two nodes, or join "
-                              "them by a Spring or a Hinge");
+                           << " times theirs and the solve would lose as many digits; merge its two nodes, or move "
+                              "them together and join them by a Spring or a Hinge (both join coincident nodes), or "
+                              "make a short offset a rigid link (an attachment Point off the node)");
     }
   }
   for (const PointMassSet& p : pointMasses) mesh->group(p.nodeSet);

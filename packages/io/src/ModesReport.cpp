@@ -71,6 +71,7 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
   if (r.truthCount >= -1) {
     coverage["structure_truth_count"] = r.truthCount;
     coverage["structure_reduced_count"] = r.reducedCount;
+    coverage["structure_count_band"] = r.countBand;  // reduced frequencies counted up to cutoff (1 + band)
   } else if (const std::string why = analysis::truthCountNote(r.truthCount); !why.empty()) {
     coverage["structure_truth_count"] = nullptr;  // asked, not countable (-3 damped, -4 K indefinite)
     coverage["structure_count_note"] = why;

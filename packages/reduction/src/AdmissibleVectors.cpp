@@ -211,7 +211,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     const std::size_t kept = basis.vectors.is_null() ? 0 : basis.vectors->getNumVectors();
     if (static_cast<std::size_t>(count) <= kept && kept < interfaceColumns)
       for (std::size_t j = kept + basis.dropped.size(); j < interfaceColumns; ++j)
-        basis.dropped.push_back(labels[j] + " (not kept: \"Vectors\" " + std::to_string(count) + " is fewer than the " +
+        basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(count) + " vectors are fewer than the " +
                                 std::to_string(interfaceColumns) + " attachment shapes of the children)");
   }
 

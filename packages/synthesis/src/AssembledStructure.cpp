@@ -116,21 +116,34 @@ std::pair<Vec3, Vec3> boundingBox(const mesh::Mesh& mesh, const std::vector<std:
 
 /// Whether nodal DOFs (component c of a node at r from a point, c < 3 a
 /// translation, else a rotation) fix every rigid motion (t, theta) about
-/// that point: the rank test of N = sum x x^T over their rows x, in the
-/// parameters (t, L theta), L the RMS radius of the translations' nodes.
+/// that point: the rank test of N = sum x x^T over their rows x, about the
+/// translations' centroid, in the parameters (t, L theta), L the RMS
+/// radius of the translations' nodes about it.
 /// A translation's row is then that of [I, -[r / L]x] and a rotation's
 /// (weighed by L: the motion it makes at that radius) a unit row. N mixes
 /// translations (~n) with rotations (~n L^2) otherwise, and a 10 um face was
 /// refused as collinear in SI units (found by a review); scaled, the test
 /// is the set's shape, not its size.
 bool fixRigidMotion(const std::vector<std::pair<Vec3, int>>& dofs) {
-  double L2 = 0.0;
+  // About the translations' centroid: the rank does not depend on the point
+  // (a change of point is an invertible map of (t, theta)), but the scaling
+  // does, and a small face far from P read collinear from there (a review).
+  Vec3 centre{0, 0, 0};
   int translations = 0;
   for (const auto& [r, c] : dofs)
-    if (c < 3) L2 += r[0] * r[0] + r[1] * r[1] + r[2] * r[2], ++translations;
+    if (c < 3) {
+      for (int d = 0; d < 3; ++d) centre[d] += r[d];
+      ++translations;
+    }
+  if (translations > 0)
+    for (double& x : centre) x /= translations;
+  double L2 = 0.0;
+  for (const auto& [r, c] : dofs)
+    if (c < 3) L2 += std::pow(r[0] - centre[0], 2) + std::pow(r[1] - centre[1], 2) + std::pow(r[2] - centre[2], 2);
   const double L = translations > 0 ? std::sqrt(L2 / translations) : 0.0;
   double N[36] = {0};
-  for (const auto& [r, c] : dofs) {
+  for (const auto& [r0, c] : dofs) {
+    const Vec3 r = sub(r0, centre);
     const Vec3 s = L > 0.0 ? Vec3{r[0] / L, r[1] / L, r[2] / L} : r;
     const auto x = detail::rigidRow(s, c);
     for (int a = 0; a < 6; ++a)
@@ -141,6 +154,17 @@ bool fixRigidMotion(const std::vector<std::pair<Vec3, int>>& dofs) {
   Teuchos::LAPACK<int, double> lapack;
   lapack.SYEV('N', 'U', 6, N, 6, w, work, 64, &info);
   return info == 0 && w[0] > 1e-10 * w[5];
+}
+
+/// Whether a model is held by supports of its own: fixed DOFs, or a
+/// grounded spring with some stiffness (a spring between its own nodes, or
+/// a damper alone, holds nothing; found by a review).
+bool heldByItsOwnSupports(const fem::FiniteElementModel& m) {
+  if (!m.fixed.empty()) return true;
+  for (const fem::SpringSet& s : m.springs)
+    if (s.toNodeSet.empty() && std::any_of(s.stiffness.begin(), s.stiffness.end(), [](double k) { return k > 0.0; }))
+      return true;
+  return false;
 }
 
 /// H for a Node attachment (u_P = u_n + theta_n x (P - x_n), theta_P = theta_n)
@@ -507,8 +531,36 @@ void setHeldDofs(Part& p, const std::string& freeReference) {
     }
     return;
   }
-  for (auto n : nodeSet(p.spec, p.spec.attachment.childNodes, "attachment"))
+  const auto nodes = nodeSet(p.spec, p.spec.attachment.childNodes, "attachment");
+  for (auto n : nodes)
     for (int c = 0; c < 6; ++c) p.heldDofs.push_back({n, static_cast<Component>(c), 1.0});
+  // Held only where its DOFs cannot fix a rigid motion (a solid's nodes on a
+  // line, or one: translations only), a child turns freely about them. Said
+  // here, before the assembly, naming the set: a Full basis called it
+  // "ill-conditioned" and a reduced one "not positive definite", exit 3,
+  // and a spinning one failed its prestress solve (found by a review). Not
+  // where its own supports or grounded springs may hold it. A node carries
+  // rotations exactly when a frame element uses it (the assembly's DOF
+  // layout).
+  if (heldByItsOwnSupports(*p.spec.model)) return;
+  std::set<std::int64_t> frameNodes;
+  for (const fem::ElementSet& es : p.spec.model->elementSets)
+    if (es.kind == fem::ElementSet::Kind::Frame && mesh.hasGroup(es.group))
+      for (const mesh::CellBlock& b : mesh.group(es.group).blocks) frameNodes.insert(b.nodes.begin(), b.nodes.end());
+  std::vector<std::pair<Vec3, int>> held;
+  bool rotations = false;
+  for (auto n : nodes) {
+    const bool frame = frameNodes.count(n) > 0;
+    for (int c = 0; c < (frame ? 6 : 3); ++c) held.push_back({sub(nodePosition(mesh, n), p.point), c});
+    rotations = rotations || frame;
+  }
+  CMS_INPUT_CHECK(!fixRigidMotion(held),
+                  who(p) << ": its attachment nodes '" << p.spec.attachment.childNodes << "' (" << nodes.size()
+                         << (nodes.size() == 1 ? " node" : " nodes") << (rotations ? "" : ", translations only")
+                         << ") cannot hold it: "
+                         << (nodes.size() == 1 ? "it would turn freely about the node"
+                                               : "they lie on a line, and it would turn freely about it")
+                         << "; attach it by nodes not on one line (a face), or by nodes with rotations");
 }
 
 /// A force carried to the parent's node through a Node attachment's rigid
@@ -769,32 +821,6 @@ void resolveHeldRows(Part& p, const std::string& freeReference) {
   }
   std::sort(p.held.begin(), p.held.end());
   p.held.erase(std::unique(p.held.begin(), p.held.end()), p.held.end());
-  // A child held only where its DOFs cannot fix a rigid motion (a solid's
-  // nodes on a line, or one node: translations only) turns freely about
-  // them. Said here, naming the set: a Full basis called it
-  // "ill-conditioned" and a reduced one "not positive definite", exit 3
-  // (found by a review). Not where the child's own supports or springs may
-  // restrain it.
-  if (!p.floating && p.spec.kind != SubstructureKind::Central && p.spec.model->fixed.empty() &&
-      p.spec.model->springs.empty()) {
-    const mesh::Mesh& mesh = *p.spec.model->mesh;
-    std::vector<std::pair<Vec3, int>> held;
-    std::set<std::int64_t> nodes;
-    bool rotations = false;
-    for (const auto& h : p.heldDofs)
-      if (t.row(h.node, h.component) >= 0) {
-        held.push_back({sub(nodePosition(mesh, h.node), p.point), static_cast<int>(h.component)});
-        nodes.insert(h.node);
-        rotations = rotations || h.component >= Component::RX;
-      }
-    CMS_INPUT_CHECK(!held.empty() && !fixRigidMotion(held),
-                    who(p) << ": its attachment nodes '" << p.spec.attachment.childNodes << "' (" << nodes.size()
-                           << (nodes.size() == 1 ? " node" : " nodes") << (rotations ? "" : ", translations only")
-                           << ") cannot hold it: "
-                           << (nodes.size() == 1 ? "it would turn freely about the node"
-                                                 : "they lie on a line, and it would turn freely about it")
-                           << "; attach it by nodes not on one line (a face), or by nodes with rotations");
-  }
   if (p.floating)
     CMS_INPUT_CHECK(p.held.size() != 6,
                     who(p) << ": the free reference '" << freeReference << "' gives " << p.held.size()
@@ -1041,7 +1067,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     // adds the static correction -K_h^-1 K X (theory §11.2): its reduced
     // bases converge slowly (Craig-Bampton 8 of a propped boom 59% off,
     // 40 vectors 1.3%; found by a review). Said, not mended.
-    const bool grounded = p->spec.model && (!p->spec.model->fixed.empty() || !p->spec.model->springs.empty());
+    const bool grounded = p->spec.model && heldByItsOwnSupports(*p->spec.model);
     const bool reduced = !(p->spec.reduction.isParameter("Basis") && p->spec.reduction.isType<std::string>("Basis") &&
                            p->spec.reduction.get<std::string>("Basis") == "Full");
     if (p->spec.kind != SubstructureKind::Central && p->spec.kind != SubstructureKind::Rigid && grounded && reduced)

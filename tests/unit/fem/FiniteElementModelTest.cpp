@@ -275,6 +275,6 @@ Finite Element Model:
 )";
   };
   expectRefused(deckWithGap("0.5001"), "frame element 2 of ");
-  expectRefused(deckWithGap("0.5001"), "merge its two nodes, or join them by a Spring or a Hinge");
+  expectRefused(deckWithGap("0.5001"), "merge its two nodes, or move them together and join them by a Spring");
   EXPECT_NO_THROW(read(deckWithGap("0.501")));
 }
