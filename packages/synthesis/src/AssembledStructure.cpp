@@ -1068,8 +1068,7 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     // bases converge slowly (Craig-Bampton 8 of a propped boom 59% off,
     // 40 vectors 1.3%; found by a review). Said, not mended.
     const bool grounded = p->spec.model && heldByItsOwnSupports(*p->spec.model);
-    const bool reduced = !(p->spec.reduction.isParameter("Basis") && p->spec.reduction.isType<std::string>("Basis") &&
-                           p->spec.reduction.get<std::string>("Basis") == "Full");
+    const bool reduced = !detail::asksBasis(p->spec.reduction, "Full");
     if (p->spec.kind != SubstructureKind::Central && p->spec.kind != SubstructureKind::Rigid && grounded && reduced)
       out.notes_.push_back(p->spec.name + ": held by supports or springs of its own besides its attachment, so the "
                            "attachment's rigid motion strains it and its reduced basis lacks that static response "

@@ -3,11 +3,14 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <cstdint>
 #include <optional>
 #include <tuple>
 #include <utility>
 #include <vector>
+
+#include <Teuchos_ParameterList.hpp>
 
 #include "cms/fem/FiniteElementAssembly.hpp"
 #include "cms/substructure/Substructure.hpp"
@@ -35,6 +38,13 @@ struct NodalCoefficient {
 /// u = u_P + theta x r, theta = theta_P of a point at r from P, as
 /// coefficients of a = (u_P, theta_P): [I, -[r]x; 0, I].
 std::array<double, 6> rigidRow(const fem::Vec3& r, int component);
+
+/// Whether a "Reduction" list asks for the basis `kind` ("Basis" given as a
+/// string; an unset or mistyped one is the default's or refused later).
+inline bool asksBasis(const Teuchos::ParameterList& reduction, const char* kind) {
+  return reduction.isParameter("Basis") && reduction.isType<std::string>("Basis") &&
+         reduction.get<std::string>("Basis") == kind;
+}
 
 }  // namespace detail
 

@@ -566,12 +566,7 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
 }
 
 namespace {
-/// Whether a "Reduction" list asks for the basis `kind` ("Basis" given as a
-/// string; an unset or mistyped one is the default's or refused later).
-bool asksBasis(const Teuchos::ParameterList& reduction, const char* kind) {
-  return reduction.isParameter("Basis") && reduction.isType<std::string>("Basis") &&
-         reduction.get<std::string>("Basis") == kind;
-}
+using detail::asksBasis;
 
 /// Whether copy k's K and M are its prototype's turned (detail::
 /// operatorsAreTurned), asked once per assembled structure: `known` caches
@@ -1070,7 +1065,7 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
     // Full by its own Reduction: refused. Full because every basis is (the
     // truth, a Full comparison): left out and said (modalDampingOmitted),
     // for the comparisons to refuse and the prestress solve to ignore.
-    const bool ownFull = p.spec.reduction.isParameter("Basis") && p.spec.reduction.get<std::string>("Basis") == "Full";
+    const bool ownFull = detail::asksBasis(p.spec.reduction, "Full");
     CMS_INPUT_CHECK(basis.full && ownFull,
                     "synthesis: substructure '" << sub.name() << "': a Modal Damping Ratio needs a reduced basis (its "
                                                 << "modes' coordinates); a Full substructure has none: give it Rayleigh "
