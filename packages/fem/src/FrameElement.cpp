@@ -68,7 +68,7 @@ LocalAxes localAxes(const FrameElement& e) {
   const Vec3& o = e.section.orientation;
   const Vec3 normal = o - detail::dot(o, e1) * e1;
   const double size = detail::norm(normal);
-  CMS_INPUT_CHECK(!(size >= 1e-8 * detail::norm(o) && size > 0.0),
+  CMS_INPUT_CHECK(!orientationAcross(e1, o),
                   describe(e) << ": section orientation (" << o[0] << ", " << o[1] << ", " << o[2]
                               << "): orientation vector parallel to the beam");
   const Vec3 e2 = (1.0 / size) * normal, e3 = detail::cross(e1, e2);
@@ -207,6 +207,11 @@ Mat3 localRotaryInertia(const FrameElement& e) {
 }  // namespace
 
 double FrameElement::length() const { return detail::norm(x2 - x1); }
+
+bool orientationAcross(const Vec3& e1, const Vec3& o) {
+  const double size = detail::norm(o - detail::dot(o, e1) * e1);
+  return size >= 1e-8 * detail::norm(o) && size > 0.0;
+}
 
 ElementMatrix frameStiffness(const FrameElement& e) {
   const LocalAxes ax = localAxes(e);

@@ -20,6 +20,7 @@
 #include "cms/core/Error.hpp"
 #include "cms/core/PeakMemory.hpp"
 #include "cms/core/ParameterReading.hpp"
+#include "cms/fem/FrameElement.hpp"
 #include "cms/fem/LumpedItemParameters.hpp"
 #include "cms/fem/RigidPlacement.hpp"
 #include "cms/mesh/ScriptMeshes.hpp"
@@ -236,11 +237,8 @@ std::shared_ptr<fem::FiniteElementModel> beamModel(const ParameterList& b, const
     // Checked here to name the key (and the default a user never wrote): the
     // element's own check named only its coordinates (a review).
     const fem::Vec3& o = set.section.orientation;
-    const double axis[3] = {(p1[0] - p0[0]) / length, (p1[1] - p0[1]) / length, (p1[2] - p0[2]) / length};
-    const double along = o[0] * axis[0] + o[1] * axis[1] + o[2] * axis[2];
-    const double on = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    const double across = std::sqrt(std::max(0.0, on * on - along * along));
-    CMS_INPUT_CHECK(!(across >= 1e-8 * on && across > 0.0),
+    const fem::Vec3 axis{(p1[0] - p0[0]) / length, (p1[1] - p0[1]) / length, (p1[2] - p0[2]) / length};
+    CMS_INPUT_CHECK(!fem::orientationAcross(axis, o),
                     path << "/Orientation = [" << o[0] << ", " << o[1] << ", " << o[2] << "]"
                          << (b.isParameter("Orientation") ? "" : " (the default)")
                          << " is parallel to the beam from \"From\" to \"To\": give an Orientation across it (a "

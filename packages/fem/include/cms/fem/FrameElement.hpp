@@ -20,6 +20,11 @@ struct FrameElement {
   double length() const;
 };
 
+/// Whether a section orientation vector `o` lies across the unit axis `e1`
+/// (its part normal to e1 at least 1e-8 of |o|): the rule every frame
+/// element's local axes are made by, and the scene's Beam checks with it.
+bool orientationAcross(const Vec3& e1, const Vec3& o);
+
 /// Throws cms::InputError when the length is zero (relative to |x1| + |x2|)
 /// or the orientation vector is parallel to the axis.
 ElementMatrix frameStiffness(const FrameElement& e);
