@@ -47,7 +47,7 @@ std::string droppedNote(const synthesis::SubstructureReduction& r, const Teuchos
   const bool modes = r.basis == "Craig-Bampton";  // "Vectors" counts its fixed-interface modes
   int kept = 0, shapesLeft = 0;
   for (const auto& l : r.labels) kept += !modes || l.rfind("mode ", 0) == 0;
-  for (const auto& d : r.dropped) shapesLeft += d.find("attachment shapes of the children") != std::string::npos;
+  for (const auto& d : r.dropped) shapesLeft += d.find(reduction::kAttachmentShapeLeftOut) != std::string::npos;
   // Admissible: fewer vectors than its children's attachment shapes hold the
   // later children rigidly (theory §11.3), whether Vectors or a cut-off's
   // count set them (found by a review).

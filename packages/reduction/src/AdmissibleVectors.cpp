@@ -212,7 +212,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
     if (static_cast<std::size_t>(count) <= kept && kept < interfaceColumns)
       for (std::size_t j = kept + basis.dropped.size(); j < interfaceColumns; ++j)
         basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(count) + " vectors are fewer than the " +
-                                std::to_string(interfaceColumns) + " attachment shapes of the children)");
+                                std::to_string(interfaceColumns) + " " + kAttachmentShapeLeftOut + ")");
   }
 
   // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order

@@ -54,6 +54,11 @@ struct SubstructureBoundary {
   std::shared_ptr<const HeldFactor> stiffnessFactor;
 };
 
+/// The phrase a `dropped` entry carries when an Admissible basis left out
+/// one of its children's attachment shapes (fewer vectors than shapes);
+/// what cms modes counts them by.
+inline constexpr const char* kAttachmentShapeLeftOut = "attachment shapes of the children";
+
 struct RitzBasis {
   std::string kind;                   ///< as in the parameters
   bool full = false;                  ///< identity on every non-held row; `vectors` is null
