@@ -595,7 +595,12 @@ TEST(FrameSpin, CentrifugalLoadOnRigidRotationsIncludesTheRotaryTorque) {
 // With rotary inertia off it was dropped with the bending rotations' terms
 // (a blade's first torsion frequency 2.6% low; found by a review); it is
 // the same with it on and off, and so is the twist's part of a general
-// spin axis. Tolerance 1e-12 of rho Iz L, exact quadrature.
+// spin axis. The quadrature is exact; what is left is rounding in sums of
+// terms of the size of the section's inertia rho max(Iy, Iz) L (the polar
+// one at most 2x that), turned through the element's axes (a 12 x 12
+// congruence): 1e-12 of it, about 5e3 eps, bounds that rounding with room,
+// relative to the size of what it bounds; it held on OpenBLAS's SkylakeX,
+// Nehalem and Haswell kernels.
 TEST(FrameSpin, TheTwistKeepsThePropellerMomentWithoutRotaryInertia) {
   for (BeamTheory theory : {BeamTheory::EulerBernoulli, BeamTheory::Timoshenko}) {
     FrameElement e = obliqueElement(theory);
