@@ -16,6 +16,7 @@
 #include "cms/core/SparseProduct.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/HeldDofs.hpp"
+#include "cms/fem/Vec3.hpp"
 
 namespace cms::reduction {
 
@@ -58,6 +59,51 @@ std::array<double, 3> supportCentroid(const substructure::Substructure& s, const
 
 namespace detail {
 
+void ownSupportLoads(const substructure::Substructure& s, const SubstructureBoundary& b,
+                     Teuchos::RCP<MultiVector>& F, std::vector<std::string>& labels) {
+  F = Teuchos::null;
+  if (!b.supportedAttachment) return;
+  const auto& t = s.dofs();
+  const auto map = s.map();
+  const auto nodeOf = t.rowNodes();
+  const std::size_t nloc = map->getNodeNumElements();
+  const auto& P = *b.supportedAttachment;
+  MultiVector X(map, 6), R(map, 6);
+  for (std::size_t l = 0; l < nloc; ++l) {
+    const long long g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
+    const auto nd = nodeOf[g];
+    const auto x = fem::rigidRow({t.coordinates[3 * nd] - P[0], t.coordinates[3 * nd + 1] - P[1],
+                                  t.coordinates[3 * nd + 2] - P[2]},
+                                 static_cast<int>(t.components[g]));
+    for (int a = 0; a < 6; ++a) X.replaceLocalValue(static_cast<LocalOrdinal>(l), a, x[a]);
+  }
+  multiply(*s.K(), X, R);
+  for (GlobalOrdinal g : b.held) {
+    const auto l = map->getLocalElement(g);
+    if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid())
+      for (int a = 0; a < 6; ++a) R.replaceLocalValue(l, a, 0.0);
+  }
+  // K X vanishes for a free elastic body up to the rounding of the product:
+  // each entry's error is at most (its row's entries) eps sum_j |K_ij X_j|,
+  // so the column's at most nnz eps ||K||_F ||X||_2 with nnz < 1e3 for any
+  // element here (a 20-node brick's row couples 81 nodes' 3 DOFs). A column
+  // below that is no resistance of the supports.
+  std::vector<double> rn(6), xn(6);
+  R.norm2(Teuchos::ArrayView<double>(rn)), X.norm2(Teuchos::ArrayView<double>(xn));
+  const double kf = s.K()->getFrobeniusNorm();
+  const double eps = std::numeric_limits<double>::epsilon();
+  const char* coordinate[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  std::vector<int> resisted;
+  for (int a = 0; a < 6; ++a)
+    if (rn[a] > 1e3 * eps * kf * xn[a]) resisted.push_back(a);
+  if (resisted.empty()) return;
+  F = Teuchos::rcp(new MultiVector(map, resisted.size()));
+  for (std::size_t j = 0; j < resisted.size(); ++j) {
+    F->getVectorNonConst(j)->update(1.0, *R.getVector(resisted[j]), 0.0);
+    labels.push_back(std::string(kOwnSupportsColumn) + coordinate[resisted[j]]);
+  }
+}
+
 void loadPatterns(const substructure::Substructure& s, const SubstructureBoundary& b,
                   const std::vector<std::string>& patterns, Teuchos::RCP<MultiVector>& F,
                   std::vector<std::string>& labels) {
@@ -66,6 +112,17 @@ void loadPatterns(const substructure::Substructure& s, const SubstructureBoundar
   const auto nodeOf = t.rowNodes();
   const std::size_t nloc = map->getNodeNumElements();
   std::vector<std::vector<double>> cols;  // local values per column
+  // The static correction of a child held by its own supports first,
+  // whatever the list: without it the attachment's rigid motion is no
+  // constraint mode, and the basis converges slowly (theory §11.2).
+  {
+    Teuchos::RCP<MultiVector> R;
+    ownSupportLoads(s, b, R, labels);
+    for (std::size_t j = 0; !R.is_null() && j < R->getNumVectors(); ++j) {
+      auto v = R->getData(j);
+      cols.emplace_back(v.begin(), v.end());
+    }
+  }
   auto newColumn = [&](const std::string& label) -> std::vector<double>& {
     labels.push_back(label);
     cols.emplace_back(nloc, 0.0);
@@ -201,19 +258,25 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   //    blades and Vectors 6 gave a 16.12 Hz triple as 16.12, 43.64, 43.64),
   //    which was silent (found by a review): each shape left out is listed
   //    in `dropped`, and cms modes says how many Vectors would keep them.
-  std::size_t interfaceColumns = 0;
-  while (interfaceColumns < labels.size() && labels[interfaceColumns].rfind("static: interface", 0) == 0)
-    ++interfaceColumns;
-  if (interfaceColumns > 0) {
-    auto XI = X.subView(Teuchos::Range1D(0, interfaceColumns - 1));
-    appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin(), labels.begin() + interfaceColumns),
-                      tol, count, basis);
-    const std::size_t kept = basis.vectors.is_null() ? 0 : basis.vectors->getNumVectors();
-    if (static_cast<std::size_t>(count) <= kept && kept < interfaceColumns)
-      for (std::size_t j = kept + basis.dropped.size(); j < interfaceColumns; ++j)
-        basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(count) + " vectors are fewer than the " +
-                                std::to_string(interfaceColumns) + " " + kAttachmentShapeLeftOut + ")");
-  }
+  //    Before them, for a child held by its own supports, the static
+  //    correction of its attachment's rigid motion (theory §11.2), which
+  //    "Vectors" counts too.
+  auto leading = [&](std::size_t from, const char* prefix, const std::string& what) {
+    std::size_t to = from;
+    while (to < labels.size() && labels[to].rfind(prefix, 0) == 0) ++to;
+    if (to == from) return to;
+    const std::size_t before = static_cast<std::size_t>(basis.size()), droppedBefore = basis.dropped.size();
+    auto XI = X.subView(Teuchos::Range1D(from, to - 1));
+    appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin() + from, labels.begin() + to), tol, count,
+                      basis);
+    const std::size_t seen = static_cast<std::size_t>(basis.size()) - before + basis.dropped.size() - droppedBefore;
+    for (std::size_t j = from + seen; j < to; ++j)
+      basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(count) + " vectors are fewer than the " +
+                              std::to_string(to - from) + " " + what + ")");
+    return to;
+  };
+  const std::size_t supportColumns = leading(0, kOwnSupportsColumn, "static corrections of its own supports");
+  const std::size_t interfaceColumns = leading(supportColumns, "static: interface", kAttachmentShapeLeftOut);
 
   // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order
   //    that neither wastes columns nor loses a family (doc/theory.md §11.3):

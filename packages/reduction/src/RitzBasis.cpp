@@ -15,6 +15,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "HeldStiffness.hpp"
+#include "LoadPatterns.hpp"
 #include "SymmetricEigen.hpp"
 #include "cms/core/SparseProduct.hpp"
 #include "cms/core/MatrixSum.hpp"
@@ -27,6 +28,7 @@
 #include "cms/reduction/CraigBamptonBasis.hpp"
 #include "cms/reduction/FixedInterfaceModes.hpp"
 #include "cms/reduction/PartitionedBasis.hpp"
+#include "cms/reduction/StaticCorrection.hpp"
 
 namespace cms::reduction {
 
@@ -309,6 +311,27 @@ RitzBasis buildRitzBasis(const substructure::Substructure& s, const Substructure
     const int modes = kind == "Guyan" ? 0 : vectors;
     basis = craigBamptonBasis(s, boundary, modes, p.get<double>("Eigensolver Tolerance"),
                               p.get<double>("Dependence Tolerance"), sturmCut);
+  }
+  // A child held by supports or springs of its own: the static correction
+  // K_h^-1 K X of its attachment's rigid motion X (theory §11.2), without
+  // which X is no constraint mode (Craig-Bampton 8 of a propped boom was 59%
+  // off). Admissible and Partitioned have it among their load patterns'
+  // static shapes; the others add it after their own columns, beyond
+  // "Vectors" as Craig-Bampton's constraint modes are (nested still: the
+  // same columns after each count's). K_h is the estimates' flexibility too.
+  if (boundary.supportedAttachment &&
+      (kind == "Modes" || kind == "Craig-Bampton" || kind == "Guyan" || kind == "Polynomial")) {
+    Teuchos::RCP<MultiVector> R;
+    std::vector<std::string> labels;
+    detail::ownSupportLoads(s, boundary, R, labels);
+    if (!R.is_null()) {
+      auto K = std::make_unique<detail::HeldStiffness>(s, boundary.held);  // the offered factor, where it fits
+      MultiVector Y(R->getMap(), R->getNumVectors());
+      K->solve(*R, Y);
+      appendOrthonormal(*s.M(), Y, labels, p.get<double>("Dependence Tolerance"),
+                        basis.size() + static_cast<int>(R->getNumVectors()), basis);
+      if (!basis.flexibility) basis.flexibility = std::make_shared<const StaticCorrection>(std::move(K));
+    }
   }
   basis.kind = kind;
   basis.adoptedFactor = offered.adopted();

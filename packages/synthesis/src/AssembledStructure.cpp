@@ -34,22 +34,6 @@ namespace cms::synthesis {
 using fem::Component;
 using fem::Vec3;
 
-namespace detail {
-
-std::array<double, 6> rigidRow(const Vec3& r, int component) {
-  // u = u_P + theta x r: row `component` of [I, -[r]x; 0, I].
-  std::array<double, 6> x{};
-  switch (component) {
-    case 0: x[0] = 1, x[4] = r[2], x[5] = -r[1]; break;
-    case 1: x[1] = 1, x[5] = r[0], x[3] = -r[2]; break;
-    case 2: x[2] = 1, x[3] = r[1], x[4] = -r[0]; break;
-    default: x[component] = 1; break;
-  }
-  return x;
-}
-
-}  // namespace detail
-
 std::vector<double> AssembledStructure::Part::attachmentRow(const fem::Vec3& x, std::int64_t node, int component) const {
   if (!boolean()) {
     const auto r = detail::rigidRow({x[0] - point[0], x[1] - point[1], x[2] - point[2]}, component);
@@ -1063,16 +1047,11 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     setFrame(*p, p->parent >= 0 ? parts[p->parent].get() : nullptr, out.speeds_);
     if (!p->gapNote.empty()) out.notes_.push_back(p->gapNote);
     // A child held by supports or springs of its own besides its attachment:
-    // the attachment's rigid motion X strains it (K X != 0), and no basis
-    // adds the static correction -K_h^-1 K X (theory §11.2): its reduced
-    // bases converge slowly (Craig-Bampton 8 of a propped boom 59% off,
-    // 40 vectors 1.3%; found by a review). Said, not mended.
-    const bool grounded = p->spec.model && heldByItsOwnSupports(*p->spec.model);
-    const bool reduced = !detail::asksBasis(p->spec.reduction, "Full");
-    if (p->spec.kind != SubstructureKind::Central && p->spec.kind != SubstructureKind::Rigid && grounded && reduced)
-      out.notes_.push_back(p->spec.name + ": held by supports or springs of its own besides its attachment, so the "
-                           "attachment's rigid motion strains it and its reduced basis lacks that static response "
-                           "(theory §11.2): it converges slowly; check the estimates, or use Basis: Full");
+    // the attachment's rigid motion X strains it (K X != 0), and its basis
+    // adds the static correction -K_h^-1 K X (theory §11.2). A Boolean
+    // child's constraint modes already are static shapes with its supports.
+    p->ownSupports = p->spec.kind != SubstructureKind::Central && p->spec.kind != SubstructureKind::Rigid &&
+                     p->spec.model && !p->boolean() && heldByItsOwnSupports(*p->spec.model);
   }
   // A free body spinning in its frame is held only by the centrifugal
   // prestress: the spin softening of its rigid rotations is balanced by the

@@ -34,10 +34,9 @@ struct NodalCoefficient {
   double coefficient = 0.0;
 };
 
-/// Row `component` (0..5: ux uy uz rx ry rz) of the rigid motion
-/// u = u_P + theta x r, theta = theta_P of a point at r from P, as
-/// coefficients of a = (u_P, theta_P): [I, -[r]x; 0, I].
-std::array<double, 6> rigidRow(const fem::Vec3& r, int component);
+/// Row of the rigid motion about P (fem/Vec3.hpp; the reduction's static
+/// correction of a child held by its own supports makes the same field).
+using fem::rigidRow;
 
 /// Whether a "Reduction" list asks for the basis `kind` ("Basis" given as a
 /// string; an unset or mistyped one is the default's or refused later).
@@ -75,6 +74,11 @@ struct AssembledStructure::Part {
   int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
   fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)
   std::string gapNote;       ///< its attachment nodes' rigid link to P, where long (AssembledStructure notes)
+  /// A child (Node or RigidFit attachment) held by supports or grounded
+  /// springs of its own besides it: P's rigid motion strains it, and its
+  /// basis adds the static correction (reduction::SubstructureBoundary::
+  /// supportedAttachment, theory §11.2).
+  bool ownSupports = false;
   bool floating = false;     ///< free C: a = the six rigid-body coordinates
   /// A rotor spinning in its own frame on an attachment that moves (a hub on
   /// an airframe): a = six coordinates b of its own, the attachment motion in

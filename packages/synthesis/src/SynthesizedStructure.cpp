@@ -407,6 +407,7 @@ reduction::SubstructureBoundary substructureBoundary(const std::vector<std::shar
   const auto& p = *parts[k];
   reduction::SubstructureBoundary b;
   b.held = p.held;
+  if (p.ownSupports) b.supportedAttachment = p.point;
   for (int c : p.children) {
     std::set<GlobalOrdinal> rows;
     const auto& Hc = parts[c]->Hrows;

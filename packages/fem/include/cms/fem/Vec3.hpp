@@ -39,4 +39,18 @@ inline std::array<Vec3, 2> transverseBasis(const Vec3& axis) {
   return {e1, cross(n, e1)};
 }
 
+/// Row `component` (0..5: ux uy uz rx ry rz) of the rigid motion
+/// u = u_P + theta x r, theta = theta_P, of a point at r from P, as
+/// coefficients of a = (u_P, theta_P): [I, -[r]x; 0, I] (theory §11.2).
+inline std::array<double, 6> rigidRow(const Vec3& r, int component) {
+  std::array<double, 6> x{};
+  switch (component) {
+    case 0: x[0] = 1, x[4] = r[2], x[5] = -r[1]; break;
+    case 1: x[1] = 1, x[5] = r[0], x[3] = -r[2]; break;
+    case 2: x[2] = 1, x[3] = r[1], x[4] = -r[0]; break;
+    default: x[component] = 1; break;
+  }
+  return x;
+}
+
 }  // namespace cms::fem

@@ -20,7 +20,9 @@
 //   Full            every non-held DOF: no truncation (the truth model)
 #pragma once
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,7 +54,18 @@ struct SubstructureBoundary {
   /// factoring K again when its held rows are the same (theory §11.4);
   /// null: none.
   std::shared_ptr<const HeldFactor> stiffnessFactor;
+  /// Set for a child held by supports or grounded springs of its own
+  /// besides its attachment, which its caller moves rigidly about this
+  /// point P: that rigid motion X strains it (K X != 0), so its constraint
+  /// modes are X - K_h^-1 K X and every reduced basis adds the static
+  /// correction K_h^-1 K X, a column per coordinate the supports resist
+  /// (theory §11.2). Unset otherwise (K X = 0: nothing to add).
+  std::optional<std::array<double, 3>> supportedAttachment;
 };
+
+/// The label prefix of those correction columns ("static: own supports
+/// under the attachment's ux", ...).
+inline constexpr const char* kOwnSupportsColumn = "static: own supports under the attachment's ";
 
 /// The phrase a `dropped` entry carries when an Admissible basis left out
 /// one of its children's attachment shapes (fewer vectors than shapes);
