@@ -1,12 +1,16 @@
 #include "cms/core/SparseProduct.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <system_error>
 #include <thread>
 #include <type_traits>
 #include <vector>
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Export.hpp>
+#include <Tpetra_Import.hpp>
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/BlasThreads.hpp"
@@ -146,6 +150,67 @@ void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double a
   }
   rows(rowPtr, col, val, x, ldx, y, ldy, nv, alpha, beta, 0, split[1]);
   for (auto& th : pool) th.join();
+}
+
+void multiplyAbsolute(const CrsMatrix& A, const MultiVector& X, MultiVector& Y) {
+  const std::size_t nc = X.getNumVectors();
+  MultiVector absX(X.getMap(), nc, false);
+  absX.abs(X);
+  // A null importer means the column map is the domain map.
+  const auto importer = A.getGraph()->getImporter();
+  Teuchos::RCP<MultiVector> columns;
+  if (!importer.is_null()) {
+    columns = Teuchos::rcp(new MultiVector(A.getColMap(), nc, false));
+    columns->doImport(absX, *importer, Tpetra::INSERT);
+  }
+  const MultiVector& xc = importer.is_null() ? absX : *columns;
+  const auto exporter = A.getGraph()->getExporter();
+  MultiVector rowsOut(A.getRowMap(), nc, false);
+  {
+    const auto x = xc.getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto y = rowsOut.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    CrsMatrix::local_inds_host_view_type cols;
+    CrsMatrix::values_host_view_type vals;
+    const std::size_t nrows = A.getNodeNumRows();
+    for (std::size_t l = 0; l < nrows; ++l) {
+      A.getLocalRowView(static_cast<LocalOrdinal>(l), cols, vals);
+      for (std::size_t j = 0; j < nc; ++j) {
+        double sum = 0.0;
+        for (std::size_t k = 0; k < cols.extent(0); ++k)
+          sum += std::abs(vals(k)) * x(static_cast<std::size_t>(cols(k)), j);
+        y(l, j) = sum;
+      }
+    }
+  }
+  if (exporter.is_null()) {
+    Y.assign(rowsOut);
+  } else {
+    Y.putScalar(0.0);
+    Y.doExport(rowsOut, *exporter, Tpetra::ADD);
+  }
+}
+
+std::vector<char> roundingOnly(const MultiVector& AX, const MultiVector& absAX,
+                               const std::vector<GlobalOrdinal>& ignored) {
+  const std::size_t nc = AX.getNumVectors();
+  std::vector<int> above(nc, 0), anyAbove(nc, 0);
+  const auto map = AX.getMap();
+  std::vector<char> skip(map->getNodeNumElements(), 0);
+  for (GlobalOrdinal g : ignored) {
+    const auto l = map->getLocalElement(g);
+    if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) skip[static_cast<std::size_t>(l)] = 1;
+  }
+  {
+    const auto r = AX.getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto b = absAX.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (std::size_t j = 0; j < nc; ++j)
+      for (std::size_t l = 0; l < skip.size() && !above[j]; ++l)
+        if (!skip[l] && std::abs(r(l, j)) > kProductRounding * b(l, j)) above[j] = 1;
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_MAX, static_cast<int>(nc), above.data(), anyAbove.data());
+  std::vector<char> out(nc);
+  for (std::size_t j = 0; j < nc; ++j) out[j] = anyAbove[j] == 0;
+  return out;
 }
 
 }  // namespace cms

@@ -78,24 +78,35 @@ void ownSupportLoads(const substructure::Substructure& s, const SubstructureBoun
     for (int a = 0; a < 6; ++a) X.replaceLocalValue(static_cast<LocalOrdinal>(l), a, x[a]);
   }
   multiply(*s.K(), X, R);
+  // K X vanishes for a free elastic body up to rounding, entry by entry
+  // within kProductRounding (|K||X|)_i: a column within it everywhere off
+  // the held rows is no resistance of the supports. (A bound over the
+  // whole column, 1e3 eps ||K||_F ||X||, grew with the mesh: a 1000-element
+  // boom's tip spring of 2e5 N/m, stiffer than the boom's own 1.9e5 N/m,
+  // fell below it; a review.)
+  MultiVector bound(map, 6);
+  multiplyAbsolute(*s.K(), X, bound);
+  const auto rounding = roundingOnly(R, bound, b.held);
+  // The loads are the entries above that rounding: the rest is noise, which
+  // K_h^-1 would spread over the body (at 1000 elements the turn's
+  // correction then differed from the translation's by 4e-8 of it, above the
+  // Dependence Tolerance, and was kept as a column of noise).
+  {
+    auto r = R.getLocalViewHost(Tpetra::Access::ReadWrite);
+    const auto e = bound.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (std::size_t l = 0; l < nloc; ++l)
+      for (int a = 0; a < 6; ++a)
+        if (std::abs(r(l, a)) <= kProductRounding * e(l, a)) r(l, a) = 0.0;
+  }
   for (GlobalOrdinal g : b.held) {
     const auto l = map->getLocalElement(g);
     if (l != Teuchos::OrdinalTraits<LocalOrdinal>::invalid())
       for (int a = 0; a < 6; ++a) R.replaceLocalValue(l, a, 0.0);
   }
-  // K X vanishes for a free elastic body up to the rounding of the product:
-  // each entry's error is at most (its row's entries) eps sum_j |K_ij X_j|,
-  // so the column's at most nnz eps ||K||_F ||X||_2 with nnz < 1e3 for any
-  // element here (a 20-node brick's row couples 81 nodes' 3 DOFs). A column
-  // below that is no resistance of the supports.
-  std::vector<double> rn(6), xn(6);
-  R.norm2(Teuchos::ArrayView<double>(rn)), X.norm2(Teuchos::ArrayView<double>(xn));
-  const double kf = s.K()->getFrobeniusNorm();
-  const double eps = std::numeric_limits<double>::epsilon();
   const char* coordinate[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
   std::vector<int> resisted;
   for (int a = 0; a < 6; ++a)
-    if (rn[a] > 1e3 * eps * kf * xn[a]) resisted.push_back(a);
+    if (!rounding[a]) resisted.push_back(a);
   if (resisted.empty()) return;
   F = Teuchos::rcp(new MultiVector(map, resisted.size()));
   for (std::size_t j = 0; j < resisted.size(); ++j) {
@@ -238,7 +249,7 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
                             const std::vector<std::string>& patterns, int count, double tol) {
   RitzBasis basis;
   basis.kind = "Admissible";
-  if (count == 0) return basis;
+  if (count == 0 && !boundary.supportedAttachment) return basis;  // (the corrections come beyond "Vectors")
   Teuchos::RCP<MultiVector> F;
   std::vector<std::string> labels;
   loadPatterns(s, boundary, patterns, F, labels);
@@ -259,24 +270,29 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   //    which was silent (found by a review): each shape left out is listed
   //    in `dropped`, and cms modes says how many Vectors would keep them.
   //    Before them, for a child held by its own supports, the static
-  //    correction of its attachment's rigid motion (theory §11.2), which
-  //    "Vectors" counts too.
-  auto leading = [&](std::size_t from, const char* prefix, const std::string& what) {
+  //    correction of its attachment's rigid motion (theory §11.2), beyond
+  //    "Vectors" as the other bases add it (counted among them it crowded
+  //    out the children's shapes; a review).
+  const int asked = count;
+  auto leading = [&](std::size_t from, const char* prefix, const std::string& what, int room) {
     std::size_t to = from;
     while (to < labels.size() && labels[to].rfind(prefix, 0) == 0) ++to;
     if (to == from) return to;
     const std::size_t before = static_cast<std::size_t>(basis.size()), droppedBefore = basis.dropped.size();
     auto XI = X.subView(Teuchos::Range1D(from, to - 1));
-    appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin() + from, labels.begin() + to), tol, count,
+    appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin() + from, labels.begin() + to), tol, room,
                       basis);
     const std::size_t seen = static_cast<std::size_t>(basis.size()) - before + basis.dropped.size() - droppedBefore;
     for (std::size_t j = from + seen; j < to; ++j)
-      basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(count) + " vectors are fewer than the " +
+      basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(asked) + " vectors are fewer than the " +
                               std::to_string(to - from) + " " + what + ")");
     return to;
   };
-  const std::size_t supportColumns = leading(0, kOwnSupportsColumn, "static corrections of its own supports");
-  const std::size_t interfaceColumns = leading(supportColumns, "static: interface", kAttachmentShapeLeftOut);
+  std::size_t supportColumns = 0;
+  while (supportColumns < labels.size() && labels[supportColumns].rfind(kOwnSupportsColumn, 0) == 0) ++supportColumns;
+  leading(0, kOwnSupportsColumn, "", basis.size() + static_cast<int>(supportColumns));
+  count += basis.size();  // the corrections kept, beyond "Vectors"
+  const std::size_t interfaceColumns = leading(supportColumns, "static: interface", kAttachmentShapeLeftOut, count);
 
   // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order
   //    that neither wastes columns nor loses a family (doc/theory.md §11.3):

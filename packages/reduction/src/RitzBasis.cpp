@@ -46,7 +46,8 @@ Teuchos::RCP<const Teuchos::ParameterList> validParameters() {
         pl.get());
     pl->set("Vectors", 6,
             "Admissible: static and Krylov vectors; Polynomial: polynomial functions; Modes, Craig-Bampton: eigenvectors (Craig-Bampton adds "
-            "one constraint mode per interface DOF); ignored by Guyan and Full");
+            "one constraint mode per interface DOF); ignored by Guyan and Full. A child held by supports of its own gets "
+            "their static corrections beyond it (theory §11.2)");
     pl->set("Load Patterns", Teuchos::Array<std::string>(Teuchos::tuple<std::string>("interfaces", "uniform", "rotation", "centrifugal")),
             "Admissible: static load patterns: interfaces (unit forces and moments at the "
             "children's attachments, always first), uniform (mass-weighted x, y, z), rotation (inertia "

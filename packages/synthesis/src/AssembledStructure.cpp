@@ -1046,12 +1046,10 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
   for (auto& p : parts) {  // 2. parents first
     setFrame(*p, p->parent >= 0 ? parts[p->parent].get() : nullptr, out.speeds_);
     if (!p->gapNote.empty()) out.notes_.push_back(p->gapNote);
-    // A child held by supports or springs of its own besides its attachment:
-    // the attachment's rigid motion X strains it (K X != 0), and its basis
-    // adds the static correction -K_h^-1 K X (theory §11.2). A Boolean
-    // child's constraint modes already are static shapes with its supports.
-    p->ownSupports = p->spec.kind != SubstructureKind::Central && p->spec.kind != SubstructureKind::Rigid &&
-                     p->spec.model && !p->boolean() && heldByItsOwnSupports(*p->spec.model);
+    // Held by supports or springs of its own: a rigid motion X strains it
+    // (K X != 0); a child's basis adds the static correction -K_h^-1 K X
+    // (theory §11.2).
+    p->ownSupports = p->spec.kind != SubstructureKind::Rigid && p->spec.model && heldByItsOwnSupports(*p->spec.model);
   }
   // A free body spinning in its frame is held only by the centrifugal
   // prestress: the spin softening of its rigid rotations is balanced by the

@@ -74,10 +74,12 @@ struct AssembledStructure::Part {
   int speedParam = -1;  ///< its own spin parameter (C, A, R), or -1
   fem::Vec3 point{0, 0, 0};  ///< attachment point P (free C: reference point)
   std::string gapNote;       ///< its attachment nodes' rigid link to P, where long (AssembledStructure notes)
-  /// A child (Node or RigidFit attachment) held by supports or grounded
-  /// springs of its own besides it: P's rigid motion strains it, and its
-  /// basis adds the static correction (reduction::SubstructureBoundary::
-  /// supportedAttachment, theory §11.2).
+  /// Its model holds it by supports or grounded springs of its own (fixed
+  /// DOFs, or a grounded spring with stiffness): a rigid motion of it
+  /// strains it, K X != 0. A child's attachment motion then needs the
+  /// static correction in its basis (reduction::SubstructureBoundary::
+  /// supportedAttachment), and its projected stiffness keeps K X
+  /// (SynthesizedStructure::carriedRigidly; theory §11.2).
   bool ownSupports = false;
   bool floating = false;     ///< free C: a = the six rigid-body coordinates
   /// A rotor spinning in its own frame on an attachment that moves (a hub on

@@ -5,6 +5,9 @@
 // second core idled (doc/benchmarks.md, "Sparse products on both cores").
 #pragma once
 
+#include <limits>
+#include <vector>
+
 #include "cms/core/TpetraTypes.hpp"
 
 namespace cms {
@@ -29,5 +32,25 @@ void multiply(const CrsMatrix& A, const MultiVector& X, MultiVector& Y, double a
 /// The threads multiply() would run its own kernel on for A X with
 /// `threads` asked (0: blasThreads()); 0 means Tpetra's apply.
 int multiplyThreads(const CrsMatrix& A, const MultiVector& X, const MultiVector& Y, int threads = 0);
+
+/// Y = |A| |X| (entrywise absolute values): the scale of the rounding of
+/// the product A X, whose computed entries lie within (the row's entries)
+/// eps (|A||X|)_i of the exact ones (Higham, Accuracy and Stability of
+/// Numerical Algorithms, §3.5). Collective (imports |X| to A's columns).
+void multiplyAbsolute(const CrsMatrix& A, const MultiVector& X, MultiVector& Y);
+
+/// Entry by entry, what a product A X may differ from exact by, relative to
+/// (|A||X|)_i: the product's own (rows of fewer than 1e3 entries here: a
+/// 20-node brick couples 81 nodes' 3 DOFs) and the rounding already in A's
+/// entries, as far as A annihilates X in exact arithmetic (an elastic
+/// stiffness and a rigid motion: its element matrices' sums).
+inline constexpr double kProductRounding = 1e3 * std::numeric_limits<double>::epsilon();
+
+/// Per column of AX = A X, whether it is rounding only: every row has
+/// |(A X)_ij| <= kProductRounding (|A||X|)_ij, given absAX = |A||X| (rows
+/// listed in `ignored`, global, are not looked at). The same on every rank
+/// (collective).
+std::vector<char> roundingOnly(const MultiVector& AX, const MultiVector& absAX,
+                               const std::vector<GlobalOrdinal>& ignored = {});
 
 }  // namespace cms

@@ -436,6 +436,8 @@ private:
   std::vector<double> residualFlexibilityNorms(const StructureModes& modes,
                                                std::vector<std::vector<double>>* byPart = nullptr) const;
   const reduction::StaticCorrection& flexibility(std::size_t k) const;
+  /// Whether K X = 0 for part k's rigid motion X about its attachment point:
+  /// nothing of its own (supports, grounded springs) holds it (cached).
   bool carriedRigidly(std::size_t k) const;
   /// A copy whose basis was turned and whose K and M are its prototype's
   /// turned: the prototype's factorisations serve it (theory §15.2).
