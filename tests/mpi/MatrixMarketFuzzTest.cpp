@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <random>
 #include <sstream>
 
@@ -173,5 +174,75 @@ TEST(MatrixMarketFile, RepeatedEntriesAndNonDecimalValuesAreRefused) {
     }
     EXPECT_NE(what.find(K), std::string::npos) << what;
     EXPECT_NE(what.find(expected), std::string::npos) << what;
+  }
+}
+
+// A general file's triangles must mirror each other: M, K, KT1 and KS1
+// symmetric, G1 skew-symmetric. The symmetric solvers read one triangle, so
+// an asymmetric K was read and solved as another matrix, silently (a
+// review). Windows line endings got Tpetra's message about the banner's
+// symmetry word. Each refused naming the file and line, on every rank; a
+// matrix printed to 8 significant digits (a difference of 1e-8) is read.
+TEST(MatrixMarketFile, AsymmetricMatricesAndWindowsLineEndingsAreRefused) {
+  const auto comm = world();
+  const std::string dir = writtenBeam("mirror", true);
+  const std::string K = dir + "/mirror_K.mtx", G = dir + "/mirror_G1.mtx";
+  const std::string seedK = slurp(K), seedG = slurp(G);
+  // The first off-diagonal entry of a file, its value scaled by `factor`.
+  auto scaled = [](const std::string& seed, double factor) {
+    std::istringstream in(seed);
+    std::ostringstream out;
+    std::string line;
+    bool sized = false, done = false;
+    while (std::getline(in, line)) {
+      if (!done && sized && line[0] != '%') {
+        std::istringstream e(line);
+        long long i = 0, j = 0;
+        double v = 0.0;
+        e >> i >> j >> v;
+        if (i != j && v != 0.0) {
+          std::ostringstream w;
+          w << i << " " << j << " " << std::setprecision(17) << v * factor;
+          line = w.str(), done = true;
+        }
+      } else if (line[0] != '%') {
+        sized = true;
+      }
+      out << line << "\n";
+    }
+    return out.str();
+  };
+  auto crlf = [](const std::string& seed) {
+    std::string out;
+    for (char c : seed) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    return out;
+  };
+  struct Case {
+    std::string file, text, expected;  // expected "": read
+  };
+  const std::vector<Case> cases = {{K, scaled(seedK, 1.01), "K must be symmetric, but entry ("},
+                                   {K, scaled(seedK, 1.0 + 1e-8), ""},
+                                   {G, scaled(seedG, -1.0), "G1 must be skew-symmetric, but entry ("},
+                                   {K, crlf(seedK), "Windows line endings (CRLF)"}};
+  for (const auto& c : cases) {
+    comm->barrier();
+    if (comm->getRank() == 0) {
+      std::ofstream(K, std::ios::binary | std::ios::trunc) << seedK;
+      std::ofstream(G, std::ios::binary | std::ios::trunc) << seedG;
+      std::ofstream(c.file, std::ios::binary | std::ios::trunc) << c.text;
+    }
+    comm->barrier();
+    std::string what = "(read)";
+    try {
+      Substructure::fromMatrixMarket(dir + "/mirror.cms", comm);
+    } catch (const InputError& err) {
+      what = err.what();
+    }
+    if (c.expected.empty()) {
+      EXPECT_EQ(what, "(read)");
+    } else {
+      EXPECT_NE(what.find(c.file + ":"), std::string::npos) << what;
+      EXPECT_NE(what.find(c.expected), std::string::npos) << what;
+    }
   }
 }

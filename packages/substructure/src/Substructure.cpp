@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -43,10 +44,16 @@ Teuchos::RCP<const Map> nodeBlockMap(const DofTable& t, const Teuchos::RCP<const
   return Teuchos::rcp(new Map(static_cast<GlobalOrdinal>(t.rows()), static_cast<std::size_t>(e - b), 0, comm));
 }
 
+/// What a substructure matrix must be: M, K, KT1 and KS1 symmetric, G1
+/// skew-symmetric (M q'' + G q' + K q = Q). A file that is not is refused: the
+/// symmetric solvers read one triangle, and the answer would be silently
+/// that of another matrix.
+enum class Symmetry { Symmetric, Skew };
+
 /// Checks a Matrix Market file completely on every rank before Tpetra's
 /// reader sees it: Tpetra reads on rank 0 only, and a malformed file must
 /// give the same error, with its line, on every rank rather than a hang.
-void checkMatrixMarketFile(const std::string& path, long long rows) {
+void checkMatrixMarketFile(const std::string& path, long long rows, const std::string& key, Symmetry expected) {
   std::error_code ec;
   CMS_INPUT_CHECK(std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec),
                   path << ": not a regular file (a directory?), not a matrix file");
@@ -61,6 +68,11 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
   CMS_INPUT_CHECK(line.compare(0, 14, "%%MatrixMarket") != 0,
                   path << ":1: the banner must start with %%MatrixMarket at the first column (banner \"" << line
                        << "\")");
+  // Windows line endings: Tpetra's reader keeps the carriage return in the
+  // banner's last word and refused the file with a message about its
+  // symmetry (a review).
+  CMS_INPUT_CHECK(!line.empty() && line.back() == '\r',
+                  path << ":1: Windows line endings (CRLF); convert the file to Unix line endings (dos2unix)");
   std::istringstream banner(line);
   std::string magic, object, format, field, symmetry;
   banner >> magic >> object >> format >> field >> symmetry;
@@ -72,6 +84,10 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
                   path << ":1: field \"" << field << "\" must be real or integer");
   CMS_INPUT_CHECK(symmetry != "general" && symmetry != "symmetric" && symmetry != "skew-symmetric",
                   path << ":1: symmetry \"" << symmetry << "\" must be general, symmetric or skew-symmetric");
+  CMS_INPUT_CHECK(expected == Symmetry::Symmetric && symmetry == "skew-symmetric",
+                  path << ":1: " << key << " is symmetric; the banner says skew-symmetric");
+  CMS_INPUT_CHECK(expected == Symmetry::Skew && symmetry == "symmetric",
+                  path << ":1: " << key << " is skew-symmetric; the banner says symmetric");
   long long m = -1, n = -1, nnz = -1;
   // Tpetra's reader refuses blank lines ("contains no characters"); so do we,
   // with the line number, on every rank.
@@ -91,7 +107,13 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
   long long count = 0;
   // Each entry's place and line: Tpetra's reader sums repeated entries, so a
   // repeat is refused here (found by a review: K(1,1) read doubled).
-  std::vector<std::pair<unsigned long long, long long>> places;
+  struct Entry {
+    unsigned long long place;
+    long long line;
+    double value;
+    bool operator<(const Entry& o) const { return place < o.place; }
+  };
+  std::vector<Entry> places;
   while (std::getline(in, line)) {
     ++lineNo;
     CMS_INPUT_CHECK(line.empty(), path << ":" << lineNo << ": blank line (not accepted in Matrix Market data)");
@@ -125,19 +147,48 @@ void checkMatrixMarketFile(const std::string& path, long long rows) {
                     path << ":" << lineNo << ": a " << symmetry << " file stores the lower triangle only");
     CMS_INPUT_CHECK(symmetry == "skew-symmetric" && i == j && v != 0.0,
                     path << ":" << lineNo << ": skew-symmetric matrix with a nonzero diagonal");
-    places.emplace_back(static_cast<unsigned long long>(i - 1) * static_cast<unsigned long long>(n) +
-                            static_cast<unsigned long long>(j - 1),
-                        lineNo);
+    places.push_back({static_cast<unsigned long long>(i - 1) * static_cast<unsigned long long>(n) +
+                          static_cast<unsigned long long>(j - 1),
+                      lineNo, v});
     ++count;
   }
   std::sort(places.begin(), places.end());
   for (std::size_t k = 1; k < places.size(); ++k)
-    CMS_INPUT_CHECK(places[k].first == places[k - 1].first,
-                    path << ":" << places[k].second << ": entry (" << places[k].first / n + 1 << ", "
-                         << places[k].first % n + 1 << ") given twice (also line " << places[k - 1].second
+    CMS_INPUT_CHECK(places[k].place == places[k - 1].place,
+                    path << ":" << places[k].line << ": entry (" << places[k].place / n + 1 << ", "
+                         << places[k].place % n + 1 << ") given twice (also line " << places[k - 1].line
                          << "); a Matrix Market reader sums repeats: give each entry once");
   CMS_INPUT_CHECK(count != nnz, path << ": " << count << " entries, but the size line declares " << nnz
                                      << " (truncated file?)");
+  if (symmetry != "general") return;  // one triangle: symmetric or skew by its banner
+  // A general file's two triangles must mirror each other: A(i, j) = s A(j, i),
+  // s = 1 or -1. Tolerance: 1e-6 of the larger of the two, so that a
+  // matrix printed to 7 significant digits by another tool is accepted,
+  // and differences below 1e-12 of the file's largest entry are ignored
+  // (an entry written on one side only at the rounding level of the
+  // assembly: a perturbation far below the solvers' own backward error).
+  double largest = 0.0;
+  for (const Entry& e : places) largest = std::max(largest, std::abs(e.value));
+  const double sign = expected == Symmetry::Symmetric ? 1.0 : -1.0;
+  for (const Entry& e : places) {
+    const unsigned long long i = e.place / static_cast<unsigned long long>(n),
+                             j = e.place % static_cast<unsigned long long>(n);
+    const auto mirror = std::lower_bound(places.begin(), places.end(), Entry{j * static_cast<unsigned long long>(n) + i, 0, 0.0});
+    const bool found = mirror != places.end() && mirror->place == j * static_cast<unsigned long long>(n) + i;
+    const double other = found ? mirror->value : 0.0;
+    const double gap = std::abs(e.value - sign * other);
+    if (!(gap > 1e-6 * std::max(std::abs(e.value), std::abs(other)) && gap > 1e-12 * largest)) continue;
+    CMS_INPUT_CHECK(i == j, path << ":" << e.line << ": " << key << " must be skew-symmetric, but its diagonal entry ("
+                                 << i + 1 << ", " << i + 1 << ") = " << std::setprecision(17) << e.value);
+    std::ostringstream os;
+    os << path << ":" << e.line << ": " << key << " must be " << (expected == Symmetry::Symmetric ? "symmetric" : "skew-symmetric")
+       << ", but entry (" << i + 1 << ", " << j + 1 << ") = " << std::setprecision(17) << e.value
+       << " and (" << j + 1 << ", " << i + 1 << ") = " << other;
+    if (found) os << " (line " << mirror->line << ")";
+    else os << " (absent)";
+    os << "; the two triangles must agree to 1e-6";
+    throw InputError(os.str());
+  }
 }
 
 }  // namespace
@@ -391,7 +442,7 @@ Substructure Substructure::fromMatrixMarket(const std::string& sidecarPath,
   auto read = [&](const std::string& key) -> Teuchos::RCP<const CrsMatrix> {
     auto it = f.matrices.find(key);
     if (it == f.matrices.end()) return Teuchos::null;
-    checkMatrixMarketFile(it->second, t.rows());
+    checkMatrixMarketFile(it->second, t.rows(), key, key == "G1" ? Symmetry::Skew : Symmetry::Symmetric);
     Teuchos::RCP<const Map> colMap;
     // The checks above are meant to catch everything Tpetra's reader
     // refuses; whatever they miss still becomes an input error naming the
