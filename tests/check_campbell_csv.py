@@ -13,7 +13,9 @@
   _frame_rate (yes, no) columns;
 - <name>-campbell-crossings.csv has the header below, only --orders appear,
   each frequency is order times the speed, rpm is rad/s * 30 / pi, and
-  "unbalance" is yes exactly for forward whirl at order 1 (never with
+  "unbalance" is yes exactly at order 1 for forward whirl, or for a
+  backward or unresolved one whose "forward_share" (the orbit's forward
+  part, in [0, 1]; empty: not known) is above 1e-2 (never with
   --rotor-frame=1: the whirl part is seen from a spinning frame in which
   its unbalance is no 1X force of the reference), and "dominant"
   names the part (or parts "a & b") of each track (among --parts when
@@ -28,7 +30,7 @@ import math
 import sys
 
 CROSSINGS = ["order", "speed_rad_per_s", "speed_rpm", "frequency_hz", "whirl", "unbalance", "tracks", "refined",
-             "dominant"]
+             "dominant", "forward_share"]
 
 
 def main(argv):
@@ -98,8 +100,14 @@ def main(argv):
             bad.append(f"{side}: {c['frequency_hz']} Hz is not {order} x {w} rad/s")
         if not math.isclose(float(c["speed_rpm"]), w * 30 / math.pi, rel_tol=1e-9):
             bad.append(f"{side}: {c['speed_rpm']} rpm is not {w} rad/s")
-        if (c["unbalance"] == "yes") != (order == 1.0 and c["whirl"] == "FW" and not rotor_frame):
-            bad.append(f"{side}: unbalance {c['unbalance']} for {order}X {c['whirl']}")
+        share = float(c["forward_share"]) if c["forward_share"] else -1.0
+        if c["forward_share"] and not 0.0 <= share <= 1.0:
+            bad.append(f"{side}: forward share {share} outside [0, 1]")
+        if c["whirl"] == "FW" and c["forward_share"] and share < 0.5:
+            bad.append(f"{side}: forward whirl with a forward share of {share}")
+        excited = c["whirl"] == "FW" or (c["whirl"] in ("BW", "unresolved") and share > 1e-2)
+        if (c["unbalance"] == "yes") != (order == 1.0 and excited and not rotor_frame):
+            bad.append(f"{side}: unbalance {c['unbalance']} for {order}X {c['whirl']} (forward share {share})")
         names = c.get("dominant", "").split(";")
         named = {n for name in names for n in name.split(" & ")}
         if len(names) != len(c["tracks"].split(";")) or not all(names) or (parts and not named <= parts):

@@ -124,11 +124,19 @@ std::vector<std::vector<double>> DenseSweepProblem::mac(const std::vector<eigen:
 }
 
 std::vector<Whirl> DenseSweepProblem::whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const {
+  std::vector<double> unused;
+  return whirlAndForwardShare(modes, rule, unused);
+}
+
+std::vector<Whirl> DenseSweepProblem::whirlAndForwardShare(const synthesis::StructureModes& modes,
+                                                           const WhirlClassification& rule,
+                                                           std::vector<double>& forwardShare) const {
   std::vector<Orbit> orbits;
   for (const auto& m : modes.result.modes) orbits.push_back(orbitOfPairs(m, system_.whirlPairs));
+  forwardShare.assign(orbits.size(), -1.0);
   if (system_.whirlPairs.empty()) return std::vector<Whirl>(orbits.size(), Whirl::Neutral);
   const double s = modes.speeds.empty() ? 0.0 : modes.speeds[0];
-  return rule.classify(modes.result.modes, orbits, s > 0 ? 1.0 : s < 0 ? -1.0 : 0.0);
+  return rule.classify(modes.result.modes, orbits, s > 0 ? 1.0 : s < 0 ? -1.0 : 0.0, nullptr, &forwardShare);
 }
 
 namespace {
@@ -272,6 +280,14 @@ std::vector<std::vector<double>> SynthesizedSweepProblem::mac(const std::vector<
 
 std::vector<Whirl> SynthesizedSweepProblem::whirl(const synthesis::StructureModes& modes,
                                                   const WhirlClassification& rule) const {
+  std::vector<double> unused;
+  return whirlAndForwardShare(modes, rule, unused);
+}
+
+std::vector<Whirl> SynthesizedSweepProblem::whirlAndForwardShare(const synthesis::StructureModes& modes,
+                                                                 const WhirlClassification& rule,
+                                                                 std::vector<double>& forwardShare) const {
+  forwardShare.assign(modes.result.modes.size(), -1.0);
   // No whirl label for the fixed-frame modes of a periodic rotor: their
   // shapes are a snapshot at azimuth 0, not an orbit in the rotor's frame.
   if (whirlPart_ < 0 || !reduced_.movingHubs().empty())
@@ -279,7 +295,7 @@ std::vector<Whirl> SynthesizedSweepProblem::whirl(const synthesis::StructureMode
   const double rate = whirlSpeed_ >= 0 && whirlSpeed_ < static_cast<int>(modes.speeds.size())
                           ? modes.speeds[static_cast<std::size_t>(whirlSpeed_)]
                           : structure_.substructure(static_cast<std::size_t>(whirlPart_)).spin->rate;
-  return rule.classify(structure_, reduced_, modes, static_cast<std::size_t>(whirlPart_), rate);
+  return rule.classify(structure_, reduced_, modes, static_cast<std::size_t>(whirlPart_), rate, &forwardShare);
 }
 
 std::vector<std::vector<double>> macMatrix(const CrsMatrix& M, long long n, const std::vector<eigen::GyroscopicMode>& a,
@@ -483,7 +499,8 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     r.solver = sol.result.solver;
     r.maxResidual = std::max(r.maxResidual, sol.result.maxResidual());
     const auto& modes = sol.result.modes;
-    const auto whirl = problem.whirl(sol, rule);
+    std::vector<double> forward;
+    const auto whirl = problem.whirlAndForwardShare(sol, rule, forward);
     bool anyUnstable = false;
     for (const auto& m : modes) anyUnstable = anyUnstable || unstable(m.stability);
     if (anyUnstable) {
@@ -499,8 +516,8 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     }
     if (k == 0) {
       for (std::size_t j = 0; j < modes.size(); ++j) {
-        r.tracks.push_back({{modes[j].omega}, {modes[j].stability}, {whirl[j]}, {false}, {modes[j].dampingRatio},
-                            {modes[j].splitRadius}});
+        r.tracks.push_back({{modes[j].omega}, {modes[j].stability}, {whirl[j]}, {forward[j]}, {false},
+                            {modes[j].dampingRatio}, {modes[j].splitRadius}});
         last.push_back(modes[j]);
       }
       continue;
@@ -572,6 +589,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       tr.omega.push_back(j < 0 ? std::nan("") : modes[j].omega);
       tr.stability.push_back(j < 0 ? eigen::Stability::Stable : modes[j].stability);
       tr.whirl.push_back(j < 0 ? Whirl::Neutral : whirl[j]);
+      tr.forwardShare.push_back(j < 0 ? -1.0 : forward[j]);
       tr.lost.push_back(j < 0);
       tr.dampingRatio.push_back(j < 0 ? std::nan("") : modes[j].dampingRatio);
       tr.splitRadius.push_back(j < 0 ? 0.0 : modes[j].splitRadius);
@@ -602,6 +620,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         c.order = order;
         c.tracks = {static_cast<int>(t)};
         c.whirl = std::abs(gLo) < std::abs(gHi) ? tr.whirl[k - 1] : tr.whirl[k];
+        c.forwardShare = std::abs(gLo) < std::abs(gHi) ? tr.forwardShare[k - 1] : tr.forwardShare[k];
         // The last bisection's solve, nearest the crossing (none: f_k's).
         synthesis::StructureModes at;
         int atIndex = -1;
@@ -661,7 +680,12 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
           // Refined only when the bracket closed: a bisection that stopped
           // early (the mode left the set, a solve failed) is interpolated,
           // as theory §12.1 says (it was called refined after one step).
-          if (atIndex >= 0 && !jump) c.whirl = problem.whirl(at, rule)[atIndex], c.refined = hi - lo <= crossingTol * hi;
+          if (atIndex >= 0 && !jump) {
+            std::vector<double> share;
+            c.whirl = problem.whirlAndForwardShare(at, rule, share)[atIndex];
+            c.forwardShare = share[static_cast<std::size_t>(atIndex)];
+            c.refined = hi - lo <= crossingTol * hi;
+          }
         }
         // The part that dominates it: at the bisection's last solve now; at
         // the grid's f_k once the crossing is known to be reported (below):
@@ -687,12 +711,14 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       tr.omega.assign(static_cast<std::size_t>(k), std::nan(""));
       tr.stability.assign(static_cast<std::size_t>(k), eigen::Stability::Stable);
       tr.whirl.assign(static_cast<std::size_t>(k), Whirl::Neutral);
+      tr.forwardShare.assign(static_cast<std::size_t>(k), -1.0);
       tr.lost.assign(static_cast<std::size_t>(k), true);
       tr.dampingRatio.assign(static_cast<std::size_t>(k), std::nan(""));
       tr.splitRadius.assign(static_cast<std::size_t>(k), 0.0);
       tr.omega.push_back(modes[j].omega);
       tr.stability.push_back(modes[j].stability);
       tr.whirl.push_back(whirl[j]);
+      tr.forwardShare.push_back(forward[j]);
       tr.lost.push_back(false);
       tr.dampingRatio.push_back(modes[j].dampingRatio);
       tr.splitRadius.push_back(modes[j].splitRadius);
@@ -878,8 +904,25 @@ std::string tracksText(const EngineOrderCrossing& c) {
 /// rotor's unbalance is a static load: a crossing there is excited by n per
 /// rev of something stationary (a blade's Campbell diagram), and forward and
 /// backward are the senses in that frame (theory §12.2).
+/// A backward whirl's orbit on anisotropic supports is an ellipse, whose
+/// forward part unbalance excites (theory §12.2): above kEllipticalShare of
+/// the orbit (a circle's is 0 to rounding; the overhung disc on a shaft of
+/// two bending stiffnesses, axis ratio 0.15, had 0.35), it is excited (it
+/// was said not to be, beside an unbounded response; found by a review).
+constexpr double kEllipticalShare = 1e-2;
+bool ellipticalBackward(const EngineOrderCrossing& c) {
+  return c.whirl == Whirl::Backward && c.forwardShare > kEllipticalShare;
+}
+/// A repeated mode holding a forward and a backward whirl (a Jeffcott disc
+/// at mid-span: no gyroscopic split) has a forward motion among its
+/// combinations, which unbalance excites (it read "whirl unresolved", no
+/// more; found by a review).
+bool unresolvedWithForward(const EngineOrderCrossing& c) {
+  return c.whirl == Whirl::Unresolved && c.forwardShare > kEllipticalShare;
+}
 bool unbalanceExcites(const EngineOrderCrossing& c, bool rotorFrame) {
-  return !rotorFrame && c.order == 1.0 && c.whirl == Whirl::Forward;
+  return !rotorFrame && c.order == 1.0 &&
+         (c.whirl == Whirl::Forward || ellipticalBackward(c) || unresolvedWithForward(c));
 }
 
 std::string unbalanceNote(const EngineOrderCrossing& c, bool rotorFrame) {
@@ -900,9 +943,21 @@ std::string unbalanceNote(const EngineOrderCrossing& c, bool rotorFrame) {
   }
   if (c.whirl == Whirl::Forward)
     return unbalanceExcites(c, rotorFrame) ? "forward: unbalance excites it" : "forward";
+  if (c.whirl == Whirl::Backward && c.order == 1.0 && !rotorFrame && ellipticalBackward(c)) {
+    std::ostringstream os;
+    os << "backward, elliptical: unbalance excites its forward part (" << std::setprecision(2) << c.forwardShare
+       << " of the orbit: anisotropy)";
+    return os.str();
+  }
   if (c.whirl == Whirl::Backward)
-    return c.order == 1.0 ? "backward: unbalance does not excite it (it would need anisotropy or a backward force)"
+    return c.order == 1.0 ? (c.forwardShare < 0.0
+                                 ? "backward: unbalance excites it only through anisotropy (an elliptical orbit) or a "
+                                   "backward force"
+                                 : "backward, circular: unbalance does not excite it (it would need anisotropy or a "
+                                   "backward force)")
                           : "backward";
+  if (c.order == 1.0 && !rotorFrame && unresolvedWithForward(c))
+    return "forward and backward together (a repeated mode): unbalance excites the forward one";
   return c.whirl == Whirl::Neutral ? "no whirl" : "whirl unresolved";
 }
 }  // namespace
@@ -1073,7 +1128,8 @@ void CampbellResult::writeCsv(std::ostream& os) const {
 
 void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
   const auto prec = os.precision();
-  os << std::setprecision(12) << "order,speed_rad_per_s,speed_rpm,frequency_hz,whirl,unbalance,tracks,refined,dominant\n";
+  os << std::setprecision(12)
+     << "order,speed_rad_per_s,speed_rpm,frequency_hz,whirl,unbalance,tracks,refined,dominant,forward_share\n";
   for (const auto& c : crossings) {
     os << c.order << ',' << c.speed << ',' << c.speed * 30.0 / M_PI << ',' << c.omega / (2 * M_PI) << ','
        << toString(c.whirl) << ',' << (unbalanceExcites(c, whirlInRotorFrame) ? "yes" : "no") << ',';
@@ -1081,7 +1137,8 @@ void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
     os << ',' << (c.refined ? "yes" : "no") << ',';
     std::string dominant;
     for (std::size_t i = 0; i < c.dominant.size(); ++i) dominant += (i ? ";" : "") + c.dominant[i];
-    os << csvField(dominant);
+    os << csvField(dominant) << ',';
+    if (c.forwardShare >= 0.0) os << c.forwardShare;  // empty: not known
     os << '\n';
   }
   // Zero-frequency critical speeds: order 0, no track (theory §12.1).
@@ -1091,7 +1148,7 @@ void CampbellResult::writeCrossingsCsv(std::ostream& os) const {
     const double w = zeroFrequencySpeeds[i];
     const bool refinedHere = i >= zeroFrequencyRefined.size() || zeroFrequencyRefined[i];
     os << 0 << ',' << w << ',' << w * 30.0 / M_PI << ',' << 0 << ',' << toString(Whirl::Neutral) << ",frame,,"
-       << (refinedHere ? "yes" : "no") << ",\n";
+       << (refinedHere ? "yes" : "no") << ",,\n";
   }
   os.precision(prec);
 }

@@ -89,23 +89,29 @@ Orbit orbitOfSubstructure(const synthesis::AssembledStructure& a, const std::vec
   const auto map = u[k]->getMap();
   const auto* sub = a.assembled(k);
   const auto nodeOf = sub ? sub->dofs().rowNodes() : std::vector<std::int64_t>();
-  // Per node (a rigid rotor: its centre) the complex 3-vector of the
-  // translations (elastic part) or rotations (rigid rotor; its spin angle,
-  // row 6, is no orbit). A node's rows live on one rank (fem::assemble).
+  // Per node the complex 3-vector of the translations (elastic part); a
+  // rigid rotor is sampled twice: its centre's translations, and its
+  // rotations times its radius of gyration sqrt(I_t / m) (the motion they
+  // make there, with the same kinetic-energy weight). Its rotations alone
+  // made a Jeffcott disc, which translates without tilting, "no whirl" at
+  // its unbalance critical speed (found by a review). The spin angle, row
+  // 6, is no orbit. A node's rows live on one rank (fem::assemble).
   std::map<long long, std::array<std::complex<double>, 3>> v;
   const auto re = u[k]->getData(0), im = u[k]->getData(1);
+  const double gyration = spec.rotor.mass > 0.0 ? std::sqrt(spec.rotor.transverseInertia / spec.rotor.mass) : 1.0;
   for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
     const auto g = map->getGlobalElement(static_cast<LocalOrdinal>(l));
     int c = static_cast<int>(g);
     long long node = 0;
+    double weight = 1.0;
     if (sub) {
       c = static_cast<int>(sub->dofs().components[g]);
       node = nodeOf[g];
-    } else {
-      c -= 3;
+    } else if (c >= 3) {
+      c -= 3, node = 1, weight = gyration;
     }
     if (c < 0 || c > 2) continue;
-    v[node][c] = oriented({re[l], im[l]}, mode);
+    v[node][c] = weight * oriented({re[l], im[l]}, mode);
   }
   Orbit o;
   for (const auto& [node, x] : v) {
@@ -159,7 +165,7 @@ std::vector<std::vector<int>> WhirlClassification::clusters(const std::vector<ei
 }
 
 Whirl WhirlClassification::classifyCluster(const std::vector<int>& members, const std::vector<Orbit>& orbits,
-                                           double largest, const Teuchos::Comm<int>* comm) const {
+                                           double largest, const Teuchos::Comm<int>* comm, std::pair<double, double>* circularities) const {
   const int k = static_cast<int>(members.size());
   // The three k x k Hermitian forms, summed over this rank's points, then
   // over ranks (one reduction: real and imaginary parts of C, P, N).
@@ -195,6 +201,9 @@ Whirl WhirlClassification::classifyCluster(const std::vector<int>& members, cons
   const double maxShare = share.empty() ? 0.0 : share.back();
   if (!(maxShare > transverseShare_)) return Whirl::Neutral;
   const double tau = circularity_ * maxShare;
+  // The least and the most forward circularity, per unit transverse motion.
+  if (circularities && !circ.empty())
+    *circularities = {circ.front() / std::max(maxShare, 1e-300), circ.back() / std::max(maxShare, 1e-300)};
   const bool forward = !circ.empty() && circ.back() > tau, backward = !circ.empty() && circ.front() < -tau;
   if (forward && backward) return Whirl::Unresolved;
   if (forward) return Whirl::Forward;
@@ -204,7 +213,7 @@ Whirl WhirlClassification::classifyCluster(const std::vector<int>& members, cons
 
 std::vector<Whirl> WhirlClassification::classify(const std::vector<eigen::GyroscopicMode>& modes,
                                                  const std::vector<Orbit>& orbits, double spinSign,
-                                                 const Teuchos::Comm<int>* comm) const {
+                                                 const Teuchos::Comm<int>* comm, std::vector<double>* forwardShare) const {
   CMS_INPUT_CHECK(orbits.size() != modes.size(),
                   "WhirlClassification: " << orbits.size() << " orbits for " << modes.size() << " modes");
   for (const auto& o : orbits)
@@ -222,9 +231,19 @@ std::vector<Whirl> WhirlClassification::classify(const std::vector<eigen::Gyrosc
     motion = local;
   const double largest = motion.empty() ? 0.0 : *std::max_element(motion.begin(), motion.end());
   std::vector<Whirl> out(modes.size(), Whirl::Neutral);
+  if (forwardShare) forwardShare->assign(modes.size(), 0.0);
   for (const auto& cl : clusters(modes)) {
     if (zeroFrequency(modes[cl.front()])) continue;       // no orbit: neutral
-    Whirl w = classifyCluster(cl, orbits, largest, comm);  // collective: every rank, every cluster
+    // The cluster's least and most circularities about n.
+    std::pair<double, double> circ{0.0, 0.0};
+    Whirl w = classifyCluster(cl, orbits, largest, comm, &circ);  // collective: every rank, every cluster
+    if (forwardShare) {
+      // With the spin: about n, or about -n for a negative spin (the most
+      // forward about -n is minus the least about n).
+      const double c = spinSign < 0.0 ? -circ.first : circ.second;
+      const double share = w == Whirl::Neutral ? 0.0 : std::clamp(0.5 * (1.0 + c), 0.0, 1.0);
+      for (int i : cl) (*forwardShare)[i] = share;
+    }
     if (spinSign == 0.0 && w != Whirl::Neutral) w = Whirl::Unresolved;
     if (spinSign < 0.0 && w == Whirl::Forward) w = Whirl::Backward;
     else if (spinSign < 0.0 && w == Whirl::Backward) w = Whirl::Forward;
@@ -236,13 +255,13 @@ std::vector<Whirl> WhirlClassification::classify(const std::vector<eigen::Gyrosc
 std::vector<Whirl> WhirlClassification::classify(const synthesis::AssembledStructure& structure,
                                                  const synthesis::SynthesizedStructure& reduced,
                                                  const synthesis::StructureModes& modes, std::size_t k,
-                                                 double spinRate) const {
+                                                 double spinRate, std::vector<double>* forwardShare) const {
   std::vector<Orbit> orbits;
   for (std::size_t m = 0; m < modes.result.modes.size(); ++m)
     orbits.push_back(orbitOfSubstructure(structure, reduced.expand(modes, static_cast<int>(m)), k,
                                          modes.result.modes[m]));
   const double sign = spinRate > 0.0 ? 1.0 : spinRate < 0.0 ? -1.0 : 0.0;
-  return classify(modes.result.modes, orbits, sign, structure.comm().get());
+  return classify(modes.result.modes, orbits, sign, structure.comm().get(), forwardShare);
 }
 
 }  // namespace cms::analysis

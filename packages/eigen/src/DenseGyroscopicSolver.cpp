@@ -362,14 +362,6 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
     while (lo > 0 && s[lo - 1] - s[hi - 1] <= clusterTol) --lo;
     if ((hi - lo) % 2 == 1 && lo > 0) --lo;  // rounding split a pair across the tolerance
     const int c = hi - lo, m = c / 2;
-    if (static_cast<int>(modes.size()) + m > nModes) {
-      std::ostringstream os;
-      os << "; the request cuts a cluster: modes " << modes.size() + 1 << " to "
-         << modes.size() + m << " share " << s[hi - 1] / kTwoPi << " Hz, of which "
-         << nModes - static_cast<int>(modes.size()) << " returned (ask for " << modes.size() + m
-         << " to have the whole cluster)";
-      note += os.str();
-    }
     double sigma = 0.0;
     for (int k = lo; k < hi; ++k) sigma += s[k] / c;
     // V (N x c): right singular vectors of the cluster; W = A V.
@@ -413,9 +405,29 @@ std::vector<GyroscopicMode> meirovitchModes(const GyroscopicSystem& sys, const D
       mode.q.resize(n);
       for (int i = 0; i < n; ++i) mode.q[i] = cplx(yp[n + i], zp[n + i]);
       modes.push_back(std::move(mode));
-      if (static_cast<int>(modes.size()) == nModes) break;
     }
     hi = lo;
+  }
+  // Each cluster whole, then the lowest nModes by frequency: a cluster is
+  // values within clusterTol = 1e-10 ||A||_F, which for a stiff model (a
+  // stub of E = 7e14 beside aluminium beams: ||A||_F ~ 2e11, clusterTol 21
+  // rad/s) holds distinct frequencies too (34.57 and 43.05 rad/s), whose
+  // modes came in the singular vectors' order: the list was out of order,
+  // and asked for one mode the solve returned 43.05, not the lowest (found
+  // by a review). A mode's frequency is its vector's ||A y'||, exact for
+  // each of them.
+  std::stable_sort(modes.begin(), modes.end(),
+                   [](const GyroscopicMode& a, const GyroscopicMode& b) { return a.lambda.imag() < b.lambda.imag(); });
+  if (static_cast<int>(modes.size()) > nModes) {
+    const double kept = modes[nModes - 1].lambda.imag(), next = modes[nModes].lambda.imag();
+    if (next - kept <= clusterTol) {
+      std::ostringstream os;
+      os << "; the request cuts a cluster: mode " << nModes + 1 << " (" << next / kTwoPi << " Hz) lies within "
+         << clusterTol / kTwoPi << " Hz of mode " << nModes << " (" << kept / kTwoPi
+         << " Hz), the lowest " << nModes << " returned (ask for more to have the whole cluster)";
+      note += os.str();
+    }
+    modes.resize(nModes);
   }
   // q = L_K^-T (y'_q + i z'_q) for every mode, one triangular solve.
   const int k = static_cast<int>(modes.size());
@@ -717,6 +729,14 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     for (auto& m : modes) {
       const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
       m.stability = classify(m.lambda, s, rigidBodyTol, instabilityTol);
+      // A growth rate against the mode's own uncertainty where it was made
+      // (the dense path's, completeDenseModes): beyond it, an instability;
+      // and no rigid motion where its own error bound puts it off zero.
+      const bool certainlyNonzero = m.eigenvalueError > 0.0 && std::abs(m.lambda.real()) > 10.0 * m.eigenvalueError;
+      if (m.growthTolerance > 0.0 && (m.stability != Stability::RigidBody || certainlyNonzero))
+        m.stability = m.lambda.real() > m.growthTolerance
+                          ? (std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter)
+                          : Stability::Stable;
       zeroRigidDamping(m);
     }
     return;
@@ -803,7 +823,17 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     }
     const bool split = near2 >= 1 || near3 >= 2;
     Stability s = classify(m.lambda, scale, rigidBodyTol, instabilityTol);
-    if (std::abs(m.lambda) <= radius && zeroCentred) s = Stability::RigidBody;
+    // A growth rate over ten times the value's own first-order error bound
+    // (its residual over q^H Q'(lambda) q) is no split zero's, which the
+    // radius (normwise, on the system's scale) cannot tell: a free body's
+    // intermediate-axis divergence, 0.777 Omega (Euler), read "rigid" once a
+    // 64-element mesh raised the scale (found by a review). A split
+    // defective zero's bound is of its own size: its q^H Q' q vanishes with
+    // lambda. (Only the growth: a small frequency within the rigid
+    // tolerance stays a zero, a shaft at its critical speed "critical".)
+    const bool certainlyNonzero = m.eigenvalueError > 0.0 && std::abs(m.lambda.real()) > 10.0 * m.eigenvalueError;
+    if (s == Stability::RigidBody && certainlyNonzero) s = Stability::Stable;  // (judged below on its growth)
+    if (std::abs(m.lambda) <= radius && zeroCentred && !certainlyNonzero) s = Stability::RigidBody;
     else if (!partner && (s == Stability::Divergence || s == Stability::Flutter || m.lambda.real() > 0.0))
       s = Stability::Stable;
     else if ((s == Stability::Divergence || s == Stability::Flutter) && m.lambda.real() <= radius)
@@ -817,6 +847,12 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
              std::abs(m.lambda.real()) <= radius)
       s = Stability::Neutral;
     if (s == Stability::Stable && split) s = Stability::Neutral;
+    // A growth rate beyond the mode's own uncertainty (its residual's
+    // first-order error, a near-defective split on its own scale) is an
+    // instability whatever the system's scale: a Krein collision's split
+    // pair has q^H Q' q -> 0 there, and its bound no such certainty.
+    if (s != Stability::RigidBody && m.growthTolerance > 0.0 && m.lambda.real() > m.growthTolerance)
+      s = std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter;
     m.stability = s;
     zeroRigidDamping(m);
   }
@@ -855,25 +891,38 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
   // |q_i| as sqrt(norm): std::abs's hypot guards against squares
   // overflowing, which needs entries beyond 1e154 that no computed shape
   // has, and took 4% of a sweep's speed.
-  DenseMatrix absK(n, n), absG(n, n), Qa(n, k), KQa, GQa;
+  DenseMatrix absK(n, n), absG(n, n), Qa(n, k), KQa, GQa, MQa;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) absK(i, j) = std::abs(Ke(i, j)), absG(i, j) = std::abs(Ge(i, j));
   for (int j = 0; j < k; ++j)
     for (int i = 0; i < n; ++i) Qa(i, j) = std::sqrt(std::norm(modes[j].q[i]));
   gemm(false, false, 1.0, absK, Qa, 0.0, KQa);
   gemm(false, false, 1.0, absG, Qa, 0.0, GQa);
+  // The growth rates' own uncertainties (GyroscopicMode::growthTolerance)
+  // where a growth rate is computed at all: the general path's, or a
+  // damped one's (the Meirovitch path's eigenvalues are exactly imaginary).
+  const bool growth = damped || !ownScales;
+  if (growth) {  // |M| |q| for the componentwise backward error below
+    DenseMatrix absM(n, n);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) absM(i, j) = std::abs(sys.M(i, j));
+    gemm(false, false, 1.0, absM, Qa, 0.0, MQa);
+  }
   for (int j = 0; j < k; ++j) {
     GyroscopicMode& m = modes[j];
     const cplx l = m.lambda, l2 = l * l;
-    double qMq = 0.0, qKq = 0.0, qq = 0.0, rr = 0.0;
+    double qMq = 0.0, qKq = 0.0, qq = 0.0, rr = 0.0, ss = 0.0;
+    cplx qGq = 0.0;
     std::size_t imax = 0;
     for (int i = 0; i < n; ++i) {
       const cplx q = m.q[i];
       const cplx Mq(MQ(i, j), MQ(i, k + j)), Gq(GQ(i, j), GQ(i, k + j)), Kq(KQ(i, j), KQ(i, k + j));
       qMq += std::real(std::conj(q) * Mq);
       qKq += std::real(std::conj(q) * Kq);  // with N: its Hermitian part only (N skew adds i Im)
+      qGq += std::conj(q) * Gq;
       qq += std::norm(q);
       rr += std::norm(l2 * Mq + l * Gq + Kq);
+      if (growth) ss += std::pow(KQa(i, j) + std::abs(l) * GQa(i, j) + std::norm(l) * MQa(i, j), 2);
       if (Qa(i, j) > Qa(imax, j)) imax = i;
     }
     const double denom = (nK + std::abs(l) * nG + std::norm(l) * nM) * std::sqrt(qq);
@@ -890,7 +939,35 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
     setDamping(m);
     double aKa = 0.0, aGa = 0.0;
     for (int i = 0; i < n; ++i) aKa += Qa(i, j) * KQa(i, j), aGa += Qa(i, j) * GQa(i, j);
-    m.scale = ownScales && qMq > 0.0 ? std::sqrt(aKa / qMq) + aGa / qMq : 0.0;
+    const double own = qMq > 0.0 ? std::sqrt(aKa / qMq) + aGa / qMq : 0.0;
+    m.scale = ownScales ? own : 0.0;
+    const double derivative = std::abs(2.0 * l * qMq + qGq);
+    m.eigenvalueError = derivative > 0.0 ? std::sqrt(rr) * std::sqrt(qq) / derivative
+                                         : std::numeric_limits<double>::infinity();
+    if (growth && own > 0.0) {
+      // The growth rate's uncertainty from this mode's own residual, not
+      // from the system's scale: that scale holds ||D|| / ||M||, Rayleigh's
+      // beta omega_max^2, and the stiffest element's frequency, both growing
+      // with the mesh, and dggev's modes were judged on it: a Jeffcott
+      // rotor's internal-damping instability (growth 0.241 1/s, the closed
+      // form's 0.242) read "stable", and the speed where instability starts
+      // moved from 79 to 147 rad/s between 4 and 40 elements against 78.3
+      // (found by a review); a free body's intermediate-axis divergence the
+      // same (below). First-order
+      // perturbation: the eigenvalue of a computed pair lies within about
+      // ||r|| ||q|| / |q^H Q'(lambda) q| (ten times that, for the left
+      // vector's departure from the right), a near-defective pair is split
+      // by about 10 sqrt(eta_q) |lambda| (eta_q its componentwise backward
+      // error: relative perturbations of the coefficients at lambda), and
+      // below instabilityTol |lambda| a growth rate is the tolerance's own
+      // (theory §13.3). (Its componentwise scale s_q is no measure here: a
+      // beam's |q|^T |K| |q| cancels nothing and grows with the mesh too.)
+      const double eps = std::numeric_limits<double>::epsilon();
+      const double etaQ = ss > 0.0 ? std::sqrt(rr / ss) : 1.0;
+      const double size = std::abs(l);
+      m.growthTolerance = std::max(
+          {10.0 * std::min(m.eigenvalueError, own), 10.0 * std::sqrt(std::max(etaQ, eps)) * size, instabilityTol * size});
+    }
   }
   classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
 }

@@ -1843,7 +1843,7 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
       // the truth's equations on these rows in the floating-frame coordinates.
       for (int c : p.children) {
         if (toParent[c].empty()) continue;
-        for (std::size_t a = 0; a < parts[c]->Hrows.size() && a < 6; ++a)
+        for (std::size_t a = 0; a < parts[c]->Hrows.size() && (a + 1) * nc <= toParent[c].size(); ++a)
           for (auto [g, v] : parts[c]->Hrows[a]) {
             const auto l = rmap->getLocalElement(g);
             if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
@@ -1874,6 +1874,38 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
         }
         Rc.clear();
         Teuchos::reduceAll(*rmap->getComm(), Teuchos::REDUCE_SUM, 6 * nc, local.data(), global.data());
+        toParent[k] = global;
+      } else if (p.parent >= 0) {
+        // A Boolean child's forces on the rows it shares, g_a = X_a^T r with
+        // X its transform's interface columns: the constraint modes Psi of a
+        // reduced basis (B's first columns), the injection of a Full one (its
+        // own row of shared DOF a). Without them a reduced parent's residual
+        // held the whole interface force and every estimate read
+        // "unresolved" (true errors 1e-8 to 3e-5; Target Accuracy then grew
+        // the parent to every DOF and failed; found by a review).
+        const std::size_t na = p.Hrows.size();
+        std::vector<double> local(na * nc, 0.0), global(na * nc, 0.0);
+        if (!B_[k].is_null()) {
+          auto small = Teuchos::rcp(new Map(static_cast<Tpetra::global_size_t>(na), 0, rmap->getComm(),
+                                            Tpetra::LocallyReplicated));
+          MultiVector XR(small, static_cast<std::size_t>(nc));
+          XR.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0,
+                      *B_[k]->subView(Teuchos::Range1D(0, static_cast<int>(na) - 1)), R, 0.0);
+          for (int col = 0; col < nc; ++col) {
+            const auto v = XR.getData(col);
+            for (std::size_t a = 0; a < na; ++a) global[a * nc + col] = v[a];
+          }
+        } else {
+          const auto& t = p.sub->dofs();
+          for (std::size_t a = 0; a < na && a < p.booleanDofs.size(); ++a) {
+            const long long row = t.row(p.booleanDofs[a].first, p.booleanDofs[a].second);
+            const auto l = row < 0 ? Teuchos::OrdinalTraits<LocalOrdinal>::invalid() : rmap->getLocalElement(row);
+            if (l == Teuchos::OrdinalTraits<LocalOrdinal>::invalid()) continue;
+            for (int col = 0; col < nc; ++col) local[a * nc + col] = R.getData(col)[l];
+          }
+          Teuchos::reduceAll(*rmap->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(na) * nc, local.data(),
+                             global.data());
+        }
         toParent[k] = global;
       }
       // A Full basis satisfies its own equations (with its children's forces)

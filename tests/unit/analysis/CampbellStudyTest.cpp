@@ -540,8 +540,8 @@ TEST(CampbellStudy, CrossingsNameTheDominantPartOfEachTrack) {
   std::ostringstream csv, console;
   r.writeCrossingsCsv(csv);
   r.printCrossings(console);
-  EXPECT_NE(csv.str().find(",refined,dominant\n"), std::string::npos) << csv.str();
-  EXPECT_NE(csv.str().find(",track2,yes,spin\n"), std::string::npos) << csv.str();
+  EXPECT_NE(csv.str().find(",refined,dominant,forward_share\n"), std::string::npos) << csv.str();
+  EXPECT_NE(csv.str().find(",track2,yes,spin,"), std::string::npos) << csv.str();
   EXPECT_NE(console.str().find("track 2 (spin)"), std::string::npos) << console.str();
 }
 

@@ -110,3 +110,30 @@ TEST(WhirlClassification, SpinAgainstTheAxisSwapsTheSenseAndNoSpinHasNone) {
     EXPECT_EQ(none[i], Whirl::Unresolved);
   }
 }
+
+// The forward part of an orbit, (1 + c) / 2 with c its circularity with the
+// spin, which tells a backward whirl unbalance excites (an ellipse from
+// anisotropy) from one it does not (a circle): for a1 = 1, a2 = i r (a
+// backward ellipse of axis ratio r about +n), c = -2 r / (1 + r^2), so the
+// share is (1 - r)^2 / (2 (1 + r^2)): 0 for the circle, 0.353 at r = 0.15,
+// 1/2 for a line (neutral: 0). Mirrored for a negative spin. Exact closed
+// forms, so 1e-12 (the pencils' rounding on 2 x 2 forms).
+TEST(WhirlClassification, TheForwardShareOfAnEllipticalBackwardOrbit) {
+  const analysis::WhirlClassification rule;
+  for (double r : {1.0, 0.15, 0.5}) {
+    eigen::GyroscopicMode m;
+    m.omega = 10.0, m.hz = 10.0 / (2 * M_PI), m.lambda = cplx(0.0, 10.0);
+    analysis::Orbit o;
+    o.a1 = {cplx(1.0, 0.0)}, o.a2 = {cplx(0.0, r)}, o.a3 = {cplx(0.0, 0.0)};
+    std::vector<double> share;
+    const auto w = rule.classify({m}, {o}, 1.0, nullptr, &share);
+    ASSERT_EQ(share.size(), 1u);
+    EXPECT_EQ(w[0], Whirl::Backward) << r;
+    EXPECT_NEAR(share[0], (1 - r) * (1 - r) / (2 * (1 + r * r)), 1e-12) << r;
+    // Spun the other way the same orbit turns with the spin: forward, its
+    // share the complement.
+    const auto back = rule.classify({m}, {o}, -1.0, nullptr, &share);
+    EXPECT_EQ(back[0], Whirl::Forward) << r;
+    EXPECT_NEAR(share[0], 1.0 - (1 - r) * (1 - r) / (2 * (1 + r * r)), 1e-12) << r;
+  }
+}

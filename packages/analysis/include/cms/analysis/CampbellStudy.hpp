@@ -82,6 +82,15 @@ public:
                                                const std::vector<eigen::GyroscopicMode>& b) const = 0;
   /// Whirl of every mode of `modes` (solved at modes.speeds).
   virtual std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const = 0;
+  /// The same with each mode's forward part (WhirlClassification::classify's
+  /// forwardShare: an elliptical backward orbit's share that unbalance
+  /// excites); by default none known (-1).
+  virtual std::vector<Whirl> whirlAndForwardShare(const synthesis::StructureModes& modes, const WhirlClassification& rule,
+                                                  std::vector<double>& forwardShare) const {
+    auto w = whirl(modes, rule);
+    forwardShare.assign(w.size(), -1.0);
+    return w;
+  }
   /// The part whose orbit defines whirl ("" when none).
   virtual std::string whirlOf() const = 0;
   /// True when that part's orbits are seen from a spinning frame in which
@@ -123,6 +132,8 @@ public:
   std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
+  std::vector<Whirl> whirlAndForwardShare(const synthesis::StructureModes& modes, const WhirlClassification& rule,
+                                          std::vector<double>& forwardShare) const override;
   std::string whirlOf() const override { return system_.whirlPairs.empty() ? "" : name_; }
   /// One part: `name` for every mode.
   std::vector<std::string> dominant(const synthesis::StructureModes& modes) const override {
@@ -152,6 +163,8 @@ public:
   std::vector<std::vector<double>> mac(const std::vector<eigen::GyroscopicMode>& a,
                                        const std::vector<eigen::GyroscopicMode>& b) const override;
   std::vector<Whirl> whirl(const synthesis::StructureModes& modes, const WhirlClassification& rule) const override;
+  std::vector<Whirl> whirlAndForwardShare(const synthesis::StructureModes& modes, const WhirlClassification& rule,
+                                          std::vector<double>& forwardShare) const override;
   std::string whirlOf() const override;
   bool whirlInRotorFrame(int reference) const override;
   /// By SynthesizedStructure::characterise's kinetic shares; parts whose
@@ -183,6 +196,9 @@ struct CampbellTrack {
   std::vector<double> omega;                  ///< rad/s per step; NaN where lost
   std::vector<eigen::Stability> stability;    ///< per step
   std::vector<Whirl> whirl;                   ///< per step
+  /// Per step, the orbit's forward part (WhirlClassification::classify; -1
+  /// where not known or lost).
+  std::vector<double> forwardShare;
   std::vector<bool> lost;                     ///< no mode matched at this step
   std::vector<double> dampingRatio;           ///< per step, zeta = -Re lambda / |lambda| (NaN where lost)
   /// Per step, how far rounding can have moved the frequency (the mode's
@@ -208,6 +224,10 @@ struct EngineOrderCrossing {
   double factor = 0.0;     ///< on the sweep's factor axis
   double omega = 0.0;      ///< = order * |speed| (rad/s): the excitation frequency, a negative rate turning against its axis
   Whirl whirl = Whirl::Neutral;
+  /// Its orbit's forward part, 0 (a backward circle) .. 1 (a forward one);
+  /// -1 not known. Unbalance excites a backward whirl through it where
+  /// anisotropy makes the orbit an ellipse.
+  double forwardShare = -1.0;
   std::vector<int> tracks; ///< several: identical parts (or a repeated mode), listed once
   /// Per entry of `tracks`: the substructure that carries most of that
   /// track's kinetic energy at the crossing (for identical parts, each copy).

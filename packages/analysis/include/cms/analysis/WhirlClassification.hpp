@@ -94,19 +94,24 @@ public:
   /// for all). `spinSign`: +1 spin about +n, -1 about -n, 0 not spinning
   /// (every oscillating mode unresolved). Collective over `comm` (null: one
   /// process) when the orbits are distributed.
+  /// `forwardShare`, when given, gets per mode its orbit's forward part
+  /// (1 + c) / 2 for c the most forward circularity of its cluster (with the
+  /// spin): 1 a forward circle, 0 a backward one, between for an ellipse
+  /// (anisotropy); 0 for a neutral or zero-frequency mode.
   std::vector<Whirl> classify(const std::vector<eigen::GyroscopicMode>& modes, const std::vector<Orbit>& orbits,
-                              double spinSign, const Teuchos::Comm<int>* comm = nullptr) const;
+                              double spinSign, const Teuchos::Comm<int>* comm = nullptr,
+                              std::vector<double>* forwardShare = nullptr) const;
 
   /// Whirl of substructure k (a spinning A or R) in every mode of `modes`,
   /// relative to its spin. Collective.
   std::vector<Whirl> classify(const synthesis::AssembledStructure& structure,
                               const synthesis::SynthesizedStructure& reduced, const synthesis::StructureModes& modes,
-                              std::size_t k, double spinRate) const;
+                              std::size_t k, double spinRate, std::vector<double>* forwardShare = nullptr) const;
 
 private:
   double clusterTolerance_, transverseShare_, circularity_, participation_;
   Whirl classifyCluster(const std::vector<int>& members, const std::vector<Orbit>& orbits, double largest,
-                        const Teuchos::Comm<int>* comm) const;
+                        const Teuchos::Comm<int>* comm, std::pair<double, double>* circularities = nullptr) const;
 };
 
 }  // namespace cms::analysis
