@@ -110,7 +110,8 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
 
 /// Full modes q = Q q_r, M-normalised with the phase of their largest entry
 /// over all ranks, and their residuals, energies and scales from M, G, K.
-void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::vector<GyroscopicMode>& rm) {
+void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::vector<GyroscopicMode>& rm,
+                 double instabilityTol) {
   const auto rowMap = sys.M->getRowMap();
   const auto comm = rowMap->getComm();
   const int k = static_cast<int>(rm.size());
@@ -134,7 +135,7 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
   }
   multiply(*sys.K, Qr, KQr), multiply(*sys.K, Qi, KQi);
   // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
-  MultiVector Qa(rowMap, kk), KQa(rowMap, kk), GQa(rowMap, kk);
+  MultiVector Qa(rowMap, kk), KQa(rowMap, kk), GQa(rowMap, kk), MQa(rowMap, kk);
   {
     auto a = Qa.getLocalViewHost(Tpetra::Access::OverwriteAll);
     auto r = Qr.getLocalViewHost(Tpetra::Access::ReadOnly), i = Qi.getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -144,6 +145,7 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
   absoluteValues(*sys.K)->apply(Qa, KQa);
   absoluteValues(*sys.G)->apply(Qa, GQa);
   if (!sys.D.is_null()) absoluteValues(*sys.D)->apply(Qa, GQa, Teuchos::NO_TRANS, 1.0, 1.0);
+  absoluteValues(*sys.M)->apply(Qa, MQa);  // for the componentwise backward error (growthTolerance)
   const double nM = sys.M->getFrobeniusNorm(), nK = sys.K->getFrobeniusNorm(),
                nG = sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm());
   const size_t nloc = rowMap->getNodeNumElements();
@@ -152,11 +154,13 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
   auto gr = GQr.getLocalViewHost(Tpetra::Access::ReadOnly), gi = GQi.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto kr = KQr.getLocalViewHost(Tpetra::Access::ReadOnly), ki = KQi.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto ka = KQa.getLocalViewHost(Tpetra::Access::ReadOnly), ga = GQa.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto ma = MQa.getLocalViewHost(Tpetra::Access::ReadOnly);
   const int nprocs = comm->getSize();
   for (int j = 0; j < k; ++j) {
     GyroscopicMode& m = rm[j];
     const cplx l = m.lambda, l2 = l * l;
-    double local[6] = {0, 0, 0, 0, 0, 0};  // qMq, qKq, qq, rr, |q||K||q|, |q||G||q|
+    // qMq, qKq, qq, rr, |q||K||q|, |q||G||q|, q^H G q (re, im), || |K||q| + |l||G||q| + |l|^2|M||q| ||^2
+    double local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     double big = -1.0;
     cplx bigVal = 0.0;
     for (size_t i = 0; i < nloc; ++i) {
@@ -166,10 +170,13 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
       local[2] += std::norm(q);
       local[3] += std::norm(l2 * Mq + l * Gq + Kq);
       local[4] += std::abs(q) * ka(i, j), local[5] += std::abs(q) * ga(i, j);
+      const cplx qGq = std::conj(q) * Gq;
+      local[6] += qGq.real(), local[7] += qGq.imag();
+      local[8] += std::pow(ka(i, j) + std::abs(l) * ga(i, j) + std::norm(l) * ma(i, j), 2);
       if (std::abs(q) > big) big = std::abs(q), bigVal = q;
     }
-    double global[6];
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 6, local, global);
+    double global[9];
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 9, local, global);
     // The largest entry over all ranks fixes the phase (lowest rank wins ties).
     std::vector<double> bigs(3 * nprocs), mine = {big, bigVal.real(), bigVal.imag()};
     Teuchos::gatherAll(*comm, 3, mine.data(), 3 * nprocs, bigs.data());
@@ -190,6 +197,17 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
     m.hz = m.omega / kTwoPi;
     setDamping(m);
     m.scale = global[0] > 0 ? std::sqrt(global[4] / global[0]) + global[5] / global[0] : 0.0;
+    // The eigenvalue's first-order error and the growth rate's uncertainty
+    // from the full model's residual (GyroscopicMode::eigenvalueError,
+    // growthTolerance; theory §13.3), replacing the projected solve's,
+    // which measured the projection only (a Ritz value's error is here).
+    const double derivative = std::abs(2.0 * l * global[0] + cplx(global[6], global[7]));
+    m.eigenvalueError = derivative > 0.0 ? std::sqrt(global[3]) * std::sqrt(global[2]) / derivative
+                                         : std::numeric_limits<double>::infinity();
+    const double eps = std::numeric_limits<double>::epsilon();
+    const double etaQ = global[8] > 0.0 ? std::sqrt(global[3] / global[8]) : 1.0;
+    m.growthTolerance = std::max({10.0 * std::min(m.eigenvalueError, std::max(m.scale, std::abs(l))),
+                                  10.0 * std::sqrt(std::max(etaQ, eps)) * std::abs(l), instabilityTol * std::abs(l)});
   }
 }
 
@@ -216,7 +234,7 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // Every candidate gets its full-model residual: a projection can also
   // produce spurious Ritz values (large residual) near the target, and those
   // must lose to genuine modes, not be selected for being close.
-  expandModes(sys, *Q, rm);
+  expandModes(sys, *Q, rm, instabTol);
   // Which scale judges a Ritz value (theory §4.3): its mode's own s_q (set
   // by expandModes) only where the projected pencil was solved
   // componentwise, by the Meirovitch path; dggev resolves the projection
