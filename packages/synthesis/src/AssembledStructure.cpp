@@ -1115,7 +1115,8 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
       out.notes_.push_back(p->spec.name + ": its Structural Damping is applied in the stationary frame, as damping "
                            "that does not turn with it; material damping turns with the rotor and adds a "
                            "circulatory term that is not formed here (theory §13.1), so an internal-damping "
-                           "instability above a critical speed is missed: model the rotor with Frame: Rotating to see it");
+                           "instability above a critical speed is missed: model the rotor in its own spinning frame to see it (the "
+                           "spinning C, or an A with Frame: Rotating on an immovable attachment)");
   }
   // A free body spinning in its frame is held only by the centrifugal
   // prestress: the spin softening of its rigid rotations is balanced by the

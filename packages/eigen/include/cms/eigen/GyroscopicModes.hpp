@@ -70,15 +70,16 @@ struct GyroscopicMode {
   /// one; 0 where no verdict was made. A free body's frame-rate triple is
   /// split this far about the spin rate (1e-4 rad/s on the spacecraft).
   double splitRadius = 0.0;
-  /// A damped (or circulatory) mode's growth-rate uncertainty, 1/s: the
-  /// largest of ten times its residual's eigenvalue error ||r|| ||q|| /
-  /// |q^H (2 lambda M + G + D) q|, the split of a near-defective pair
-  /// 10 sqrt(eta_q) s_q (eta_q its componentwise backward error, s_q its own
-  /// scale), and instabilityTol s_q. A growth rate beyond it is an
-  /// instability (theory §13.3). 0: not computed (the scale is used).
+  /// A mode's growth-rate uncertainty, 1/s (the dense general and damped
+  /// paths, and the sparse path from the full model's residual): the
+  /// largest of ten times its eigenvalue error (below; capped at its own
+  /// scale), the split of a near-defective pair 10 sqrt(eta_q) |lambda|
+  /// (eta_q its componentwise backward error), and instabilityTol |lambda|.
+  /// A growth rate beyond it is an instability (theory §13.3). 0: not
+  /// computed (the scale is used).
   double growthTolerance = 0.0;
   /// The first-order a-posteriori error of the eigenvalue, rad/s: ||r|| ||q||
-  /// / |q^H (2 lambda M + G + D) q| (the dense path's; 0: not computed).
+  /// / |q^H (2 lambda M + G + D) q| (0: not computed).
   /// Meaningful for a simple eigenvalue; for a defective one the
   /// denominator vanishes and the bound grows past |lambda| (theory §4.3).
   double eigenvalueError = 0.0;
