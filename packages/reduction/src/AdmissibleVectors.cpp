@@ -273,26 +273,27 @@ RitzBasis admissibleVectors(const substructure::Substructure& s, const Substruct
   //    correction of its attachment's rigid motion (theory §11.2), beyond
   //    "Vectors" as the other bases add it (counted among them it crowded
   //    out the children's shapes; a review).
-  const int asked = count;
-  auto leading = [&](std::size_t from, const char* prefix, const std::string& what, int room) {
-    std::size_t to = from;
-    while (to < labels.size() && labels[to].rfind(prefix, 0) == 0) ++to;
-    if (to == from) return to;
-    const std::size_t before = static_cast<std::size_t>(basis.size()), droppedBefore = basis.dropped.size();
-    auto XI = X.subView(Teuchos::Range1D(from, to - 1));
-    appendOrthonormal(*s.M(), *XI, std::vector<std::string>(labels.begin() + from, labels.begin() + to), tol, room,
-                      basis);
-    const std::size_t seen = static_cast<std::size_t>(basis.size()) - before + basis.dropped.size() - droppedBefore;
-    for (std::size_t j = from + seen; j < to; ++j)
-      basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(asked) + " vectors are fewer than the " +
-                              std::to_string(to - from) + " " + what + ")");
-    return to;
-  };
   std::size_t supportColumns = 0;
   while (supportColumns < labels.size() && labels[supportColumns].rfind(kOwnSupportsColumn, 0) == 0) ++supportColumns;
-  leading(0, kOwnSupportsColumn, "", basis.size() + static_cast<int>(supportColumns));
+  if (supportColumns > 0)  // every one that is independent: room for all
+    appendOrthonormal(*s.M(), *X.subView(Teuchos::Range1D(0, supportColumns - 1)),
+                      std::vector<std::string>(labels.begin(), labels.begin() + supportColumns), tol,
+                      static_cast<int>(supportColumns), basis);
+  const int asked = count;
   count += basis.size();  // the corrections kept, beyond "Vectors"
-  const std::size_t interfaceColumns = leading(supportColumns, "static: interface", kAttachmentShapeLeftOut, count);
+  std::size_t interfaceColumns = supportColumns;
+  while (interfaceColumns < labels.size() && labels[interfaceColumns].rfind("static: interface", 0) == 0)
+    ++interfaceColumns;
+  if (interfaceColumns > supportColumns) {
+    const std::size_t before = static_cast<std::size_t>(basis.size()), droppedBefore = basis.dropped.size();
+    appendOrthonormal(*s.M(), *X.subView(Teuchos::Range1D(supportColumns, interfaceColumns - 1)),
+                      std::vector<std::string>(labels.begin() + supportColumns, labels.begin() + interfaceColumns), tol,
+                      count, basis);
+    const std::size_t seen = static_cast<std::size_t>(basis.size()) - before + basis.dropped.size() - droppedBefore;
+    for (std::size_t j = supportColumns + seen; j < interfaceColumns; ++j)
+      basis.dropped.push_back(labels[j] + " (not kept: the basis' " + std::to_string(asked) + " vectors are fewer than the " +
+                              std::to_string(interfaceColumns - supportColumns) + " " + kAttachmentShapeLeftOut + ")");
+  }
 
   // 2. Load-dependent Ritz vectors (Wilson, Yuan & Dickens 1982), in an order
   //    that neither wastes columns nor loses a family (doc/theory.md §11.3):

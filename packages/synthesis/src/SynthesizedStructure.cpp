@@ -31,7 +31,6 @@
 #include "CopiedBasis.hpp"
 #include "MonolithicSum.hpp"
 #include "PartData.hpp"
-#include "cms/core/SparseProduct.hpp"
 #include "cms/core/MatrixSum.hpp"
 #include "cms/core/BlasThreads.hpp"
 #include "cms/core/DistributedDirectSolver.hpp"  // ranksOnNode
