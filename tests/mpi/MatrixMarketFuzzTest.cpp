@@ -181,8 +181,9 @@ TEST(MatrixMarketFile, RepeatedEntriesAndNonDecimalValuesAreRefused) {
 // symmetric, G1 skew-symmetric. The symmetric solvers read one triangle, so
 // an asymmetric K was read and solved as another matrix, silently (a
 // review). Windows line endings got Tpetra's message about the banner's
-// symmetry word. Each refused naming the file and line, on every rank; a
-// matrix printed to 8 significant digits (a difference of 1e-8) is read.
+// symmetry word. Each refused naming the file and line, on every rank (so
+// are a skew G1's nonzero diagonal and a banner that contradicts the
+// matrix); a matrix printed to 8 significant digits (1e-8 apart) is read.
 TEST(MatrixMarketFile, AsymmetricMatricesAndWindowsLineEndingsAreRefused) {
   const auto comm = world();
   const std::string dir = writtenBeam("mirror", true);
@@ -212,6 +213,16 @@ TEST(MatrixMarketFile, AsymmetricMatricesAndWindowsLineEndingsAreRefused) {
     }
     return out.str();
   };
+  // The banner's symmetry word replaced, and G1's (1, 1) entry (a written zero) set.
+  auto banner = [](const std::string& seed, const std::string& word) {
+    const std::size_t eol = seed.find('\n');
+    return "%%MatrixMarket matrix coordinate real " + word + seed.substr(eol);
+  };
+  auto diagonal = [](const std::string& seed) {
+    const std::size_t at = seed.find("\n1 1 ");  // written, as zero, by the framework's writer
+    const std::size_t eol = seed.find('\n', at + 1);
+    return seed.substr(0, at) + "\n1 1 2.5" + seed.substr(eol);
+  };
   auto crlf = [](const std::string& seed) {
     std::string out;
     for (char c : seed) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
@@ -223,6 +234,9 @@ TEST(MatrixMarketFile, AsymmetricMatricesAndWindowsLineEndingsAreRefused) {
   const std::vector<Case> cases = {{K, scaled(seedK, 1.01), "K must be symmetric, but entry ("},
                                    {K, scaled(seedK, 1.0 + 1e-8), ""},
                                    {G, scaled(seedG, -1.0), "G1 must be skew-symmetric, but entry ("},
+                                   {G, diagonal(seedG), "G1 must be skew-symmetric, but its diagonal entry (1, 1)"},
+                                   {K, banner(seedK, "skew-symmetric"), "K is symmetric; the banner says skew-symmetric"},
+                                   {G, banner(seedG, "symmetric"), "G1 is skew-symmetric; the banner says symmetric"},
                                    {K, crlf(seedK), "Windows line endings (CRLF)"}};
   for (const auto& c : cases) {
     comm->barrier();

@@ -1434,6 +1434,18 @@ Scene:
   EXPECT_TRUE(enriched.enrichment.reached);
 }
 
+namespace {
+/// An aluminium hub spinning at 30 rad/s, clamped at its root, and the
+/// Beam line of a blade from 1.1 to 2.2 m with a 1 kg tip mass: the
+/// offset-link and stiff-stub tests' structure.
+const char* const kSpinningHubAndBlade[2] = {R"(    hub:
+      Kind: C
+      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 10, Young's Modulus: 7.0e10, Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0, 1, 0], Clamp: start}
+      Spin: {Axis: [0, 0, 1], Rate: 30.0}
+      Reduction: {Basis: Full}
+)", R"(      Beam: {From: [1.1, 0, 0], To: [2.2, 0, 0], Elements: 10, Young's Modulus: 7.0e10, Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0, 1, 0], Tip Mass: 1.0})"};
+}  // namespace
+
 // A blade whose root node sits 0.1 m off the spinning hub's tip node,
 // attached without a Point: it hangs on a rigid link to the tip, and the
 // link's geometric stiffness was formed only for a Point's offset, so the
@@ -1449,16 +1461,10 @@ TEST(SceneRegression, AChildsNodeOffItsParentsNodeIsStiffenedAsOnALink) {
     return R"(
 Scene:
   Substructures:
-    hub:
-      Kind: C
-      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 10, Young's Modulus: 7.0e10, Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0, 1, 0], Clamp: start}
-      Spin: {Axis: [0, 0, 1], Rate: 30.0}
-      Reduction: {Basis: Full}
-    blade:
+)" + std::string(kSpinningHubAndBlade[0]) + R"(    blade:
       Kind: E
       Parent: hub
-      Attachment: )" + attachment + R"(
-      Beam: {From: [1.1, 0, 0], To: [2.2, 0, 0], Elements: 10, Young's Modulus: 7.0e10, Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0, 1, 0], Tip Mass: 1.0}
+      Attachment: )" + attachment + "\n" + kSpinningHubAndBlade[1] + R"(
       Reduction: {Basis: Full}
   Analysis: {Number of Modes: 6}
 )";
@@ -1649,11 +1655,7 @@ TEST(SceneRegression, AStiffStubsModesComeInOrderAndTheLowestFirst) {
   const auto sc = parse(R"(
 Scene:
   Substructures:
-    hub:
-      Kind: C
-      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 10, Young's Modulus: 7.0e10, Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0, 1, 0], Clamp: start}
-      Spin: {Axis: [0, 0, 1], Rate: 30.0}
-      Reduction: {Basis: Full}
+)" + std::string(kSpinningHubAndBlade[0]) + R"(
     stub:
       Kind: E
       Parent: hub
@@ -1664,7 +1666,7 @@ Scene:
       Kind: E
       Parent: stub
       Attachment: {Type: Node, Parent Nodes: end, Nodes: start}
-      Beam: {From: [1.1, 0, 0], To: [2.2, 0, 0], Elements: 10, Young's Modulus: 7.0e10, Density: 2700.0, Area: 1.0e-3, Iy: 2.0e-8, Iz: 2.0e-7, Torsion Constant: 5.0e-8, Orientation: [0, 1, 0], Tip Mass: 1.0}
+)" + kSpinningHubAndBlade[1] + R"(
       Reduction: {Basis: Full}
 )");
   const auto st = synthesis::AssembledStructure::assemble(sc.structure, comm);
