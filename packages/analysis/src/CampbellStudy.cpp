@@ -578,6 +578,28 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       return rigidLike(a, static_cast<std::size_t>(k - 1)) || rigidLike(b, static_cast<std::size_t>(k)) ||
              spanMac(static_cast<std::size_t>(t), j) >= macFloor;
     };
+    // Two or more tracks at a zero frequency (rigid motions: their shapes
+    // any basis of the rigid space) go on, in track order, to the modes
+    // mostly in their span (summed MAC >= 1/2) in ascending |lambda|. By MAC
+    // alone, which track took which member depended on the basis rounding
+    // chose at both speeds, and so on the rank count: a free body's six
+    // zeros at rest, exactly the rigid coordinates since they are solved
+    // apart (theory §4.3), unfold at speed into two zeros, the frame-rate
+    // triple and the nutation, whose shapes mix the same coordinates.
+    std::vector<int> zeroTracks;
+    for (std::size_t t = 0; t < last.size(); ++t)
+      if (zeroFrequency(last[t].stability)) zeroTracks.push_back(static_cast<int>(t));
+    if (zeroTracks.size() >= 2) {
+      std::size_t next = 0;
+      for (std::size_t j = 0; j < modes.size() && next < zeroTracks.size(); ++j) {
+        double sum = 0.0;
+        for (int t : zeroTracks) sum += mac[static_cast<std::size_t>(t)][j];
+        if (sum < 0.5) continue;
+        const int t = zeroTracks[next++];
+        match[static_cast<std::size_t>(t)] = static_cast<int>(j), used[j] = true;
+        r.tracks[static_cast<std::size_t>(t)].minMac = std::min(r.tracks[static_cast<std::size_t>(t)].minMac, std::min(1.0, sum));
+      }
+    }
     for (const auto& [v, t, j] : pairs)
       if (match[t] < 0 && !used[j] && accept(t, j))
         match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -468,8 +469,22 @@ public:
 /// eigenvalues (Im >= 0) past the nModes returned, for the stability
 /// verdict's mirror test (classifyModes). `rigidBodyTol`: of the scaled
 /// |lambda| (frequency scale 1), as classifyModes takes it.
+/// The modes of the unrestrained coordinates (GyroscopicSystem::unrestrained)
+/// solved on their own scale by solveUnrestrained, for generalModes to put
+/// in place of the whole solve's values there (theory §4.3).
+struct UnrestrainedModes {
+  std::vector<GyroscopicMode> modes;  ///< one of each conjugate pair, as generalModes returns; q on all n rows
+  int count = 0;                      ///< the block's eigenvalues, both halves: 2k
+  double largest = 0.0;               ///< the largest |lambda| among them, 1/s
+  /// The relative accuracy of the block's matrices: eps times the condition
+  /// of K on the other coordinates (GyroscopicMode::blockError).
+  double error = 0.0;
+  std::string note;                   ///< what was done, or why not (then `modes` is empty)
+};
+
 std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale, double rigidBodyTol,
-                                         std::vector<cplx>& unreturned, bool standard = false) {
+                                         std::vector<cplx>& unreturned, bool standard = false,
+                                         UnrestrainedModes* block = nullptr) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
   const bool damped = sys.damped();
@@ -523,10 +538,41 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   // spectrum has no +/- symmetry: every real eigenvalue is a mode of its
   // own (an overdamped DOF gives two, both decaying), and of a complex pair
   // only the member with Im > 0 is kept even when Im is within rounding of 0.
-  struct Cand { cplx lambda; std::vector<cplx> q; };
+  struct Cand { cplx lambda; std::vector<cplx> q; double blockScale = 0.0, blockError = 0.0; };
   std::vector<Cand> upper, real;
   const double imagTol = 1e-9;  // relative to the scaled frequency 1
+  // The unrestrained block's modes, solved on their own scale, take the
+  // place of the 2k values of least |lambda| here, where this solve left
+  // them to its normwise rounding (theory §4.3), when those 2k are
+  // separated from the rest by a factor of 10 (and from the block's own
+  // values): otherwise the block is not what the least values are.
+  std::vector<char> replaced(N, 0);
+  if (block && !block->modes.empty()) {
+    std::vector<std::pair<double, int>> size(N);
+    for (int j = 0; j < N; ++j)
+      size[j] = {be[j] == 0.0 ? std::numeric_limits<double>::infinity() : std::hypot(ar[j], ai[j]) / std::abs(be[j]), j};
+    std::sort(size.begin(), size.end());
+    const int p = block->count;
+    const double inner = p > 0 ? size[p - 1].first : 0.0, outer = p < N ? size[p].first : 0.0;
+    std::ostringstream note;
+    note << std::setprecision(3);
+    if (p < N && outer >= 10.0 * std::max(inner, block->largest / scale)) {
+      for (int i = 0; i < p; ++i) replaced[size[i].second] = 1;
+      note << "; the " << p << " eigenvalues of least |lambda| solved again on the " << p / 2
+           << " coordinates the stiffness at rest does not reach (Schur complement, theory §4.3)";
+    } else {
+      block->modes.clear();
+      note << "; the " << p / 2 << " coordinates the stiffness at rest does not reach were not solved apart: their "
+           << p << " eigenvalues are not separated from the rest by 10x (|lambda| " << inner * scale << " and "
+           << outer * scale << " 1/s about the cut, the block's largest " << block->largest << ")";
+    }
+    block->note = note.str();
+  }
   for (int j = 0; j < N; ++j) {
+    if (replaced[j]) {
+      if (ai[j] != 0.0) ++j;  // its conjugate, of the same |lambda|, is replaced too
+      continue;
+    }
     if (be[j] == 0.0) throw InfiniteEigenvalue("DenseGyroscopicSolver: dggev returned an infinite eigenvalue (beta = 0)");
     cplx lam(ar[j] / be[j], ai[j] / be[j]);
     std::vector<cplx> q(n);
@@ -623,6 +669,8 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
     real[k].lambda = cplx(real[k].lambda.real(), 0.0);
     upper.push_back(real[k]);
   }
+  if (block)
+    for (const auto& m : block->modes) upper.push_back({m.lambda / scale, m.q, m.blockScale, m.blockError});
   std::sort(upper.begin(), upper.end(), [](const Cand& a, const Cand& b) {
     return std::abs(a.lambda) < std::abs(b.lambda);
   });
@@ -647,11 +695,281 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
     GyroscopicMode m;
     m.lambda = upper[k].lambda * scale;
     m.q = std::move(upper[k].q);
+    m.blockScale = upper[k].blockScale;
+    m.blockError = upper[k].blockError;
     modes.push_back(std::move(m));
   }
   unreturned.clear();
   for (std::size_t j = kept; j < upper.size(); ++j) unreturned.push_back(upper[j].lambda * scale);
   return modes;
+}
+
+extern "C" {
+void zgetrf_(const int* m, const int* n, std::complex<double>* a, const int* lda, int* ipiv, int* info);
+void zgetrs_(const char* trans, const int* n, const int* nrhs, const std::complex<double>* a, const int* lda,
+             const int* ipiv, std::complex<double>* b, const int* ldb, int* info, std::size_t);
+}
+
+/// The modes of the coordinates r on which the stiffness at rest vanishes
+/// (theory §4.3). With e the others, eliminating q_e from the rows e of
+/// Q(lambda) q = 0, Q = lambda^2 M + lambda C + A (C = G + D, A = K + N),
+/// leaves S(lambda) q_r = 0 with the Schur complement
+///   S(lambda) = Q_rr - Q_re Q_ee(lambda)^-1 Q_er = sum_j S_j lambda^j,
+///   q_e = -sum_j lambda^j X_j q_r,
+///   X_j = A_ee^-1 (B_j - C_ee X_{j-1} - M_ee X_{j-2}),  B = (A_er, C_er, M_er, 0, ...),
+///   S_j = (A_rr, C_rr, M_rr, 0, ...)_j - A_re X_j - C_re X_{j-1} - M_re X_{j-2},
+/// a series converging for |lambda| below the least eigenvalue of Q_ee. A_rr,
+/// A_re hold the speed's terms only (Omega^2 K_T, the prestress), so every
+/// S_j is on the block's scale, not the elastic one: its eigenvalues are
+/// resolved to that scale. The quadratic S_0 + lambda S_1 + lambda^2 S_2 (a
+/// gyroscopic system of k coordinates, Hamiltonian like the whole) is solved
+/// by generalModes, each simple nonzero eigenvalue refined by nonlinear
+/// inverse iteration on the whole series, and q_e summed to rounding.
+UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBodyTol) {
+  UnrestrainedModes out;
+  const int n = sys.size(), k = static_cast<int>(sys.unrestrained.size()), m = n - k;
+  if (k == 0 || m == 0) return out;
+  const double eps = std::numeric_limits<double>::epsilon();
+  const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
+  const std::vector<int>& r = sys.unrestrained;
+  std::vector<int> e;
+  for (int i = 0, next = 0; i < n; ++i)
+    if (next < k && r[next] == i) ++next;
+    else e.push_back(i);
+  // The coefficients of lambda^0, lambda^1, lambda^2: A = K + N, C = G + D, M.
+  const auto coefficient = [&](int d, int i, int j) {
+    return d == 0 ? sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0)
+                  : d == 1 ? sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0) : sys.M(i, j);
+  };
+  DenseMatrix Aee[3], Aer[3], Are[3], Arr[3];
+  for (int d = 0; d < 3; ++d) {
+    Aee[d].shape(m, m), Aer[d].shape(m, k), Are[d].shape(k, m), Arr[d].shape(k, k);
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) Aee[d](i, j) = coefficient(d, e[i], e[j]);
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < m; ++i) Aer[d](i, j) = coefficient(d, e[i], r[j]), Are[d](j, i) = coefficient(d, r[j], e[i]);
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) Arr[d](i, j) = coefficient(d, r[i], r[j]);
+  }
+  Teuchos::LAPACK<int, double> lapack;
+  DenseMatrix F(Aee[0]);
+  std::vector<int> piv(m);
+  int info = 0;
+  double norm1 = 0.0;
+  for (int j = 0; j < m; ++j) {
+    double c = 0.0;
+    for (int i = 0; i < m; ++i) c += std::abs(Aee[0](i, j));
+    norm1 = std::max(norm1, c);
+  }
+  lapack.GETRF(m, m, F.values(), m, piv.data(), &info);
+  double rcond = 0.0;
+  if (info == 0) {
+    std::vector<double> work(4 * m);
+    std::vector<int> iwork(m);
+    lapack.GECON('1', m, F.values(), m, norm1, &rcond, work.data(), iwork.data(), &info);
+  }
+  if (info != 0 || !(rcond > 100.0 * eps)) {
+    std::ostringstream why;
+    why << std::setprecision(3) << "; the " << k << " coordinates the stiffness at rest does not reach were not solved "
+        << "apart: K on the other " << m << " is singular to rounding (reciprocal condition " << rcond << ")";
+    out.note = why.str();
+    return out;
+  }
+  // What the block's matrices are worth: X_j = A_ee^-1 (...) carries eps
+  // cond(A_ee), and so does the prestress in A_rr, which a static solve
+  // with the same stiffness made (its rigid-rotation balance, theory
+  // §11.6). A coned spinner's booms 1e3 times stiffer (cond 4e9) split the
+  // double zero of its turn about the axis by 6e-6 of the block's scale:
+  // within 10 sqrt(eps cond), and no instability.
+  out.error = eps / rcond;
+  std::vector<DenseMatrix> X, S;
+  const auto term = [&](int j) {  // X_j and S_j from those before
+    DenseMatrix B(m, k), Sj(k, k);
+    if (j <= 2) B.assign(Aer[j]), Sj.assign(Arr[j]);
+    if (j >= 1) gemm(false, false, -1.0, Aee[1], X[j - 1], 1.0, B);
+    if (j >= 2) gemm(false, false, -1.0, Aee[2], X[j - 2], 1.0, B);
+    int inf = 0;
+    lapack.GETRS('N', m, k, F.values(), m, piv.data(), B.values(), m, &inf);
+    gemm(false, false, -1.0, Are[0], B, 1.0, Sj);
+    if (j >= 1) gemm(false, false, -1.0, Are[1], X[j - 1], 1.0, Sj);
+    if (j >= 2) gemm(false, false, -1.0, Are[2], X[j - 2], 1.0, Sj);
+    X.push_back(std::move(B));
+    S.push_back(std::move(Sj));
+  };
+  for (int j = 0; j < 3; ++j) term(j);
+  // The quadratic: symmetric and skew parts as a gyroscopic system (the
+  // other parts, D's and N's, only where the whole system has them; in an
+  // undamped one they are rounding).
+  GyroscopicSystem q;
+  q.M.shape(k, k), q.G.shape(k, k), q.K.shape(k, k);
+  if (hasD) q.D.shape(k, k);
+  if (hasN) q.N.shape(k, k);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      q.M(i, j) = 0.5 * (S[2](i, j) + S[2](j, i));
+      q.G(i, j) = 0.5 * (S[1](i, j) - S[1](j, i));
+      q.K(i, j) = 0.5 * (S[0](i, j) + S[0](j, i));
+      if (hasD) q.D(i, j) = 0.5 * (S[1](i, j) + S[1](j, i));
+      if (hasN) q.N(i, j) = 0.5 * (S[0](i, j) - S[0](j, i));
+    }
+  DenseMatrix L(q.M);
+  if (choleskyLower(L) != 0) {
+    out.note = "; the " + std::to_string(k) + " coordinates the stiffness at rest does not reach were not solved "
+               "apart: their Schur complement's mass is not positive definite";
+    return out;
+  }
+  const double blockScale = frequencyScale(frobeniusNorm(q.M), frobeniusNorm(q.G) + (hasD ? frobeniusNorm(q.D) : 0.0),
+                                           frobeniusNorm(q.K) + (hasN ? frobeniusNorm(q.N) : 0.0));
+  // S_0 = S_1 = 0 (a free body at rest): every eigenvalue is exactly zero,
+  // and any scale resolves them; 1 keeps the arithmetic finite.
+  const double useScale = blockScale > 0.0 ? blockScale : 1.0;
+  std::vector<cplx> beyond;
+  std::vector<GyroscopicMode> modes;
+  try {
+    modes = generalModes(q, 2 * k, useScale, rigidBodyTol, beyond);
+  } catch (const NumericalError& err) {
+    out.note = "; the " + std::to_string(k) + " coordinates the stiffness at rest does not reach were not solved "
+               "apart: " + err.what();
+    return out;
+  }
+  // The zeros' shapes: an M-orthonormal basis of the null space of S_0
+  // (the eigenvectors of (S_0, S_2) of least |mu|, as many as there are
+  // zeros). The pencil's own vectors at a Jordan block are the block's one
+  // eigenvector twice, and halving the +/- pairs kept both copies: a free
+  // body at rest (S_0 = S_1 = 0) returned two of its six rigid motions
+  // twice and lost the axial translation and the turn about the axis.
+  const double zeroBelow = std::max(rigidBodyTol, 10.0 * std::sqrt(std::max(eps / rcond, eps))) * useScale;
+  {
+    std::vector<GyroscopicMode*> zeros;
+    for (auto& md : modes)
+      if (std::abs(md.lambda) <= zeroBelow) zeros.push_back(&md);
+    if (!zeros.empty()) {
+      DenseMatrix Ks(q.K), Ms(q.M);
+      std::vector<double> w(k), work(std::max(1, 3 * k));
+      int inf = 0;
+      lapack.SYGV(1, 'V', 'U', k, Ks.values(), k, Ms.values(), k, w.data(), work.data(), static_cast<int>(work.size()),
+                  &inf);
+      if (inf == 0) {
+        std::vector<int> least(k);
+        std::iota(least.begin(), least.end(), 0);
+        std::stable_sort(least.begin(), least.end(), [&](int a, int b) { return std::abs(w[a]) < std::abs(w[b]); });
+        for (std::size_t z = 0; z < zeros.size(); ++z)
+          for (int i = 0; i < k; ++i) zeros[z]->q[i] = Ks(i, least[z]);
+      }
+    }
+  }
+  for (const auto& md : modes) out.largest = std::max(out.largest, std::abs(md.lambda));
+  for (cplx l : beyond) out.largest = std::max(out.largest, std::abs(l));
+  // The series to rounding at the largest eigenvalue: ||X_j|| mu^j against
+  // the sum so far, two terms in a row below eps of it; a series that does
+  // not get there in 60 terms has an eigenvalue of Q_ee near the block's.
+  const double mu = out.largest;
+  double sum = 0.0;
+  for (int j = 0; j < 3; ++j) sum += frobeniusNorm(X[j]) * std::pow(mu, j);
+  int quiet = 0;
+  for (int j = 3; j < 60 && quiet < 2; ++j) {
+    term(j);
+    const double t = frobeniusNorm(X[j]) * std::pow(mu, j);
+    sum += t;
+    quiet = t <= eps * sum ? quiet + 1 : 0;
+    if (!std::isfinite(t)) break;
+  }
+  if (quiet < 2) {
+    std::ostringstream why;
+    why << std::setprecision(3) << "; the " << k << " coordinates the stiffness at rest does not reach were not solved "
+        << "apart: the other coordinates' response does not converge at |lambda| = " << mu
+        << " 1/s (their own frequencies are not far enough above)";
+    out.note = why.str();
+    return out;
+  }
+  // The whole series' eigenvalues: its companion pencil (A, B) of size d k,
+  // z = [y; mu y; ...; mu^(d-1) y], in mu = lambda / s_b with the
+  // coefficients over the largest ||S_j|| s_b^j. The quadratic alone is off
+  // by the series' tail, ~(lambda / omega_e)^2 relative, which a defective
+  // eigenvalue (a free body's frame-rate triple) turns into a split of its
+  // square or cube root: 1.2e-4 Omega for the beam below, a false flutter.
+  const int terms = static_cast<int>(S.size()), d = terms - 1, N = d * k;
+  double nu = 0.0;
+  for (int j = 0; j < terms; ++j) nu = std::max(nu, frobeniusNorm(S[j]) * std::pow(useScale, j));
+  DenseMatrix A(N, N), B(N, N);
+  for (int i = 0; i < (d - 1) * k; ++i) A(i, k + i) = 1.0, B(i, i) = 1.0;
+  for (int j = 0; j < terms; ++j) {
+    const double c = std::pow(useScale, j) / nu;
+    for (int col = 0; col < k; ++col)
+      for (int row = 0; row < k; ++row) {
+        if (j < d) A((d - 1) * k + row, j * k + col) = -S[j](row, col) * c;
+        else B((d - 1) * k + row, (d - 1) * k + col) = S[j](row, col) * c;
+      }
+  }
+  std::vector<double> ar(N), ai(N), be(N);
+  DenseMatrix Z(N, N);
+  double vl = 0.0, wq = 0.0;
+  int lwork = -1;
+  lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1, Z.values(), N, &wq,
+              lwork, &info);
+  lwork = static_cast<int>(wq);
+  std::vector<double> work(std::max(1, lwork));
+  lapack.GGEV('N', 'V', N, A.values(), N, B.values(), N, ar.data(), ai.data(), be.data(), &vl, 1, Z.values(), N,
+              work.data(), lwork, &info);
+  std::vector<std::pair<double, int>> order;
+  for (int j = 0; info == 0 && j < N; ++j)
+    order.push_back({be[j] == 0.0 ? std::numeric_limits<double>::infinity() : std::hypot(ar[j], ai[j]) / std::abs(be[j]), j});
+  std::sort(order.begin(), order.end());
+  // Its 2k least are the block's, when the next is 10 times further out
+  // (the rest approximate the other coordinates' own eigenvalues).
+  if (info != 0 || N <= 2 * k || !(order[2 * k].first >= 10.0 * order[2 * k - 1].first)) {
+    std::ostringstream why;
+    why << std::setprecision(3) << "; the " << k << " coordinates the stiffness at rest does not reach were not solved "
+        << "apart: " << (info != 0 ? "dggev failed on their series' companion pencil"
+                                   : "their series has other eigenvalues near theirs");
+    out.note = why.str();
+    return out;
+  }
+  struct Root { cplx lambda; std::vector<cplx> y; bool used = false; };
+  std::vector<Root> roots;
+  for (int i = 0; i < 2 * k; ++i) {
+    const int j = order[i].second;
+    // A complex pair is stored in columns (j, j + 1) for Im > 0, its
+    // conjugate's index being j + 1 with the same columns.
+    const bool second = ai[j] < 0.0 && j > 0 && ai[j - 1] > 0.0;
+    const int c = second ? j - 1 : j;
+    Root root{cplx(ar[j], ai[j]) / be[j] * useScale, std::vector<cplx>(k)};
+    for (int row = 0; row < k; ++row)
+      root.y[row] = ai[j] == 0.0 ? cplx(Z(row, c), 0.0)
+                                 : cplx(Z(row, c), second ? -Z(row, c + 1) : Z(row, c + 1));
+    roots.push_back(std::move(root));
+  }
+  // Each of the quadratic's modes (one of each conjugate pair, its zeros
+  // told apart by generalModes) takes the nearest of the series' roots; a
+  // zero (within the Jordan split of the block's accuracy, above) keeps
+  // the quadratic's value and its null-space shape: the tail vanishes at
+  // lambda = 0.
+  for (auto& md : modes) {
+    cplx l = md.lambda;
+    std::vector<cplx> y = md.q;
+    if (std::abs(l) > zeroBelow) {
+      Root* best = nullptr;
+      for (auto& root : roots)
+        if (!root.used && (!best || std::abs(root.lambda - l) < std::abs(best->lambda - l))) best = &root;
+      if (best) best->used = true, l = best->lambda, y = best->y;
+    }
+    // Every coordinate: q_r = y, q_e = -sum_j l^j X_j y.
+    std::vector<cplx> full(n, 0.0);
+    for (int i = 0; i < k; ++i) full[r[i]] = y[i];
+    cplx p = 1.0;
+    for (int j = 0; j < terms; ++j, p *= l)
+      for (int c = 0; c < k; ++c) {
+        const cplx f = p * y[c];
+        for (int i = 0; i < m; ++i) full[e[i]] -= f * X[j](i, c);
+      }
+    md.lambda = l;
+    md.q = std::move(full);
+    md.blockScale = useScale;
+    md.blockError = out.error;
+  }
+  out.modes = std::move(modes);
+  out.count = 2 * k;
+  return out;
 }
 
 }  // namespace
@@ -727,8 +1045,16 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // rounding argument keeps an eigenvalue on the axis. The verdict is the
     // sign of the growth rate beyond the instability tolerance (theory §13.3).
     for (auto& m : modes) {
-      const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
-      m.stability = classify(m.lambda, s, rigidBodyTol, instabilityTol);
+      const double s = m.blockScale > 0.0 ? m.blockScale : m.scale > 0.0 ? std::min(m.scale, scale) : scale;
+      // A mode solved apart: a zero its block's accuracy splits (a rigid
+      // motion D does not damp is a double zero) by up to 10 sqrt(blockError)
+      // of the block's scale is a zero, and a growth rate within that is
+      // none (theory §4.3).
+      const double split =
+          m.blockScale > 0.0 ? 10.0 * std::sqrt(std::max(m.blockError, std::numeric_limits<double>::epsilon())) * s : 0.0;
+      m.stability = std::abs(m.lambda) <= split ? Stability::RigidBody
+                                                : classify(m.lambda, s, rigidBodyTol, instabilityTol);
+      if (m.blockScale > 0.0) m.growthTolerance = std::max(m.growthTolerance, split);
       // A growth rate against the mode's own uncertainty where it was made
       // (completeDenseModes, expandModes): beyond it, an instability. (Not
       // for a zero: see the conservative branch.)
@@ -758,8 +1084,14 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
   // for a split defective zero and called rigid.
   const bool structured = std::all_of(modes.begin(), modes.end(), [](const GyroscopicMode& m) { return m.lambda.real() == 0.0; });
   for (auto& m : modes) {
-    const double scale = m.scale > 0.0 ? std::min(m.scale, systemScale) : systemScale;
-    const double eta = std::max(m.residual, eps);
+    // A mode solved apart (the unrestrained block, theory §4.3) is judged on
+    // that block's scale, to which it was resolved.
+    const double scale = m.blockScale > 0.0 ? m.blockScale
+                         : m.scale > 0.0    ? std::min(m.scale, systemScale)
+                                            : systemScale;
+    // A mode solved apart: its block's matrices hold to blockError, which
+    // the residual against them does not see.
+    const double eta = std::max({m.residual, eps, m.blockError});
     double radius = 0.0;  // the splitting rounding can cause around this eigenvalue
     int radiusOrder = 1;  // the multiplicity k that radius assumes
     // A defective eigenvalue of multiplicity k splits into k computed values,
@@ -847,7 +1179,10 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // first-order error, a near-defective split on its own scale) is an
     // instability whatever the system's scale: a Krein collision's split
     // pair has q^H Q' q -> 0 there, and its bound no such certainty.
-    if (s != Stability::RigidBody && m.growthTolerance > 0.0 && m.lambda.real() > m.growthTolerance)
+    // (Not for a mode solved apart: it was judged on its block's own scale
+    // above, where the radius is what its rounding can do.)
+    if (s != Stability::RigidBody && m.blockScale == 0.0 && m.growthTolerance > 0.0 &&
+        m.lambda.real() > m.growthTolerance)
       s = std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter;
     m.stability = s;
     zeroRigidDamping(m);
@@ -986,12 +1321,6 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
 /// size) and with no other value within 1e-3 |lambda| (a split cluster's
 /// members are not refined). Two steps, one
 /// complex LU each (n^3 / 3), only for those. Returns whether any changed.
-extern "C" {
-void zgetrf_(const int* m, const int* n, std::complex<double>* a, const int* lda, int* ipiv, int* info);
-void zgetrs_(const char* trans, const int* n, const int* nrhs, const std::complex<double>* a, const int* lda,
-             const int* ipiv, std::complex<double>* b, const int* ldb, int* info, std::size_t);
-}
-
 bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
                      double zeroBelow) {
   const int n = sys.size();
@@ -1000,7 +1329,8 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
   for (auto& m : modes) {
     const double growth = m.lambda.real(), size = std::abs(m.lambda);
     if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) || !(m.eigenvalueError < size) ||
-        size <= zeroBelow)  // a zero the rigid test takes anyway: not refined
+        size <= zeroBelow ||  // a zero the rigid test takes anyway: not refined
+        m.blockScale > 0.0)   // solved apart on its own scale (solveUnrestrained)
       continue;
     // Not a member of a split (near-defective) cluster: another returned
     // value (or mirror) within 1e-3 |lambda| is one (a free body's
@@ -1174,6 +1504,10 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     const bool every = params_.get<int>("Number of Modes") == -1 && sys.damped();
     result.solver = "dense general (LAPACK dggev, 2n first-order pencil)";
     result.reason = method == "General" && !sys.damped() ? "requested" : whyNotSymmetric;
+    // The coordinates the stiffness at rest does not reach, solved apart on
+    // their own scale (theory §4.3); generalModes puts their modes in.
+    UnrestrainedModes unrestrained = solveUnrestrained(sys, rigidTol);
+    UnrestrainedModes* block = sys.unrestrained.empty() ? nullptr : &unrestrained;
     // M = Lm Lm^T > 0 (checked above): the congruent system with M = I,
     // q = Lm^-T p, has B = I in its pencil and no infinite eigenvalue; the
     // same eigenvalues, its shapes mapped back.
@@ -1190,16 +1524,17 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       bool qr = params_.get<std::string>("General Eigensolver") == "Hessenberg QR";
       if (!qr) {
         try {
-          result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned);
+          result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, false, block);
         } catch (const QzFailure& e) {
           qr = true;
           how = std::string("; there too ") + e.what() +
                 ": solved by LAPACK dgeev (Hessenberg QR) on the standard problem, B = I";
         }
       }
-      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, /*standard=*/true);
+      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, /*standard=*/true, block);
       std::vector<double> re(n), im(n);
       for (auto& m : result.modes) {
+        if (m.blockScale > 0.0) continue;  // solved apart, in the given coordinates
         for (int i = 0; i < n; ++i) re[i] = m.q[i].real(), im[i] = m.q[i].imag();
         lowerTransSolveVector(Lm, re.data());
         lowerTransSolveVector(Lm, im.data());
@@ -1231,7 +1566,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       also("K spans too many orders for the symmetric form: the pencil in the coordinates with M = I");
     } else {
       try {
-        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, rigidTol, unreturned);
+        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, rigidTol, unreturned, false, block);
       } catch (const InfiniteEigenvalue&) {
         solveCongruent(how);
         also("dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
@@ -1244,6 +1579,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       }
     }
     if (every) result.numRequested = static_cast<int>(result.modes.size());
+    if (block) result.reason += unrestrained.note;
   }
   // Residuals of the user's matrices. The Meirovitch path resolves each
   // eigenvalue to its own componentwise scale (a Cholesky factor of K and

@@ -32,6 +32,10 @@ void GyroscopicSystem::validate(double relTol) const {
                                          << " (leave it 0x0 for none)");
     requireFinite(*A, std::string("GyroscopicSystem: ") + name);
   }
+  for (std::size_t i = 0; i < unrestrained.size(); ++i)
+    CMS_INPUT_CHECK(unrestrained[i] < 0 || unrestrained[i] >= n || (i > 0 && unrestrained[i] <= unrestrained[i - 1]),
+                    "GyroscopicSystem: unrestrained coordinate " << unrestrained[i] << " (entry " << i
+                        << ") is out of [0, " << n << ") or not ascending");
   // Defects are measured against the size of each term of the quadratic at the
   // frequency scale s (lambda^2 M, lambda G, K at |lambda| = s), so a G or K
   // that is zero up to rounding (a Ritz projection onto rigid-body vectors) is
@@ -71,7 +75,7 @@ void GyroscopicSystem::validate(double relTol) const {
 }
 
 GyroscopicSystem GyroscopicSystem::symmetrised() const {
-  GyroscopicSystem s{M, G, K, D, N};
+  GyroscopicSystem s{M, G, K, D, N, unrestrained};
   const int n = size();
   const bool hasD = D.numRows() == n && n > 0, hasN = N.numRows() == n && n > 0;
   for (int j = 0; j < n; ++j)

@@ -1208,6 +1208,9 @@ eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<dou
 /// The structure's matrices gathered to every rank once, per speed piece.
 struct SynthesizedStructure::DensePieces {
   DenseMatrix M, K0, D;
+  /// Rows (and columns) of K0 that are exactly zero: a free structure's
+  /// rigid-body coordinates (made so above), a free-turning rotor's angle.
+  std::vector<int> unrestrained;
   std::vector<DenseMatrix> G;  ///< per speed parameter (0 x 0: none)
   std::vector<std::tuple<int, int, DenseMatrix>> K2;
 };
@@ -1221,6 +1224,11 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
     auto d = std::make_shared<DensePieces>();
     d->M = toDense(*M_);
     d->K0 = toDense(*K0_);
+    for (int i = 0; i < d->K0.numRows(); ++i) {
+      bool zero = true;
+      for (int j = 0; j < d->K0.numCols() && zero; ++j) zero = d->K0(i, j) == 0.0 && d->K0(j, i) == 0.0;
+      if (zero) d->unrestrained.push_back(i);
+    }
     if (!D_.is_null()) d->D = toDense(*D_);
     for (const auto& Gi : G_) d->G.push_back(Gi.is_null() ? DenseMatrix() : toDense(*Gi));
     for (const auto& t : K2_) d->K2.emplace_back(t.i, t.j, toDense(*t.K));
@@ -1245,6 +1253,7 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
       for (int r = 0; r < n; ++r) out.K(r, col) += c * Kij(r, col);
   }
   if (d.D.numRows() == n) out.D = d.D;
+  out.unrestrained = d.unrestrained;  // solved apart by the general path (theory §4.3)
   return out;
 }
 

@@ -83,6 +83,17 @@ struct GyroscopicMode {
   /// Meaningful for a simple eigenvalue; for a defective one the
   /// denominator vanishes and the bound grows past |lambda| (theory §4.3).
   double eigenvalueError = 0.0;
+  /// The frequency scale of the block this mode was solved in when it is
+  /// not the whole system's: the Schur complement on the coordinates the
+  /// stiffness at rest does not reach (GyroscopicSystem::unrestrained,
+  /// theory §4.3), rad/s. The rigid-body and stability tests are relative
+  /// to it. 0: solved with the whole system.
+  double blockScale = 0.0;
+  /// The relative accuracy of that block's matrices: eps times the condition
+  /// of K on the other coordinates, through which they were formed (and the
+  /// prestress with them). The stability verdict counts it with the
+  /// residual. 0: solved with the whole system.
+  double blockError = 0.0;
 };
 
 struct GyroscopicResult {

@@ -7,6 +7,8 @@
 // non-conservative: only the general first-order path applies.
 #pragma once
 
+#include <vector>
+
 #include "cms/core/DenseMatrix.hpp"
 
 namespace cms::eigen {
@@ -18,6 +20,13 @@ struct GyroscopicSystem {
   /// Circulatory stiffness (skew-symmetric), e.g. Omega c_i J of a rotor's
   /// internal damping in stationary coordinates; 0 x 0 for none.
   DenseMatrix N;
+  /// Coordinates on which the stiffness at rest vanishes exactly, rows and
+  /// columns (a free structure's six rigid-body coordinates, theory §11.6),
+  /// ascending; empty for none. Their modes live on a scale of their own
+  /// (the spin rate), which a solve of the whole system resolves only to
+  /// its own normwise scale, so the general path solves them again through
+  /// the Schur complement of the other coordinates (theory §4.3).
+  std::vector<int> unrestrained;
 
   int size() const { return M.numRows(); }
   /// D or N present and not all zero: the spectrum is no longer Hamiltonian.
@@ -27,7 +36,8 @@ struct GyroscopicSystem {
   /// disagree, a matrix is not square or empty, an entry is NaN/Inf, or M, K
   /// (and D when present) are not symmetric / G (and N) not skew-symmetric to `relTol` (relative to the
   /// size s^2||M|| + s||G|| + ||K|| of the quadratic at the frequency scale s). Positive definiteness of M is checked by the
-  /// solver, which needs its Cholesky factor anyway.
+  /// solver, which needs its Cholesky factor anyway. `unrestrained` must
+  /// ascend strictly within [0, n).
   void validate(double relTol = 1e-10) const;
 
   /// The exactly symmetric (M, K, D) and skew (G, N) parts: solvers work on these,
