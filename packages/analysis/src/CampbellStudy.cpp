@@ -578,8 +578,9 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       return rigidLike(a, static_cast<std::size_t>(k - 1)) || rigidLike(b, static_cast<std::size_t>(k)) ||
              spanMac(static_cast<std::size_t>(t), j) >= macFloor;
     };
-    // Two or more tracks at a zero frequency (rigid motions: their shapes
-    // any basis of the rigid space) go on, in track order, to the modes
+    // Two or more tracks at a rigid zero (rigid motions: their shapes any
+    // basis of the rigid space; not a critical speed's zero, a vibration
+    // mode passing through zero, which MAC follows) go on, in track order, to the modes
     // mostly in their span (summed MAC >= 1/2) in ascending |lambda|. By MAC
     // alone, which track took which member depended on the basis rounding
     // chose at both speeds, and so on the rank count: a free body's six
@@ -588,7 +589,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     // triple and the nutation, whose shapes mix the same coordinates.
     std::vector<int> zeroTracks;
     for (std::size_t t = 0; t < last.size(); ++t)
-      if (zeroFrequency(last[t].stability)) zeroTracks.push_back(static_cast<int>(t));
+      if (last[t].stability == eigen::Stability::RigidBody) zeroTracks.push_back(static_cast<int>(t));
     if (zeroTracks.size() >= 2) {
       std::size_t next = 0;
       for (std::size_t j = 0; j < modes.size() && next < zeroTracks.size(); ++j) {

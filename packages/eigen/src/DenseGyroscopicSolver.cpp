@@ -476,9 +476,6 @@ struct UnrestrainedModes {
   std::vector<GyroscopicMode> modes;  ///< one of each conjugate pair, as generalModes returns; q on all n rows
   int count = 0;                      ///< the block's eigenvalues, both halves: 2k
   double largest = 0.0;               ///< the largest |lambda| among them, 1/s
-  /// The relative accuracy of the block's matrices: eps times the condition
-  /// of K on the other coordinates (GyroscopicMode::blockError).
-  double error = 0.0;
   std::string note;                   ///< what was done, or why not (then `modes` is empty)
 };
 
@@ -681,6 +678,24 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
   // the verdict finds its mirror (found by a review: a growing member
   // without its returned mirror was called stable).
   const int kept = std::min(nModes, static_cast<int>(upper.size()));
+  // A damped system's real pair +/- sigma (a divergence D does not reach,
+  // a free body's about its intermediate axis) has |lambda| equal to
+  // rounding: the count cut between them kept the decaying one and the
+  // verdict read stable (found by a review). A growing value beyond the
+  // cut within 1e-8 of the last kept |lambda| takes the place of a
+  // decaying one there.
+  if (damped && kept > 0)
+    for (std::size_t j = kept; j < upper.size(); ++j) {
+      if (!(upper[j].lambda.real() > 0.0) ||
+          std::abs(upper[j].lambda) > (1.0 + 1e-8) * std::abs(upper[static_cast<std::size_t>(kept - 1)].lambda))
+        continue;
+      for (int k = kept - 1; k >= 0; --k)
+        if (upper[static_cast<std::size_t>(k)].lambda.real() < 0.0 &&
+            std::abs(upper[j].lambda) <= (1.0 + 1e-8) * std::abs(upper[static_cast<std::size_t>(k)].lambda)) {
+          std::swap(upper[static_cast<std::size_t>(k)], upper[j]);
+          break;
+        }
+    }
   if (!damped)
     for (int k = 0; k < kept; ++k) {
       if (!(upper[k].lambda.real() < 0.0)) continue;
@@ -723,8 +738,9 @@ void zgetrs_(const char* trans, const int* n, const int* nrhs, const std::comple
 /// S_j is on the block's scale, not the elastic one: its eigenvalues are
 /// resolved to that scale. The quadratic S_0 + lambda S_1 + lambda^2 S_2 (a
 /// gyroscopic system of k coordinates, Hamiltonian like the whole) is solved
-/// by generalModes, each simple nonzero eigenvalue refined by nonlinear
-/// inverse iteration on the whole series, and q_e summed to rounding.
+/// by generalModes, which says which modes are returned; each nonzero one
+/// takes the nearest eigenvalue of the whole series (its companion pencil),
+/// each zero the null space of S_0, and q_e is summed to rounding.
 UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBodyTol) {
   UnrestrainedModes out;
   const int n = sys.size(), k = static_cast<int>(sys.unrestrained.size()), m = n - k;
@@ -780,8 +796,7 @@ UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBod
   // with the same stiffness made (its rigid-rotation balance, theory
   // §11.6). A coned spinner's booms 1e3 times stiffer (cond 4e9) split the
   // double zero of its turn about the axis by 6e-6 of the block's scale:
-  // within 10 sqrt(eps cond), and no instability.
-  out.error = eps / rcond;
+  // within 10 sqrt(eps cond), and no instability (the zeros, below).
   std::vector<DenseMatrix> X, S;
   const auto term = [&](int j) {  // X_j and S_j from those before
     DenseMatrix B(m, k), Sj(k, k);
@@ -812,6 +827,19 @@ UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBod
       if (hasD) q.D(i, j) = 0.5 * (S[1](i, j) + S[1](j, i));
       if (hasN) q.N(i, j) = 0.5 * (S[0](i, j) - S[0](j, i));
     }
+  // A damping term that does no work on these coordinates (Rayleigh's beta
+  // K, zero on a rigid motion as K is) leaves them only its rounding, eps
+  // ||D||: S_1 is then that rounding, and on its scale (1e-10 for a damped
+  // free beam at rest) the rounding of the zeros read DIVERGENCE (found by a
+  // review). Below 10 eps of the whole system's ||G|| + ||D|| it is zero.
+  {
+    const double roundingOfC = 10.0 * eps * (frobeniusNorm(sys.G) + (hasD ? frobeniusNorm(sys.D) : 0.0));
+    if (frobeniusNorm(q.G) + (hasD ? frobeniusNorm(q.D) : 0.0) <= roundingOfC) {
+      q.G.putScalar(0.0);
+      if (hasD) q.D.putScalar(0.0);
+      S[1].putScalar(0.0);
+    }
+  }
   DenseMatrix L(q.M);
   if (choleskyLower(L) != 0) {
     out.note = "; the " + std::to_string(k) + " coordinates the stiffness at rest does not reach were not solved "
@@ -832,17 +860,35 @@ UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBod
                "apart: " + err.what();
     return out;
   }
-  // The zeros' shapes: an M-orthonormal basis of the null space of S_0
-  // (the eigenvectors of (S_0, S_2) of least |mu|, as many as there are
-  // zeros). The pencil's own vectors at a Jordan block are the block's one
-  // eigenvector twice, and halving the +/- pairs kept both copies: a free
-  // body at rest (S_0 = S_1 = 0) returned two of its six rigid motions
-  // twice and lost the axial translation and the turn about the axis.
-  const double zeroBelow = std::max(rigidBodyTol, 10.0 * std::sqrt(std::max(eps / rcond, eps))) * useScale;
+  // The zeros: a mode of the quadratic within 10 sqrt(blockError) s_b of
+  // zero (what the block's accuracy, eps cond(A_ee), can split a double
+  // zero by) whose energy S_0 does not see beyond that accuracy:
+  // |y^H S_0 y| <= 10 blockError s_b^2 |y^H S_2 y|. A simple small real pair
+  // +/- sigma has sigma^2 / s_b^2 there, a split zero at most blockError: a
+  // free body whose two inertias differ by 4e-6, diverging at 0.00233 1/s,
+  // is no zero at 64 elements (eps cond 3e-8; with the radius alone it read
+  // "rigid", found by a review), but at 128 (eps cond 5e-7) the block's
+  // accuracy cannot tell it from one. Their shapes:
+  // an M-orthonormal basis of the null space of S_0 (the eigenvectors of
+  // (S_0, S_2) of least |mu|, as many as there are zeros, at most k). The
+  // pencil's own vectors at a Jordan block are the block's one eigenvector
+  // twice, and halving the +/- pairs kept both copies: a free body at rest
+  // (S_0 = S_1 = 0) returned two of its six rigid motions twice and lost
+  // the axial translation and the turn about the axis.
+  const double blockError = std::max(eps / rcond, eps);
+  const double zeroBelow = std::max(rigidBodyTol, 10.0 * std::sqrt(blockError)) * useScale;
+  std::vector<char> isZero(modes.size(), 0);
   {
     std::vector<GyroscopicMode*> zeros;
-    for (auto& md : modes)
-      if (std::abs(md.lambda) <= zeroBelow) zeros.push_back(&md);
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+      auto& md = modes[i];
+      if (!(std::abs(md.lambda) <= zeroBelow) || static_cast<int>(zeros.size()) >= k) continue;
+      cplx yKy = 0.0, yMy = 0.0;
+      for (int c = 0; c < k; ++c)
+        for (int r2 = 0; r2 < k; ++r2)
+          yKy += std::conj(md.q[r2]) * q.K(r2, c) * md.q[c], yMy += std::conj(md.q[r2]) * q.M(r2, c) * md.q[c];
+      if (std::abs(yKy) <= 10.0 * blockError * useScale * useScale * std::abs(yMy)) zeros.push_back(&md), isZero[i] = 1;
+    }
     if (!zeros.empty()) {
       DenseMatrix Ks(q.K), Ms(q.M);
       std::vector<double> w(k), work(std::max(1, 3 * k));
@@ -948,10 +994,11 @@ UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBod
   // zero (within the Jordan split of the block's accuracy, above) keeps
   // the quadratic's value and its null-space shape: the tail vanishes at
   // lambda = 0.
-  for (auto& md : modes) {
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    auto& md = modes[i];
     cplx l = md.lambda;
     std::vector<cplx> y = md.q;
-    if (std::abs(l) > zeroBelow) {
+    if (!isZero[i]) {
       Root* best = nullptr;
       for (auto& root : roots)
         if (!root.used && (!best || std::abs(root.lambda - l) < std::abs(best->lambda - l))) best = &root;
@@ -969,7 +1016,9 @@ UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBod
     md.lambda = l;
     md.q = std::move(full);
     md.blockScale = useScale;
-    md.blockError = out.error;
+    // Only a zero carries the block's accuracy into its verdict: a simple
+    // eigenvalue moves by it to first order, not by its square root.
+    md.blockError = isZero[i] ? blockError : 0.0;
   }
   out.modes = std::move(modes);
   out.count = 2 * k;
@@ -1054,11 +1103,10 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       // motion D does not damp is a double zero) by up to 10 sqrt(blockError)
       // of the block's scale is a zero, and a growth rate within that is
       // none (theory §4.3).
-      const double split =
-          m.blockScale > 0.0 ? 10.0 * std::sqrt(std::max(m.blockError, std::numeric_limits<double>::epsilon())) * s : 0.0;
+      const double split = m.blockScale > 0.0 && m.blockError > 0.0 ? 10.0 * std::sqrt(m.blockError) * s : 0.0;
       m.stability = std::abs(m.lambda) <= split ? Stability::RigidBody
                                                 : classify(m.lambda, s, rigidBodyTol, instabilityTol);
-      if (m.blockScale > 0.0) m.growthTolerance = std::max(m.growthTolerance, split);
+      m.growthTolerance = std::max(m.growthTolerance, split);
       // A growth rate against the mode's own uncertainty where it was made
       // (completeDenseModes, expandModes): beyond it, an instability. (Not
       // for a zero: see the conservative branch.)
@@ -1158,13 +1206,12 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     }
     const bool split = near2 >= 1 || near3 >= 2;
     Stability s = classify(m.lambda, scale, rigidBodyTol, instabilityTol);
-    // (Zeros stay judged on the system's scale. Taking a value whose growth
+    // (Zeros stay judged on the system's scale, except those of the block
+    // solved apart on its own (theory §4.3). Taking a value whose growth
     // exceeded ten times its first-order error bound for no zero made a
     // free body's defective rigid zero, computed at 4e-8 with a residual
     // of 1e-16, a DIVERGENCE on two ranks: that bound fails at a Jordan
-    // block. So a free body's intermediate-axis divergence, 0.777 Omega,
-    // still reads "rigid" once a fine mesh raises the scale (64 elements);
-    // theory §4.3, a known limitation.)
+    // block.)
     if (std::abs(m.lambda) <= radius && zeroCentred) s = Stability::RigidBody;
     else if (!partner && (s == Stability::Divergence || s == Stability::Flutter || m.lambda.real() > 0.0))
       s = Stability::Stable;
@@ -1183,9 +1230,9 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
     // first-order error, a near-defective split on its own scale) is an
     // instability whatever the system's scale: a Krein collision's split
     // pair has q^H Q' q -> 0 there, and its bound no such certainty.
-    // (Not for a mode solved apart: it was judged on its block's own scale
-    // above, where the radius is what its rounding can do.)
-    if (s != Stability::RigidBody && m.blockScale == 0.0 && m.growthTolerance > 0.0 &&
+    // (Not for a zero of a block solved apart: its radius above is what the
+    // block's accuracy can do to it.)
+    if (s != Stability::RigidBody && m.blockError == 0.0 && m.growthTolerance > 0.0 &&
         m.lambda.real() > m.growthTolerance)
       s = std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter;
     m.stability = s;
