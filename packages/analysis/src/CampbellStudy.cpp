@@ -578,27 +578,49 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       return rigidLike(a, static_cast<std::size_t>(k - 1)) || rigidLike(b, static_cast<std::size_t>(k)) ||
              spanMac(static_cast<std::size_t>(t), j) >= macFloor;
     };
-    // Two or more tracks at a rigid zero (rigid motions: their shapes any
-    // basis of the rigid space; not a critical speed's zero, a vibration
-    // mode passing through zero, which MAC follows) go on, in track order, to the modes
-    // mostly in their span (summed MAC >= 1/2) in ascending |lambda|. By MAC
-    // alone, which track took which member depended on the basis rounding
-    // chose at both speeds, and so on the rank count: a free body's six
-    // zeros at rest, exactly the rigid coordinates since they are solved
-    // apart (theory §4.3), unfold at speed into two zeros, the frame-rate
-    // triple and the nutation, whose shapes mix the same coordinates.
-    std::vector<int> zeroTracks;
-    for (std::size_t t = 0; t < last.size(); ++t)
-      if (last[t].stability == eigen::Stability::RigidBody) zeroTracks.push_back(static_cast<int>(t));
-    if (zeroTracks.size() >= 2) {
+    // Two or more tracks whose modes were one degenerate cluster (rigid
+    // zeros: any basis of the rigid space; a symmetric rotor's repeated pair
+    // at rest, equal to 1e-8: any basis of the pair; at a speed, modes that
+    // equal are more often two branches crossing on the grid, which MAC
+    // follows) go on, in track order, to the modes mostly in the cluster's span
+    // (summed MAC >= 1/2) in ascending |lambda|. By MAC alone, which track
+    // took which member depended on the basis rounding chose at both speeds,
+    // and so on the rank count: a free body's six zeros at rest (exactly the
+    // rigid coordinates since they are solved apart, theory §4.3) unfold into
+    // two zeros, the frame-rate triple and the nutation; a free shaft's
+    // bending pair at rest into its forward and backward branches, tracks 7
+    // and 8 swapped between 1 and 2 ranks (found by a review). A critical
+    // speed's zero is a vibration mode passing through zero, which MAC
+    // follows, and distinct modes merely within the whirl's cluster
+    // tolerance (a crossing on a grid speed) keep their MAC too; so does a
+    // split defective cluster (a free body's frame-rate triple, whose
+    // members can come back orthogonal to the triple's span one step later:
+    // rigidLike below takes them whatever their MAC).
+    bool atRest = true;
+    for (const double rate : r.speeds[static_cast<std::size_t>(k - 1)]) atRest = atRest && rate == 0.0;
+    const auto degenerate = [&](const eigen::GyroscopicMode& a, const eigen::GyroscopicMode& b) {
+      if (a.stability == eigen::Stability::RigidBody || b.stability == eigen::Stability::RigidBody)
+        return a.stability == b.stability;
+      if (zeroFrequency(a.stability) || zeroFrequency(b.stability) || !atRest) return false;
+      return std::abs(a.omega - b.omega) <= 1e-8 * std::max(a.omega, b.omega);
+    };
+    std::vector<char> grouped(last.size(), 0);
+    for (std::size_t t0 = 0; t0 < last.size(); ++t0) {
+      if (grouped[t0]) continue;
+      std::vector<int> group{static_cast<int>(t0)};
+      for (std::size_t t = t0 + 1; t < last.size(); ++t)
+        if (!grouped[t] && degenerate(last[t0], last[t])) group.push_back(static_cast<int>(t));
+      if (group.size() < 2) continue;
+      for (int t : group) grouped[static_cast<std::size_t>(t)] = 1;
       std::size_t next = 0;
-      for (std::size_t j = 0; j < modes.size() && next < zeroTracks.size(); ++j) {
+      for (std::size_t j = 0; j < modes.size() && next < group.size(); ++j) {
+        if (used[j]) continue;
         double sum = 0.0;
-        for (int t : zeroTracks) sum += mac[static_cast<std::size_t>(t)][j];
+        for (int t : group) sum += mac[static_cast<std::size_t>(t)][j];
         if (sum < 0.5) continue;
-        const int t = zeroTracks[next++];
-        match[static_cast<std::size_t>(t)] = static_cast<int>(j), used[j] = true;
-        r.tracks[static_cast<std::size_t>(t)].minMac = std::min(r.tracks[static_cast<std::size_t>(t)].minMac, std::min(1.0, sum));
+        const auto t = static_cast<std::size_t>(group[next++]);
+        match[t] = static_cast<int>(j), used[j] = true;
+        r.tracks[t].minMac = std::min(r.tracks[t].minMac, std::min(1.0, sum));
       }
     }
     for (const auto& [v, t, j] : pairs)
