@@ -785,8 +785,14 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       for (const auto& mode : m.result.modes) u = u || unstable(mode.stability);
       return u;
     };
+    // The bracket's width relative to the sweep's largest factor too: from
+    // rest (a free body diverging about its intermediate axis at any speed
+    // above zero) a relative width never closed, and 200 solves took the
+    // edge to 6e-62 rad/s (found by a review). A range reaching down to rest
+    // that way starts at 0.
     const auto edge = [&](double stable, double unstableF) {
-      for (int it = 0; it < 200 && std::abs(unstableF - stable) > crossingTol * std::max(std::abs(stable), std::abs(unstableF));
+      const double floor = crossingTol * std::abs(maxFactor);
+      for (int it = 0; it < 200 && std::abs(unstableF - stable) > std::max(crossingTol * std::max(std::abs(stable), std::abs(unstableF)), floor);
            ++it) {
         const double mid = 0.5 * (stable + unstableF);
         bool ok = false;
@@ -794,6 +800,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         if (!ok) break;
         (u ? unstableF : stable) = mid;
       }
+      if (stable == 0.0 && std::abs(unstableF) <= floor) return refAt(0.0);
       return refAt(0.5 * (stable + unstableF));
     };
     for (std::size_t i = 0; i < unstableSteps.size(); ++i) {
