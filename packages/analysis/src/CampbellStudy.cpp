@@ -579,8 +579,8 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
              spanMac(static_cast<std::size_t>(t), j) >= macFloor;
     };
     // Two or more tracks whose modes were one degenerate cluster (rigid
-    // zeros: any basis of the rigid space; a symmetric rotor's repeated pair
-    // at rest, equal to 1e-8: any basis of the pair; at a speed, modes that
+    // zeros: any basis of the rigid space; an undamped symmetric rotor's
+    // repeated pair at rest, equal to 1e-8: any basis of the pair; at a speed, modes that
     // equal are more often two branches crossing on the grid, which MAC
     // follows) go on, in track order, to the modes mostly in the cluster's span
     // (summed MAC >= 1/2) in ascending |lambda|. By MAC alone, which track
@@ -602,7 +602,14 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       if (a.stability == eigen::Stability::RigidBody || b.stability == eigen::Stability::RigidBody)
         return a.stability == b.stability;
       if (zeroFrequency(a.stability) || zeroFrequency(b.stability) || !atRest) return false;
-      return std::abs(a.omega - b.omega) <= 1e-8 * std::max(a.omega, b.omega);
+      // Undamped (Re lambda within 1e-8 of |lambda|) and equal in lambda, not
+      // only in omega: a damped pair's rounding split (6e-9 to 1.6e-7 on a
+      // damped rotor) would turn the rule on or off with the rank count, and
+      // a damped and an undamped mode of one omega are different branches
+      // (both found by a review); MAC follows those, as before.
+      const double size = std::max(std::abs(a.lambda), std::abs(b.lambda));
+      return std::abs(a.lambda.real()) <= 1e-8 * size && std::abs(b.lambda.real()) <= 1e-8 * size &&
+             std::abs(a.lambda - b.lambda) <= 1e-8 * size;
     };
     std::vector<char> grouped(last.size(), 0);
     for (std::size_t t0 = 0; t0 < last.size(); ++t0) {
@@ -785,22 +792,23 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       for (const auto& mode : m.result.modes) u = u || unstable(mode.stability);
       return u;
     };
-    // The bracket's width relative to the sweep's largest factor too: from
-    // rest (a free body diverging about its intermediate axis at any speed
-    // above zero) a relative width never closed, and 200 solves took the
-    // edge to 6e-62 rad/s (found by a review). A range reaching down to rest
-    // that way starts at 0.
+    // From rest (a free body diverging about its intermediate axis at any
+    // speed above zero) a width relative to the bracket's speeds never
+    // closed, and 200 solves took the edge to 6e-62 rad/s (found by a
+    // review): a bracket whose stable end is at rest closes at the Crossing
+    // Tolerance times the sweep's largest factor instead.
     const auto edge = [&](double stable, double unstableF) {
-      const double floor = crossingTol * std::abs(maxFactor);
-      for (int it = 0; it < 200 && std::abs(unstableF - stable) > std::max(crossingTol * std::max(std::abs(stable), std::abs(unstableF)), floor);
-           ++it) {
+      const auto width = [&] {
+        return stable == 0.0 ? crossingTol * std::abs(maxFactor)
+                             : crossingTol * std::max(std::abs(stable), std::abs(unstableF));
+      };
+      for (int it = 0; it < 200 && std::abs(unstableF - stable) > width(); ++it) {
         const double mid = 0.5 * (stable + unstableF);
         bool ok = false;
         const bool u = unstableAt(mid, ok);
         if (!ok) break;
         (u ? unstableF : stable) = mid;
       }
-      if (stable == 0.0 && std::abs(unstableF) <= floor) return refAt(0.0);
       return refAt(0.5 * (stable + unstableF));
     };
     for (std::size_t i = 0; i < unstableSteps.size(); ++i) {
