@@ -453,6 +453,12 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   // Crossings found on the way (merged and filtered at the end); for an
   // unrefined one, the grid step and mode its dominant part is named from.
   std::vector<EngineOrderCrossing> found;
+  // Whether each was found where its track followed a swept rate's line:
+  // set aside with the frame-rate tracks' even if the track left the line
+  // later (a frame-rate member dropping out of a 7-mode set: its rounding
+  // crossings before were listed as critical speeds, different at each
+  // rank count; found by a review).
+  std::vector<char> foundOnLine;
   std::map<std::size_t, std::pair<std::size_t, int>> dominantAt;
   std::vector<eigen::GyroscopicMode> last;  // each track's mode at the previous speed
   // A frequency at a spin rate: within the tolerance, or within what
@@ -638,6 +644,12 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       const int j = match[t];
       const double w0 = tr.omega.back();
       const bool ok0 = !tr.lost.back() && !zeroFrequency(tr.stability.back());
+      // Following a swept rate up to f_{k-1} (a frame-rate member): a sign
+      // change from there is rounding about the line, or the track leaving
+      // it for another mode (a frame-rate member dropping out of the set),
+      // never a critical speed.
+      const int followed = rateLike(tr);
+      const bool wasOnLine = followed >= 0 && r.scaled[static_cast<std::size_t>(followed)];
       tr.omega.push_back(j < 0 ? std::nan("") : modes[j].omega);
       tr.stability.push_back(j < 0 ? eigen::Stability::Stable : modes[j].stability);
       tr.whirl.push_back(j < 0 ? Whirl::Neutral : whirl[j]);
@@ -652,7 +664,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       // not one that follows a swept rate: it lies on an engine-order line,
       // and its sign changes are rounding.
       const int follows = rateLike(tr);
-      const bool onLine = follows >= 0 && r.scaled[static_cast<std::size_t>(follows)];
+      const bool onLine = (follows >= 0 && r.scaled[static_cast<std::size_t>(follows)]) || wasOnLine;
       for (double order : orders) {
         const double f0 = r.factors[k - 1];
         // An engine order n excites n |Omega|: a rate turning against its
@@ -753,6 +765,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         if (atIndex >= 0) c.dominant = {problem.dominant(at)[atIndex]};
         else dominantAt.emplace(found.size(), std::make_pair(static_cast<std::size_t>(k), j));
         found.push_back(c);
+        foundOnLine.push_back(onLine);
       }
       last[t] = modes[j];
     }
@@ -894,7 +907,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   for (std::size_t i = 0; i < found.size(); ++i) {
     auto& c = found[i];
     const auto& tr = r.tracks[c.tracks.front()];
-    const bool onLine = tr.frameRate && r.scaled[static_cast<std::size_t>(tr.frameRateOf)];
+    const bool onLine = (tr.frameRate && r.scaled[static_cast<std::size_t>(tr.frameRateOf)]) || foundOnLine[i];
     if (onLine) {
       ++r.frameRateOnLine;
       continue;
