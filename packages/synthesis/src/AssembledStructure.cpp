@@ -557,8 +557,8 @@ constexpr std::size_t kRigidFitLinkNodes = 128;
 /// which a rigid turn of the set moves the child's points, so that a force
 /// at x works on the link's second-order displacement theta x (theta x
 /// (x - c)) / 2. Not formed (false) for another attachment or a set above
-/// kRigidFitLinkNodes.
-bool rigidFitLink(const Part& p, const Part& parent, fem::PrestressConditions::OffsetLoad& link) {
+/// kRigidFitLinkNodes. `link` gets the rotation rows, `centre` c.
+bool rigidFitLink(const Part& p, const Part& parent, fem::PrestressConditions::OffsetLoad& link, Vec3& centre) {
   if (p.spec.attachment.type != Attachment::Type::RigidFit || p.H.size() < 6) return false;
   const auto nodes = nodeSet(parent.spec, p.spec.attachment.parentNodes, "attachment");
   if (nodes.empty() || nodes.size() > kRigidFitLinkNodes) return false;
@@ -568,7 +568,7 @@ bool rigidFitLink(const Part& p, const Part& parent, fem::PrestressConditions::O
     for (const auto& h : p.H[static_cast<std::size_t>(3 + i)])
       link.rotation[static_cast<std::size_t>(i)].push_back({h.node, h.component, h.coefficient});
   }
-  link.arm = centroid(*parent.spec.model->mesh, nodes);  // the centre; each load's arm is taken from it
+  centre = centroid(*parent.spec.model->mesh, nodes);
   return true;
 }
 
@@ -580,8 +580,9 @@ bool rigidFitLink(const Part& p, const Part& parent, fem::PrestressConditions::O
 /// node by node (passReactionToParent). RigidFit and Boolean: none here.
 void addOffsetLoad(const Part& p, Part& parent, const Vec3& force) {
   fem::PrestressConditions::OffsetLoad link;
-  if (norm(force) > 0.0 && rigidFitLink(p, parent, link)) {  // a rotor on a RigidFit: its arm from the centroid
-    link.arm = sub(p.point, link.arm);
+  Vec3 centre;
+  if (norm(force) > 0.0 && rigidFitLink(p, parent, link, centre)) {  // a rotor on a RigidFit: its arm from the centroid
+    link.arm = sub(p.point, centre);
     link.force = force;
     if (norm(link.arm) > 0.0) parent.childOffsetLoads.push_back(std::move(link));
     return;
@@ -821,10 +822,11 @@ void passReactionToParent(const Part& p, Part& parent) {
   // the arms from the set's centroid (a 2 kg arm 0.1 m off a spinning bar's
   // tip face was 0.08-0.34% low against a stiff stub; found by a review).
   fem::PrestressConditions::OffsetLoad fitted;
-  const bool fit = rigidFitLink(p, parent, fitted);
+  Vec3 centre;
+  const bool fit = rigidFitLink(p, parent, fitted, centre);
   if (!fit && (p.spec.attachment.type != Attachment::Type::Node || p.H.empty() || p.H[0].empty())) return;
   const std::int64_t n = fit ? fitted.node : p.H[0].front().node;
-  const Vec3 xn = fit ? fitted.arm : nodePosition(*parent.spec.model->mesh, n);
+  const Vec3 xn = fit ? centre : nodePosition(*parent.spec.model->mesh, n);
   std::map<std::int64_t, Vec3> forces;
   for (const auto& r : p.sub->prestressReactions())
     if (static_cast<int>(r.component) < 3) forces[r.node][static_cast<int>(r.component)] -= r.value;
@@ -848,18 +850,14 @@ std::string rigidFitLinkNote(const Part& p, const Part& parent) {
   const bool parentPrestressed = parent.frame.spinning && parent.frame.kind == fem::SpinDefinition::Frame::Rotating &&
                                  parent.frame.stressStiffening;
   if (p.spec.attachment.type != Attachment::Type::RigidFit || !parentPrestressed ||
-      parent.frame.coefficients != p.frame.coefficients ||
-      nodeSet(parent.spec, p.spec.attachment.parentNodes, "attachment").size() <= kRigidFitLinkNodes)
+      parent.frame.coefficients != p.frame.coefficients)
     return "";
-  auto centroid = [](const mesh::Mesh& m, const std::vector<std::int64_t>& nodes) {
-    Vec3 c{0, 0, 0};
-    for (auto n : nodes) c = fem::axpy(1.0, nodePosition(m, n), c);
-    return nodes.empty() ? c : Vec3{c[0] / nodes.size(), c[1] / nodes.size(), c[2] / nodes.size()};
-  };
+  const auto parentNodes = nodeSet(parent.spec, p.spec.attachment.parentNodes, "attachment");
+  const auto childNodes = nodeSet(p.spec, p.spec.attachment.childNodes, "attachment");
+  if (parentNodes.size() <= kRigidFitLinkNodes || childNodes.empty()) return "";
   const auto& pm = *parent.spec.model->mesh;
-  const auto& cm = *p.spec.model->mesh;
-  const Vec3 c = centroid(pm, nodeSet(parent.spec, p.spec.attachment.parentNodes, "attachment"));
-  const Vec3 x = centroid(cm, nodeSet(p.spec, p.spec.attachment.childNodes, "attachment"));
+  const Vec3 c = centroid(pm, parentNodes);
+  const Vec3 x = centroid(*p.spec.model->mesh, childNodes);
   const auto [lo, hi] = boundingBox(pm);
   const double link = norm(sub(x, c));
   if (!(link > 1e-3 * norm(sub(hi, lo)))) return "";
