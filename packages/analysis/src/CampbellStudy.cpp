@@ -453,12 +453,6 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   // Crossings found on the way (merged and filtered at the end); for an
   // unrefined one, the grid step and mode its dominant part is named from.
   std::vector<EngineOrderCrossing> found;
-  // Whether each was found where its track followed a swept rate's line:
-  // set aside with the frame-rate tracks' even if the track left the line
-  // later (a frame-rate member dropping out of a 7-mode set: its rounding
-  // crossings before were listed as critical speeds, different at each
-  // rank count; found by a review).
-  std::vector<char> foundOnLine;
   std::map<std::size_t, std::pair<std::size_t, int>> dominantAt;
   std::vector<eigen::GyroscopicMode> last;  // each track's mode at the previous speed
   // A frequency at a spin rate: within the tolerance, or within what
@@ -680,6 +674,15 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         const bool zeroAbove =
             zeroFrequency(modes[j].stability) && spanMac(t, j) < macFloor;
         if (!ok0 || zeroAbove || gLo == 0.0 || (gHi != 0.0 && (gLo > 0) == (gHi > 0))) continue;
+        // Found where its track follows a swept rate's line: counted with
+        // the frame-rate tracks' crossings, even if the track leaves the
+        // line later (a frame-rate member dropping out of a 7-mode set: its
+        // rounding crossings before were listed as critical speeds,
+        // different at each rank count; found by a review).
+        if (onLine) {
+          ++r.frameRateOnLine;
+          continue;
+        }
         EngineOrderCrossing c;
         c.order = order;
         c.tracks = {static_cast<int>(t)};
@@ -689,7 +692,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         synthesis::StructureModes at;
         int atIndex = -1;
         bool jump = false;
-        if (refine && !onLine) {
+        if (refine) {
           const double dg0 = std::abs(gLo - gHi);
           // Bisection, following the track's mode at the lower end by MAC
           // into each half.
@@ -765,7 +768,6 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         if (atIndex >= 0) c.dominant = {problem.dominant(at)[atIndex]};
         else dominantAt.emplace(found.size(), std::make_pair(static_cast<std::size_t>(k), j));
         found.push_back(c);
-        foundOnLine.push_back(onLine);
       }
       last[t] = modes[j];
     }
@@ -907,7 +909,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   for (std::size_t i = 0; i < found.size(); ++i) {
     auto& c = found[i];
     const auto& tr = r.tracks[c.tracks.front()];
-    const bool onLine = (tr.frameRate && r.scaled[static_cast<std::size_t>(tr.frameRateOf)]) || foundOnLine[i];
+    const bool onLine = tr.frameRate && r.scaled[static_cast<std::size_t>(tr.frameRateOf)];
     if (onLine) {
       ++r.frameRateOnLine;
       continue;

@@ -1282,10 +1282,10 @@ class Assembler {
         for (int j = 0; j < 3; ++j) {
           const double k = (i == j ? fr : 0.0) - 0.5 * (o.force[i] * o.arm[j] + o.arm[i] * o.force[j]);
           if (k == 0.0) continue;
-          for (const auto& [ri, wi] : rows[i])
-            for (const auto& [rj, wj] : rows[j])
-              if (ownedMap_->isNodeGlobalElement(static_cast<GO>(ri)))
-                entries[{static_cast<GO>(ri), static_cast<GO>(rj)}] += wi * wj * k;
+          for (const auto& [ri, wi] : rows[i]) {
+            if (!ownedMap_->isNodeGlobalElement(static_cast<GO>(ri))) continue;
+            for (const auto& [rj, wj] : rows[j]) entries[{static_cast<GO>(ri), static_cast<GO>(rj)}] += wi * wj * k;
+          }
         }
     }
     // Sized per row: a hinge's slaved rotation expands into several columns.
