@@ -1267,17 +1267,16 @@ class Assembler {
     std::map<std::pair<GO, GO>, double> entries;
     for (const auto& o : prestress_.offsetLoads) {
       const bool fitted = !o.rotation[0].empty() || !o.rotation[1].empty() || !o.rotation[2].empty();
-      bool rotations = fitted || (o.node >= 0 && o.node < numNodes_);
-      for (int c = 3; c < 6 && rotations && !fitted; ++c) rotations = (L.present[o.node] & (1u << c)) != 0;
-      if (!rotations) continue;
+      bool rotations = o.node >= 0 && o.node < numNodes_;
+      for (int c = 3; c < 6 && rotations; ++c) rotations = (L.present[o.node] & (1u << c)) != 0;
+      if (!fitted && !rotations) continue;
       const double fr = o.force[0] * o.arm[0] + o.force[1] * o.arm[1] + o.force[2] * o.arm[2];
       std::vector<std::pair<long long, double>> rows[3];
       for (int i = 0; i < 3; ++i)
         if (!fitted) rows[i] = prestressRows({o.node, static_cast<Component>(3 + i), 0.0}, "offset load");
         else  // theta_i through the fitted rotation's rows (a RigidFit)
           for (const auto& t : o.rotation[static_cast<std::size_t>(i)])
-            for (const auto& [r, w] : prestressRows({t.node, t.component, 0.0}, "offset load"))
-              rows[i].push_back({r, w * t.coefficient});
+            for (const auto& [r, w] : prestressRows(t, "offset load")) rows[i].push_back({r, w * t.value});
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           const double k = (i == j ? fr : 0.0) - 0.5 * (o.force[i] * o.arm[j] + o.arm[i] * o.force[j]);

@@ -64,14 +64,9 @@ struct PrestressConditions {
     Vec3 force{0, 0, 0}, arm{0, 0, 0};
     /// When not empty, the link turns with a rotation fitted to a node
     /// set's translations (a RigidFit attachment) instead of the node's
-    /// rotations: theta_i = sum of coefficient x DOF over rotation[i], and
-    /// the stiffness is (F . r) I - (F r^T + r F^T) / 2 on those (theory §11.4).
-    struct Term {
-      std::int64_t node = 0;
-      Component component = Component::UX;
-      double coefficient = 0.0;
-    };
-    std::array<std::vector<Term>, 3> rotation;
+    /// rotations: theta_i = sum of value x DOF over rotation[i], and the
+    /// stiffness is (F . r) I - (F r^T + r F^T) / 2 on those (theory §11.4).
+    std::array<std::vector<NodalValue>, 3> rotation;
   };
   std::vector<OffsetLoad> offsetLoads;
   /// When not empty: u1 itself, one value per free DOF in layout order (the
