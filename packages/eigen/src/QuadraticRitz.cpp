@@ -134,6 +134,10 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
     multiply(*sys.D, Qi, GQi, 1.0, 1.0);
   }
   multiply(*sys.K, Qr, KQr), multiply(*sys.K, Qi, KQi);
+  if (!sys.N.is_null()) {  // K q stands for (K + N) q
+    multiply(*sys.N, Qr, KQr, 1.0, 1.0);
+    multiply(*sys.N, Qi, KQi, 1.0, 1.0);
+  }
   // |K| |q| and |G| |q| for the modes' own scales (GyroscopicMode::scale).
   MultiVector Qa(rowMap, kk), KQa(rowMap, kk), GQa(rowMap, kk), MQa(rowMap, kk);
   {
@@ -143,10 +147,12 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
       for (int j = 0; j < kk; ++j) a(l, j) = std::hypot(r(l, j), i(l, j));
   }
   absoluteValues(*sys.K)->apply(Qa, KQa);
+  if (!sys.N.is_null()) absoluteValues(*sys.N)->apply(Qa, KQa, Teuchos::NO_TRANS, 1.0, 1.0);
   absoluteValues(*sys.G)->apply(Qa, GQa);
   if (!sys.D.is_null()) absoluteValues(*sys.D)->apply(Qa, GQa, Teuchos::NO_TRANS, 1.0, 1.0);
   absoluteValues(*sys.M)->apply(Qa, MQa);  // for the componentwise backward error (growthTolerance)
-  const double nM = sys.M->getFrobeniusNorm(), nK = sys.K->getFrobeniusNorm(),
+  const double nM = sys.M->getFrobeniusNorm(),
+               nK = sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()),
                nG = sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm());
   const size_t nloc = rowMap->getNodeNumElements();
   auto qr = Qr.getLocalViewHost(Tpetra::Access::ReadOnly), qi = Qi.getLocalViewHost(Tpetra::Access::ReadOnly);
@@ -218,6 +224,7 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   const auto Q = ritzSubspace(vectors, sys.M->getRowMap());
   GyroscopicSystem reduced{projectOnto(*sys.M, *Q), projectOnto(*sys.G, *Q), projectOnto(*sys.K, *Q)};
   if (!sys.D.is_null()) reduced.D = projectOnto(*sys.D, *Q);
+  if (!sys.N.is_null()) reduced.N = projectOnto(*sys.N, *Q);
   Teuchos::ParameterList dense;
   dense.set("Rigid Body Tolerance", rigidTol);
   dense.set("Instability Tolerance", instabTol);

@@ -122,11 +122,12 @@ void chooseForm(const Config& c, detail::SparseEigenproblem& p, GyroscopicResult
   if (damped) {
     // Damping makes the spectrum non-Hamiltonian: no I*-self-adjoint form.
     CMS_INPUT_CHECK(c.method == "Symmetric",
-                    "SparseGyroscopicSolver: Method \"Symmetric\" needs an undamped system (D = 0), "
-                    "but D is given; use \"Auto\" or \"General\"");
+                    "SparseGyroscopicSolver: Method \"Symmetric\" needs an undamped system (D = 0, N = 0), "
+                    "but D or N is given; use \"Auto\" or \"General\"");
     p.symmetric = false;
-    result.reason = "damped: D != 0 makes the system non-conservative, Meirovitch's symmetric form does not "
-                    "apply: general non-Hermitian iteration on Q(mu) = mu^2 M + mu (G + D) + K";
+    result.reason = "damped: D != 0 (or a circulatory N) makes the system non-conservative, Meirovitch's "
+                    "symmetric form does not apply: general non-Hermitian iteration on Q(mu) = mu^2 M + mu (G + "
+                    "D) + K + N";
   } else if (c.method != "General") {
     p.kFactor = std::make_shared<SparseDirectSolver>(p.system->K, c.mumps ? "MUMPS-LDLT" : "CHOLMOD");
     const auto out = p.kFactor->factor();
@@ -221,11 +222,16 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   // The transform sees the damping only through Q(mu) = mu^2 M + mu (G + D)
   // + K, so it iterates on the system with G + D in G's place; the modes
   // are extracted from the system as given (D kept apart).
-  const bool damped = !sys.D.is_null();
+  // A circulatory N likewise enters as K + N.
+  const bool damped = !sys.D.is_null() || !sys.N.is_null();
   SparseGyroscopicSystem effective = sys;
-  if (damped) {
+  if (!sys.D.is_null()) {
     effective.G = Tpetra::MatrixMatrix::add(1.0, false, *sys.G, 1.0, false, *sys.D);
     effective.D = Teuchos::null;
+  }
+  if (!sys.N.is_null()) {
+    effective.K = Tpetra::MatrixMatrix::add(1.0, false, *sys.K, 1.0, false, *sys.N);
+    effective.N = Teuchos::null;
   }
   detail::SparseEigenproblem problem;
   problem.system = &effective;

@@ -32,6 +32,8 @@ void SparseGyroscopicSystem::validate(double relTol) const {
   std::vector<std::pair<const Teuchos::RCP<const CrsMatrix>*, const char*>> mats = {
       {&M, "M"}, {&G, "G"}, {&K, "K"}};
   if (!D.is_null()) mats.push_back({&D, "D"});
+  if (!N.is_null()) mats.push_back({&N, "N"});
+  const auto skew = [](const char* name) { return name[0] == 'G' || name[0] == 'N'; };
   for (const auto& [A, name] : mats) {
     CMS_INPUT_CHECK(A->is_null(), "SparseGyroscopicSystem: " << name << " is missing");
     CMS_INPUT_CHECK(!(*A)->isFillComplete(),
@@ -50,7 +52,7 @@ void SparseGyroscopicSystem::validate(double relTol) const {
                         << rowMap->getGlobalNumElements() << " rows)");
   }
   // NaN/Inf and the diagonal of M, reduced so every rank throws together.
-  long long badRow[4] = {-1, -1, -1, -1}, badDiag = -1;
+  long long badRow[5] = {-1, -1, -1, -1, -1}, badDiag = -1;
   int m = 0;
   for (const auto& [A, name] : mats) {
     const auto& a = **A;
@@ -71,35 +73,32 @@ void SparseGyroscopicSystem::validate(double relTol) const {
       if (!(dv(i, 0) > 0.0)) badDiag = rowMap->getGlobalElement(i);
   }
   const auto comm = rowMap->getComm();
-  long long worst[5], local[5] = {badRow[0], badRow[1], badRow[2], badRow[3], badDiag};
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 5, local, worst);
-  const char* names[4] = {"M", "G", "K", "D"};
-  for (int k = 0; k < 4; ++k)
-    CMS_INPUT_CHECK(worst[k] >= 0, "SparseGyroscopicSystem: " << names[k] << " has a NaN or Inf in row "
+  // (mats has the same entries on every rank: D and N are null or not on all.)
+  long long worst[6], local[6] = {badRow[0], badRow[1], badRow[2], badRow[3], badRow[4], badDiag};
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 6, local, worst);
+  for (std::size_t k = 0; k < mats.size(); ++k)
+    CMS_INPUT_CHECK(worst[k] >= 0, "SparseGyroscopicSystem: " << mats[k].second << " has a NaN or Inf in row "
                                                              << worst[k]);
-  CMS_INPUT_CHECK(worst[4] >= 0, "SparseGyroscopicSystem: M is not positive definite: diagonal entry "
+  CMS_INPUT_CHECK(worst[5] >= 0, "SparseGyroscopicSystem: M is not positive definite: diagonal entry "
                                      "of row " << worst[4] << " is not positive");
 
   // Structure by random probes.
   const MultiVector x = probe(rowMap, 1u), y = probe(rowMap, 2u);
   const double nx = x.getVector(0)->norm2(), ny = y.getVector(0)->norm2();
-  const std::pair<double, const char*> kinds[4] = {{+1.0, "symmetric"}, {-1.0, "skew-symmetric"},
-                                                   {+1.0, "symmetric"}, {+1.0, "symmetric"}};
-  m = 0;
   for (const auto& [A, name] : mats) {
+    const double sign = skew(name) ? -1.0 : 1.0;
     MultiVector Ay(rowMap, 1), Ax(rowMap, 1);
     (*A)->apply(y, Ay);
     (*A)->apply(x, Ax);
     const double xAy = x.getVector(0)->dot(*Ay.getVector(0));
     const double yAx = y.getVector(0)->dot(*Ax.getVector(0));
-    const double defect = std::abs(xAy - kinds[m].first * yAx);
+    const double defect = std::abs(xAy - sign * yAx);
     const double scale = (*A)->getFrobeniusNorm() * nx * ny;
     CMS_INPUT_CHECK(defect > relTol * scale && scale > 0.0,
-                    "SparseGyroscopicSystem: " << name << " is not " << kinds[m].second
-                                               << ": |x^T A y " << (m == 1 ? "+" : "-")
+                    "SparseGyroscopicSystem: " << name << " is not " << (skew(name) ? "skew-symmetric" : "symmetric")
+                                               << ": |x^T A y " << (skew(name) ? "+" : "-")
                                                << " y^T A x| / (||A||_F ||x|| ||y||) = "
                                                << defect / scale << " > " << relTol);
-    ++m;
   }
 }
 

@@ -202,6 +202,7 @@ const char* toString(Matrix a) {
     case Matrix::KS1: return "KS1";
     case Matrix::K2: return "K2";
     case Matrix::D: return "D";
+    case Matrix::N1: return "N1";
   }
   return "?";
 }
@@ -217,6 +218,7 @@ Teuchos::RCP<const CrsMatrix> Substructure::source(Matrix a) const {
       case Matrix::KS1: return p.KS1;
       case Matrix::K2: return p.K2;
       case Matrix::D: return p.D;
+      case Matrix::N1: return p.N1;
     }
   }
   switch (a) {
@@ -227,6 +229,7 @@ Teuchos::RCP<const CrsMatrix> Substructure::source(Matrix a) const {
     case Matrix::KS1: return KS1_;
     case Matrix::K2: return K2_;
     case Matrix::D: return D_;
+    case Matrix::N1: return N1_;
   }
   return Teuchos::null;
 }
@@ -378,6 +381,7 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   // Damping (theory §13.1): the dampers' D, plus Rayleigh alpha M + beta K
   // with the stiffness at rest; the modal ratio is the synthesis's to apply.
   s.D_ = a.D;
+  s.N1_ = a.N1;
   if (model.damping.alpha != 0.0 || model.damping.beta != 0.0) {
     auto R = Tpetra::MatrixMatrix::add(model.damping.alpha, false, *a.M, model.damping.beta, false, *a.K);
     s.D_ = s.D_.is_null() ? Teuchos::RCP<const CrsMatrix>(R)

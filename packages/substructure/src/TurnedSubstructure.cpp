@@ -306,10 +306,10 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
   Substructure s;
   auto proto = std::make_shared<Prototype>();
   proto->M = prototype.M_, proto->K = prototype.K_, proto->G1 = prototype.G1_, proto->KT1 = prototype.KT1_;
-  proto->KS1 = prototype.KS1_, proto->K2 = prototype.K2_, proto->D = prototype.D_;
+  proto->KS1 = prototype.KS1_, proto->K2 = prototype.K2_, proto->D = prototype.D_, proto->N1 = prototype.N1_;
   proto->turn = turn;
   why = turnOnPatterns({{proto->M, nullptr}, {proto->K, nullptr}, {proto->G1, nullptr}, {proto->KT1, nullptr},
-                        {proto->KS1, nullptr}, {proto->D, nullptr}},
+                        {proto->KS1, nullptr}, {proto->D, nullptr}, {proto->N1, nullptr}},
                        tp, turn, *comm);
   if (!why.empty()) return std::nullopt;  // the same on every rank (step 1 is, and the patterns' verdicts)
   // The local plan of the turns (Substructure::apply), where it serves.
@@ -317,7 +317,7 @@ std::optional<Substructure> Substructure::turned(const Substructure& prototype, 
     const Map& map = *prototype.map_;
     const auto rowNode = tp.rowNodes();
     bool local = true;
-    for (const auto& A : {proto->M, proto->K, proto->G1, proto->KT1, proto->KS1, proto->K2, proto->D})
+    for (const auto& A : {proto->M, proto->K, proto->G1, proto->KT1, proto->KS1, proto->K2, proto->D, proto->N1})
       local = local && (A.is_null() || (A->getDomainMap()->isSameAs(map) && A->getRangeMap()->isSameAs(map)));
     const std::size_t n = map.getNodeNumElements();
     proto->triples.resize(local ? n : 0);
@@ -374,7 +374,7 @@ Substructure Substructure::formed() const {
   s.prototype_.reset();
   const auto& p = *prototype_;
   const std::string why = turnOnPatterns({{p.M, &s.M_}, {p.K, &s.K_}, {p.G1, &s.G1_}, {p.KT1, &s.KT1_},
-                                          {p.KS1, &s.KS1_}, {p.D, &s.D_}},
+                                          {p.KS1, &s.KS1_}, {p.D, &s.D_}, {p.N1, &s.N1_}},
                                          dofs_, p.turn, *map_->getComm());
   // turned() asked the same patterns: they could be built then.
   if (!why.empty()) throw std::logic_error("Substructure::formed: '" + name_ + "': " + why);

@@ -1141,21 +1141,6 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     // (K X != 0); a child's basis adds the static correction -K_h^-1 K X
     // (theory §11.2).
     p->ownSupports = p->spec.kind != SubstructureKind::Rigid && p->spec.model && heldByItsOwnSupports(*p->spec.model);
-    // A rotor modelled in the stationary frame with structural damping of
-    // its own: the damping is applied as a stationary one, D q', where
-    // material damping turns with the rotor and adds a circulatory term in
-    // these coordinates that is not formed (theory §13.1): the
-    // internal-damping instability above a critical speed is not found (a
-    // Jeffcott rotor growing at 0.24 1/s in its own frame read damped at
-    // -0.31 1/s; found by a review). Said, not mended.
-    if (p->spec.kind == SubstructureKind::Rotating && p->spec.spin && p->spec.model &&
-        p->spec.spin->frame == fem::SpinDefinition::Frame::Stationary &&
-        (p->spec.model->damping.alpha != 0.0 || p->spec.model->damping.beta != 0.0))
-      out.notes_.push_back(p->spec.name + ": its Structural Damping is applied in the stationary frame, as damping "
-                           "that does not turn with it; material damping turns with the rotor and adds a "
-                           "circulatory term that is not formed here (theory §13.1), so an internal-damping "
-                           "instability above a critical speed is missed: model the rotor in its own spinning frame to see it (the "
-                           "spinning C, or an A with Frame: Rotating on an immovable attachment)");
   }
   // A free body spinning in its frame is held only by the centrifugal
   // prestress: the spin softening of its rigid rotations is balanced by the

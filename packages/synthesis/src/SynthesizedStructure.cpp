@@ -484,11 +484,12 @@ struct SynthesizedStructure::Sums {
   Teuchos::RCP<const CrsMatrix> M, K0;
   Teuchos::RCP<const CrsMatrix> D;  ///< damping (null until a damped part is met)
   std::vector<Teuchos::RCP<const CrsMatrix>> G;  ///< per speed parameter
+  std::vector<Teuchos::RCP<const CrsMatrix>> N;  ///< circulatory, per speed parameter (theory §13.1)
   std::map<std::pair<int, int>, Teuchos::RCP<const CrsMatrix>> K2;
   /// The same sums' Full substructures, assembled monolithically
   /// (MonolithicSum.hpp): added to the above in finishMatrices.
   detail::MonolithicSum fullM, fullK0, fullD;
-  std::vector<detail::MonolithicSum> fullG;
+  std::vector<detail::MonolithicSum> fullG, fullN;
   std::map<std::pair<int, int>, detail::MonolithicSum> fullK2;
 };
 
@@ -541,6 +542,8 @@ SynthesizedStructure SynthesizedStructure::synthesize(const AssembledStructure& 
     if (structure.prototypeOf(k) != k) sums.prototypes.insert(structure.prototypeOf(k));
   sums.G.resize(structure.speeds().size());
   sums.fullG.assign(structure.speeds().size(), detail::MonolithicSum(-1.0));
+  sums.N.resize(structure.speeds().size());
+  sums.fullN.assign(structure.speeds().size(), detail::MonolithicSum(-1.0));
   out.T_.resize(parts.size());
   out.B_.resize(parts.size());
   out.C_.resize(parts.size());
@@ -1072,6 +1075,11 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
     const auto& st = *p.stationary;
     if (full) sums.fullG[p.speedParam].add(*Tv, *st.G1(), 1.0, nq, motion);
     else sums.G[p.speedParam] = addScaled(sums.G[p.speedParam], 1.0, project(st, Matrix::G1));
+    // Its material damping turns at its own rate relative to the frame.
+    if (st.has(Matrix::N1)) {
+      if (full) sums.fullN[p.speedParam].add(*Tv, *st.N1(), 1.0, nq, motion);
+      else sums.N[p.speedParam] = addScaled(sums.N[p.speedParam], 1.0, project(st, Matrix::N1));
+    }
     if (!st.KX1().is_null()) {
       const auto PX = full ? Teuchos::null : project(*st.KX1());
       for (auto [i, ci] : p.frame.coefficients) {
@@ -1082,14 +1090,21 @@ void SynthesizedStructure::projectSubstructure(std::size_t k, const std::vector<
     }
   }
   if (p.frame.spinning) {
-    const bool hasG = sub.has(Matrix::G1), hasK2 = sub.has(Matrix::K2);
-    Teuchos::RCP<const CrsMatrix> PG, PK;
+    const bool hasG = sub.has(Matrix::G1), hasK2 = sub.has(Matrix::K2), hasN = sub.has(Matrix::N1);
+    Teuchos::RCP<const CrsMatrix> PG, PK, PN;
     if (!full && hasG) PG = B.is_null() ? project(sub, Matrix::G1) : reduced(Matrix::G1);
     if (!full && hasK2) PK = B.is_null() ? project(sub, Matrix::K2) : reduced(Matrix::K2);
+    if (!full && hasN) PN = B.is_null() ? project(sub, Matrix::N1) : reduced(Matrix::N1);
     for (auto [i, ci] : p.frame.coefficients) {
       if (hasG) {
         if (full) sums.fullG[i].add(*Tv, *sub.G1(), ci, nq, motion);
         else sums.G[i] = addScaled(sums.G[i], ci, PG);
+      }
+      // A stationary-frame rotor's material damping (theory §13.1): N =
+      // Omega N1, projected like G.
+      if (hasN) {
+        if (full) sums.fullN[i].add(*Tv, *sub.N1(), ci, nq, motion);
+        else sums.N[i] = addScaled(sums.N[i], ci, PN);
       }
       if (!hasK2) continue;
       for (auto [j, cj] : p.frame.coefficients) {
@@ -1170,6 +1185,7 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
   M_ = total(sums.M, sums.fullM, 1.0);
   const auto K0 = total(sums.K0, sums.fullK0, 1.0);
   for (std::size_t i = 0; i < sums.G.size(); ++i) sums.G[i] = total(sums.G[i], sums.fullG[i], -1.0);
+  for (std::size_t i = 0; i < sums.N.size(); ++i) sums.N[i] = total(sums.N[i], sums.fullN[i], -1.0);
   for (auto& [ij, F] : sums.fullK2) sums.K2[ij];  // every key, in the same order on every rank
   for (auto& [ij, Kij] : sums.K2) Kij = total(Kij, sums.fullK2[ij], 1.0);
   K0_ = K0.is_null() ? zeroMatrix(map_) : K0;
@@ -1182,6 +1198,7 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
     K0_ = holdDofs(*K0_, {0, 1, 2, 3, 4, 5}, 0.0);
   }
   G_ = sums.G;
+  N_ = sums.N;
   D_ = total(sums.D, sums.fullD, 1.0);
   for (auto& [ij, Kij] : sums.K2) K2_.push_back({ij.first, ij.second, Kij});
 }
@@ -1192,9 +1209,11 @@ eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<dou
   if (const auto why = structure_->steadySpinDefect(s); !why.empty()) throw InputError(why);
   eigen::SparseGyroscopicSystem sys;
   sys.M = M_;
-  Teuchos::RCP<const CrsMatrix> G, K = K0_;
+  Teuchos::RCP<const CrsMatrix> G, K = K0_, N;
   for (std::size_t i = 0; i < G_.size(); ++i)
     if (!G_[i].is_null() && s[i] != 0.0) G = addScaled(G, s[i], G_[i]);
+  for (std::size_t i = 0; i < N_.size(); ++i)
+    if (!N_[i].is_null() && s[i] != 0.0) N = addScaled(N, s[i], N_[i]);
   for (const auto& t : K2_) {
     const double c = s[t.i] * s[t.j];
     if (c != 0.0) K = addScaled(K, c, t.K);
@@ -1202,6 +1221,7 @@ eigen::SparseGyroscopicSystem SynthesizedStructure::system(const std::vector<dou
   sys.G = G.is_null() ? zeroMatrix(map_) : G;
   sys.K = K;
   sys.D = D_;
+  sys.N = N;
   return sys;
 }
 
@@ -1212,6 +1232,7 @@ struct SynthesizedStructure::DensePieces {
   /// rigid-body coordinates (made so above), a free-turning rotor's angle.
   std::vector<int> unrestrained;
   std::vector<DenseMatrix> G;  ///< per speed parameter (0 x 0: none)
+  std::vector<DenseMatrix> N;  ///< circulatory, per speed parameter (0 x 0: none)
   std::vector<std::tuple<int, int, DenseMatrix>> K2;
 };
 
@@ -1231,6 +1252,7 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
     }
     if (!D_.is_null()) d->D = toDense(*D_);
     for (const auto& Gi : G_) d->G.push_back(Gi.is_null() ? DenseMatrix() : toDense(*Gi));
+    for (const auto& Ni : N_) d->N.push_back(Ni.is_null() ? DenseMatrix() : toDense(*Ni));
     for (const auto& t : K2_) d->K2.emplace_back(t.i, t.j, toDense(*t.K));
     pieces = d;
   }
@@ -1253,6 +1275,12 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
       for (int r = 0; r < n; ++r) out.K(r, col) += c * Kij(r, col);
   }
   if (d.D.numRows() == n) out.D = d.D;
+  for (std::size_t i = 0; i < d.N.size(); ++i) {
+    if (d.N[i].numRows() != n || s[i] == 0.0) continue;
+    if (out.N.numRows() != n) out.N = DenseMatrix(n, n);
+    for (int c = 0; c < n; ++c)
+      for (int r = 0; r < n; ++r) out.N(r, c) += s[i] * d.N[i](r, c);
+  }
   out.unrestrained = d.unrestrained;  // solved apart by the general path (theory §4.3)
   return out;
 }
@@ -1693,7 +1721,8 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
     // modal damping force: the Gram terms hold only the substructure's own
     // matrices.)
     if (q == k || !p.sub || !reports_[k].projectedFromPrototype || !p.children.empty() || p.compound ||
-        p.boolean() || parts[q]->compound || !sharesPrototypeFactorisations(k) || !modalDamping_[k].empty())
+        p.boolean() || parts[q]->compound || !sharesPrototypeFactorisations(k) || !modalDamping_[k].empty() ||
+        (parts[q]->sub && parts[q]->sub->has(substructure::Matrix::N1)))
       continue;
     const int nb = static_cast<int>(B_[k]->getNumVectors()), na = nb - bases_[k].size();
     useGram[k] = true;
@@ -1833,6 +1862,10 @@ std::vector<double> SynthesizedStructure::residualFlexibilityNorms(const Structu
         if (p.frame.spinning && frame != 0.0 && sub.has(Matrix::K2)) sub.apply(Matrix::K2, U, T, frame * frame, 1.0);
         if (p.compound && !p.stationary->KX1().is_null())
           p.stationary->KX1()->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(p.speedParam) * frame, 1.0);
+        // A stationary-frame rotor's circulatory N_s = Omega N1 (theory §13.1).
+        if (p.frame.spinning && frame != 0.0 && sub.has(Matrix::N1)) sub.apply(Matrix::N1, U, T, frame, 1.0);
+        if (p.compound && p.stationary->has(Matrix::N1))
+          p.stationary->N1()->apply(U, T, Teuchos::NO_TRANS, modes.speeds.at(p.speedParam), 1.0);
         accumulate(one, false);
       } else {  // a rigid rotor: its equations on a (§11.5)
         smallMatrix(rmap, p.rotor.M)->apply(U, T);

@@ -123,4 +123,19 @@ std::pair<double, double> SpinningRayleighShaft::exactWhirl(const ShaftPropertie
   return {(gp + root) / (2.0 * m), (-gp + root) / (2.0 * m)};  // forward, backward
 }
 
+std::pair<std::complex<double>, std::complex<double>> SpinningRayleighShaft::exactDampedWhirl(
+    const ShaftProperties& p, int k, double Omega, double alpha, double beta) {
+  const double A = M_PI * p.radius * p.radius, I = M_PI * std::pow(p.radius, 4) / 4.0;
+  const double rhoA = p.density * A, rhoI = p.rotaryInertia ? p.density * I : 0.0,
+               EI = p.youngsModulus * I;
+  const double kk = k * M_PI / p.length;
+  const double m = rhoA + rhoI * kk * kk, g = 2.0 * rhoI * kk * kk, kap = EI * std::pow(kk, 4);
+  const double c = alpha * m + beta * kap;
+  using C = std::complex<double>;
+  const C b(c, -g * Omega), k0(kap, -c * Omega);
+  const C root = std::sqrt(b * b - 4.0 * m * k0);
+  const C l1 = (-b + root) / (2.0 * m), l2 = (-b - root) / (2.0 * m);
+  return l1.imag() > l2.imag() ? std::make_pair(l1, l2) : std::make_pair(l2, l1);
+}
+
 }  // namespace cms::models

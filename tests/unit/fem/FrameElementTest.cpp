@@ -666,6 +666,47 @@ TEST(FrameStationaryGyroscopic, NelsonMcVaughMatrixForAShaftSpinningAboutItsAxis
   expectInputError([&] { frameStationaryGyroscopic(e, {1.0, 1e-6, 0.0}); }, "not parallel");
 }
 
+// A rotor's material damping seen from the stationary frame (theory §13.1):
+// N1 = -D_r A, A = [n x] on each node's translations and rotations.
+// - The Jeffcott sign of theory §13.4: D_r = c I on one node, spin about z,
+//   gives N1 = c [[0, 1], [-1, 0]] on (x, y) and nothing along the axis.
+// - An axisymmetric shaft element (Iy = Iz) along an oblique axis: its
+//   Rayleigh D_r = alpha M + beta K commutes with A (to 1e-12 of ||D_r||:
+//   the element matrices' rounding in oblique axes), so the returned skew
+//   part is -D_r A itself; exactly skew (its upper triangle mirrored).
+TEST(StationaryRotatingDamping, IsMinusDrAWithTheJeffcottSign) {
+  ElementMatrix c(3);
+  for (int i = 0; i < 3; ++i) c(i, i) = 2.5;
+  const ElementMatrix j = stationaryRotatingDamping(c, {0.0, 0.0, 1.0}, 3);
+  EXPECT_EQ(j(0, 1), 2.5);
+  EXPECT_EQ(j(1, 0), -2.5);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(j(i, i), 0.0);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(j(2, i), 0.0);
+    EXPECT_EQ(j(i, 2), 0.0);
+  }
+
+  FrameElement o = obliqueElement(BeamTheory::Timoshenko);
+  o.section.Iz = o.section.Iy;
+  o.section.J = 2.0 * o.section.Iy;
+  const Axes ax = axesOf(o);
+  const ElementMatrix M = frameMass(o), K = frameStiffness(o);
+  ElementMatrix Dr(12);
+  for (std::size_t q = 0; q < Dr.a.size(); ++q) Dr.a[q] = 0.7 * M.a[q] + 3e-5 * K.a[q];
+  const ElementMatrix N = stationaryRotatingDamping(Dr, ax.e1, 6);
+  const double A3[3][3] = {{0.0, -ax.e1[2], ax.e1[1]}, {ax.e1[2], 0.0, -ax.e1[0]}, {-ax.e1[1], ax.e1[0], 0.0}};
+  double worst = 0.0;
+  for (int r = 0; r < 12; ++r)
+    for (int col = 0; col < 12; ++col) {
+      EXPECT_EQ(N(r, col), -N(col, r));
+      double DA = 0.0;
+      for (int k = 3 * (col / 3); k < 3 * (col / 3) + 3; ++k) DA += Dr(r, k) * A3[k % 3][col % 3];
+      worst = std::max(worst, std::abs(N(r, col) + DA));
+    }
+  EXPECT_LT(worst, 1e-12 * maxAbs(Dr));
+  EXPECT_GT(maxAbs(N), 1e-3 * maxAbs(Dr));  // not trivially zero
+}
+
 namespace {
 /// Dense K and M of a straight cantilever of nElem equal elements from the
 /// origin along dir, clamped at node 0, without the DOFs listed in drop (per

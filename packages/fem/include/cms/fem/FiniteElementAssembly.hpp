@@ -89,6 +89,10 @@ struct AssembledMatrices {
   /// Viscous damping of the model's dampers (SpringSet::damping); null
   /// when none has any. Rayleigh damping is added by the substructure.
   Teuchos::RCP<const CrsMatrix> D;
+  /// Stationary frame with Rayleigh damping (StructuralDamping alpha, beta):
+  /// the circulatory matrix per unit Omega of the rotor's material damping
+  /// turning with it, N = Omega N1, skew (theory §13.1); null otherwise.
+  Teuchos::RCP<const CrsMatrix> N1;
   /// Stationary frame with SpinDefinition::frameAxis: the tilt stiffness per
   /// unit Omega_frame * omega (null otherwise).
   Teuchos::RCP<const CrsMatrix> KX1;

@@ -45,8 +45,10 @@ struct GyroscopicMatrices {
   Teuchos::RCP<const CrsMatrix> M, G, K;
 };
 
-/// A substructure's matrices by name (theory §9): K2 = KS1 - KT1.
-enum class Matrix { M, K, G1, KT1, KS1, K2, D };
+/// A substructure's matrices by name (theory §9): K2 = KS1 - KT1; N1 the
+/// circulatory matrix per unit speed of a stationary-frame rotor's material
+/// damping (theory §13.1).
+enum class Matrix { M, K, G1, KT1, KS1, K2, D, N1 };
 const char* toString(Matrix a);
 
 class Substructure {
@@ -137,6 +139,10 @@ public:
   /// Rayleigh part alpha M + beta K (K at rest); null when there is none
   /// (theory §13.1). Not read from or written to Matrix Market files.
   Teuchos::RCP<const CrsMatrix> D() const { return matrix(Matrix::D); }
+  /// A stationary-frame rotor with Rayleigh damping: its material damping
+  /// turns with it and adds the circulatory N = Omega N1 (skew; theory
+  /// §13.1, fem::AssembledMatrices::N1); null otherwise.
+  Teuchos::RCP<const CrsMatrix> N1() const { return matrix(Matrix::N1); }
   /// The model's modal damping ratio, applied by the synthesis in the
   /// reduced substructure's coordinates (0: none).
   double modalDampingRatio() const { return modalDampingRatio_; }
@@ -170,7 +176,7 @@ private:
   /// A turned copy's prototype matrices (shared with the prototype: no
   /// memory of their own) and the turn Q (theory §15.2).
   struct Prototype {
-    Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1, K2, D;
+    Teuchos::RCP<const CrsMatrix> M, K, G1, KT1, KS1, K2, D, N1;
     fem::Rotation turn;
     /// Each local row's node triple as local rows (-1: a fixed component)
     /// and its place in it, when every triple is local and the matrices'
@@ -187,6 +193,7 @@ private:
   Teuchos::RCP<const CrsMatrix> M_, K_, G1_, KT1_, KS1_;
   Teuchos::RCP<const CrsMatrix> K2_;  ///< KS1 - KT1 (null without either)
   Teuchos::RCP<const CrsMatrix> D_;   ///< viscous damping (null: none)
+  Teuchos::RCP<const CrsMatrix> N1_;  ///< circulatory per unit speed (null: none)
   double modalDampingRatio_ = 0.0;
   Teuchos::RCP<const MultiVector> f1_;
   Teuchos::RCP<const CrsMatrix> KX1_;

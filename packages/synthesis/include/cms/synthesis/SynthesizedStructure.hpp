@@ -466,6 +466,7 @@ private:
   Teuchos::RCP<const CrsMatrix> M_, K0_;
   Teuchos::RCP<const CrsMatrix> D_;  ///< viscous damping (null: none)
   std::vector<Teuchos::RCP<const CrsMatrix>> G_;  ///< per speed parameter
+  std::vector<Teuchos::RCP<const CrsMatrix>> N_;  ///< circulatory per speed parameter (null: none; theory §13.1)
   struct KTerm {
     int i, j;
     Teuchos::RCP<const CrsMatrix> K;
