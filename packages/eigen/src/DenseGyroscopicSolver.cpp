@@ -1033,6 +1033,24 @@ double frequencyScale(double normM, double normG, double normK) {
   return s > 0.0 ? s : 1.0;
 }
 
+double growthUncertainty(cplx lambda, double firstOrder, double etaQ, double instabilityTol,
+                         const std::vector<cplx>& others, bool conservative) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double size = std::abs(lambda), split = 10.0 * std::sqrt(std::max(etaQ, eps)) * size;
+  const double radius = 10.0 * split;
+  // lambda's own conjugate (a real pair split off the axis) and, conservative,
+  // its mirror -conj(lambda) (a flutter pair at its onset).
+  bool near = 2.0 * std::abs(lambda.imag()) <= radius || (conservative && 2.0 * std::abs(lambda.real()) <= radius);
+  for (cplx o : others) {
+    if (near) break;
+    for (cplx v : {o, std::conj(o)}) {
+      near = near || std::abs(v - lambda) <= radius;
+      if (conservative) near = near || std::abs(-v - lambda) <= radius;
+    }
+  }
+  return std::max({10.0 * firstOrder, near ? split : 0.0, instabilityTol * size});
+}
+
 Stability classify(cplx lambda, double scale, double rigidBodyTol, double instabilityTol) {
   if (std::abs(lambda) <= rigidBodyTol * scale) return Stability::RigidBody;
   if (lambda.real() > instabilityTol * scale)
@@ -1246,7 +1264,7 @@ namespace {
 /// completeDenseModes, run again on refined modes). Returns the system's
 /// frequency scale.
 double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
-                    bool ownScales) {
+                    bool ownScales, const std::vector<cplx>& unreturned) {
   const int n = sys.size(), k = static_cast<int>(modes.size());
   if (k == 0) return 1.0;
   // A damped system's residual is that of lambda^2 M + lambda (G + D) + K + N:
@@ -1346,13 +1364,14 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
       // by about 10 sqrt(eta_q) |lambda| (eta_q its componentwise backward
       // error: relative perturbations of the coefficients at lambda), and
       // below instabilityTol |lambda| a growth rate is the tolerance's own
-      // (theory §13.3). (Its componentwise scale s_q is no measure here: a
-      // beam's |q|^T |K| |q| cancels nothing and grows with the mesh too.)
-      const double eps = std::numeric_limits<double>::epsilon();
+      // (theory §13.3; growthUncertainty). (Its componentwise scale s_q is
+      // no measure here: a beam's |q|^T |K| |q| cancels nothing and grows
+      // with the mesh too.)
       const double etaQ = ss > 0.0 ? std::sqrt(rr / ss) : 1.0;
-      const double size = std::abs(l);
-      m.growthTolerance = std::max(
-          {10.0 * std::min(m.eigenvalueError, own), 10.0 * std::sqrt(std::max(etaQ, eps)) * size, instabilityTol * size});
+      std::vector<cplx> others(unreturned);
+      for (int o = 0; o < k; ++o)
+        if (o != j) others.push_back(modes[o].lambda);
+      m.growthTolerance = growthUncertainty(l, std::min(m.eigenvalueError, own), etaQ, instabilityTol, others, !damped);
     }
   }
   return scale;
@@ -1447,9 +1466,9 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
                         const std::vector<std::complex<double>>& unreturned) {
   if (modes.empty()) return;
   const bool damped = sys.damped();
-  double scale = measureModes(sys, modes, instabilityTol, ownScales);
+  double scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
   if (!ownScales && refineUndecided(sys, modes, instabilityTol, rigidBodyTol * scale))
-    scale = measureModes(sys, modes, instabilityTol, ownScales);
+    scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
   classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
 }
 

@@ -111,7 +111,7 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
 /// Full modes q = Q q_r, M-normalised with the phase of their largest entry
 /// over all ranks, and their residuals, energies and scales from M, G, K.
 void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::vector<GyroscopicMode>& rm,
-                 double instabilityTol) {
+                 double instabilityTol, bool conservative) {
   const auto rowMap = sys.M->getRowMap();
   const auto comm = rowMap->getComm();
   const int k = static_cast<int>(rm.size());
@@ -210,10 +210,12 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
     const double derivative = std::abs(2.0 * l * global[0] + cplx(global[6], global[7]));
     m.eigenvalueError = derivative > 0.0 ? std::sqrt(global[3]) * std::sqrt(global[2]) / derivative
                                          : std::numeric_limits<double>::infinity();
-    const double eps = std::numeric_limits<double>::epsilon();
     const double etaQ = global[8] > 0.0 ? std::sqrt(global[3] / global[8]) : 1.0;
-    m.growthTolerance = std::max({10.0 * std::min(m.eigenvalueError, std::max(m.scale, std::abs(l))),
-                                  10.0 * std::sqrt(std::max(etaQ, eps)) * std::abs(l), instabilityTol * std::abs(l)});
+    std::vector<cplx> others;
+    for (int o = 0; o < k; ++o)
+      if (o != j) others.push_back(rm[o].lambda);
+    m.growthTolerance = growthUncertainty(l, std::min(m.eigenvalueError, std::max(m.scale, std::abs(l))), etaQ,
+                                          instabilityTol, others, conservative);
   }
 }
 
@@ -241,7 +243,10 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // Every candidate gets its full-model residual: a projection can also
   // produce spurious Ritz values (large residual) near the target, and those
   // must lose to genuine modes, not be selected for being close.
-  expandModes(sys, *Q, rm, instabTol);
+  // Damped: D != 0, or a circulatory N (not Hamiltonian either).
+  const bool damped = (!sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0) ||
+                      (!sys.N.is_null() && sys.N->getFrobeniusNorm() > 0.0);
+  expandModes(sys, *Q, rm, instabTol, !damped);
   // Which scale judges a Ritz value (theory §4.3): its mode's own s_q (set
   // by expandModes) only where the projected pencil was solved
   // componentwise, by the Meirovitch path; dggev resolves the projection
@@ -252,13 +257,12 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   if (ritzModes.solver.rfind("dense Meirovitch", 0) != 0) {
     const double projected = frequencyScale(
         frobeniusNorm(reduced.M), frobeniusNorm(reduced.G) + (reduced.D.numRows() ? frobeniusNorm(reduced.D) : 0.0),
-        frobeniusNorm(reduced.K));
+        frobeniusNorm(reduced.K) + (reduced.N.numRows() ? frobeniusNorm(reduced.N) : 0.0));
     for (auto& m : rm) m.scale = projected;
   }
-  const bool damped = !sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0;
   const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
-                                      sys.G->getFrobeniusNorm() + (damped ? sys.D->getFrobeniusNorm() : 0.0),
-                                      sys.K->getFrobeniusNorm());
+                                      sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm()),
+                                      sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()));
   classifyModes(rm, scale, rigidTol, instabTol, !damped);
   return std::move(rm);
 }

@@ -51,6 +51,22 @@ void completeDenseModes(const GyroscopicSystem& system, std::vector<GyroscopicMo
 /// instability tolerances are relative to.
 double frequencyScale(double normM, double normG, double normK);
 
+/// The uncertainty of a computed eigenvalue's growth rate
+/// (GyroscopicMode::growthTolerance, theory §13.3): the largest of ten times
+/// its first-order error `firstOrder`, instabilityTol |lambda|, and, only
+/// where another eigenvalue lies within 100 sqrt(eta) |lambda| (a
+/// near-defective pair that rounding splits by up to 10 sqrt(eta) |lambda|),
+/// 10 sqrt(eta) |lambda|, eta = max(etaQ, eps) the mode's componentwise
+/// backward error. The neighbours: `others` (every other computed
+/// eigenvalue, Im >= 0) and their conjugates, lambda's own conjugate, and
+/// for a `conservative` system the Hamiltonian mirrors -conj of all these and
+/// of lambda itself. An isolated eigenvalue's error is first order in eta:
+/// the split term on every mode read a damped rotor's growth of 6e-7
+/// |lambda|, an eigenvalue 4e-3 |lambda| from any other, as "stable" at one
+/// speed and FLUTTER at the next.
+double growthUncertainty(std::complex<double> lambda, double firstOrder, double etaQ, double instabilityTol,
+                         const std::vector<std::complex<double>>& others, bool conservative);
+
 /// Classify lambda against the tolerances (relative to `scale`).
 Stability classify(std::complex<double> lambda, double scale, double rigidBodyTol,
                    double instabilityTol);

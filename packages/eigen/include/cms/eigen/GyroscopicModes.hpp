@@ -74,7 +74,8 @@ struct GyroscopicMode {
   /// paths, and the sparse path from the full model's residual): the
   /// largest of ten times its eigenvalue error (below; capped at its own
   /// scale), the split of a near-defective pair 10 sqrt(eta_q) |lambda|
-  /// (eta_q its componentwise backward error), and instabilityTol |lambda|.
+  /// (eta_q its componentwise backward error) where another eigenvalue is
+  /// that near, and instabilityTol |lambda| (growthUncertainty).
   /// A growth rate beyond it is an instability (theory §13.3). 0: not
   /// computed (the scale is used).
   double growthTolerance = 0.0;
