@@ -483,13 +483,13 @@ TEST(SpinningShaft, StationaryFrameWhirlMatchesRayleighBeamClosedForm) {
   }
 }
 
-// The same stationary-frame shaft with Rayleigh damping alpha M + beta K of
-// its own material, which turns with it: in these coordinates it adds the
-// circulatory N = Omega N1 (theory §13.1), and each bending mode obeys
-// m z'' + (c - i g Omega) z' + (kap - i c Omega) z = 0 in z = v + i w
-// (SpinningRayleighShaft::exactDampedWhirl). Above the first forward critical
+// The same stationary-frame shaft with Rayleigh damping alpha M + beta K:
+// beta K is its material's and turns with it, adding the circulatory
+// N = Omega N1 (theory §13.1); alpha M damps absolute velocity. Each bending
+// mode obeys m z'' + (alpha m + beta kap - i g Omega) z' + (kap - i beta kap
+// Omega) z = 0 in z = v + i w (SpinningRayleighShaft::exactDampedWhirl). Above the first forward critical
 // speed (Omega = 2 w1) the forward whirl grows: without N it read damped
-// (-3.13 1/s where the closed form gives +3.11 1/s). The roots to 1e-6 of
+// (-3.13 1/s where the closed form gives +2.11 1/s). The roots to 1e-6 of
 // |lambda| (the 40-element discretisation, as above; measured 4e-7) and
 // their growth rates to 1e-4 of |Re lambda| (1e-6 of |lambda| is 1e-4 of Re
 // at the modes' zeta of up to 1%; measured 1.3e-6).

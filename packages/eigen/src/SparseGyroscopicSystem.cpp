@@ -80,7 +80,7 @@ void SparseGyroscopicSystem::validate(double relTol) const {
     CMS_INPUT_CHECK(worst[k] >= 0, "SparseGyroscopicSystem: " << mats[k].second << " has a NaN or Inf in row "
                                                              << worst[k]);
   CMS_INPUT_CHECK(worst[5] >= 0, "SparseGyroscopicSystem: M is not positive definite: diagonal entry "
-                                     "of row " << worst[4] << " is not positive");
+                                     "of row " << worst[5] << " is not positive");
 
   // Structure by random probes.
   const MultiVector x = probe(rowMap, 1u), y = probe(rowMap, 2u);

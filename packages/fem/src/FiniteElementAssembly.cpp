@@ -151,7 +151,7 @@ struct ItemMatrices {
   ElementMatrix D;    ///< viscous damping of a damper (empty otherwise)
   SpinMatrices spin;  ///< G1, KT1, f1 (empty when no spin)
   /// A stationary-frame rotor's material damping turning with it: the
-  /// circulatory matrix per unit Omega (frames and point masses; empty
+  /// circulatory matrix per unit Omega of beta K (frames and hinges; empty
   /// otherwise, theory §13.1).
   ElementMatrix N1;
 };
@@ -787,13 +787,15 @@ class Assembler {
         break;
       }
     }
-    // Rayleigh damping of the rotor's own material, alpha M + beta K, turns
-    // with it: in the stationary frame it adds the circulatory -Omega D_r A
-    // (theory §13.1). The substructure applies alpha M + beta K as D.
-    if (circulatory_ && (it.kind == Item::Kind::Frame || it.kind == Item::Kind::PointMass)) {
-      ElementMatrix Dr(m.M.n);
-      for (std::size_t q = 0; q < Dr.a.size(); ++q)
-        Dr.a[q] = model_.damping.alpha * m.M.a[q] + model_.damping.beta * m.K.a[q];
+    // The rotor's material damping, beta K of what turns with it (its
+    // frames and hinges; not its springs, which are its bearings and
+    // supports), resists the strain rate seen by the material: in the
+    // stationary frame it adds the circulatory -Omega beta K A (theory
+    // §13.1). The substructure applies beta K_R as damping; alpha M damps
+    // absolute velocity and stays stationary.
+    if (circulatory_ && (it.kind == Item::Kind::Frame || it.kind == Item::Kind::Hinge)) {
+      ElementMatrix Dr(m.K.n);
+      for (std::size_t q = 0; q < Dr.a.size(); ++q) Dr.a[q] = model_.damping.beta * m.K.a[q];
       m.N1 = stationaryRotatingDamping(Dr, spin.axis, nd);
     }
     return m;
@@ -928,8 +930,8 @@ class Assembler {
     }) || std::any_of(model_.hinges.begin(), model_.hinges.end(), [](const HingeSet& h) { return h.damping != 0.0; });
     if (damped_) vD_ = target("D");
     tilt_ = spinning_ && !rotatingFrame_ && model_.spin->frameAxis.has_value();
-    circulatory_ = spinning_ && !rotatingFrame_ && (model_.damping.alpha != 0.0 || model_.damping.beta != 0.0);
-    if (circulatory_) vN_ = target("N1");
+    circulatory_ = spinning_ && !rotatingFrame_ && model_.damping.beta != 0.0;
+    if (circulatory_) vN_ = target("N1"), vKR_ = target("KR");
     vM_ = target("M");
     vK_ = target("K");
     if (spinning_) vG_ = target("G1");
@@ -943,8 +945,8 @@ class Assembler {
           // Every matrix in one pass over the places (the item's place in
           // each target is the same); T^T A T for an item at a hinge's
           // second node.
-          const ElementMatrix* from[6];
-          Target* to[6];
+          const ElementMatrix* from[7];
+          Target* to[7];
           int count = 0;
           auto put = [&](const ElementMatrix& A, Target& t) { from[count] = &A, to[count++] = &t; };
           put(m.K, vK_);
@@ -952,8 +954,8 @@ class Assembler {
           if (m.D.n) put(m.D, vD_);
           if (m.spin.G1.n) put(m.spin.G1, vG_);
           if ((rotatingFrame_ || tilt_) && m.spin.KT1.n) put(m.spin.KT1, vKT_);
-          if (m.N1.n) put(m.N1, vN_);
-          ElementMatrix hinged[6];
+          if (m.N1.n) put(m.N1, vN_), put(m.K, vKR_);  // (N1: an item that turns with the rotor)
+          ElementMatrix hinged[7];
           if (!transforms_.empty() && transforms_.count(local))
             for (int q = 0; q < count; ++q) hinged[q] = constrained(local, *from[q]), from[q] = &hinged[q];
           scatter(from, made.at, to, count);
@@ -1014,7 +1016,7 @@ class Assembler {
     out_.K = finish(vK_);
     if (damped_) out_.D = finish(vD_);
     if (spinning_) out_.G1 = finish(vG_);
-    if (circulatory_) out_.N1 = finish(vN_);
+    if (circulatory_) out_.N1 = finish(vN_), out_.KR = finish(vKR_);
     if (tilt_) out_.KX1 = finish(vKT_);
     if (rotatingFrame_) {
       out_.KT1 = finish(vKT_);
@@ -1353,10 +1355,10 @@ class Assembler {
   decltype(std::declval<const Graph&>().getLocalGraphHost()) ownedLocal_;  ///< ownedGraph_'s CSR arrays
   // assembleElements
   bool spinning_ = false, rotatingFrame_ = false, tilt_ = false;
-  bool circulatory_ = false;  ///< stationary frame with Rayleigh damping: N1 is assembled
+  bool circulatory_ = false;  ///< stationary frame with Rayleigh beta: N1 and KR are assembled
   bool damped_ = false;  ///< some spring item has damping: D is assembled
   double freeHingeStiffness_ = 0.0;  ///< k_s of holdFreeHinges (0: no free hinge)
-  Target vM_, vK_, vG_, vKT_, vD_, vN_;
+  Target vM_, vK_, vG_, vKT_, vD_, vN_, vKR_;
   std::vector<double> vf_;
   std::string failure_;
   bool failureIsInput_ = false;  ///< an element's data is bad, not the numerics

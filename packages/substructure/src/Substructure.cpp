@@ -380,10 +380,13 @@ Substructure Substructure::fromFiniteElementModel(const fem::FiniteElementModel&
   s.KX1_ = a.KX1;
   // Damping (theory §13.1): the dampers' D, plus Rayleigh alpha M + beta K
   // with the stiffness at rest; the modal ratio is the synthesis's to apply.
+  // A stationary-frame rotor's beta is its material's, on what turns with
+  // it (K_R, not its bearings' springs), which also gives its circulatory N1.
   s.D_ = a.D;
   s.N1_ = a.N1;
   if (model.damping.alpha != 0.0 || model.damping.beta != 0.0) {
-    auto R = Tpetra::MatrixMatrix::add(model.damping.alpha, false, *a.M, model.damping.beta, false, *a.K);
+    auto R = Tpetra::MatrixMatrix::add(model.damping.alpha, false, *a.M, model.damping.beta, false,
+                                       a.KR.is_null() ? *a.K : *a.KR);
     s.D_ = s.D_.is_null() ? Teuchos::RCP<const CrsMatrix>(R)
                           : Teuchos::RCP<const CrsMatrix>(Tpetra::MatrixMatrix::add(1.0, false, *s.D_, 1.0, false, *R));
   }

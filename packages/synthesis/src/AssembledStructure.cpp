@@ -1141,6 +1141,18 @@ AssembledStructure AssembledStructure::assemble(const StructureDescription& desc
     // (K X != 0); a child's basis adds the static correction -K_h^-1 K X
     // (theory §11.2).
     p->ownSupports = p->spec.kind != SubstructureKind::Rigid && p->spec.model && heldByItsOwnSupports(*p->spec.model);
+    // A stationary-frame rotor's material damping turns with it and adds a
+    // circulatory term (theory §13.1), formed from Rayleigh beta; a modal
+    // ratio lives in its reduced coordinates and gets none, so its
+    // instability above the critical speed would be missed (a Craig-Bampton
+    // shaft read stable at zeta 0.01 where the same rotor in its own
+    // spinning frame grows at 0.616 1/s; found by a review). Refused.
+    CMS_INPUT_CHECK(p->spec.spin && p->spec.spin->frame == fem::SpinDefinition::Frame::Stationary &&
+                        p->spec.model && p->spec.model->damping.modalRatio > 0.0,
+                    who(*p) << ": Modal Damping Ratio on a rotor in the stationary frame: its material damping "
+                               "turns with it and adds a circulatory term, which is formed for Rayleigh Beta but not "
+                               "for a modal ratio (theory §13.1); give Structural Damping a Rayleigh Beta (and the "
+                               "bearings their Damping)");
   }
   // A free body spinning in its frame is held only by the centrifugal
   // prestress: the spin softening of its rigid rotations is balanced by the

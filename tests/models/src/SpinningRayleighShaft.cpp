@@ -130,9 +130,8 @@ std::pair<std::complex<double>, std::complex<double>> SpinningRayleighShaft::exa
                EI = p.youngsModulus * I;
   const double kk = k * M_PI / p.length;
   const double m = rhoA + rhoI * kk * kk, g = 2.0 * rhoI * kk * kk, kap = EI * std::pow(kk, 4);
-  const double c = alpha * m + beta * kap;
   using C = std::complex<double>;
-  const C b(c, -g * Omega), k0(kap, -c * Omega);
+  const C b(alpha * m + beta * kap, -g * Omega), k0(kap, -beta * kap * Omega);
   const C root = std::sqrt(b * b - 4.0 * m * k0);
   const C l1 = (-b + root) / (2.0 * m), l2 = (-b - root) / (2.0 * m);
   return l1.imag() > l2.imag() ? std::make_pair(l1, l2) : std::make_pair(l2, l1);

@@ -1878,14 +1878,16 @@ namespace {
 /// spinning frame. `beta` 0: undamped. `reduction`: the shaft's basis.
 /// `supportRate`: the support spins too, coaxially (a compound rotor: the
 /// shaft's coordinates in the support's frame, its own spin relative to it).
+/// `extraBeam`: more keys of the shaft's Beam.
 std::string overhungShaft(bool stationary, double rate, double beta, const std::string& reduction = "{Basis: Full}",
-                          const std::string& solver = "Auto", int count = 6, double supportRate = 0.0) {
+                          const std::string& solver = "Auto", int count = 6, double supportRate = 0.0,
+                          const std::string& extraBeam = "") {
   const std::string beam = "Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 8, Young's Modulus: 2.0e11, "
                            "Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: "
                            "2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01]" +
                            std::string(stationary ? "" : ", Clamp: start") +
                            (beta > 0.0 ? ", Structural Damping: {Rayleigh Beta: " + std::to_string(beta) + "}" : "") +
-                           "}";
+                           (extraBeam.empty() ? "" : ", " + extraBeam) + "}";
   const std::string spin = "Spin: {Axis: [1, 0, 0], Rate: " + std::to_string(rate) +
                            (stationary ? ", Frame: Stationary}" : "}");
   std::string s = "Scene:\n  Substructures:\n";
@@ -2030,3 +2032,79 @@ TEST(SceneRegression, AStationaryFrameRotorsMaterialDampingTurnsWithIt) {
     EXPECT_LT(std::abs(sparse[j].lambda - fixed[j].lambda), 1e-8 * std::abs(fixed[j].lambda)) << "mode " << j;
   EXPECT_EQ(flutters(sparse), 1);
 }
+
+// What does not turn with a stationary-frame rotor (theory §13.1; each found
+// by a review of the first version):
+// - A bearing: a spring in the rotor's model. Rayleigh beta on the whole K
+//   made beta k_b stationary damping of the bearing, external damping that
+//   moved the onset of instability from the forward critical speed to
+//   Omega (1 + c_e / c_i), about twice it (220 against 110.5 rad/s). Now
+//   beta is the material's, on its frames and hinges: the onset is the
+//   critical speed again, to the 1e-3 bracket of the test above.
+// - Rayleigh alpha: alpha M damps absolute velocity, not the strain rate.
+//   Turning with the rotor it pushed on rigid motion: a stiff shaft on a
+//   soft support at 60 rad/s, above its rigid forward whirl (28.7 rad/s),
+//   fluttered at 0.106 1/s, where beta alone, the material's, gives 1e-7.
+//   Now stationary: every mode decays.
+// - A modal damping ratio on such a rotor: refused (it would need its own
+//   circulatory term; a Craig-Bampton shaft read stable at zeta 0.01 where
+//   it grows in its own spinning frame).
+TEST(SceneRegression, AStationaryFrameRotorsBearingsAndAlphaDoNotTurnWithIt) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto modes = [&](const std::string& scene) {
+    const auto sc = parse(scene);
+    return analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm).modes.result.modes;
+  };
+  const auto flutters = [](const std::vector<eigen::GyroscopicMode>& ms) {
+    return std::count_if(ms.begin(), ms.end(),
+                         [](const eigen::GyroscopicMode& m) { return m.stability == eigen::Stability::Flutter; });
+  };
+  const std::string bearing = "Springs: {brg: {Node Set: end, Stiffness: [0, 7.5e4, 7.5e4, 0, 0, 0]}}";
+  const auto forwardMinusSpin = [&](double Omega) {
+    const auto ms = modes(overhungShaft(true, Omega, 0.0, "{Basis: Full}", "Auto", 6, 0.0, bearing));
+    return std::max(ms[0].omega, ms[1].omega) - Omega;
+  };
+  double a = 100.0, b = 120.0, fa = forwardMinusSpin(a), fb = forwardMinusSpin(b);
+  for (int it = 0; it < 8 && std::abs(b - a) > 1e-10 * b; ++it) {
+    const double c = b - fb * (b - a) / (fb - fa);
+    a = b, fa = fb, b = c, fb = forwardMinusSpin(b);
+  }
+  const double critical = b;
+  EXPECT_NEAR(critical, 110.5, 0.1);
+  for (double side : {-1.0, 1.0})
+    EXPECT_EQ(flutters(modes(overhungShaft(true, critical * (1.0 + side * 1e-3), 1e-4, "{Basis: Full}", "Auto", 6,
+                                           0.0, bearing))),
+              side > 0.0 ? 1 : 0)
+        << (side > 0.0 ? "above" : "below") << " the critical speed " << critical;
+
+  const std::string soft = R"(
+Scene:
+  Substructures:
+    support:
+      Kind: C
+      Beam: {From: [-0.5, 0, 0], To: [0, 0, 0], Elements: 4, Young's Modulus: 2.0e9, Density: 7800.0, Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start}
+      Reduction: {Basis: Full}
+    shaft:
+      Kind: A
+      Parent: support
+      Attachment: {Parent Nodes: end, Nodes: start}
+      Spin: {Axis: [1, 0, 0], Rate: 60, Frame: Stationary}
+      Beam: {From: [0, 0, 0], To: [0.3, 0, 0], Elements: 4, Young's Modulus: 2.0e13, Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01], Structural Damping: {Rayleigh Alpha: 0.2}}
+      Reduction: {Basis: Full}
+  Analysis: {Number of Modes: 4}
+)";
+  const auto alpha = modes(soft);
+  EXPECT_EQ(flutters(alpha), 0);
+  for (const auto& m : alpha) EXPECT_LT(m.growthRate, 0.0) << m.omega << " rad/s";
+
+  fixtures::expectInputError(
+      [&] {
+        synthesis::AssembledStructure::assemble(
+            parse(overhungShaft(true, 140.0, 0.0, "{Basis: Craig-Bampton, Vectors: 6}", "Auto", 6, 0.0,
+                                "Structural Damping: {Modal Damping Ratio: 0.01}"))
+                .structure,
+            comm);
+      },
+      "Modal Damping Ratio on a rotor in the stationary frame");
+}
+

@@ -89,10 +89,13 @@ struct AssembledMatrices {
   /// Viscous damping of the model's dampers (SpringSet::damping); null
   /// when none has any. Rayleigh damping is added by the substructure.
   Teuchos::RCP<const CrsMatrix> D;
-  /// Stationary frame with Rayleigh damping (StructuralDamping alpha, beta):
-  /// the circulatory matrix per unit Omega of the rotor's material damping
-  /// turning with it, N = Omega N1, skew (theory §13.1); null otherwise.
-  Teuchos::RCP<const CrsMatrix> N1;
+  /// Stationary frame with Rayleigh beta (StructuralDamping::beta): the
+  /// circulatory matrix per unit Omega of the rotor's material damping beta
+  /// K_R turning with it, N = Omega N1, skew, and K_R, the stiffness of the
+  /// items that turn with it (frames and hinges; not its springs, which are
+  /// its bearings and supports), for that damping (theory §13.1); null
+  /// otherwise.
+  Teuchos::RCP<const CrsMatrix> N1, KR;
   /// Stationary frame with SpinDefinition::frameAxis: the tilt stiffness per
   /// unit Omega_frame * omega (null otherwise).
   Teuchos::RCP<const CrsMatrix> KX1;

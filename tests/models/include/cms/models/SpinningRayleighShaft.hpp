@@ -47,10 +47,11 @@ public:
   /// whirl frequencies (rad/s) at spin Omega, roots of
   /// (rhoA + rhoI kk^2) w^2 -/+ 2 rhoI Omega kk^2 w - EI kk^4 = 0, kk = k pi / L.
   static std::pair<double, double> exactWhirl(const ShaftProperties& props, int k, double Omega);
-  /// The same mode with Rayleigh damping alpha M + beta K of the shaft's
-  /// material, which turns with it (theory §13.1, §13.4): in z = v + i w the
-  /// damping force is -c (z' - i Omega z), c = alpha m + beta kap, so
-  ///   m z'' + (c - i g Omega) z' + (kap - i c Omega) z = 0,
+  /// The same mode with Rayleigh damping alpha M + beta K (theory §13.1,
+  /// §13.4): beta K is the material's and turns with it, alpha M damps the
+  /// absolute velocity. In z = v + i w the damping force is
+  /// -alpha m z' - beta kap (z' - i Omega z), so
+  ///   m z'' + (alpha m + beta kap - i g Omega) z' + (kap - i beta kap Omega) z = 0,
   /// m = rhoA + rhoI kk^2, g = 2 rhoI kk^2, kap = EI kk^4. Returns its two
   /// roots lambda (z = e^(lambda t)): the forward whirl (Im > 0) and the
   /// backward one (Im < 0; a real solver reports its conjugate).
