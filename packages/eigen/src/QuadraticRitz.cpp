@@ -49,22 +49,6 @@ Teuchos::RCP<MultiVector> orthonormalBasis(const MultiVector& B, double relTol) 
   return Q;
 }
 
-// |A|: the entrywise absolute value, same graph (GyroscopicMode::scale).
-Teuchos::RCP<CrsMatrix> absoluteValues(const CrsMatrix& A) {
-  auto B = Teuchos::rcp(new CrsMatrix(A, Teuchos::Copy));
-  B->resumeFill();
-  typename CrsMatrix::nonconst_local_inds_host_view_type cols("cols", A.getNodeMaxNumRowEntries());
-  typename CrsMatrix::nonconst_values_host_view_type vals("vals", A.getNodeMaxNumRowEntries());
-  for (LocalOrdinal r = 0; r < static_cast<LocalOrdinal>(A.getNodeNumRows()); ++r) {
-    size_t count = 0;
-    A.getLocalRowCopy(r, cols, vals, count);
-    for (size_t e = 0; e < count; ++e) vals(e) = std::abs(vals(e));
-    B->replaceLocalValues(r, static_cast<LocalOrdinal>(count), vals.data(), cols.data());
-  }
-  B->fillComplete(A.getDomainMap(), A.getRangeMap());
-  return B;
-}
-
 DenseMatrix projectOnto(const CrsMatrix& A, const MultiVector& Q) {
   MultiVector AQ(Q.getMap(), Q.getNumVectors());
   multiply(A, Q, AQ);
@@ -146,11 +130,15 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
     for (size_t l = 0; l < rowMap->getNodeNumElements(); ++l)
       for (int j = 0; j < kk; ++j) a(l, j) = std::hypot(r(l, j), i(l, j));
   }
-  absoluteValues(*sys.K)->apply(Qa, KQa);
-  if (!sys.N.is_null()) absoluteValues(*sys.N)->apply(Qa, KQa, Teuchos::NO_TRANS, 1.0, 1.0);
-  absoluteValues(*sys.G)->apply(Qa, GQa);
-  if (!sys.D.is_null()) absoluteValues(*sys.D)->apply(Qa, GQa, Teuchos::NO_TRANS, 1.0, 1.0);
-  absoluteValues(*sys.M)->apply(Qa, MQa);  // for the componentwise backward error (growthTolerance)
+  // (cms::multiplyAbsolute: no |A| copies of the matrices at every solve.)
+  {
+    MultiVector part(rowMap, kk);
+    multiplyAbsolute(*sys.K, Qa, KQa);
+    if (!sys.N.is_null()) multiplyAbsolute(*sys.N, Qa, part), KQa.update(1.0, part, 1.0);
+    multiplyAbsolute(*sys.G, Qa, GQa);
+    if (!sys.D.is_null()) multiplyAbsolute(*sys.D, Qa, part), GQa.update(1.0, part, 1.0);
+  }
+  multiplyAbsolute(*sys.M, Qa, MQa);  // for the componentwise backward error (growthTolerance)
   const double nM = sys.M->getFrobeniusNorm(),
                nK = sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()),
                nG = sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm());
