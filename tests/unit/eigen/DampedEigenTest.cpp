@@ -312,3 +312,29 @@ TEST(DampedEigen, SeveralRigidMotionsAreListedOnceEach) {
       }
     }
 }
+
+// The coordinates the stiffness at rest does not reach are solved apart
+// through the Schur complement of the others (theory §4.3), which needs K on
+// the others to be invertible. Where it is singular (a second mechanism the
+// caller did not list) the block is not solved apart, the reason says why,
+// and the whole solve stands: here M = I, D = 0.01 I, K = 0 on the listed
+// coordinate and [[1, 1], [1, 1]] on the others, whose roots are 0 and -0.01
+// (twice: the listed coordinate and the others' mechanism) and the damped
+// pair of w^2 = 2. (An error path no test reached.)
+TEST(DampedEigen, AnUnrestrainedBlockWhoseOthersAreSingularIsSolvedWhole) {
+  GyroscopicSystem sys;
+  sys.M = diag({1.0, 1.0, 1.0});
+  sys.G = DenseMatrix(3, 3);
+  sys.D = diag({0.01, 0.01, 0.01});
+  sys.K = DenseMatrix(3, 3);
+  for (int i = 1; i < 3; ++i)
+    for (int j = 1; j < 3; ++j) sys.K(i, j) = 1.0;
+  sys.unrestrained = {0};
+  Teuchos::ParameterList p;
+  p.set("Number of Modes", -1);  // every mode of the damped system
+  const auto r = DenseGyroscopicSolver(p).solve(sys);
+  ASSERT_EQ(r.status, SolveStatus::Converged) << r.reason;
+  EXPECT_NE(r.reason.find("K on the other 2 is singular to rounding"), std::string::npos) << r.reason;
+  const cplx pair = quadraticRoots(1.0, 0.01, 2.0)[0];
+  expectRoots(r, {0.0, 0.0, -0.01, -0.01, cplx(pair.real(), std::abs(pair.imag()))}, 3);
+}
