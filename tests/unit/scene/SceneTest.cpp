@@ -1903,6 +1903,19 @@ std::string overhungShaft(bool stationary, double rate, double beta, const std::
   s += "  Analysis: {Number of Modes: " + std::to_string(count) + ", Solver: " + solver + "}\n";
   return s;
 }
+
+/// The modes of a scene's modal analysis.
+std::vector<eigen::GyroscopicMode> rotorModes(const std::string& scene,
+                                              const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const auto sc = parse(scene);
+  return analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm).modes.result.modes;
+}
+
+/// How many of `ms` flutter.
+long flutters(const std::vector<eigen::GyroscopicMode>& ms) {
+  return std::count_if(ms.begin(), ms.end(),
+                       [](const eigen::GyroscopicMode& m) { return m.stability == eigen::Stability::Flutter; });
+}
 }  // namespace
 
 // A rotor modelled in the stationary frame with Rayleigh damping of its own
@@ -1928,14 +1941,7 @@ std::string overhungShaft(bool stationary, double rate, double beta, const std::
 // - The projected N (a Craig-Bampton shaft) and the sparse path's K + N.
 TEST(SceneRegression, AStationaryFrameRotorsMaterialDampingTurnsWithIt) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const auto modes = [&](const std::string& scene) {
-    const auto sc = parse(scene);
-    return analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm).modes.result.modes;
-  };
-  const auto flutters = [](const std::vector<eigen::GyroscopicMode>& ms) {
-    return std::count_if(ms.begin(), ms.end(),
-                         [](const eigen::GyroscopicMode& m) { return m.stability == eigen::Stability::Flutter; });
-  };
+  const auto modes = [&](const std::string& scene) { return rotorModes(scene, comm); };
   const double rate = 140.0, beta = 1e-4;
   const auto fixed = modes(overhungShaft(true, rate, beta));
   // (More modes in the spinning frame: the stationary sixth, 2377 rad/s
@@ -2051,14 +2057,7 @@ TEST(SceneRegression, AStationaryFrameRotorsMaterialDampingTurnsWithIt) {
 //   it grows in its own spinning frame).
 TEST(SceneRegression, AStationaryFrameRotorsBearingsAndAlphaDoNotTurnWithIt) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const auto modes = [&](const std::string& scene) {
-    const auto sc = parse(scene);
-    return analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm).modes.result.modes;
-  };
-  const auto flutters = [](const std::vector<eigen::GyroscopicMode>& ms) {
-    return std::count_if(ms.begin(), ms.end(),
-                         [](const eigen::GyroscopicMode& m) { return m.stability == eigen::Stability::Flutter; });
-  };
+  const auto modes = [&](const std::string& scene) { return rotorModes(scene, comm); };
   const std::string bearing = "Springs: {brg: {Node Set: end, Stiffness: [0, 7.5e4, 7.5e4, 0, 0, 0]}}";
   const auto forwardMinusSpin = [&](double Omega) {
     const auto ms = modes(overhungShaft(true, Omega, 0.0, "{Basis: Full}", "Auto", 6, 0.0, bearing));
