@@ -233,6 +233,17 @@ TEST(SparseGyroscopicInput, RejectsMalformedSystemsAndParameters) {
   s = sysG;
   s.K = sysG.G;
   EXPECT_NE(message(s).find("K is not symmetric"), std::string::npos) << message(s);
+  // A circulatory N must be skew, and the symmetric method cannot take it.
+  s = sysG;
+  s.N = sysG.K;
+  EXPECT_NE(message(s).find("N is not skew-symmetric"), std::string::npos) << message(s);
+  s = sysG;
+  s.N = sysG.G;
+  {
+    Teuchos::ParameterList symmetric;
+    symmetric.set("Method", "Symmetric");
+    EXPECT_NE(message(s, symmetric).find("D or N is given"), std::string::npos) << message(s, symmetric);
+  }
   ChainSpec other = spec;
   other.nodes = 21;
   s = sys;
