@@ -70,7 +70,7 @@ struct SpinMatrices {
 /// which turns at Omega about `axis`, so -D_r q' becomes -D_r (q' - Omega A q)
 /// with A = [axis x] on every node's translations and rotations. The
 /// circulatory matrix per unit Omega is N1 = -D_r A; returned as its skew part
-/// -(D_r A + A D_r) / 2, which is D_r A exactly when D_r commutes with turns
+/// -(D_r A + A D_r) / 2, which is -D_r A exactly when D_r commutes with turns
 /// about the axis (an axisymmetric rotor on it, the only one the stationary
 /// frame admits). `nodeDofs`: 3 (translations) or 6 per node.
 ElementMatrix stationaryRotatingDamping(const ElementMatrix& Dr, const Vec3& axis, int nodeDofs);

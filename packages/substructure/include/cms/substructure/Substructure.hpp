@@ -136,12 +136,14 @@ public:
   /// KS1 - KT1, the Omega^2 part of K(Omega) (null without either).
   Teuchos::RCP<const CrsMatrix> K2() const { return matrix(Matrix::K2); }
   /// Viscous damping, independent of speed: the model's dampers plus the
-  /// Rayleigh part alpha M + beta K (K at rest); null when there is none
+  /// Rayleigh part alpha M + beta K (K at rest; a stationary-frame rotor's
+  /// beta on K_R, its frames and hinges only); null when there is none
   /// (theory §13.1). Not read from or written to Matrix Market files.
   Teuchos::RCP<const CrsMatrix> D() const { return matrix(Matrix::D); }
-  /// A stationary-frame rotor with Rayleigh damping: its material damping
-  /// turns with it and adds the circulatory N = Omega N1 (skew; theory
-  /// §13.1, fem::AssembledMatrices::N1); null otherwise.
+  /// A stationary-frame rotor with Rayleigh beta: its material damping
+  /// beta K_R (frames and hinges) turns with it and adds the circulatory
+  /// N = Omega N1 (skew; theory §13.1, fem::AssembledMatrices::N1); null
+  /// otherwise.
   Teuchos::RCP<const CrsMatrix> N1() const { return matrix(Matrix::N1); }
   /// The model's modal damping ratio, applied by the synthesis in the
   /// reduced substructure's coordinates (0: none).
