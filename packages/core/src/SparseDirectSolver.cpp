@@ -392,7 +392,8 @@ SparseDirectSolver::Outcome SparseDirectSolver::factor() {
     // a definite matrix of cond 1e12 as definite; the probe called it
     // singular, and the same matrix took another path on MUMPS than on
     // CHOLMOD (found by a review).
-    if (out == Outcome::Factored && method_ != "MUMPS-LDLT") {
+    // (Not for inverse iteration: acceptNearlySingular.)
+    if (out == Outcome::Factored && method_ != "MUMPS-LDLT" && probe_) {
       const auto map = impl_->A->getDomainMap();
       MultiVector x0(map, 1), b(map, 1), x(map, 1);
       x0.randomize();

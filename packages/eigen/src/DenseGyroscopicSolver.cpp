@@ -1033,7 +1033,7 @@ double frequencyScale(double normM, double normG, double normK) {
   return s > 0.0 ? s : 1.0;
 }
 
-double growthUncertainty(cplx lambda, double firstOrder, double etaQ, double instabilityTol,
+double growthUncertainty(cplx lambda, double errorBound, double etaQ, double instabilityTol,
                          const std::vector<cplx>& others, bool conservative) {
   const double eps = std::numeric_limits<double>::epsilon();
   const double size = std::abs(lambda), split = 10.0 * std::sqrt(std::max(etaQ, eps)) * size;
@@ -1048,7 +1048,28 @@ double growthUncertainty(cplx lambda, double firstOrder, double etaQ, double ins
       if (conservative) near = near || std::abs(-v - lambda) <= radius;
     }
   }
-  return std::max({10.0 * firstOrder, near ? split : 0.0, instabilityTol * size});
+  return std::max({errorBound, near ? split : 0.0, instabilityTol * size});
+}
+
+cplx twoSidedRoot(cplx a, cplx b, cplx c, cplx near) {
+  if (a == 0.0) return b == 0.0 ? cplx(std::nan(""), std::nan("")) : -c / b;
+  // q = -(b + sign sqrt(b^2 - 4ac)) / 2 with the sign that adds magnitudes;
+  // the roots are q / a and c / q.
+  cplx root = std::sqrt(b * b - 4.0 * a * c);
+  if (std::real(std::conj(b) * root) < 0.0) root = -root;
+  const cplx q = -0.5 * (b + root);
+  const cplx mu1 = q / a, mu2 = q != 0.0 ? c / q : mu1;
+  return std::abs(mu1 - near) <= std::abs(mu2 - near) ? mu1 : mu2;
+}
+
+double twoSidedBound(cplx lambda, cplx previous, cplx a, cplx b, const FunctionalRounding& r) {
+  const double eps = std::numeric_limits<double>::epsilon(), size = std::abs(lambda);
+  const double weight[3] = {1.0, size, size * size};
+  double sum = 0.0;
+  for (int t = 0; t < 3; ++t) sum += weight[t] * (r.absolute[t] + r.n * r.product[t]);
+  const double derivative = std::abs(2.0 * lambda * a + b);
+  const double floor = derivative > 0.0 ? 2.0 * eps * sum / derivative : std::numeric_limits<double>::infinity();
+  return std::max(std::abs(lambda - previous), floor);
 }
 
 Stability classify(cplx lambda, double scale, double rigidBodyTol, double instabilityTol) {
@@ -1126,12 +1147,18 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
                                                 : classify(m.lambda, s, rigidBodyTol, instabilityTol);
       m.growthTolerance = std::max(m.growthTolerance, split);
       // A growth rate against the mode's own uncertainty where it was made
-      // (completeDenseModes, expandModes): beyond it, an instability. (Not
-      // for a zero: see the conservative branch.)
+      // (completeDenseModes, measureRitzModes): beyond it, an instability;
+      // positive, above the Instability Tolerance but within it (what the
+      // refinement could not decide, or a split cluster's member, which it
+      // does not refine), undecided: Neutral, not "stable" (a stiff rotor's
+      // 0.241 1/s flutter read stable within an uncertainty inflated by its
+      // stiff rows; theory §13.3). (Not for a zero: see the conservative
+      // branch.)
       if (m.growthTolerance > 0.0 && m.stability != Stability::RigidBody)
         m.stability = m.lambda.real() > m.growthTolerance
                           ? (std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter)
-                          : Stability::Stable;
+                      : m.lambda.real() > instabilityTol * std::abs(m.lambda) ? Stability::Neutral
+                                                                               : Stability::Stable;
       zeroRigidDamping(m);
     }
     return;
@@ -1371,7 +1398,8 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
       std::vector<cplx> others(unreturned);
       for (int o = 0; o < k; ++o)
         if (o != j) others.push_back(modes[o].lambda);
-      m.growthTolerance = growthUncertainty(l, std::min(m.eigenvalueError, own), etaQ, instabilityTol, others, !damped);
+      const double bound = m.refinedError > 0.0 ? m.refinedError : 10.0 * std::min(m.eigenvalueError, own);
+      m.growthTolerance = growthUncertainty(l, bound, etaQ, instabilityTol, others, !damped);
     }
   }
   return scale;
@@ -1380,21 +1408,31 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
 /// Modes whose growth rate lies within its own uncertainty only because
 /// the general solve left a residual of the system's scale (dggev is
 /// normwise accurate: its residual grows with the stiffest element and
-/// with Rayleigh's beta omega_max^2), refined by inverse iteration on
-/// Q(lambda) = lambda^2 M + lambda (G + D) + K + N with the user's matrices,
-/// the eigenvalue taken again as the root nearest it of x^H Q(mu) x = 0:
-/// at 80 elements a Jeffcott rotor's internal-damping growth, 0.241 1/s,
-/// read stable, and at 112 a free body's intermediate-axis divergence
-/// read rigid, with the first bound alone (found by a review). Candidates:
-/// a positive growth rate above instabilityTol |lambda|, within the
-/// tolerance, whose bound is below |lambda| (a split zero's is of its own
-/// size) and with no other value within 1e-3 |lambda| (a split cluster's
-/// members are not refined). Two steps, one
-/// complex LU each (n^3 / 3), only for those. Returns whether any changed.
+/// with Rayleigh's beta omega_max^2), refined by two-sided inverse iteration
+/// on Q(lambda) = lambda^2 M + lambda (G + D) + K + N with the user's
+/// matrices: at 80 elements a Jeffcott rotor's internal-damping growth,
+/// 0.241 1/s, read stable, and at 112 a free body's intermediate-axis
+/// divergence read rigid, with the first bound alone (found by a review).
+/// The left vector y (Q(lambda)^H y = 0) with the right one x gives the
+/// eigenvalue as the root of y^H Q(mu) x = 0, whose error is the product of
+/// the two vectors' errors, and a bound (twoSidedBound) that the stiff rows'
+/// residual does not reach: with x alone the bound ||r|| ||q|| / |q^H Q' q|
+/// grew with the mesh, and at 300 elements the 0.229 1/s flutter read
+/// stable again (a review; theory §13.3). Candidates: a positive growth rate
+/// above instabilityTol |lambda|, within the tolerance, whose bound is below
+/// |lambda| (a split zero's is of its own size) and with no other value
+/// within 1e-3 |lambda| (a split cluster's members are not refined). One
+/// complex LU of Q(sigma) at the computed sigma = lambda (n^3 / 3; its
+/// conjugate-transpose solve gives y), three steps (each multiplies the
+/// vectors' errors by |lambda - sigma| / (the distance to the next
+/// eigenvalue), tiny from dggev's lambda). Sets refinedError. Returns whether
+/// any changed.
 bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
                      double zeroBelow) {
   const int n = sys.size();
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
+  const auto C = [&](int i, int j) { return sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0); };
+  const auto Kt = [&](int i, int j) { return sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0); };
   bool any = false;
   for (auto& m : modes) {
     const double growth = m.lambda.real(), size = std::abs(m.lambda);
@@ -1414,47 +1452,69 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
                        std::abs(o.lambda + std::conj(m.lambda)) <= 1e-3 * size))
         clustered = true;
     if (clustered) continue;
-    std::vector<cplx> q(m.q);
-    cplx l = m.lambda;
+    // Q(sigma), factored once. An exactly singular one (sigma an eigenvalue
+    // to the last bit) is moved by 1e-10 |sigma|: inverse iteration needs
+    // only a near-singular matrix.
+    std::vector<cplx> A(static_cast<std::size_t>(n) * n);
+    std::vector<int> piv(n);
+    cplx sigma = m.lambda;
+    int info = 1;
+    for (int attempt = 0; attempt < 2 && info > 0; ++attempt) {
+      if (attempt == 1) sigma += 1e-10 * size;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          A[i + static_cast<std::size_t>(j) * n] = sigma * sigma * sys.M(i, j) + sigma * C(i, j) + Kt(i, j);
+      zgetrf_(&n, &n, A.data(), &n, piv.data(), &info);
+    }
+    if (info != 0) continue;
+    std::vector<cplx> x(m.q), y(m.q), rx(n), ry(n);
+    cplx l = m.lambda, previous = l, a = 0.0, b = 0.0, c = 0.0;
+    FunctionalRounding rounding;
     bool ok = true;
-    for (int step = 0; step < 2 && ok; ++step) {
-      std::vector<cplx> A(static_cast<std::size_t>(n) * n), rhs(n, 0.0);
+    const int one = 1;
+    for (int step = 0; step < 3 && ok; ++step) {
+      // x <- Q(sigma)^-1 Q'(sigma) x and y <- Q(sigma)^-H Q'(sigma)^H y,
+      // Q'(sigma) = 2 sigma M + G + D (its transpose has D - G).
+      std::fill(rx.begin(), rx.end(), 0.0), std::fill(ry.begin(), ry.end(), 0.0);
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-          const double g = sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0), kk = sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0);
-          A[i + static_cast<std::size_t>(j) * n] = l * l * sys.M(i, j) + l * g + kk;
-          rhs[i] += (2.0 * l * sys.M(i, j) + g) * q[j];
+          rx[i] += (2.0 * sigma * sys.M(i, j) + C(i, j)) * x[j];
+          ry[i] += (2.0 * std::conj(sigma) * sys.M(i, j) + C(j, i)) * y[j];
         }
-      std::vector<int> piv(n);
-      int info = 0;
-      const int one = 1;
-      zgetrf_(&n, &n, A.data(), &n, piv.data(), &info);
-      if (info < 0) { ok = false; break; }
-      if (info == 0) zgetrs_("N", &n, &one, A.data(), &n, piv.data(), rhs.data(), &n, &info, 1);
-      // info > 0: Q(lambda) singular to the pivot, lambda an eigenvalue to
-      // working precision: keep it.
-      if (info != 0) break;
-      double norm = 0.0;
-      for (const cplx& x : rhs) norm += std::norm(x);
-      norm = std::sqrt(norm);
-      if (!(norm > 0.0) || !std::isfinite(norm)) { ok = false; break; }
-      for (int i = 0; i < n; ++i) q[i] = rhs[i] / norm;
-      cplx a = 0.0, b = 0.0, c = 0.0;
-      for (int j = 0; j < n; ++j) {
-        cplx Mq = 0.0, Gq = 0.0, Kq = 0.0;
-        for (int i = 0; i < n; ++i) {
-          const double g = sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0), kk = sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0);
-          Mq += std::conj(q[i]) * sys.M(i, j), Gq += std::conj(q[i]) * g, Kq += std::conj(q[i]) * kk;
+      zgetrs_("N", &n, &one, A.data(), &n, piv.data(), rx.data(), &n, &info, 1);
+      if (info == 0) zgetrs_("C", &n, &one, A.data(), &n, piv.data(), ry.data(), &n, &info, 1);
+      double nx = 0.0, ny = 0.0;
+      for (int i = 0; i < n; ++i) nx += std::norm(rx[i]), ny += std::norm(ry[i]);
+      nx = std::sqrt(nx), ny = std::sqrt(ny);
+      if (info != 0 || !(nx > 0.0) || !(ny > 0.0) || !std::isfinite(nx) || !std::isfinite(ny)) { ok = false; break; }
+      for (int i = 0; i < n; ++i) x[i] = rx[i] / nx, y[i] = ry[i] / ny;
+      a = b = c = 0.0;
+      rounding = FunctionalRounding{};
+      rounding.n = n;
+      for (int i = 0; i < n; ++i) {
+        cplx Kx = 0.0, Cx = 0.0, Mx = 0.0;
+        double aK = 0.0, aC = 0.0, aM = 0.0;
+        int nK = 0, nC = 0, nM = 0;  // the row's nonzeros: a zero entry adds no rounding
+        for (int j = 0; j < n; ++j) {
+          const double k = Kt(i, j), g = C(i, j), mm = sys.M(i, j), ax = std::abs(x[j]);
+          Kx += k * x[j], Cx += g * x[j], Mx += mm * x[j];
+          aK += std::abs(k) * ax, aC += std::abs(g) * ax, aM += std::abs(mm) * ax;
+          nK += k != 0.0, nC += g != 0.0, nM += mm != 0.0;
         }
-        a += Mq * q[j], b += Gq * q[j], c += Kq * q[j];
+        const cplx yi = std::conj(y[i]);
+        const double ay = std::abs(y[i]);
+        c += yi * Kx, b += yi * Cx, a += yi * Mx;
+        rounding.absolute[0] += nK * ay * aK, rounding.absolute[1] += nC * ay * aC, rounding.absolute[2] += nM * ay * aM;
+        rounding.product[0] += ay * std::abs(Kx), rounding.product[1] += ay * std::abs(Cx),
+            rounding.product[2] += ay * std::abs(Mx);
       }
-      if (std::abs(a) == 0.0) { ok = false; break; }
-      const cplx root = std::sqrt(b * b - 4.0 * a * c);
-      const cplx mu1 = (-b + root) / (2.0 * a), mu2 = (-b - root) / (2.0 * a);
-      l = std::abs(mu1 - l) <= std::abs(mu2 - l) ? mu1 : mu2;
+      previous = l;
+      l = twoSidedRoot(a, b, c, l);
+      ok = std::isfinite(l.real()) && std::isfinite(l.imag());
     }
-    if (!ok || !std::isfinite(l.real()) || !std::isfinite(l.imag())) continue;
-    m.lambda = l, m.q = q;
+    if (!ok) continue;
+    m.lambda = l, m.q = x;
+    m.refinedError = twoSidedBound(l, previous, a, b, rounding);
     any = true;
   }
   return any;

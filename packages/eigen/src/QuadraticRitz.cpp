@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <AnasaziTpetraAdapter.hpp>
@@ -13,6 +15,9 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/MatrixSum.hpp"
+#include "cms/core/SparseDirectSolver.hpp"
+#include "cms/core/SparseInertia.hpp"  // realEmbedding, stateMap
 #include "cms/core/SparseProduct.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
@@ -92,12 +97,9 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
   return orthonormalBasis(*orthonormalBasis(halves, 1e-20), 1e-20);
 }
 
-/// Full modes q = Q q_r, M-normalised with the phase of their largest entry
-/// over all ranks, and their residuals, energies and scales from M, G, K.
-void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::vector<GyroscopicMode>& rm,
-                 double instabilityTol, bool conservative) {
-  const auto rowMap = sys.M->getRowMap();
-  const auto comm = rowMap->getComm();
+/// Each Ritz mode's full vector q = Q q_r: this rank's rows into m.q (not
+/// yet normalised; measureRitzModes does that).
+void expandModes(const MultiVector& Q, std::vector<GyroscopicMode>& rm) {
   const int k = static_cast<int>(rm.size());
   const int kk = std::max(k, 1);
   DenseMatrix Yr(static_cast<int>(Q.getNumVectors()), kk), Yi(static_cast<int>(Q.getNumVectors()), kk);
@@ -106,9 +108,33 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
       Yr(i, j) = rm[j].q[i].real();
       Yi(i, j) = rm[j].q[i].imag();
     }
-  MultiVector Qr(rowMap, kk), Qi(rowMap, kk);
+  MultiVector Qr(Q.getMap(), kk), Qi(Q.getMap(), kk);
   MVT::MvTimesMatAddMv(1.0, Q, Yr, 0.0, Qr);
   MVT::MvTimesMatAddMv(1.0, Q, Yi, 0.0, Qi);
+  const size_t nloc = Q.getMap()->getNodeNumElements();
+  auto qr = Qr.getLocalViewHost(Tpetra::Access::ReadOnly), qi = Qi.getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (int j = 0; j < k; ++j) {
+    rm[j].q.resize(nloc);
+    for (size_t i = 0; i < nloc; ++i) rm[j].q[i] = cplx(qr(i, j), qi(i, j));
+  }
+}
+
+/// Full modes (this rank's rows in m.q), M-normalised with the phase of
+/// their largest entry over all ranks, and their residuals, energies,
+/// scales, eigenvalue errors and growth uncertainties from M, G, K (and D,
+/// N): run on the expanded Ritz modes, and again on refined ones.
+void measureRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMode>& rm, double instabilityTol,
+                      bool conservative) {
+  const auto rowMap = sys.M->getRowMap();
+  const auto comm = rowMap->getComm();
+  const int k = static_cast<int>(rm.size());
+  const int kk = std::max(k, 1);
+  MultiVector Qr(rowMap, kk), Qi(rowMap, kk);
+  {
+    auto r = Qr.getLocalViewHost(Tpetra::Access::OverwriteAll), i = Qi.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (int j = 0; j < k; ++j)
+      for (size_t l = 0; l < rowMap->getNodeNumElements(); ++l) r(l, j) = rm[j].q[l].real(), i(l, j) = rm[j].q[l].imag();
+  }
   MultiVector MQr(rowMap, kk), MQi(rowMap, kk), GQr(rowMap, kk), GQi(rowMap, kk), KQr(rowMap, kk),
       KQi(rowMap, kk);
   multiply(*sys.M, Qr, MQr), multiply(*sys.M, Qi, MQi);
@@ -202,15 +228,167 @@ void expandModes(const SparseGyroscopicSystem& sys, const MultiVector& Q, std::v
     std::vector<cplx> others;
     for (int o = 0; o < k; ++o)
       if (o != j) others.push_back(rm[o].lambda);
-    m.growthTolerance = growthUncertainty(l, std::min(m.eigenvalueError, std::max(m.scale, std::abs(l))), etaQ,
-                                          instabilityTol, others, conservative);
+    const double bound = m.refinedError > 0.0 ? m.refinedError
+                                              : 10.0 * std::min(m.eigenvalueError, std::max(m.scale, std::abs(l)));
+    m.growthTolerance = growthUncertainty(l, bound, etaQ, instabilityTol, others, conservative);
   }
+}
+
+/// Q(sigma) = A + i B, or its conjugate transpose A^T - i B^T, in the real
+/// form [[A, -B], [B, A]] on the 2n map (cms::realEmbedding). `C` and `Kt`
+/// are G + D and K + N, or for the transpose D - G and K - N.
+Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, const CrsMatrix& Kt, cplx sigma,
+                                      bool adjoint, const Teuchos::RCP<const Map>& map2) {
+  const cplx s2 = sigma * sigma;
+  const double sign = adjoint ? -1.0 : 1.0;
+  const auto A = matrixSum(1.0, *matrixSum(s2.real(), M, sigma.real(), C), 1.0, Kt);
+  const auto B = matrixSum(sign * s2.imag(), M, sign * sigma.imag(), C);
+  return realEmbedding(*A, *B, map2);
+}
+
+/// The Ritz modes among `which` whose growth rate is undecided (positive,
+/// above instabilityTol |lambda|, within its uncertainty, whose first-order
+/// bound ten times ||r|| ||q|| / |q^H Q' q| the stiff rows' residual
+/// inflates), refined by two-sided inverse iteration on the full model as
+/// the dense path refines its own (DenseGyroscopicSolver.cpp,
+/// refineUndecided; theory §13.3): Q(sigma) at the Ritz value sigma and its
+/// conjugate transpose each factored once by `method` in their real 2n
+/// form, three steps, lambda the root of y^H Q(mu) x = 0 nearest, and its
+/// bound twoSidedBound in refinedError. Without it a support of E = 2e16, or
+/// 250 shaft elements, read a 0.241 1/s flutter "stable" (depending on the
+/// mode count; a review). Not refined: a value within 1e-3 |lambda| of
+/// another (a split cluster's member), one solved apart, or one whose
+/// factorisation fails (it keeps its first-order uncertainty). Collective.
+/// Returns whether any mode changed.
+bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMode>& rm, const std::vector<int>& which,
+                     const std::string& method, double instabilityTol) {
+  const auto rowMap = sys.M->getRowMap();
+  const size_t nloc = rowMap->getNodeNumElements();
+  const double n = static_cast<double>(rowMap->getGlobalNumElements());
+  std::vector<int> chosen;
+  for (int j : which) {
+    const GyroscopicMode& m = rm[j];
+    const double growth = m.lambda.real(), size = std::abs(m.lambda);
+    if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) || m.blockScale > 0.0) continue;
+    bool clustered = false;
+    for (const auto& o : rm)
+      if (&o != &m && (std::abs(o.lambda - m.lambda) <= 1e-3 * size ||
+                       std::abs(o.lambda - std::conj(m.lambda)) <= 1e-3 * size ||
+                       std::abs(o.lambda + std::conj(m.lambda)) <= 1e-3 * size))
+        clustered = true;
+    if (!clustered) chosen.push_back(j);
+  }
+  if (chosen.empty()) return false;
+  // C = G + D, Kt = K + N and their transposes D - G, K - N.
+  using Matrix = Teuchos::RCP<const CrsMatrix>;
+  const Matrix C = sys.D.is_null() ? sys.G : (Matrix)matrixSum(1.0, *sys.G, 1.0, *sys.D);
+  const Matrix CT = sys.D.is_null() ? matrixSum(-1.0, *sys.G, 0.0, *sys.G) : matrixSum(-1.0, *sys.G, 1.0, *sys.D);
+  const Matrix Kt = sys.N.is_null() ? sys.K : (Matrix)matrixSum(1.0, *sys.K, 1.0, *sys.N);
+  const Matrix KtT = sys.N.is_null() ? sys.K : (Matrix)matrixSum(1.0, *sys.K, -1.0, *sys.N);
+  const auto map2 = stateMap(*rowMap);
+  bool any = false;
+  for (int j : chosen) {
+    GyroscopicMode& m = rm[j];
+    cplx sigma = m.lambda;
+    // Both factors; an exactly singular one (sigma an eigenvalue to the last
+    // bit) is moved by 1e-10 |sigma|, as the dense path does.
+    std::unique_ptr<SparseDirectSolver> F, FH;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      if (attempt == 1) sigma += 1e-10 * std::abs(m.lambda);
+      F = std::make_unique<SparseDirectSolver>(complexPencil(*sys.M, *C, *Kt, sigma, false, map2), method);
+      FH = std::make_unique<SparseDirectSolver>(complexPencil(*sys.M, *CT, *KtT, sigma, true, map2), method);
+      F->acceptNearlySingular(), FH->acceptNearlySingular();
+      if (F->factor() == SparseDirectSolver::Outcome::Factored &&
+          FH->factor() == SparseDirectSolver::Outcome::Factored)
+        break;
+      F.reset(), FH.reset();
+    }
+    if (!F) continue;
+    // x and y as [Re; Im] on the 2n map; both start from the Ritz vector.
+    MultiVector x(map2, 1), y(map2, 1), rhs(map2, 1);
+    {
+      auto v = x.getLocalViewHost(Tpetra::Access::OverwriteAll);
+      for (size_t i = 0; i < nloc; ++i) v(i, 0) = m.q[i].real(), v(nloc + i, 0) = m.q[i].imag();
+    }
+    y.assign(x);
+    // Q'(sigma) v = (2 sigma M + C) v in real form, into `out`.
+    MultiVector Mr(rowMap, 1), Mi(rowMap, 1), Cr(rowMap, 1), Ci(rowMap, 1);
+    const auto derivative = [&](const CrsMatrix& Cm, cplx s, const MultiVector& v, MultiVector& out) {
+      const auto vr = v.offsetView(rowMap, 0), vi = v.offsetView(rowMap, nloc);
+      multiply(*sys.M, *vr, Mr), multiply(*sys.M, *vi, Mi);
+      multiply(Cm, *vr, Cr), multiply(Cm, *vi, Ci);
+      auto outR = out.offsetViewNonConst(rowMap, 0), outI = out.offsetViewNonConst(rowMap, nloc);
+      outR->update(2.0 * s.real(), Mr, -2.0 * s.imag(), Mi, 0.0), outR->update(1.0, Cr, 1.0);
+      outI->update(2.0 * s.real(), Mi, 2.0 * s.imag(), Mr, 0.0), outI->update(1.0, Ci, 1.0);
+    };
+    // y^H A x and |y|^T |A| |x| for A = M, C, Kt (|A| of the sum as it is
+    // multiplied).
+    // and |y|^T |A x|.
+    MultiVector ar(rowMap, 1), ai(rowMap, 1), xa(rowMap, 1), ya(rowMap, 1), Ax(rowMap, 1);
+    const auto forms = [&](const CrsMatrix& A, cplx& value, double& absolute, double& product) {
+      const auto xr = x.offsetView(rowMap, 0), xi = x.offsetView(rowMap, nloc);
+      const auto yr = y.offsetView(rowMap, 0), yi = y.offsetView(rowMap, nloc);
+      multiply(A, *xr, ar), multiply(A, *xi, ai);
+      multiplyAbsolute(A, xa, Ax);
+      double local[6] = {0, 0, 0, 0, 0, 0}, global[6];
+      {
+        auto r = ar.getLocalViewHost(Tpetra::Access::ReadOnly), i = ai.getLocalViewHost(Tpetra::Access::ReadOnly);
+        auto yv = y.getLocalViewHost(Tpetra::Access::ReadOnly), w = ya.getLocalViewHost(Tpetra::Access::ReadOnly);
+        auto p = Ax.getLocalViewHost(Tpetra::Access::ReadOnly);
+        for (size_t e = 0; e < nloc; ++e) {
+          const double y0 = yv(e, 0), y1 = yv(nloc + e, 0);
+          local[0] += y0 * r(e, 0), local[1] += y1 * i(e, 0), local[2] += y0 * i(e, 0), local[3] += y1 * r(e, 0);
+          const double entries = static_cast<double>(A.getNumEntriesInLocalRow(static_cast<LocalOrdinal>(e)));
+          local[4] += entries * w(e, 0) * p(e, 0), local[5] += w(e, 0) * std::hypot(r(e, 0), i(e, 0));
+        }
+      }
+      Teuchos::reduceAll(*rowMap->getComm(), Teuchos::REDUCE_SUM, 6, local, global);
+      value = cplx(global[0] + global[1], global[2] - global[3]);
+      absolute = global[4], product = global[5];
+    };
+    cplx l = m.lambda, previous = l, a = 0.0, b = 0.0, c = 0.0;
+    FunctionalRounding rounding;
+    rounding.n = n;
+    bool ok = true;
+    for (int step = 0; step < 3 && ok; ++step) {
+      derivative(*C, sigma, x, rhs);
+      F->solve(rhs, x);
+      derivative(*CT, std::conj(sigma), y, rhs);
+      FH->solve(rhs, y);
+      Teuchos::Array<double> nx(1), ny(1);
+      x.norm2(nx()), y.norm2(ny());
+      if (!(nx[0] > 0.0) || !(ny[0] > 0.0) || !std::isfinite(nx[0]) || !std::isfinite(ny[0])) { ok = false; break; }
+      x.scale(1.0 / nx[0]), y.scale(1.0 / ny[0]);
+      {
+        auto v = xa.getLocalViewHost(Tpetra::Access::OverwriteAll), w = ya.getLocalViewHost(Tpetra::Access::OverwriteAll);
+        auto xv = x.getLocalViewHost(Tpetra::Access::ReadOnly), yv = y.getLocalViewHost(Tpetra::Access::ReadOnly);
+        for (size_t i = 0; i < nloc; ++i)
+          v(i, 0) = std::hypot(xv(i, 0), xv(nloc + i, 0)), w(i, 0) = std::hypot(yv(i, 0), yv(nloc + i, 0));
+      }
+      forms(*Kt, c, rounding.absolute[0], rounding.product[0]);
+      forms(*C, b, rounding.absolute[1], rounding.product[1]);
+      forms(*sys.M, a, rounding.absolute[2], rounding.product[2]);
+      previous = l;
+      l = twoSidedRoot(a, b, c, l);
+      ok = std::isfinite(l.real()) && std::isfinite(l.imag());
+    }
+    if (!ok) continue;
+    {
+      auto xv = x.getLocalViewHost(Tpetra::Access::ReadOnly);
+      for (size_t i = 0; i < nloc; ++i) m.q[i] = cplx(xv(i, 0), xv(nloc + i, 0));
+    }
+    m.lambda = l;
+    m.refinedError = twoSidedBound(l, previous, a, b, rounding);
+    any = true;
+  }
+  return any;
 }
 
 }  // namespace
 
 std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys, const MultiVector& vectors,
-                                               double shift, double rigidTol, double instabTol) {
+                                               double shift, double rigidTol, double instabTol,
+                                               const RitzRefinement& refinement) {
   const auto Q = ritzSubspace(vectors, sys.M->getRowMap());
   GyroscopicSystem reduced{projectOnto(*sys.M, *Q), projectOnto(*sys.G, *Q), projectOnto(*sys.K, *Q)};
   if (!sys.D.is_null()) reduced.D = projectOnto(*sys.D, *Q);
@@ -234,7 +412,8 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // Damped: D != 0, or a circulatory N (not Hamiltonian either).
   const bool damped = (!sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0) ||
                       (!sys.N.is_null() && sys.N->getFrobeniusNorm() > 0.0);
-  expandModes(sys, *Q, rm, instabTol, !damped);
+  expandModes(*Q, rm);
+  measureRitzModes(sys, rm, instabTol, !damped);
   // Which scale judges a Ritz value (theory §4.3): its mode's own s_q (set
   // by expandModes) only where the projected pencil was solved
   // componentwise, by the Meirovitch path; dggev resolves the projection
@@ -242,11 +421,24 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // s_q (K and G zero on it: rounding) would undercut, its zero read as
   // DIVERGENCE. Then every mode is judged on that projected scale, as the
   // dense path judges its dggev modes on the system's.
-  if (ritzModes.solver.rfind("dense Meirovitch", 0) != 0) {
-    const double projected = frequencyScale(
-        frobeniusNorm(reduced.M), frobeniusNorm(reduced.G) + (reduced.D.numRows() ? frobeniusNorm(reduced.D) : 0.0),
-        frobeniusNorm(reduced.K) + (reduced.N.numRows() ? frobeniusNorm(reduced.N) : 0.0));
+  const bool projectedScale = ritzModes.solver.rfind("dense Meirovitch", 0) != 0;
+  const double projected =
+      frequencyScale(frobeniusNorm(reduced.M),
+                     frobeniusNorm(reduced.G) + (reduced.D.numRows() ? frobeniusNorm(reduced.D) : 0.0),
+                     frobeniusNorm(reduced.K) + (reduced.N.numRows() ? frobeniusNorm(reduced.N) : 0.0));
+  if (projectedScale)
     for (auto& m : rm) m.scale = projected;
+  // Undecided growth rates among the modes the solver will return (the
+  // first nModes of those within the Residual Tolerance, in this order: the
+  // selection of SparseGyroscopicSolver), refined on the full model, then
+  // measured again (theory §13.3).
+  std::vector<int> returned;
+  for (int j = 0; j < static_cast<int>(rm.size()) && static_cast<int>(returned.size()) < refinement.nModes; ++j)
+    if (rm[j].residual <= refinement.residualTol) returned.push_back(j);
+  if (refineRitzModes(sys, rm, returned, refinement.method, instabTol)) {
+    measureRitzModes(sys, rm, instabTol, !damped);
+    if (projectedScale)
+      for (auto& m : rm) m.scale = projected;
   }
   const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
                                       sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm()),

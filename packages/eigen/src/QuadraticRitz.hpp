@@ -5,6 +5,7 @@
 // residual recomputed from the full M, G, K (doc/theory.md, "Sparse path").
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "cms/core/TpetraTypes.hpp"
@@ -16,9 +17,22 @@ namespace cms::eigen::detail {
 /// Every Ritz mode of span{q, v halves of `vectors`}, ordered by preference
 /// of the transform (largest |1 / (lambda^2 - shift)| first), each with this
 /// rank's rows of q (M-normalised, phase fixed by its largest entry),
-/// backward error, energies, scale, and classified (classifyModes).
+/// backward error, energies, scale, growth uncertainty (those of
+/// `refinement` refined where undecided), and classified (classifyModes).
 /// Collective.
+/// Which of them the solver returns (its first nModes within residualTol)
+/// and the factorisation their refinement uses (theory §13.3): an
+/// undecided growth rate among them is refined by two-sided inverse
+/// iteration on the full model, Q(sigma) factored by `method` ("KLU2",
+/// "MUMPS").
+struct RitzRefinement {
+  std::string method = "KLU2";
+  int nModes = 0;
+  double residualTol = 1e-8;
+};
+
 std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys, const MultiVector& vectors,
-                                               double shift, double rigidTol, double instabTol);
+                                               double shift, double rigidTol, double instabTol,
+                                               const RitzRefinement& refinement);
 
 }  // namespace cms::eigen::detail

@@ -98,6 +98,12 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
               {"stability", toString(md.stability)},
               {"residual", md.residual},
               {"error_estimate", r.estimates[m] >= 0.0 ? json(r.estimates[m]) : json(nullptr)}};
+    // The growth rate's uncertainty (theory §13.3): beyond it an
+    // instability; refined: by two-sided inverse iteration.
+    if (md.growthTolerance > 0.0) {
+      j["growth_uncertainty"] = md.growthTolerance;
+      j["growth_refined"] = md.refinedError > 0.0;
+    }
     // The rigorous bound (theory §11.8), only where the structure is SPD.
     if (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0) {
       j["error_bound"] = r.accuracy[m].bound;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <string>
 #include <utility>
@@ -190,4 +191,27 @@ TEST(StabilityVerdict, ADefectivePairWithACoalescingSimpleEigenvalueIsSplitWithi
   EXPECT_NE(modes[4].stability, Stability::Flutter);
   EXPECT_NE(modes[4].stability, Stability::RigidBody);
   EXPECT_LE(modes[4].splitRadius, 10.0 * eta * s * (1 + 8 * eta)) << "a simple, isolated mode keeps the first-order radius r_1";
+}
+
+// A damped system's growth rate above the Instability Tolerance but within
+// its own uncertainty cannot be decided: Neutral, not "stable" (theory
+// §13.3). Before, a stiff rotor's 0.241 1/s internal-damping flutter, within
+// an uncertainty its stiff rows inflated, read "stable" (a review). Beyond
+// the uncertainty it is Flutter (Divergence if real); a decaying mode, or a
+// growth within the Instability Tolerance (1e-7 |lambda|: rounding), stays
+// Stable.
+TEST(StabilityVerdict, ADampedGrowthWithinItsUncertaintyIsUndecided) {
+  const auto verdict = [](std::complex<double> lambda, double tolerance) {
+    GyroscopicMode m;
+    m.lambda = lambda;
+    m.growthTolerance = tolerance;
+    std::vector<GyroscopicMode> modes{m};
+    classifyModes(modes, 100.0, 1e-6, 1e-7, /*conservative=*/false);
+    return modes[0].stability;
+  };
+  EXPECT_EQ(verdict({0.241, 78.4}, 1.0), Stability::Neutral);
+  EXPECT_EQ(verdict({0.241, 78.4}, 0.1), Stability::Flutter);
+  EXPECT_EQ(verdict({0.241, 0.0}, 0.1), Stability::Divergence);
+  EXPECT_EQ(verdict({-0.241, 78.4}, 1.0), Stability::Stable);
+  EXPECT_EQ(verdict({5e-6, 78.4}, 1.0), Stability::Stable);  // 6e-8 |lambda|: within the Instability Tolerance
 }

@@ -35,6 +35,11 @@ public:
 
   /// Symbolic and numeric factorisation; the same outcome on every rank.
   Outcome factor();
+  /// For inverse iteration, whose shifted matrix is singular to the
+  /// eigenvalue's accuracy by design: factor() skips the LU codes' probe
+  /// solve that reports a matrix of cond >~ 1e10 as Singular (a breakdown
+  /// of the factorisation itself is still reported). Before factor().
+  void acceptNearlySingular() { probe_ = false; }
   /// X = A^-1 B. Requires factor() == Factored. B and X on A's range/domain map.
   void solve(const MultiVector& B, MultiVector& X) const;
 
@@ -60,6 +65,7 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::string method_, failure_;
+  bool probe_ = true;
   double factorSeconds_ = 0.0, factorNonzeros_ = 0.0, factorFlops_ = 0.0, factorBytes_ = 0.0;
 };
 

@@ -52,8 +52,10 @@ void completeDenseModes(const GyroscopicSystem& system, std::vector<GyroscopicMo
 double frequencyScale(double normM, double normG, double normK);
 
 /// The uncertainty of a computed eigenvalue's growth rate
-/// (GyroscopicMode::growthTolerance, theory §13.3): the largest of ten times
-/// its first-order error `firstOrder`, instabilityTol |lambda|, and, only
+/// (GyroscopicMode::growthTolerance, theory §13.3): the largest of its
+/// eigenvalue's error bound `errorBound` (ten times the first-order error of
+/// a mode as solved; a refined mode's twoSidedBound), instabilityTol
+/// |lambda|, and, only
 /// where another eigenvalue lies within 100 sqrt(eta) |lambda| (a
 /// near-defective pair that rounding splits by up to 10 sqrt(eta) |lambda|),
 /// 10 sqrt(eta) |lambda|, eta = max(etaQ, eps) the mode's componentwise
@@ -64,8 +66,41 @@ double frequencyScale(double normM, double normG, double normK);
 /// the split term on every mode read a damped rotor's growth of 6e-7
 /// |lambda|, an eigenvalue 4e-3 |lambda| from any other, as "stable" at one
 /// speed and FLUTTER at the next.
-double growthUncertainty(std::complex<double> lambda, double firstOrder, double etaQ, double instabilityTol,
+double growthUncertainty(std::complex<double> lambda, double errorBound, double etaQ, double instabilityTol,
                          const std::vector<std::complex<double>>& others, bool conservative);
+
+/// The two-sided Rayleigh functional (theory §13.3): the root nearest `near`
+/// of y^H Q(mu) x = a mu^2 + b mu + c = 0, with a = y^H M x, b = y^H (G + D) x,
+/// c = y^H (K + N) x for a right vector x and a left vector y, by the
+/// quadratic formula without cancellation. NaN when a = b = 0.
+std::complex<double> twoSidedRoot(std::complex<double> a, std::complex<double> b, std::complex<double> c,
+                                  std::complex<double> near);
+
+/// What rounding the two-sided functional's coefficients carry, for
+/// twoSidedBound: for A = K + N, G + D, M (in that order), sum_i m_i |y_i|
+/// (|A| |x|)_i with m_i the nonzeros of A's row i, and |y|^T |A x|; and the
+/// system's order n.
+struct FunctionalRounding {
+  double absolute[3] = {0.0, 0.0, 0.0};
+  double product[3] = {0.0, 0.0, 0.0};
+  double n = 0.0;
+};
+
+/// The error bound of an eigenvalue refined by two-sided inverse iteration
+/// (theory §13.3), 1/s: the larger of the last step's change |lambda -
+/// previous| (the iteration converges at least linearly, so the change bounds
+/// the previous iterate's error and over-estimates the last one's), and what
+/// rounding the functional's coefficients can carry (Higham, Accuracy and
+/// Stability of Numerical Algorithms, §3.5: row i of a product A x with m_i
+/// nonzeros errs by m_i eps (|A| |x|)_i, the n-term sum y^H (A x) by n eps
+/// |y|^T |A x|; twice each for the complex parts),
+///   2 eps sum_A w_A (sum_i m_i |y_i| (|A| |x|)_i + n |y|^T |A x|) / |2 lambda a + b|,
+/// w = 1, |lambda|, |lambda|^2 for K + N, G + D, M, and 2 lambda a + b =
+/// y^H Q'(lambda) x. The left vector makes it tight where ||r|| ||q|| is
+/// not: the residual of a stiff row, where x and y are small, does not
+/// reach the eigenvalue.
+double twoSidedBound(std::complex<double> lambda, std::complex<double> previous, std::complex<double> a,
+                     std::complex<double> b, const FunctionalRounding& rounding);
 
 /// Classify lambda against the tolerances (relative to `scale`).
 Stability classify(std::complex<double> lambda, double scale, double rigidBodyTol,

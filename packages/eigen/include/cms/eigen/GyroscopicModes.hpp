@@ -73,12 +73,17 @@ struct GyroscopicMode {
   /// A mode's growth-rate uncertainty, 1/s (the dense general and damped
   /// paths, and the sparse path from the full model's residual): the
   /// largest of ten times its eigenvalue error (below; capped at its own
-  /// scale), the split of a near-defective pair 10 sqrt(eta_q) |lambda|
+  /// scale), or refinedError where set, the split of a near-defective pair 10 sqrt(eta_q) |lambda|
   /// (eta_q its componentwise backward error) where another eigenvalue is
   /// that near, and instabilityTol |lambda| (growthUncertainty).
   /// A growth rate beyond it is an instability (theory §13.3). 0: not
   /// computed (the scale is used).
   double growthTolerance = 0.0;
+  /// The error bound of an eigenvalue refined by two-sided inverse
+  /// iteration, 1/s (twoSidedBound; theory §13.3): a positive growth rate
+  /// within ten times eigenvalueError is refined with its left vector, whose
+  /// bound is tight on stiff rows where ||r|| ||q|| is not. 0: not refined.
+  double refinedError = 0.0;
   /// The first-order a-posteriori error of the eigenvalue, rad/s: ||r|| ||q||
   /// / |q^H (2 lambda M + G + D) q| (0: not computed).
   /// Meaningful for a simple eigenvalue; for a defective one the
