@@ -542,6 +542,19 @@ void FiniteElementModel::validate() const {
                              << s.section.Iz << "; the stationary frame needs an axisymmetric rotor "
                                 "(Iy = Iz). Use Frame: Rotating");
       }
+    // A hinge about any other axis than the spin's is not axisymmetric
+    // either: its stiffness and damping turn with the rotor, which constant
+    // stationary-frame coefficients cannot hold (theory §9.4), and its
+    // damper would need a circulatory term of its own (§13.1). (A review
+    // found one about y on a rotor spinning about x accepted.)
+    if (spin->frame == SpinDefinition::Frame::Stationary)
+      for (const HingeSet& h : hinges) {
+        CMS_INPUT_CHECK(!(norm(cross(h.axis, a)) <= 1e-8),
+                        name << ": hinge '" << h.name << "' turns about (" << h.axis[0] << ", " << h.axis[1] << ", "
+                             << h.axis[2] << "), not the spin axis (" << a[0] << ", " << a[1] << ", " << a[2]
+                             << "); the stationary frame needs an axisymmetric rotor, so a hinge there must turn "
+                                "about the spin axis. Use Frame: Rotating");
+      }
   }
 }
 
