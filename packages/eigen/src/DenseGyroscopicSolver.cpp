@@ -828,12 +828,19 @@ UnrestrainedModes solveUnrestrained(const GyroscopicSystem& sys, double rigidBod
       if (hasN) q.N(i, j) = 0.5 * (S[0](i, j) - S[0](j, i));
     }
   // A damping term that does no work on these coordinates (Rayleigh's beta
-  // K, zero on a rigid motion as K is) leaves them only its rounding, eps
-  // ||D||: S_1 is then that rounding, and on its scale (1e-10 for a damped
-  // free beam at rest) the rounding of the zeros read DIVERGENCE (found by a
-  // review). Below 10 eps of the whole system's ||G|| + ||D|| it is zero.
+  // K, zero on a rigid motion as K is) leaves them only its rounding: S_1 is
+  // then that rounding, and on its scale (1e-10 for a damped free beam at
+  // rest) the rounding of the zeros read DIVERGENCE (found by a review).
+  // That rounding is the synthesis' projection's (T^T D T, sums over a
+  // substructure's DOFs weighted by rigid motions' lever arms), not eps
+  // ||D||: the spacecraft at rest with beta on its booms kept 90 eps ||D||
+  // there, above the 10 eps this took for zero, and read two rigid motions
+  // a second time, one as DIVERGENCE at 1.7e-15 1/s on its block scale of
+  // 3e-15 (a review). Below 1e3 eps of the whole system's ||G|| + ||D||
+  // (ten times that) it is zero: a genuine damping of these coordinates so
+  // small is below what their matrices hold.
   {
-    const double roundingOfC = 10.0 * eps * (frobeniusNorm(sys.G) + (hasD ? frobeniusNorm(sys.D) : 0.0));
+    const double roundingOfC = 1e3 * eps * (frobeniusNorm(sys.G) + (hasD ? frobeniusNorm(sys.D) : 0.0));
     if (frobeniusNorm(q.G) + (hasD ? frobeniusNorm(q.D) : 0.0) <= roundingOfC) {
       q.G.putScalar(0.0);
       if (hasD) q.D.putScalar(0.0);
