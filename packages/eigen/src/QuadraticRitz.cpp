@@ -251,7 +251,8 @@ Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, co
 /// bound ten times ||r|| ||q|| / |q^H Q' q| the stiff rows' residual
 /// inflates), refined by two-sided inverse iteration on the full model as
 /// the dense path refines its own (DenseGyroscopicSolver.cpp,
-/// refineUndecided; theory §13.3): Q(sigma) at the Ritz value sigma and its
+/// refineUndecided; theory §13.3; which: undecidedGrowth, `zeroBelow` the
+/// rigid test's |lambda|): Q(sigma) at the Ritz value sigma and its
 /// conjugate transpose each factored once by `method` in their real 2n
 /// form, three steps, lambda the root of y^H Q(mu) x = 0 nearest, and its
 /// bound twoSidedBound in refinedError. Without it a support of E = 2e16, or
@@ -261,23 +262,13 @@ Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, co
 /// factorisation fails (it keeps its first-order uncertainty). Collective.
 /// Returns whether any mode changed.
 bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMode>& rm, const std::vector<int>& which,
-                     const std::string& method, double instabilityTol) {
+                     const std::string& method, double instabilityTol, double zeroBelow) {
   const auto rowMap = sys.M->getRowMap();
   const size_t nloc = rowMap->getNodeNumElements();
   const double n = static_cast<double>(rowMap->getGlobalNumElements());
   std::vector<int> chosen;
-  for (int j : which) {
-    const GyroscopicMode& m = rm[j];
-    const double growth = m.lambda.real(), size = std::abs(m.lambda);
-    if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) || m.blockScale > 0.0) continue;
-    bool clustered = false;
-    for (const auto& o : rm)
-      if (&o != &m && (std::abs(o.lambda - m.lambda) <= 1e-3 * size ||
-                       std::abs(o.lambda - std::conj(m.lambda)) <= 1e-3 * size ||
-                       std::abs(o.lambda + std::conj(m.lambda)) <= 1e-3 * size))
-        clustered = true;
-    if (!clustered) chosen.push_back(j);
-  }
+  for (int j : which)
+    if (undecidedGrowth(rm[j], rm, instabilityTol, zeroBelow)) chosen.push_back(j);
   if (chosen.empty()) return false;
   // C = G + D, Kt = K + N and their transposes D - G, K - N.
   using Matrix = Teuchos::RCP<const CrsMatrix>;
@@ -346,7 +337,8 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       value = cplx(global[0] + global[1], global[2] - global[3]);
       absolute = global[4], product = global[5];
     };
-    cplx l = m.lambda, previous = l, a = 0.0, b = 0.0, c = 0.0;
+    cplx l = m.lambda, a = 0.0, b = 0.0, c = 0.0;
+    double change = 0.0, changeBefore = 0.0;
     FunctionalRounding rounding;
     rounding.n = n;
     bool ok = true;
@@ -368,8 +360,8 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       forms(*Kt, c, rounding.absolute[0], rounding.product[0]);
       forms(*C, b, rounding.absolute[1], rounding.product[1]);
       forms(*sys.M, a, rounding.absolute[2], rounding.product[2]);
-      previous = l;
-      l = twoSidedRoot(a, b, c, l);
+      const cplx next = twoSidedRoot(a, b, c, l);
+      changeBefore = change, change = std::abs(next - l), l = next;
       ok = std::isfinite(l.real()) && std::isfinite(l.imag());
     }
     if (!ok) continue;
@@ -378,7 +370,7 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       for (size_t i = 0; i < nloc; ++i) m.q[i] = cplx(xv(i, 0), xv(nloc + i, 0));
     }
     m.lambda = l;
-    m.refinedError = twoSidedBound(l, previous, a, b, rounding);
+    m.refinedError = twoSidedBound(l, change, changeBefore, a, b, rounding);
     any = true;
   }
   return any;
@@ -435,14 +427,14 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   std::vector<int> returned;
   for (int j = 0; j < static_cast<int>(rm.size()) && static_cast<int>(returned.size()) < refinement.nModes; ++j)
     if (rm[j].residual <= refinement.residualTol) returned.push_back(j);
-  if (refineRitzModes(sys, rm, returned, refinement.method, instabTol)) {
+  const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
+                                      sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm()),
+                                      sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()));
+  if (refineRitzModes(sys, rm, returned, refinement.method, instabTol, rigidTol * scale)) {
     measureRitzModes(sys, rm, instabTol, !damped);
     if (projectedScale)
       for (auto& m : rm) m.scale = projected;
   }
-  const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
-                                      sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm()),
-                                      sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()));
   classifyModes(rm, scale, rigidTol, instabTol, !damped);
   return std::move(rm);
 }

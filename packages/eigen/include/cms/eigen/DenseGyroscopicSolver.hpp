@@ -69,6 +69,18 @@ double frequencyScale(double normM, double normG, double normK);
 double growthUncertainty(std::complex<double> lambda, double errorBound, double etaQ, double instabilityTol,
                          const std::vector<std::complex<double>>& others, bool conservative);
 
+/// Whether `m`'s growth rate is undecided and is refined (theory §13.3):
+/// positive, above instabilityTol |lambda| but within its growthTolerance,
+/// its first-order error below |lambda| (a split zero's is of its own
+/// size), |lambda| above `zeroBelow` (a zero the rigid test takes anyway),
+/// not solved apart (blockScale), and no other of `modes` (or a mirror)
+/// within 1e-3 |lambda|: a split cluster's member (a free body's frame-rate
+/// triple at i Omega, split by rounding by ~1e-4 Omega), of which inverse
+/// iteration would pick one as rounding decides (the rank counts' values
+/// differed: the campbell rank test).
+bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
+                     double zeroBelow);
+
 /// The two-sided Rayleigh functional (theory §13.3): the root nearest `near`
 /// of y^H Q(mu) x = a mu^2 + b mu + c = 0, with a = y^H M x, b = y^H (G + D) x,
 /// c = y^H (K + N) x for a right vector x and a left vector y, by the
@@ -87,10 +99,12 @@ struct FunctionalRounding {
 };
 
 /// The error bound of an eigenvalue refined by two-sided inverse iteration
-/// (theory §13.3), 1/s: the larger of the last step's change |lambda -
-/// previous| (the iteration converges at least linearly, so the change bounds
-/// the previous iterate's error and over-estimates the last one's), and what
-/// rounding the functional's coefficients can carry (Higham, Accuracy and
+/// (theory §13.3), 1/s: what rounding the functional's coefficients can
+/// carry (below) once the last step's change of lambda, `change`, is within
+/// it; before that, the error left after contraction at the last ratio r =
+/// change / changeBefore, change r / (1 - r) (the shift is fixed, so the
+/// iteration converges linearly; infinite if the changes do not shrink:
+/// undecided). The rounding (Higham, Accuracy and
 /// Stability of Numerical Algorithms, §3.5: row i of a product A x with m_i
 /// nonzeros errs by m_i eps (|A| |x|)_i, the n-term sum y^H (A x) by n eps
 /// |y|^T |A x|; twice each for the complex parts),
@@ -99,7 +113,7 @@ struct FunctionalRounding {
 /// y^H Q'(lambda) x. The left vector makes it tight where ||r|| ||q|| is
 /// not: the residual of a stiff row, where x and y are small, does not
 /// reach the eigenvalue.
-double twoSidedBound(std::complex<double> lambda, std::complex<double> previous, std::complex<double> a,
+double twoSidedBound(std::complex<double> lambda, double change, double changeBefore, std::complex<double> a,
                      std::complex<double> b, const FunctionalRounding& rounding);
 
 /// Classify lambda against the tolerances (relative to `scale`).
