@@ -64,7 +64,13 @@ std::string SpectralTransform::factor() {
     const std::string why = run(qPlus_, sys_.K, kMethod_, "K");
     qMinus_ = qPlus_;
     return why.empty() ? why
-                       : why + ": K is singular (a free body?); set a positive \"Shift\"";
+                       // (Not only singular: the LU probe refuses a cond
+                       // >~ 1e10, which a beam of 600 elements reaches; "a
+                       // free body?" alone misled there, and a scene has no
+                       // "Shift" to set: a review.)
+                       : why + ": K is singular or too ill-conditioned to invert unshifted (cond >~ 1e10: a free "
+                               "body or mechanism, or a mesh far finer than the model's precision needs; the sparse "
+                               "solver's parameter list takes a positive \"Shift\")";
   }
   if (s_ > 0.0) {
     const double tau = std::sqrt(s_);
