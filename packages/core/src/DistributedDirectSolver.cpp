@@ -454,7 +454,7 @@ void DistributedDirectSolver::factor(bool allowNullPivots) {
   }
 }
 
-void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const {
+void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X, bool transposed) const {
   Impl& m = *impl_;
   CMS_INPUT_CHECK(!m.started || m.idMap.is_null(), "DistributedDirectSolver (" << name_ << "): solve before factor");
   CMS_INPUT_CHECK(!m.B.is_null(), "DistributedDirectSolver (" << name_
@@ -484,7 +484,9 @@ void DistributedDirectSolver::solve(const MultiVector& B, MultiVector& X) const 
   id.lsol_loc = static_cast<MUMPS_INT>(std::max<size_t>(1, nsol));
   id.sol_loc = sol.data();
   id.isol_loc = isol.data();
+  icntl(id, 9) = transposed ? 0 : 1;  // 1: A X = B; otherwise A^T X = B
   m.call(3);
+  icntl(id, 9) = 1;
   const int e = infog(id, 1);
   id.rhs_loc = id.sol_loc = nullptr;
   id.irhs_loc = id.isol_loc = nullptr;

@@ -234,15 +234,15 @@ void measureRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicM
   }
 }
 
-/// Q(sigma) = A + i B, or its conjugate transpose A^T - i B^T, in the real
-/// form [[A, -B], [B, A]] on the 2n map (cms::realEmbedding). `C` and `Kt`
-/// are G + D and K + N, or for the transpose D - G and K - N.
+/// Q(sigma) = A + i B in the real form [[A, -B], [B, A]] on the 2n map
+/// (cms::realEmbedding), `C` = G + D and `Kt` = K + N. Its transpose
+/// [[A^T, B^T], [-B^T, A^T]] is the real form of Q(sigma)^H = A^T - i B^T:
+/// the left vector's solve is the transposed solve with the same factors.
 Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, const CrsMatrix& Kt, cplx sigma,
-                                      bool adjoint, const Teuchos::RCP<const Map>& map2) {
+                                      const Teuchos::RCP<const Map>& map2) {
   const cplx s2 = sigma * sigma;
-  const double sign = adjoint ? -1.0 : 1.0;
   const auto A = matrixSum(1.0, *matrixSum(s2.real(), M, sigma.real(), C), 1.0, Kt);
-  const auto B = matrixSum(sign * s2.imag(), M, sign * sigma.imag(), C);
+  const auto B = matrixSum(s2.imag(), M, sigma.imag(), C);
   return realEmbedding(*A, *B, map2);
 }
 
@@ -252,9 +252,9 @@ Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, co
 /// inflates), refined by two-sided inverse iteration on the full model as
 /// the dense path refines its own (DenseGyroscopicSolver.cpp,
 /// refineUndecided; theory §13.3; which: undecidedGrowth, `zeroBelow` the
-/// rigid test's |lambda|): Q(sigma) at the Ritz value sigma and its
-/// conjugate transpose each factored once by `method` in their real 2n
-/// form, three steps, lambda the root of y^H Q(mu) x = 0 nearest, and its
+/// rigid test's |lambda|): Q(sigma) at the Ritz value sigma factored once
+/// in its real 2n form by MUMPS (LU across the ranks; the left vector by
+/// its transposed solve, which KLU2 here gets wrong), three steps, lambda the root of y^H Q(mu) x = 0 nearest, and its
 /// bound twoSidedBound in refinedError. Without it a support of E = 2e16, or
 /// 250 shaft elements, read a 0.241 1/s flutter "stable" (depending on the
 /// mode count; a review). Not refined: a value within 1e-3 |lambda| of
@@ -262,7 +262,7 @@ Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, co
 /// factorisation fails (it keeps its first-order uncertainty). Collective.
 /// Returns whether any mode changed.
 bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMode>& rm, const std::vector<int>& which,
-                     const std::string& method, double instabilityTol, double zeroBelow) {
+                     double instabilityTol, double zeroBelow) {
   const auto rowMap = sys.M->getRowMap();
   const size_t nloc = rowMap->getNodeNumElements();
   const double n = static_cast<double>(rowMap->getGlobalNumElements());
@@ -270,29 +270,25 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
   for (int j : which)
     if (undecidedGrowth(rm[j], rm, instabilityTol, zeroBelow)) chosen.push_back(j);
   if (chosen.empty()) return false;
-  // C = G + D, Kt = K + N and their transposes D - G, K - N.
+  // C = G + D, Kt = K + N, and C's transpose D - G (for Q'(sigma)^H).
   using Matrix = Teuchos::RCP<const CrsMatrix>;
   const Matrix C = sys.D.is_null() ? sys.G : (Matrix)matrixSum(1.0, *sys.G, 1.0, *sys.D);
   const Matrix CT = sys.D.is_null() ? matrixSum(-1.0, *sys.G, 0.0, *sys.G) : matrixSum(-1.0, *sys.G, 1.0, *sys.D);
   const Matrix Kt = sys.N.is_null() ? sys.K : (Matrix)matrixSum(1.0, *sys.K, 1.0, *sys.N);
-  const Matrix KtT = sys.N.is_null() ? sys.K : (Matrix)matrixSum(1.0, *sys.K, -1.0, *sys.N);
   const auto map2 = stateMap(*rowMap);
   bool any = false;
   for (int j : chosen) {
     GyroscopicMode& m = rm[j];
     cplx sigma = m.lambda;
-    // Both factors; an exactly singular one (sigma an eigenvalue to the last
-    // bit) is moved by 1e-10 |sigma|, as the dense path does.
-    std::unique_ptr<SparseDirectSolver> F, FH;
+    // One factorisation; an exactly singular one (sigma an eigenvalue to
+    // the last bit) is moved by 1e-10 |sigma|, as the dense path does.
+    std::unique_ptr<SparseDirectSolver> F;
     for (int attempt = 0; attempt < 2; ++attempt) {
       if (attempt == 1) sigma += 1e-10 * std::abs(m.lambda);
-      F = std::make_unique<SparseDirectSolver>(complexPencil(*sys.M, *C, *Kt, sigma, false, map2), method);
-      FH = std::make_unique<SparseDirectSolver>(complexPencil(*sys.M, *CT, *KtT, sigma, true, map2), method);
-      F->acceptNearlySingular(), FH->acceptNearlySingular();
-      if (F->factor() == SparseDirectSolver::Outcome::Factored &&
-          FH->factor() == SparseDirectSolver::Outcome::Factored)
-        break;
-      F.reset(), FH.reset();
+      F = std::make_unique<SparseDirectSolver>(complexPencil(*sys.M, *C, *Kt, sigma, map2), "MUMPS");
+      F->acceptNearlySingular();
+      if (F->factor() == SparseDirectSolver::Outcome::Factored) break;
+      F.reset();
     }
     if (!F) continue;
     // x and y as [Re; Im] on the 2n map; both start from the Ritz vector.
@@ -312,9 +308,8 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       outR->update(2.0 * s.real(), Mr, -2.0 * s.imag(), Mi, 0.0), outR->update(1.0, Cr, 1.0);
       outI->update(2.0 * s.real(), Mi, 2.0 * s.imag(), Mr, 0.0), outI->update(1.0, Ci, 1.0);
     };
-    // y^H A x and |y|^T |A| |x| for A = M, C, Kt (|A| of the sum as it is
-    // multiplied).
-    // and |y|^T |A x|.
+    // y^H A x, sum_i m_i |y_i| (|A| |x|)_i (m_i: row i's entries) and
+    // |y|^T |A x| for A = Kt, C, M, as twoSidedBound takes them.
     MultiVector ar(rowMap, 1), ai(rowMap, 1), xa(rowMap, 1), ya(rowMap, 1), Ax(rowMap, 1);
     const auto forms = [&](const CrsMatrix& A, cplx& value, double& absolute, double& product) {
       const auto xr = x.offsetView(rowMap, 0), xi = x.offsetView(rowMap, nloc);
@@ -346,7 +341,7 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       derivative(*C, sigma, x, rhs);
       F->solve(rhs, x);
       derivative(*CT, std::conj(sigma), y, rhs);
-      FH->solve(rhs, y);
+      F->solveTransposed(rhs, y);
       Teuchos::Array<double> nx(1), ny(1);
       x.norm2(nx()), y.norm2(ny());
       if (!(nx[0] > 0.0) || !(ny[0] > 0.0) || !std::isfinite(nx[0]) || !std::isfinite(ny[0])) { ok = false; break; }
@@ -430,7 +425,7 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
                                       sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm()),
                                       sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()));
-  if (refineRitzModes(sys, rm, returned, refinement.method, instabTol, rigidTol * scale)) {
+  if (refineRitzModes(sys, rm, returned, instabTol, rigidTol * scale)) {
     measureRitzModes(sys, rm, instabTol, !damped);
     if (projectedScale)
       for (auto& m : rm) m.scale = projected;

@@ -5,7 +5,6 @@
 // residual recomputed from the full M, G, K (doc/theory.md, "Sparse path").
 #pragma once
 
-#include <string>
 #include <vector>
 
 #include "cms/core/TpetraTypes.hpp"
@@ -20,13 +19,10 @@ namespace cms::eigen::detail {
 /// backward error, energies, scale, growth uncertainty (those of
 /// `refinement` refined where undecided), and classified (classifyModes).
 /// Collective.
-/// Which of them the solver returns (its first nModes within residualTol)
-/// and the factorisation their refinement uses (theory §13.3): an
-/// undecided growth rate among them is refined by two-sided inverse
-/// iteration on the full model, Q(sigma) factored by `method` ("KLU2",
-/// "MUMPS").
+/// Which of them the solver returns (its first nModes within residualTol):
+/// an undecided growth rate among them is refined by two-sided inverse
+/// iteration on the full model (theory §13.3).
 struct RitzRefinement {
-  std::string method = "KLU2";
   int nModes = 0;
   double residualTol = 1e-8;
 };

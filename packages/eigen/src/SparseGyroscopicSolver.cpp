@@ -288,7 +288,7 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
 
   // 5. Modes by the quadratic Rayleigh-Ritz projection (QuadraticRitz.hpp),
   // then the returned set.
-  const detail::RitzRefinement refinement{c.mumps ? "MUMPS" : c.linearSolver, c.nModes, c.residualTol};
+  const detail::RitzRefinement refinement{c.nModes, c.residualTol};
   selectModes(c, detail::quadraticRitzModes(sys, *it.vectors, c.shift, c.rigidTol, c.instabTol, refinement),
               attempt);
   attempt.checkable = problem.symmetric && c.shift >= 0.0;

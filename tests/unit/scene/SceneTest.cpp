@@ -2194,8 +2194,8 @@ TEST(SceneRegression, AStiffOrFineRotorsFlutterIsNotReadStable) {
     for (const char* solver : {"Sparse", "Dense"})
       check(scene(2.0e16, 8, count, solver), 0.2407,
             std::string("E = 2e16, ") + solver + ", " + std::to_string(count) + " modes");
-  // The refinement's factorisations by MUMPS (distributed at 2 ranks) as
-  // by KLU2.
+  // The transform's factorisations by MUMPS (distributed at 2 ranks) as by
+  // KLU2 (the refinement's is MUMPS's either way).
   check(scene(2.0e16, 8, 4, "Sparse, Direct Solver: MUMPS"), 0.2407, "E = 2e16, MUMPS");
   for (int elements : {250, 300}) check(scene(2.0e11, elements, 4, "Sparse"), 0.2294, std::to_string(elements) + " elements");
   EXPECT_GE(refinedCases, 3) << "the refinement decided too few cases (of 13: 7 by hand, 6 under ctest, 1 rank)";

@@ -102,7 +102,11 @@ public:
   /// caller that counts inertia or tells "not positive definite" apart).
   void factor(bool allowNullPivots = false);
   /// X = A^-1 B (B and X on A's row map; any number of columns).
-  void solve(const MultiVector& B, MultiVector& X) const;
+  void solve(const MultiVector& B, MultiVector& X) const { solve(B, X, false); }
+  /// X = A^-T B when `transposed` (MUMPS's ICNTL(9) != 1), from the same
+  /// factors: for inverse iteration's left vectors (the real form of
+  /// Q(sigma)^H is that of Q(sigma) transposed).
+  void solve(const MultiVector& B, MultiVector& X, bool transposed) const;
 
   /// Symmetric kinds: negative pivots of L D L^T, i.e. negative eigenvalues
   /// (INFOG(12)); General: 0.

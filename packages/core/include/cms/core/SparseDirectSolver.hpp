@@ -42,6 +42,13 @@ public:
   void acceptNearlySingular() { probe_ = false; }
   /// X = A^-1 B. Requires factor() == Factored. B and X on A's range/domain map.
   void solve(const MultiVector& B, MultiVector& X) const;
+  /// X = A^-T B from the same factors: MUMPS solves with the transpose
+  /// (ICNTL(9)); CHOLMOD, Tacho and MUMPS-LDLT factor symmetric matrices,
+  /// whose transpose is themselves; KLU2 is refused (std::logic_error:
+  /// Amesos2 13.2's transposed solve returned wrong solutions). For inverse
+  /// iteration's left vectors (the real form of Q(sigma)^H is that of
+  /// Q(sigma) transposed).
+  void solveTransposed(const MultiVector& B, MultiVector& X) const;
 
   const std::string& method() const { return method_; }
   /// Seconds spent in factor(), for benchmarks and reports.
