@@ -1173,16 +1173,14 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       m.growthTolerance = std::max(m.growthTolerance, split);
       // A growth rate against the mode's own uncertainty where it was made
       // (completeDenseModes, measureRitzModes): beyond it, an instability;
-      // positive, above the Instability Tolerance but within it (what the
-      // refinement could not decide, or a split cluster's member, which it
-      // does not refine), undecided: Neutral, not "stable" (a stiff rotor's
-      // 0.241 1/s flutter read stable within an uncertainty inflated by its
-      // stiff rows; theory §13.3). (Not for a zero: see the conservative
-      // branch.)
-      // (Only a mode the refinement takes, undecidedGrowth: a split
-      // cluster's member, not refined, keeps "stable" as before, or the
-      // frame-rate triple of a stable damped free body, whose rounding
-      // growth is 9e-6 on the sparse path, read UNDECIDED; a review.)
+      // positive, above the Instability Tolerance but within it, for a mode
+      // the refinement takes (undecidedGrowth: it could not decide it),
+      // Neutral, not "stable" (a stiff rotor's 0.241 1/s flutter read stable
+      // within an uncertainty inflated by its stiff rows; theory §13.3). A
+      // split cluster's member, not refined, stays "stable" as before (made
+      // Neutral, a stable damped free body's frame-rate triple, rounding
+      // growth 9e-6 on the sparse path, read UNDECIDED; a review). (Not for a
+      // zero: see the conservative branch.)
       if (m.growthTolerance > 0.0 && m.stability != Stability::RigidBody)
         m.stability = m.lambda.real() > m.growthTolerance
                           ? (std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter)
@@ -1447,10 +1445,7 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
 /// the two vectors' errors, and a bound (twoSidedBound) that the stiff rows'
 /// residual does not reach: with x alone the bound ||r|| ||q|| / |q^H Q' q|
 /// grew with the mesh, and at 300 elements the 0.229 1/s flutter read
-/// stable again (a review; theory §13.3). Candidates: a positive growth rate
-/// above instabilityTol |lambda|, within the tolerance, whose bound is below
-/// |lambda| (a split zero's is of its own size) and with no other value
-/// within 1e-3 |lambda| (a split cluster's members are not refined). One
+/// stable again (a review; theory §13.3). Candidates: undecidedGrowth. One
 /// complex LU of Q(sigma) at the computed sigma = lambda (n^3 / 3; its
 /// conjugate-transpose solve gives y), three steps (each multiplies the
 /// vectors' errors by |lambda - sigma| / (the distance to the next
