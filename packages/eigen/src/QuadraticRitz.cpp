@@ -268,7 +268,7 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
   const double n = static_cast<double>(rowMap->getGlobalNumElements());
   std::vector<int> chosen;
   for (int j : which)
-    if (undecidedGrowth(rm[j], rm, instabilityTol, zeroBelow)) chosen.push_back(j);
+    if (undecidedGrowth(rm[j], rm, instabilityTol, zeroBelow, sys.D.is_null() && sys.N.is_null())) chosen.push_back(j);
   if (chosen.empty()) return false;
   // C = G + D, Kt = K + N, and C's transpose D - G (for Q'(sigma)^H).
   using Matrix = Teuchos::RCP<const CrsMatrix>;
