@@ -197,14 +197,13 @@ void printModes(const analysis::ModalResult& r) {
   // is the modes' classification (growth beyond what rounding can make),
   // not the sign of the least ratio: an undamped mode of a damped structure
   // (a hinge's flap mode beside a lag damper) has zeta = +-1e-15.
-  const long undecided = std::count_if(result.modes.begin(), result.modes.end(), [](const eigen::GyroscopicMode& m) {
-    return m.stability == eigen::Stability::Neutral && m.growthRate > 0.0;
-  });
+  const long undecided = std::count_if(result.modes.begin(), result.modes.end(),
+                                       [](const eigen::GyroscopicMode& m) { return m.undecided; });
   if (!r.reduced->damping().is_null())
     std::cout << "least damping ratio: " << std::setprecision(4) << result.leastDampingRatio()
               << (!result.isStable() ? " (UNSTABLE: a mode grows)"
                   : undecided > 0      ? " (UNDECIDED: " + std::to_string(undecided) +
-                                        " mode(s) grow within their uncertainty, marked neutral)"
+                                        " mode(s) whose growth rate their uncertainty does not tell from the Instability Tolerance, marked neutral)"
                   : result.leastDampingRatio() < 0.0 ? std::string(" (rounding: every mode stable)")
                                                      : std::string())
               << '\n';

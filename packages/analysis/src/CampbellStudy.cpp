@@ -501,8 +501,14 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     const auto& modes = sol.result.modes;
     std::vector<double> forward;
     const auto whirl = problem.whirlAndForwardShare(sol, rule, forward);
-    bool anyUnstable = false;
-    for (const auto& m : modes) anyUnstable = anyUnstable || unstable(m.stability);
+    bool anyUnstable = false, anyUndecided = false;
+    for (const auto& m : modes) anyUnstable = anyUnstable || unstable(m.stability), anyUndecided = anyUndecided || m.undecided;
+    if (anyUndecided) {
+      if (k > 0 && !r.undecidedRanges.empty() && r.undecidedRanges.back().second == refAt(r.factors[k - 1]))
+        r.undecidedRanges.back().second = refAt(f);
+      else
+        r.undecidedRanges.push_back({refAt(f), refAt(f)});
+    }
     if (anyUnstable) {
       if (k > 0 && !r.unstableRanges.empty() && r.unstableRanges.back().second == refAt(r.factors[k - 1])) {
         r.unstableRanges.back().second = refAt(f);
@@ -1173,6 +1179,12 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     else os << edges << (unstableEdgesRefined ? "bisected)" : "the sweep's unstable speeds: up to a step outside)");
     os << '\n';
   }
+  // A damped mode's growth its uncertainty does not decide (theory §13.3):
+  // neither the unstable ranges above nor "stable".
+  for (const auto& [a, b] : undecidedRanges)
+    os << "UNDECIDED from " << a << " to " << b << " rad/s of '" << ref
+       << "' (the sweep's speeds; a growth rate within its uncertainty of the Instability Tolerance, "
+          "\"neutral\" in the table: neither shown stable nor unstable there)\n";
   os.flags(flags);
   os.precision(prec);
 }

@@ -1194,6 +1194,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
                           ? (std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter)
                       : undecidedGrowth(m, modes, instabilityTol, rigidBodyTol * s, false) ? Stability::Neutral
                                                                                       : Stability::Stable;
+      m.undecided = m.stability == Stability::Neutral;
       zeroRigidDamping(m);
     }
     return;
@@ -1316,6 +1317,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
         m.lambda.real() > m.growthTolerance)
       s = std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter;
     m.stability = s;
+    m.undecided = false;
     zeroRigidDamping(m);
   }
 }

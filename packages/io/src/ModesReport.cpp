@@ -103,6 +103,7 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
     if (md.growthTolerance > 0.0) {
       j["growth_uncertainty"] = md.growthTolerance;
       j["growth_refined"] = md.refinedError > 0.0;
+      j["growth_undecided"] = md.undecided;
     }
     // The rigorous bound (theory §11.8), only where the structure is SPD.
     if (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0) {

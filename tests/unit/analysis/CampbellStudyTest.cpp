@@ -612,3 +612,46 @@ TEST(CampbellStudy, AFrameRateTrackMissingAtOneSpeedStaysAFrameRateTrack) {
   EXPECT_TRUE(r.crossings.empty()) << "a frame-rate track was listed as a critical speed";
   EXPECT_EQ(r.frameRateCrossings.size(), 1u);
 }
+
+namespace {
+/// ParabolaProblem whose mode is damped, its growth rate undecided
+/// (GyroscopicMode::undecided, Neutral) from `from` to `to`, and a
+/// conservative system's Neutral (a split defective cluster, not undecided)
+/// everywhere else below `to`.
+class UndecidedParabola : public ParabolaProblem {
+public:
+  UndecidedParabola(double from, double to) : from_(from), to_(to) {}
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+    auto out = ParabolaProblem::solve(speeds);
+    auto& m = out.result.modes[0];
+    const double W = speeds[0];
+    m.undecided = W >= from_ && W <= to_;
+    m.stability = W <= to_ ? eigen::Stability::Neutral : eigen::Stability::Stable;
+    return out;
+  }
+
+private:
+  double from_, to_;
+};
+}  // namespace
+
+// A damped mode whose growth rate its uncertainty leaves undecided (theory
+// §13.3) is neither stable nor unstable: the Campbell lists the speeds
+// where one is, apart from the unstable ranges, and a conservative
+// system's Neutral (a split defective cluster, theory §4) is not among them.
+// Before, the unstable ranges counted Divergence and Flutter only and the
+// sweep said nothing of an undecided mode but "neutral" in its CSV.
+TEST(CampbellStudy, SpeedsWhereAGrowthRateIsUndecidedAreListed) {
+  // Speeds 0, 0.4, ..., 2.0: undecided at 0.8 and 1.2, Neutral (not
+  // undecided) at 0 and 0.4.
+  const auto r = analysis::CampbellStudy(sweep(6, 1.0)).run(UndecidedParabola(0.7, 1.3));
+  ASSERT_EQ(r.undecidedRanges.size(), 1u);
+  EXPECT_NEAR(r.undecidedRanges[0].first, 0.8, 4 * DBL_EPSILON);
+  EXPECT_NEAR(r.undecidedRanges[0].second, 1.2, 4 * DBL_EPSILON);
+  EXPECT_TRUE(r.unstableRanges.empty());
+  std::ostringstream os;
+  r.printCrossings(os);
+  EXPECT_NE(os.str().find("UNDECIDED from 0.8"), std::string::npos) << os.str();
+  const auto none = analysis::CampbellStudy(sweep(6, 1.0)).run(UndecidedParabola(5.0, 6.0));
+  EXPECT_TRUE(none.undecidedRanges.empty());
+}

@@ -46,6 +46,9 @@ TEST(StabilityVerdict, DefectiveFrameRatePairIsNotAnInstability) {
       EXPECT_NE(m.stability, Stability::Divergence) << "Omega " << Omega << " growth " << m.growthRate;
       if (m.growthRate > 0 && m.stability != Stability::Stable)
         EXPECT_EQ(m.stability, Stability::Neutral) << "Omega " << Omega;
+      // A conservative system's Neutral is a split cluster, not an
+      // undecided growth (which the Campbell lists as such).
+      EXPECT_FALSE(m.undecided) << "Omega " << Omega;
     }
     EXPECT_TRUE(r.isStable());
   }
@@ -209,6 +212,9 @@ TEST(StabilityVerdict, ADampedGrowthWithinItsUncertaintyIsUndecided) {
     m.growthTolerance = tolerance;
     std::vector<GyroscopicMode> modes{m};
     classifyModes(modes, 100.0, 1e-6, 1e-7, /*conservative=*/false);
+    // Damped: Neutral is the undecided growth, and only it (the Campbell's
+    // undecided ranges and `cms modes`' UNDECIDED count it).
+    EXPECT_EQ(modes[0].undecided, modes[0].stability == Stability::Neutral) << lambda;
     return modes[0].stability;
   };
   EXPECT_EQ(verdict({0.241, 78.4}, 1.0), Stability::Neutral);

@@ -281,6 +281,12 @@ struct CampbellResult {
   /// that end is the sweep's, not an edge of the range, which goes on
   /// beyond it.
   std::vector<std::pair<bool, bool>> unstableOpen;
+  /// Omega_ref (rad/s), first and last grid speed of each run of speeds
+  /// where some mode's growth rate is undecided (GyroscopicMode::undecided:
+  /// a damped structure's growth its uncertainty does not tell from the
+  /// Instability Tolerance, "neutral" in the table; theory §13.3). Neither
+  /// stable nor unstable there; not bisected.
+  std::vector<std::pair<double, double>> undecidedRanges;
   /// Reference speeds (rad/s) where a frequency passes through zero: the
   /// count of K(Omega)'s negative eigenvalues changes there, bisected on
   /// the count to "Crossing Tolerance" (always: a factorisation a step);

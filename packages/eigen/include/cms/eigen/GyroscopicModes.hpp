@@ -84,6 +84,12 @@ struct GyroscopicMode {
   /// within ten times eigenvalueError is refined with its left vector, whose
   /// bound is tight on stiff rows where ||r|| ||q|| is not. 0: not refined.
   double refinedError = 0.0;
+  /// A damped (or circulatory) system's mode whose growth rate its
+  /// uncertainty, after the refinement, does not tell from the Instability
+  /// Tolerance (undecidedGrowth; theory §13.3): its stability is Neutral.
+  /// Always false for a conservative system, whose Neutral modes are split
+  /// defective clusters (theory §4).
+  bool undecided = false;
   /// The first-order a-posteriori error of the eigenvalue, rad/s: ||r|| ||q||
   /// / |q^H (2 lambda M + G + D) q| (0: not computed).
   /// Meaningful for a simple eigenvalue; for a defective one the
