@@ -1059,19 +1059,11 @@ double growthUncertainty(cplx lambda, double errorBound, double etaQ, double ins
 }
 
 bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
-                     double zeroBelow, bool conservative) {
-  const double growth = m.lambda.real(), size = std::abs(m.lambda), threshold = instabilityTol * size;
-  // Undecided: the growth rate and the tolerance lie within its uncertainty
-  // of each other. Above the tolerance but within (a flutter not told from
-  // a decay), or, damped, at or below it but within an uncertainty beyond
-  // it (a decay not told from a growth: the sparse path's backward whirl on
-  // a stiff support, -0.851 1/s within 1.18, read "stable"; theory §13.3).
-  // Not the latter for a conservative system: its decaying value mirrors a
-  // growing one, which is the one judged.
-  const bool above = growth > threshold && growth <= m.growthTolerance;
-  const bool below = !conservative && m.growthTolerance > threshold && growth <= threshold &&
-                     growth + m.growthTolerance > threshold;
-  if (!(above || below) || !(m.eigenvalueError < size) || size <= zeroBelow || m.blockScale > 0.0) return false;
+                     double zeroBelow) {
+  const double growth = m.lambda.real(), size = std::abs(m.lambda);
+  if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) || !(m.eigenvalueError < size) ||
+      size <= zeroBelow || m.blockScale > 0.0)
+    return false;
   for (const auto& o : modes)
     if (&o != &m && (std::abs(o.lambda - m.lambda) <= 1e-3 * size ||
                      std::abs(o.lambda - std::conj(m.lambda)) <= 1e-3 * size ||
@@ -1192,7 +1184,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       if (m.growthTolerance > 0.0 && m.stability != Stability::RigidBody)
         m.stability = m.lambda.real() > m.growthTolerance
                           ? (std::abs(m.lambda.imag()) <= m.growthTolerance ? Stability::Divergence : Stability::Flutter)
-                      : undecidedGrowth(m, modes, instabilityTol, rigidBodyTol * s, false) ? Stability::Neutral
+                      : undecidedGrowth(m, modes, instabilityTol, rigidBodyTol * s) ? Stability::Neutral
                                                                                       : Stability::Stable;
       m.undecided = m.stability == Stability::Neutral;
       zeroRigidDamping(m);
@@ -1469,7 +1461,7 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
   const auto Kt = [&](int i, int j) { return sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0); };
   bool any = false;
   for (auto& m : modes) {
-    if (!undecidedGrowth(m, modes, instabilityTol, zeroBelow, !sys.damped())) continue;
+    if (!undecidedGrowth(m, modes, instabilityTol, zeroBelow)) continue;
     const double size = std::abs(m.lambda);
     // Q(sigma), factored once. An exactly singular one (sigma an eigenvalue
     // to the last bit) is moved by 1e-10 |sigma|: inverse iteration needs
@@ -1533,8 +1525,12 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
       ok = std::isfinite(l.real()) && std::isfinite(l.imag());
     }
     if (!ok) continue;
-    m.lambda = l, m.q = x;
-    m.refinedError = twoSidedBound(l, change, changeBefore, a, b, rounding);
+    // Kept only where it decides more than the computed value's own
+    // uncertainty did: else the refinement did not help, and dggev's value
+    // and shape stay (a review found refined values kept that were worse).
+    const double bound = twoSidedBound(l, change, changeBefore, a, b, rounding);
+    if (!(bound < m.growthTolerance)) continue;
+    m.lambda = l, m.q = x, m.refinedError = bound;
     any = true;
   }
   return any;

@@ -98,8 +98,12 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
 }
 
 /// Each Ritz mode's full vector q = Q q_r: this rank's rows into m.q (not
-/// yet normalised; measureRitzModes does that).
+/// yet normalised; measureRitzModes does that). A bound the projected
+/// solve's own refinement left (refinedError) is of the projected pencil,
+/// no bound on the full model's eigenvalue: cleared, or measureRitzModes
+/// took it for the full model's growth uncertainty (a review).
 void expandModes(const MultiVector& Q, std::vector<GyroscopicMode>& rm) {
+  for (auto& m : rm) m.refinedError = 0.0;
   const int k = static_cast<int>(rm.size());
   const int kk = std::max(k, 1);
   DenseMatrix Yr(static_cast<int>(Q.getNumVectors()), kk), Yi(static_cast<int>(Q.getNumVectors()), kk);
@@ -259,16 +263,23 @@ Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, co
 /// 250 shaft elements, read a 0.241 1/s flutter "stable" (depending on the
 /// mode count; a review). Not refined: a value within 1e-3 |lambda| of
 /// another (a split cluster's member), one solved apart, or one whose
-/// factorisation fails (it keeps its first-order uncertainty). Collective.
-/// Returns whether any mode changed.
+/// factorisation fails (it keeps its first-order uncertainty), and one whose
+/// refined bound is no smaller than the uncertainty it had (the refinement
+/// did not help: the value and shape are kept). `rigidTol` and `scale` give
+/// each mode's zero, rigidTol min(its scale, scale), as classifyModes
+/// judges it: the full model's scale alone left a mode above the projected
+/// scale's zero unrefined and then Neutral without a refinement (a review).
+/// Collective. Returns whether any mode changed.
 bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMode>& rm, const std::vector<int>& which,
-                     double instabilityTol, double zeroBelow) {
+                     double instabilityTol, double rigidTol, double scale) {
   const auto rowMap = sys.M->getRowMap();
   const size_t nloc = rowMap->getNodeNumElements();
   const double n = static_cast<double>(rowMap->getGlobalNumElements());
   std::vector<int> chosen;
-  for (int j : which)
-    if (undecidedGrowth(rm[j], rm, instabilityTol, zeroBelow, sys.D.is_null() && sys.N.is_null())) chosen.push_back(j);
+  for (int j : which) {
+    const double s = rm[j].scale > 0.0 ? std::min(rm[j].scale, scale) : scale;
+    if (undecidedGrowth(rm[j], rm, instabilityTol, rigidTol * s)) chosen.push_back(j);
+  }
   if (chosen.empty()) return false;
   // C = G + D, Kt = K + N, and C's transpose D - G (for Q'(sigma)^H).
   using Matrix = Teuchos::RCP<const CrsMatrix>;
@@ -360,12 +371,15 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       ok = std::isfinite(l.real()) && std::isfinite(l.imag());
     }
     if (!ok) continue;
+    // Kept only where it decides more than the Ritz value's own uncertainty
+    // did (the same on every rank: both come from global sums).
+    const double bound = twoSidedBound(l, change, changeBefore, a, b, rounding);
+    if (!(bound < m.growthTolerance)) continue;
     {
       auto xv = x.getLocalViewHost(Tpetra::Access::ReadOnly);
       for (size_t i = 0; i < nloc; ++i) m.q[i] = cplx(xv(i, 0), xv(nloc + i, 0));
     }
-    m.lambda = l;
-    m.refinedError = twoSidedBound(l, change, changeBefore, a, b, rounding);
+    m.lambda = l, m.refinedError = bound;
     any = true;
   }
   return any;
@@ -425,7 +439,7 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   const double scale = frequencyScale(sys.M->getFrobeniusNorm(),
                                       sys.G->getFrobeniusNorm() + (sys.D.is_null() ? 0.0 : sys.D->getFrobeniusNorm()),
                                       sys.K->getFrobeniusNorm() + (sys.N.is_null() ? 0.0 : sys.N->getFrobeniusNorm()));
-  if (refineRitzModes(sys, rm, returned, instabTol, rigidTol * scale)) {
+  if (refineRitzModes(sys, rm, returned, instabTol, rigidTol, scale)) {
     measureRitzModes(sys, rm, instabTol, !damped);
     if (projectedScale)
       for (auto& m : rm) m.scale = projected;

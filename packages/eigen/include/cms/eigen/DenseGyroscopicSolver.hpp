@@ -70,10 +70,8 @@ double growthUncertainty(std::complex<double> lambda, double errorBound, double 
                          const std::vector<std::complex<double>>& others, bool conservative);
 
 /// Whether `m`'s growth rate is undecided and is refined (theory §13.3):
-/// above instabilityTol |lambda| but within its growthTolerance, or (not
-/// `conservative`: damped or circulatory) at or below instabilityTol
-/// |lambda| with a growthTolerance beyond it that reaches past it; its
-/// first-order error below |lambda| (a split zero's is of its own
+/// positive, above instabilityTol |lambda| but within its growthTolerance,
+/// its first-order error below |lambda| (a split zero's is of its own
 /// size), |lambda| above `zeroBelow` (a zero the rigid test takes anyway),
 /// not solved apart (blockScale), and no other of `modes` (or a mirror)
 /// within 1e-3 |lambda|: a split cluster's member (a free body's frame-rate
@@ -81,7 +79,7 @@ double growthUncertainty(std::complex<double> lambda, double errorBound, double 
 /// iteration would pick one as rounding decides (the rank counts' values
 /// differed: the campbell rank test).
 bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
-                     double zeroBelow, bool conservative);
+                     double zeroBelow);
 
 /// The two-sided Rayleigh functional (theory §13.3): the root nearest `near`
 /// of y^H Q(mu) x = a mu^2 + b mu + c = 0, with a = y^H M x, b = y^H (G + D) x,
