@@ -203,7 +203,7 @@ void printModes(const analysis::ModalResult& r) {
     std::cout << "least damping ratio: " << std::setprecision(4) << result.leastDampingRatio()
               << (!result.isStable() ? " (UNSTABLE: a mode grows)"
                   : undecided > 0      ? " (UNDECIDED: " + std::to_string(undecided) +
-                                        " mode(s) whose growth rate their uncertainty does not tell from the Instability Tolerance, marked neutral)"
+                                        " mode(s) grow within their uncertainty, marked neutral)"
                   : result.leastDampingRatio() < 0.0 ? std::string(" (rounding: every mode stable)")
                                                      : std::string())
               << '\n';

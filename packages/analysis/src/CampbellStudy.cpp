@@ -1184,7 +1184,7 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   for (const auto& [a, b] : undecidedRanges)
     os << "UNDECIDED from " << a << " to " << b << " rad/s of '" << ref
        << "' (the sweep's speeds; a growth rate within its uncertainty of the Instability Tolerance, "
-          "\"neutral\" in the table: neither shown stable nor unstable there)\n";
+          "\"neutral\" in the CSV: neither shown stable nor unstable there)\n";
   os.flags(flags);
   os.precision(prec);
 }

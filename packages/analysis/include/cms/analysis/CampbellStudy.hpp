@@ -284,7 +284,7 @@ struct CampbellResult {
   /// Omega_ref (rad/s), first and last grid speed of each run of speeds
   /// where some mode's growth rate is undecided (GyroscopicMode::undecided:
   /// a damped structure's growth its uncertainty does not tell from the
-  /// Instability Tolerance, "neutral" in the table; theory §13.3). Neither
+  /// Instability Tolerance, "neutral" in the CSV; theory §13.3). Neither
   /// stable nor unstable there; not bisected.
   std::vector<std::pair<double, double>> undecidedRanges;
   /// Reference speeds (rad/s) where a frequency passes through zero: the

@@ -84,9 +84,10 @@ struct GyroscopicMode {
   /// within ten times eigenvalueError is refined with its left vector, whose
   /// bound is tight on stiff rows where ||r|| ||q|| is not. 0: not refined.
   double refinedError = 0.0;
-  /// A damped (or circulatory) system's mode whose growth rate its
-  /// uncertainty, after the refinement, does not tell from the Instability
-  /// Tolerance (undecidedGrowth; theory §13.3): its stability is Neutral.
+  /// A damped (or circulatory) system's mode whose positive growth rate,
+  /// above the Instability Tolerance, stays within its uncertainty (after
+  /// the refinement, where it was refined; undecidedGrowth, theory §13.3):
+  /// its stability is Neutral.
   /// Always false for a conservative system, whose Neutral modes are split
   /// defective clusters (theory §4).
   bool undecided = false;
