@@ -94,7 +94,24 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
   // separates a near-double pair, leaving its modes at residuals ~1e-7). The
   // small directions come out of SVQB with errors ~eps/sigma, so a second
   // pass orthonormalises the result again (SVQB twice, as CGS twice).
-  return orthonormalBasis(*orthonormalBasis(halves, 1e-20), 1e-20);
+  auto basis = orthonormalBasis(*orthonormalBasis(halves, 1e-20), 1e-20);
+  // More columns than the model has coordinates (a small reduced model,
+  // 2 nr > n): the cut keeps a rounding direction (a Gram eigenvalue of
+  // ~1e-16, above 1e-20) that is no direction at all, and the projected M
+  // was singular: 23 columns for 22 coordinates, refused as "M is not
+  // positive definite" (a review). The subspace is then the whole space:
+  // its exact basis, the identity.
+  const auto n = static_cast<size_t>(rowMap->getGlobalNumElements());
+  if (basis->getNumVectors() >= n) {
+    auto identity = Teuchos::rcp(new MultiVector(rowMap, n));
+    size_t offset = 0;
+    Teuchos::scan(*rowMap->getComm(), Teuchos::REDUCE_SUM, nloc0, Teuchos::outArg(offset));
+    offset -= nloc0;  // the rows on the ranks before this one
+    auto v = identity->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t i = 0; i < nloc0; ++i) v(i, offset + i) = 1.0;
+    return identity;
+  }
+  return basis;
 }
 
 /// Each Ritz mode's full vector q = Q q_r: this rank's rows into m.q (not
