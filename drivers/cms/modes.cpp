@@ -201,7 +201,10 @@ void printModes(const analysis::ModalResult& r) {
                                        [](const eigen::GyroscopicMode& m) { return m.undecided; });
   if (!r.reduced->damping().is_null())
     std::cout << "least damping ratio: " << std::setprecision(4) << result.leastDampingRatio()
-              << (!result.isStable() ? " (UNSTABLE: a mode grows)"
+              << (!result.isStable() ? " (UNSTABLE: a mode grows" +
+                                           (undecided > 0 ? "; UNDECIDED: " + std::to_string(undecided) +
+                                                                " more grow within their uncertainty, marked neutral)"
+                                                          : std::string(")"))
                   : undecided > 0      ? " (UNDECIDED: " + std::to_string(undecided) +
                                         " mode(s) grow within their uncertainty, marked neutral)"
                   : result.leastDampingRatio() < 0.0 ? std::string(" (rounding: every mode stable)")
