@@ -107,7 +107,7 @@ Teuchos::RCP<MultiVector> ritzSubspace(const MultiVector& ritz, const Teuchos::R
     size_t offset = 0;
     Teuchos::scan(*rowMap->getComm(), Teuchos::REDUCE_SUM, nloc0, Teuchos::outArg(offset));
     offset -= nloc0;  // the rows on the ranks before this one
-    auto v = identity->getLocalViewHost(Tpetra::Access::OverwriteAll);
+    auto v = identity->getLocalViewHost(Tpetra::Access::ReadWrite);  // keeps the zeros
     for (size_t i = 0; i < nloc0; ++i) v(i, offset + i) = 1.0;
     return identity;
   }
