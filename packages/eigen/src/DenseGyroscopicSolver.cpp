@@ -1097,6 +1097,17 @@ double twoSidedBound(cplx lambda, double change, double changeBefore, cplx a, cp
   return r < 1.0 ? std::max(floor, change * r / (1.0 - r)) : std::numeric_limits<double>::infinity();
 }
 
+bool TwoSidedEstimate::step(cplx a, cplx b, cplx c) {
+  const cplx next = twoSidedRoot(a, b, c, lambda);
+  changeBefore = change, change = std::abs(next - lambda), lambda = next;
+  return std::isfinite(lambda.real()) && std::isfinite(lambda.imag());
+}
+
+double TwoSidedEstimate::boundIfBetter(cplx a, cplx b, const FunctionalRounding& rounding, double before) const {
+  const double bound = twoSidedBound(lambda, change, changeBefore, a, b, rounding);
+  return bound < before ? bound : std::nan("");
+}
+
 Stability classify(cplx lambda, double scale, double rigidBodyTol, double instabilityTol) {
   if (std::abs(lambda) <= rigidBodyTol * scale) return Stability::RigidBody;
   if (lambda.real() > instabilityTol * scale)
@@ -1479,8 +1490,8 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
     }
     if (info != 0) continue;
     std::vector<cplx> x(m.q), y(m.q), rx(n), ry(n);
-    cplx l = m.lambda, a = 0.0, b = 0.0, c = 0.0;
-    double change = 0.0, changeBefore = 0.0;
+    TwoSidedEstimate e{m.lambda};
+    cplx a = 0.0, b = 0.0, c = 0.0;
     FunctionalRounding rounding;
     bool ok = true;
     const int one = 1;
@@ -1520,17 +1531,15 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
         rounding.product[0] += ay * std::abs(Kx), rounding.product[1] += ay * std::abs(Cx),
             rounding.product[2] += ay * std::abs(Mx);
       }
-      const cplx next = twoSidedRoot(a, b, c, l);
-      changeBefore = change, change = std::abs(next - l), l = next;
-      ok = std::isfinite(l.real()) && std::isfinite(l.imag());
+      ok = e.step(a, b, c);
     }
     if (!ok) continue;
     // Kept only where it decides more than the computed value's own
     // uncertainty did: else the refinement did not help, and dggev's value
     // and shape stay (a review found refined values kept that were worse).
-    const double bound = twoSidedBound(l, change, changeBefore, a, b, rounding);
-    if (!(bound < m.growthTolerance)) continue;
-    m.lambda = l, m.q = x, m.refinedError = bound;
+    const double bound = e.boundIfBetter(a, b, rounding, m.growthTolerance);
+    if (std::isnan(bound)) continue;
+    m.lambda = e.lambda, m.q = x, m.refinedError = bound;
     any = true;
   }
   return any;

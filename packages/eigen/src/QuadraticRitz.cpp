@@ -360,8 +360,8 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       value = cplx(global[0] + global[1], global[2] - global[3]);
       absolute = global[4], product = global[5];
     };
-    cplx l = m.lambda, a = 0.0, b = 0.0, c = 0.0;
-    double change = 0.0, changeBefore = 0.0;
+    TwoSidedEstimate e{m.lambda};
+    cplx a = 0.0, b = 0.0, c = 0.0;
     FunctionalRounding rounding;
     rounding.n = n;
     bool ok = true;
@@ -383,20 +383,18 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       forms(*Kt, c, rounding.absolute[0], rounding.product[0]);
       forms(*C, b, rounding.absolute[1], rounding.product[1]);
       forms(*sys.M, a, rounding.absolute[2], rounding.product[2]);
-      const cplx next = twoSidedRoot(a, b, c, l);
-      changeBefore = change, change = std::abs(next - l), l = next;
-      ok = std::isfinite(l.real()) && std::isfinite(l.imag());
+      ok = e.step(a, b, c);
     }
     if (!ok) continue;
     // Kept only where it decides more than the Ritz value's own uncertainty
     // did (the same on every rank: both come from global sums).
-    const double bound = twoSidedBound(l, change, changeBefore, a, b, rounding);
-    if (!(bound < m.growthTolerance)) continue;
+    const double bound = e.boundIfBetter(a, b, rounding, m.growthTolerance);
+    if (std::isnan(bound)) continue;
     {
       auto xv = x.getLocalViewHost(Tpetra::Access::ReadOnly);
       for (size_t i = 0; i < nloc; ++i) m.q[i] = cplx(xv(i, 0), xv(nloc + i, 0));
     }
-    m.lambda = l, m.refinedError = bound;
+    m.lambda = e.lambda, m.refinedError = bound;
     any = true;
   }
   return any;

@@ -5,6 +5,7 @@
 // instability stays flagged.
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -220,4 +221,37 @@ TEST(StabilityVerdict, ADampedGrowthWithinItsUncertaintyIsUndecided) {
   EXPECT_EQ(verdict({0.241, 0.0}, 0.1), Stability::Divergence);
   EXPECT_EQ(verdict({-0.241, 78.4}, 1.0), Stability::Stable);
   EXPECT_EQ(verdict({5e-6, 78.4}, 1.0), Stability::Stable);  // 6e-8 |lambda|: within the Instability Tolerance
+}
+
+// The two-sided iteration's bookkeeping (TwoSidedEstimate), shared by the
+// dense and sparse refinements (theory §13.3), on lambda^2 + 2 lambda + 5 =
+// 0, roots -1 +/- 2i. One step from near -1 + 2i lands on that root (the
+// quadratic formula, to rounding); the next changes nothing, and the bound
+// is then the rounding floor 2 eps sum_A w_A (absolute + n product) /
+// |2 lambda a + b|. A bound no better than the uncertainty before (or an
+// infinite one: changes that do not shrink) is refused, NaN: the computed
+// value stays.
+TEST(StabilityVerdict, TheTwoSidedEstimateKeepsOnlyABetterBound) {
+  using cplx = std::complex<double>;
+  const cplx a = 1.0, b = 2.0, c = 5.0, root(-1.0, 2.0);
+  FunctionalRounding r;
+  r.n = 1.0;
+  for (int t = 0; t < 3; ++t) r.absolute[t] = 1.0, r.product[t] = 1.0;
+  TwoSidedEstimate e{cplx(-1.1, 2.1)};
+  ASSERT_TRUE(e.step(a, b, c));
+  EXPECT_LE(std::abs(e.lambda - root), 8 * DBL_EPSILON * std::abs(root));
+  ASSERT_TRUE(e.step(a, b, c));
+  EXPECT_LE(e.change, 8 * DBL_EPSILON * std::abs(root));
+  const double size = std::abs(root), floor = 2 * DBL_EPSILON * 2 * (1 + size + size * size) / std::abs(2.0 * root + 2.0);
+  EXPECT_NEAR(e.boundIfBetter(a, b, r, 1.0), floor, 1e-12 * floor);  // lambda to 8 eps: its powers to ~1e-15
+  EXPECT_TRUE(std::isnan(e.boundIfBetter(a, b, r, 0.5 * floor)));
+  // Changes that grow: no bound (infinite), refused whatever came before.
+  TwoSidedEstimate g{root};
+  g.change = 1e-3, g.changeBefore = 1e-4;
+  EXPECT_TRUE(std::isnan(g.boundIfBetter(a, b, r, 1e300)));
+  // Contracting changes above the floor: change r / (1 - r), r their ratio.
+  g.change = 1e-4, g.changeBefore = 1e-3;
+  EXPECT_NEAR(g.boundIfBetter(a, b, r, 1.0), 1e-4 * 0.1 / 0.9, 8 * DBL_EPSILON * 1e-4 * 0.1 / 0.9);
+  // a = b = 0: no root, the step says so.
+  EXPECT_FALSE(TwoSidedEstimate{root}.step(0.0, 0.0, c));
 }

@@ -116,6 +116,21 @@ struct FunctionalRounding {
 double twoSidedBound(std::complex<double> lambda, double change, double changeBefore, std::complex<double> a,
                      std::complex<double> b, const FunctionalRounding& rounding);
 
+/// The two-sided iteration's eigenvalue and its last two changes, as both
+/// refinements (dense and sparse) keep them for twoSidedBound.
+struct TwoSidedEstimate {
+  std::complex<double> lambda;
+  double change = 0.0, changeBefore = 0.0;
+  /// One step: lambda <- twoSidedRoot(a, b, c, lambda), the changes
+  /// shifted. Returns whether lambda stays finite.
+  bool step(std::complex<double> a, std::complex<double> b, std::complex<double> c);
+  /// twoSidedBound of the current lambda where it is below `before` (the
+  /// uncertainty the computed value had); else NaN: the refinement did not
+  /// help, and the computed value stays.
+  double boundIfBetter(std::complex<double> a, std::complex<double> b, const FunctionalRounding& rounding,
+                       double before) const;
+};
+
 /// Classify lambda against the tolerances (relative to `scale`).
 Stability classify(std::complex<double> lambda, double scale, double rigidBodyTol,
                    double instabilityTol);
