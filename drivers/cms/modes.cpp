@@ -207,9 +207,14 @@ void printModes(const analysis::ModalResult& r) {
                                                           : std::string(")"))
                   : undecided > 0      ? " (UNDECIDED: " + std::to_string(undecided) +
                                         " mode(s) grow within their uncertainty, marked neutral)"
-                  : result.leastDampingRatio() < 0.0 ? std::string(" (rounding: every mode stable)")
-                                                     : std::string())
+                  : result.leastDampingRatio() < 0.0
+                      ? std::string(result.energyBound.shown ? " (rounding: every mode stable, by the energy bound)"
+                                                             : " (rounding: every mode stable)")
+                      : std::string())
               << '\n';
+  // What decides a growth rate within its uncertainty (theory §13.3).
+  if (!r.reduced->damping().is_null() && !result.energyBound.note.empty())
+    std::cout << "energy bound: " << result.energyBound.note << '\n';
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
@@ -84,6 +85,84 @@ int choleskyLower(DenseMatrix& A, double relPivotTol) {
     if (lo < relPivotTol * hi) return n + 1;
   }
   return 0;
+}
+
+DefinitenessCheck showPositiveDefinite(const DenseMatrix& A) {
+  const int n = A.numRows();
+  DefinitenessCheck c;
+  if (n == 0) {
+    c.why = "empty matrix";
+    return c;
+  }
+  // Unit diagonal by powers of two: every scaled entry is exact, and the
+  // check is blind to the units of the coordinates (a rotation's stiffness
+  // beside a translation's).
+  std::vector<double> s(n);
+  for (int i = 0; i < n; ++i) {
+    if (!(A(i, i) > 0.0)) {
+      std::ostringstream os;
+      os << "diagonal entry " << i << " is " << A(i, i);
+      c.why = os.str();
+      return c;
+    }
+    int e = 0;
+    std::frexp(A(i, i), &e);
+    s[i] = std::ldexp(1.0, -e / 2);
+  }
+  DenseMatrix L(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i) L(i, j) = A(i, j) * s[i] * s[j];
+  double anorm = 0.0;  // ||H||_1 from the lower triangle: column j is H(j:n, j) and H(j, 0:j)
+  {
+    std::vector<double> col(n, 0.0);
+    for (int j = 0; j < n; ++j)
+      for (int i = j; i < n; ++i) {
+        col[j] += std::abs(L(i, j));
+        if (i != j) col[i] += std::abs(L(i, j));
+      }
+    anorm = *std::max_element(col.begin(), col.end());
+  }
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POTRF('L', n, L.values(), L.stride(), &info);
+  if (info != 0) {
+    c.why = "Cholesky pivot " + std::to_string(info) + " of " + std::to_string(n) + " is not positive";
+    return c;
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) L(i, j) = 0.0;
+  // gamma_{m+1} || |L| |L|^T ||_inf: w = |L|^T 1, then the largest of |L| w.
+  int m = 0;
+  std::vector<double> w(n, 0.0), z(n, 0.0);
+  std::vector<int> rowCount(n, 0);
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i)
+      if (L(i, j) != 0.0) {
+        w[j] += std::abs(L(i, j));
+        ++rowCount[i];
+      }
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i) z[i] += std::abs(L(i, j)) * w[j];
+  m = *std::max_element(rowCount.begin(), rowCount.end());
+  const double u = std::numeric_limits<double>::epsilon() / 2.0;
+  const double gamma = (m + 1) * u / (1.0 - (m + 1) * u);
+  const double backward = gamma * *std::max_element(z.begin(), z.end());
+  double rcond = 0.0;
+  std::vector<double> work(3 * static_cast<std::size_t>(n));
+  std::vector<int> iwork(n);
+  lapack.POCON('L', n, L.values(), L.stride(), anorm, &rcond, work.data(), iwork.data(), &info);
+  // rcond = 1 / (||H||_1 est||(L L^T)^-1||_1): the smallest eigenvalue is at
+  // least 1 / ||(L L^T)^-1||_1, taken ten times the estimate.
+  const double lambdaMin = rcond * anorm / 10.0;
+  c.margin = backward > 0.0 ? lambdaMin / backward : std::numeric_limits<double>::infinity();
+  c.shown = info == 0 && c.margin > 1.0;
+  if (!c.shown) {
+    std::ostringstream os;
+    os << "its smallest eigenvalue (scaled to unit diagonal, estimated " << lambdaMin
+       << ") is not above Cholesky's backward error " << backward;
+    c.why = os.str();
+  }
+  return c;
 }
 
 void gemm(bool transA, bool transB, double alpha, const DenseMatrix& A, const DenseMatrix& B,

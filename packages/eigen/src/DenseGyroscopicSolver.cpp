@@ -1,4 +1,5 @@
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
+#include "cms/eigen/EnergyBound.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -1588,6 +1589,10 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
     pl->set("Structure Tolerance", 1e-10,
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
     addStabilityTolerances(*pl);
+    pl->set("Energy Bound", true,
+            "a damped system: show N = 0, K > 0 and D + d M > 0 (d = Instability Tolerance times the least "
+            "|lambda|) from Cholesky factors, so that no mode grows faster than d and a growth within its "
+            "uncertainty is decided stable (doc/theory.md 13.3); false skips it");
     pl->set("Definiteness Tolerance", 1e-14,
             "K is treated as not positive definite when its smallest Cholesky pivot squared is "
             "below this times the largest (the symmetric form would lose all accuracy)");
@@ -1743,6 +1748,28 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // (theory §4.3).
   completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0,
                      unreturned);
+  // A damped system's growth rates against the energy bound (theory §13.3):
+  // where N = 0, K > 0 and D + d M > 0 are shown, no mode grows faster than
+  // d, so a growth within its uncertainty (which grows with K's condition)
+  // is decided; d is the Instability Tolerance's share of the least |lambda|.
+  if (sys.damped() && params_.get<bool>("Energy Bound")) {
+    double least = std::numeric_limits<double>::infinity();
+    for (const auto& m : result.modes)
+      if (m.stability != Stability::RigidBody) least = std::min(least, std::abs(m.lambda));
+    if (std::isfinite(least) && least > 0.0) {
+      result.energyBound = energyBound(sys, instabTol * least);
+      const std::vector<int> wrong = applyEnergyBound(result.modes, result.energyBound, instabTol);
+      if (!wrong.empty()) {
+        std::ostringstream os;
+        os << "; the energy bound contradicts mode " << wrong.front() + 1 << "'s growth rate "
+           << result.modes[wrong.front()].lambda.real() << " 1/s beyond its uncertainty "
+           << result.modes[wrong.front()].growthTolerance << " (" << wrong.size()
+           << " mode(s)): the solve is wrong there";
+        result.reason += os.str();
+        result.status = SolveStatus::NumericalIssue;
+      }
+    }
+  }
   if (static_cast<int>(result.modes.size()) != result.numRequested) result.status = SolveStatus::NumericalIssue;
   return result;
 }

@@ -87,6 +87,13 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
   // damping ratio over the vibration modes (< 0: unstable).
   o["damped"] = !r.reduced->damping().is_null();
   o["least_damping_ratio"] = r.modes.result.leastDampingRatio();
+  // The energy bound on every growth rate, where a damped dense solve
+  // sought it (theory §13.3): null where not shown.
+  if (!r.modes.result.energyBound.note.empty())
+    o["energy_bound"] = {{"shown", r.modes.result.energyBound.shown},
+                         {"growth", r.modes.result.energyBound.shown ? json(r.modes.result.energyBound.growth)
+                                                                     : json(nullptr)},
+                         {"note", r.modes.result.energyBound.note}};
   o["modes"] = json::array();
   for (std::size_t m = 0; m < modes.size(); ++m) {
     const auto& md = modes[m];

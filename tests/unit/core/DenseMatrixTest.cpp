@@ -4,8 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+
+#include <Teuchos_LAPACK.hpp>
 
 #include "cms/core/DenseMatrix.hpp"
 
@@ -92,6 +96,130 @@ TEST(StructureDefect, FindsAnAsymmetryOnEitherSideOfTheDiagonal) {
   K(6, 2) -= 0.5;
   K(4, 4) = 0.125;  // a skew matrix's diagonal is zero: 2 |k_ii|
   EXPECT_DOUBLE_EQ(cms::skewDefect(K), 0.25 / cms::frobeniusNorm(K));
+}
+
+// showPositiveDefinite (theory §13.3, "The energy bound") must never show an
+// indefinite matrix positive definite, and should show one whose smallest
+// eigenvalue stands clear of Cholesky's backward error.
+//
+// Exactly known spectra first: the free spring chain's stiffness (integer
+// entries, rows summing to zero: singular exactly, its null vector 1) shifted
+// by +-2^-k on the diagonal (exact in binary), so its least eigenvalue is
+// +-2^-k exactly. Its factor has two nonzeros per row (gamma_3) and
+// || |L| |L|^T ||_inf <= 4 after scaling to unit diagonal, so the backward
+// error is below 4 gamma_3 ~ 1.4e-15: +2^-k with the estimator's factor 10
+// and the scaling's 1/2..1 is shown down to k = 40 (9e-13 / 20 > 1.4e-15);
+// -2^-k is never shown, whatever k.
+TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
+  const int n = 40;
+  const auto chain = [&](double shift) {
+    DenseMatrix K(n, n);
+    for (int i = 0; i < n; ++i) {
+      K(i, i) = (i == 0 || i == n - 1 ? 1.0 : 2.0) + shift;
+      if (i + 1 < n) K(i, i + 1) = K(i + 1, i) = -1.0;
+    }
+    return K;
+  };
+  EXPECT_FALSE(cms::showPositiveDefinite(chain(0.0)).shown) << "singular exactly";
+  for (int k = 2; k <= 50; k += 2) {  // 2 - 2^-50 is a double; 2 - 2^-54 would round to 2
+    const double d = std::ldexp(1.0, -k);
+    const auto minus = cms::showPositiveDefinite(chain(-d));
+    EXPECT_FALSE(minus.shown) << "least eigenvalue -2^-" << k << ", margin " << minus.margin;
+    EXPECT_FALSE(minus.why.empty());
+    if (k <= 40) {
+      const auto plus = cms::showPositiveDefinite(chain(d));
+      EXPECT_TRUE(plus.shown) << "least eigenvalue 2^-" << k << ": " << plus.why;
+      EXPECT_GT(plus.margin, 1.0);
+    }
+  }
+  // Units: the same chain with its coordinates scaled by 10^-8 .. 10^8
+  // (a rotation beside a translation) is as definite; the powers-of-two
+  // scaling to unit diagonal makes the check blind to them.
+  DenseMatrix S = chain(std::ldexp(1.0, -20));
+  std::vector<double> u(n);
+  for (int i = 0; i < n; ++i) u[i] = std::pow(10.0, -8.0 + 16.0 * i / (n - 1));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) S(i, j) *= u[i] * u[j];
+  EXPECT_TRUE(cms::showPositiveDefinite(S).shown);
+  // A diagonal entry that is not positive is named.
+  DenseMatrix Z = chain(1.0);
+  Z(7, 7) = 0.0;
+  const auto z = cms::showPositiveDefinite(Z);
+  EXPECT_FALSE(z.shown);
+  EXPECT_NE(z.why.find("diagonal entry 7"), std::string::npos) << z.why;
+}
+
+// Where Cholesky itself succeeds on an indefinite matrix, the margin must
+// refuse it. A free spring chain with random stiffnesses k_i in [1, 2]
+// (n = 40): K_ii is the double at or just below k_{i-1} + k_i (TwoSum gives
+// the sum's rounding exactly), so 1^T K 1 = sum_i (K_ii - k_{i-1} - k_i) < 0
+// exactly: K is indefinite, its least eigenvalue ~ -eps. Its factorisation's
+// rounding is of the same size, so on some of the 200 chains the last pivot
+// comes out positive (asserted, or the test would not test the margin);
+// none may be shown.
+TEST(PositiveDefiniteness, AnIndefiniteMatrixCholeskyFactorsIsNotShown) {
+  const int n = 40;
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> stiffness(1.0, 2.0);
+  int factored = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<double> k(n - 1);
+    for (double& x : k) x = stiffness(gen);
+    DenseMatrix K(n, n);
+    bool below = false;
+    for (int i = 0; i < n; ++i) {
+      const double a = i > 0 ? k[i - 1] : 0.0, b = i + 1 < n ? k[i] : 0.0;
+      double s = a + b;
+      const double bb = s - a, err = (a - (s - bb)) + (b - bb);  // TwoSum: a + b = s + err exactly
+      if (err < 0.0) s = std::nextafter(s, 0.0);
+      below = below || err != 0.0;
+      K(i, i) = s;
+      if (i + 1 < n) K(i, i + 1) = K(i + 1, i) = -k[i];
+    }
+    if (!below) K(1, 1) = std::nextafter(K(1, 1), 0.0);
+    const auto c = cms::showPositiveDefinite(K);
+    EXPECT_FALSE(c.shown) << "trial " << trial << ", margin " << c.margin;
+    factored += c.margin > 0.0;  // Cholesky ran to the end
+  }
+  EXPECT_GE(factored, 1) << "no chain's Cholesky succeeded: the margin was not tested";
+}
+
+// Dense spectra, Q diag(lambda) Q^T with Q orthogonal (Householder QR of a
+// random matrix), n = 40, eigenvalues log-spaced from delta to 1: forming A
+// moves them by ~n eps ||A|| ~ 1e-14, so the indefinite ones (-delta) are
+// tested where delta >= 1e-11 (a thousand times that), and the definite
+// ones are shown where delta >= 1e-9: the dense factor's backward error is
+// gamma_41 || |L| |L|^T || <~ 41 * 1.1e-16 * 40 ~ 2e-13 against delta / 10
+// on the unit diagonal (>= delta).
+TEST(PositiveDefiniteness, DenseSpectraAreShownAboveTheBackwardError) {
+  const int n = 40;
+  DenseMatrix Q = randomMatrix(n, n, 1.0, 11);
+  std::vector<double> tau(n), work(64 * n);
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.GEQRF(n, n, Q.values(), Q.stride(), tau.data(), work.data(), static_cast<int>(work.size()), &info);
+  ASSERT_EQ(info, 0);
+  lapack.ORGQR(n, n, n, Q.values(), Q.stride(), tau.data(), work.data(), static_cast<int>(work.size()), &info);
+  ASSERT_EQ(info, 0);
+  const auto spectrum = [&](double least) {
+    DenseMatrix A(n, n);
+    for (int k = 0; k < n; ++k) {
+      const double l = k == 0 ? least : std::pow(10.0, std::log10(std::abs(least)) * (1.0 - double(k) / (n - 1)));
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) A(i, j) += Q(i, k) * l * Q(j, k);
+    }
+    for (int j = 0; j < n; ++j)  // exactly symmetric
+      for (int i = 0; i < j; ++i) A(i, j) = A(j, i);
+    return A;
+  };
+  for (double delta : {1e-2, 1e-5, 1e-8, 1e-11}) {
+    const auto minus = cms::showPositiveDefinite(spectrum(-delta));
+    EXPECT_FALSE(minus.shown) << "least eigenvalue " << -delta << ", margin " << minus.margin;
+  }
+  for (double delta : {1e-2, 1e-5, 1e-9}) {
+    const auto plus = cms::showPositiveDefinite(spectrum(delta));
+    EXPECT_TRUE(plus.shown) << "least eigenvalue " << delta << ": " << plus.why;
+  }
 }
 
 }  // namespace

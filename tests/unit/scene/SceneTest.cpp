@@ -2220,6 +2220,59 @@ Scene:
         << "free body: " << eigen::toString(m.stability) << " at " << m.lambda;
 }
 
+// A passive rotor (stationary-frame shaft, bearing dampers on its support,
+// no material damping: N = 0) on a support of E = 2e16: its growth rates'
+// uncertainties, inflated by K's condition, exceed the growth rates
+// themselves (-5.7e-5 1/s within 0.056 at 78 rad/s), so "stable" was the
+// sign of a number rounding could have flipped (theory §13.3). The energy
+// bound decides it: K > 0 and D + d M > 0 are shown from their Cholesky
+// factors at d = 1e-7 |lambda_1| (the Instability Tolerance's share), so no
+// mode grows faster than d, and every mode is Stable, none undecided. The
+// same rotor with material damping turning with it (Rayleigh beta: a
+// circulatory N, which can feed energy in) has no bound, and says why.
+TEST(SceneRegression, APassiveRotorsGrowthWithinItsUncertaintyIsDecidedByTheEnergyBound) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto scene = [](const std::string& material) {
+    return std::string(R"(
+Scene:
+  Substructures:
+    support:
+      Kind: C
+      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 2.0e16, Density: 7800.0, Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start, Dampers: {bearing: {Node Set: end, Damping: [0, 200.0, 200.0, 0, 0, 0]}}}
+      Reduction: {Basis: Full}
+    shaft:
+      Kind: A
+      Parent: support
+      Attachment: {Parent Nodes: end, Nodes: start}
+      Spin: {Axis: [1, 0, 0], Rate: 140.0, Frame: Stationary}
+      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 8, Young's Modulus: 2.0e11, Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01])") +
+           material + R"(}
+      Reduction: {Basis: Full}
+  Analysis: {Number of Modes: 10, Solver: Dense}
+)";
+  };
+  const auto solve = [&](const std::string& text) {
+    const auto sc = parse(text);
+    return analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm).modes.result;
+  };
+  const auto passive = solve(scene(""));
+  ASSERT_TRUE(passive.energyBound.shown) << passive.energyBound.note;
+  int within = 0;
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& m : passive.modes) {
+    within += std::abs(m.growthRate) < m.growthTolerance && std::abs(m.growthRate) > passive.energyBound.growth;
+    least = std::min(least, std::abs(m.lambda));
+    EXPECT_EQ(m.stability, eigen::Stability::Stable) << m.lambda;
+    EXPECT_FALSE(m.undecided) << m.lambda;
+  }
+  EXPECT_GE(within, 1) << "no growth rate within its uncertainty: the bound decided nothing here";
+  EXPECT_DOUBLE_EQ(passive.energyBound.growth, 1e-7 * least);
+  EXPECT_EQ(passive.status, eigen::SolveStatus::Converged);
+  const auto material = solve(scene(", Structural Damping: {Rayleigh Beta: 1.0e-5}"));
+  EXPECT_FALSE(material.energyBound.shown);
+  EXPECT_NE(material.energyBound.note.find("N != 0"), std::string::npos) << material.energyBound.note;
+}
+
 // A reduced model smaller than twice the Ritz vectors the sparse path
 // converges: both halves of the damped state vectors are more columns than
 // the model has coordinates, and the subspace kept a rounding direction

@@ -31,6 +31,28 @@ void requireFinite(const DenseMatrix& A, const std::string& name);
 /// that is positive definite only by rounding.
 int choleskyLower(DenseMatrix& A, double relPivotTol = 0.0);
 
+/// What showPositiveDefinite found (theory §13.3, "The energy bound").
+struct DefinitenessCheck {
+  bool shown = false;  ///< A is positive definite, shown from its Cholesky factor
+  /// The smallest eigenvalue's lower estimate over Cholesky's backward error
+  /// (> 1: shown); 0 where the factorisation failed.
+  double margin = 0.0;
+  std::string why;     ///< where not shown: the failed pivot or the margin
+};
+
+/// Whether a symmetric A is positive definite, shown from a floating-point
+/// Cholesky factor rather than assumed from its success. A is scaled to unit
+/// diagonal by powers of two (exact), H = S A S; the computed factor obeys
+/// L L^T = H + E with |E| <= gamma_{m+1} |L| |L|^T (Higham, Accuracy and
+/// Stability of Numerical Algorithms, Thm 10.3; m the most nonzeros in a row
+/// of L: an exact zero adds no rounding), so H, and A with it, is positive
+/// definite where lambda_min(L L^T) > gamma_{m+1} || |L| |L|^T ||_inf (Weyl;
+/// the inf-norm of a symmetric nonnegative matrix bounds its 2-norm).
+/// lambda_min(L L^T) >= 1 / ||(L L^T)^-1||_1, whose estimate (LAPACK dpocon,
+/// a lower estimate, rarely below a third) is taken ten times larger. A
+/// diagonal entry that is not positive, or a failed pivot, is not shown.
+DefinitenessCheck showPositiveDefinite(const DenseMatrix& A);
+
 /// C = alpha * op(A) * op(B) (+ beta C), thin wrapper of Teuchos::BLAS GEMM.
 void gemm(bool transA, bool transB, double alpha, const DenseMatrix& A, const DenseMatrix& B,
           double beta, DenseMatrix& C);

@@ -109,6 +109,15 @@ struct GyroscopicMode {
   double blockError = 0.0;
 };
 
+/// The energy bound on a damped system's growth rates (theory §13.3, "The
+/// energy bound"; energyBound in EnergyBound.hpp): where shown, no
+/// eigenvalue of the system has Re lambda above `growth`.
+struct EnergyBound {
+  bool shown = false;
+  double growth = 0.0;  ///< 1/s, the bound d where shown
+  std::string note;     ///< what was shown, or why it was not
+};
+
 struct GyroscopicResult {
   std::vector<GyroscopicMode> modes;  ///< ascending |lambda|
   std::string solver;                 ///< which solver produced the modes
@@ -117,6 +126,9 @@ struct GyroscopicResult {
   int numRequested = 0;
   int iterations = 0;     ///< restarts/iterations of an iterative solver, 0 for dense
   int numOperatorApplies = 0;
+  /// A damped dense solve's energy bound (not set: no bound was sought, as
+  /// on the sparse path, whose full K is not factored by Cholesky).
+  EnergyBound energyBound;
   double maxResidual() const;
   bool isStable() const;  ///< no Divergence or Flutter mode among those returned
   /// The least damping ratio over the modes that are not RigidBody or
