@@ -806,11 +806,17 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   // grid alone puts them up to a step inside the band. A band narrower than
   // a step between two stable speeds is not seen.
   if (refine) {
+    // A speed whose growth is undecided is not shown unstable, and the
+    // edge is bisected to where instability is shown; the undecided speeds
+    // the bisection met are listed with the grid's (before, only the grid's
+    // were: an onset below the edge, within the uncertainty, went unsaid).
+    std::vector<std::pair<double, double>> metUndecided;
     const auto unstableAt = [&](double f, bool& ok) {
       const auto m = problem.solve(speedsAt(f));
       ok = m.result.status == eigen::SolveStatus::Converged && !m.result.modes.empty();
-      bool u = false;
-      for (const auto& mode : m.result.modes) u = u || unstable(mode.stability);
+      bool u = false, undecided = false;
+      for (const auto& mode : m.result.modes) u = u || unstable(mode.stability), undecided = undecided || mode.undecided;
+      if (ok && undecided) metUndecided.push_back({refAt(f), refAt(f)});
       return u;
     };
     // From rest (a free body diverging about its intermediate axis at any
@@ -823,12 +829,22 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         return stable == 0.0 ? crossingTol * std::abs(maxFactor)
                              : crossingTol * std::max(std::abs(stable), std::abs(unstableF));
       };
+      const std::size_t before = metUndecided.size();
       for (int it = 0; it < 200 && std::abs(unstableF - stable) > width(); ++it) {
         const double mid = 0.5 * (stable + unstableF);
         bool ok = false;
         const bool u = unstableAt(mid, ok);
         if (!ok) break;
         (u ? unstableF : stable) = mid;
+      }
+      // This edge's undecided speeds as one range, from the lowest to the
+      // highest (a stable speed between them does not decide the others).
+      if (metUndecided.size() > before + 1) {
+        std::pair<double, double> span = metUndecided[before];
+        for (std::size_t i = before + 1; i < metUndecided.size(); ++i)
+          span = {std::min(span.first, metUndecided[i].first), std::max(span.second, metUndecided[i].second)};
+        metUndecided.resize(before);
+        metUndecided.push_back(span);
       }
       return refAt(0.5 * (stable + unstableF));
     };
@@ -839,6 +855,19 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         r.unstableRanges[i].second = edge(r.factors[static_cast<std::size_t>(lastStep + 1)], r.factors[static_cast<std::size_t>(lastStep)]);
     }
     r.unstableEdgesRefined = true;
+    if (!metUndecided.empty()) {
+      // Merged with the grid's runs where they overlap or touch.
+      auto& u = r.undecidedRanges;
+      u.insert(u.end(), metUndecided.begin(), metUndecided.end());
+      std::sort(u.begin(), u.end());
+      std::vector<std::pair<double, double>> merged;
+      for (const auto& range : u)
+        if (!merged.empty() && range.first <= merged.back().second)
+          merged.back().second = std::max(merged.back().second, range.second);
+        else
+          merged.push_back(range);
+      u = merged;
+    }
   }
 
   // Speeds where a frequency passes through zero (theory §12.1): K(Omega)
@@ -1183,7 +1212,8 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   // neither the unstable ranges above nor "stable".
   for (const auto& [a, b] : undecidedRanges)
     os << "UNDECIDED from " << a << " to " << b << " rad/s of '" << ref
-       << "' (the sweep's speeds; a growth rate within its uncertainty of the Instability Tolerance, "
+       << "' (the sweep's speeds, and the bisection's next to an unstable edge; a growth rate within its "
+          "uncertainty of the Instability Tolerance, "
           "\"neutral\" in the CSV: neither shown stable nor unstable there)\n";
   os.flags(flags);
   os.precision(prec);

@@ -655,3 +655,49 @@ TEST(CampbellStudy, SpeedsWhereAGrowthRateIsUndecidedAreListed) {
   const auto none = analysis::CampbellStudy(sweep(6, 1.0)).run(UndecidedParabola(5.0, 6.0));
   EXPECT_TRUE(none.undecidedRanges.empty());
 }
+
+namespace {
+/// ParabolaProblem whose damped mode is Flutter from `onset` up and its
+/// growth undecided from `from` to just below `onset`: no grid speed of the
+/// test's sweep falls in between.
+class UndecidedBelowTheEdge : public ParabolaProblem {
+public:
+  UndecidedBelowTheEdge(double from, double onset) : from_(from), onset_(onset) {}
+  synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+    auto out = ParabolaProblem::solve(speeds);
+    auto& m = out.result.modes[0];
+    const double W = speeds[0];
+    m.undecided = W >= from_ && W < onset_;
+    m.stability = W >= onset_ ? eigen::Stability::Flutter : m.undecided ? eigen::Stability::Neutral
+                                                                         : eigen::Stability::Stable;
+    return out;
+  }
+
+private:
+  double from_, onset_;
+};
+}  // namespace
+
+// The bisection of an unstable range's edge (theory §12.1) goes to where
+// instability is shown; a speed it meets whose growth is undecided (theory
+// §13.3) is not shown unstable, but the onset may lie there, within the
+// growth's uncertainty: those speeds are listed as UNDECIDED too. Before,
+// only the grid's were, and here none is (grid 0, 0.4, ..., 2.0; undecided
+// from 0.9 to 1.0, unstable from 1.0): the sweep said "unstable from 1"
+// and nothing of 0.9 to 1.
+TEST(CampbellStudy, UndecidedSpeedsTheEdgesBisectionMeetsAreListed) {
+  const auto r = analysis::CampbellStudy(sweep(6, 1.0)).run(UndecidedBelowTheEdge(0.9, 1.0));
+  ASSERT_EQ(r.unstableRanges.size(), 1u);
+  EXPECT_TRUE(r.unstableEdgesRefined);
+  // The edge to the bisection's width, 1e-6 of the bracket's speeds.
+  EXPECT_NEAR(r.unstableRanges[0].first, 1.0, 2e-6);
+  ASSERT_EQ(r.undecidedRanges.size(), 1u);
+  // The bisection's mids: 1.0 (unstable), 0.9 (undecided), 0.95, ...: the
+  // lowest undecided mid is 0.9 itself, the highest within the width of 1.
+  EXPECT_NEAR(r.undecidedRanges[0].first, 0.9, 4 * DBL_EPSILON);
+  EXPECT_LT(r.undecidedRanges[0].second, 1.0);
+  EXPECT_GT(r.undecidedRanges[0].second, 1.0 - 2e-6);
+  std::ostringstream os;
+  r.printCrossings(os);
+  EXPECT_NE(os.str().find("UNDECIDED from 0.9"), std::string::npos) << os.str();
+}
