@@ -87,16 +87,16 @@ int choleskyLower(DenseMatrix& A, double relPivotTol) {
   return 0;
 }
 
-DefinitenessCheck showPositiveDefinite(const DenseMatrix& A) {
+DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* entryError) {
   const int n = A.numRows();
   DefinitenessCheck c;
   if (n == 0) {
     c.why = "empty matrix";
     return c;
   }
-  // Unit diagonal by powers of two: every scaled entry is exact, and the
-  // check is blind to the units of the coordinates (a rotation's stiffness
-  // beside a translation's).
+  // Unit diagonal (within a factor 4) by powers of two: every scaled entry
+  // is exact, and the proof is blind to the units of the coordinates (a
+  // rotation's stiffness beside a translation's).
   std::vector<double> s(n);
   for (int i = 0; i < n; ++i) {
     if (!(A(i, i) > 0.0)) {
@@ -109,59 +109,64 @@ DefinitenessCheck showPositiveDefinite(const DenseMatrix& A) {
     std::frexp(A(i, i), &e);
     s[i] = std::ldexp(1.0, -e / 2);
   }
-  DenseMatrix L(n, n);
-  for (int j = 0; j < n; ++j)
-    for (int i = j; i < n; ++i) L(i, j) = A(i, j) * s[i] * s[j];
-  double anorm = 0.0;  // ||H||_1 from the lower triangle: column j is H(j:n, j) and H(j, 0:j)
-  {
-    std::vector<double> col(n, 0.0);
-    for (int j = 0; j < n; ++j)
-      for (int i = j; i < n; ++i) {
-        col[j] += std::abs(L(i, j));
-        if (i != j) col[i] += std::abs(L(i, j));
-      }
-    anorm = *std::max_element(col.begin(), col.end());
+  // ||S F S||_inf, rounded up by 1%.
+  double entries = 0.0;
+  if (entryError) {
+    for (int i = 0; i < n; ++i) {
+      double row = 0.0;
+      for (int j = 0; j < n; ++j) row += std::abs((*entryError)(i, j)) * s[i] * s[j];
+      entries = std::max(entries, row);
+    }
+    entries *= 1.01;
   }
   Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
-  lapack.POTRF('L', n, L.values(), L.stride(), &info);
-  if (info != 0) {
-    c.why = "Cholesky pivot " + std::to_string(info) + " of " + std::to_string(n) + " is not positive";
+  const double u = std::numeric_limits<double>::epsilon() / 2.0;
+  // Cholesky of H - shift I; the most nonzeros in a row of its factor
+  // (0 where it failed, `pivot` then the failed column).
+  int pivot = 0;
+  const auto factorShifted = [&](double shift) {
+    DenseMatrix L(n, n);
+    for (int j = 0; j < n; ++j)
+      for (int i = j; i < n; ++i) L(i, j) = A(i, j) * s[i] * s[j] - (i == j ? shift : 0.0);
+    int info = 0;
+    lapack.POTRF('L', n, L.values(), L.stride(), &info);
+    pivot = info;
+    if (info != 0) return 0;
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      int row = 0;
+      for (int j = 0; j <= i; ++j) row += L(i, j) != 0.0;
+      m = std::max(m, row);
+    }
+    return m;
+  };
+  const auto shiftFor = [&](int m) {
+    const double k = m + 1.0, gamma = k * u / (1.0 - k * u);
+    return 1.01 * (gamma / (1.0 - gamma) * n + entries) + 4.0 * u;
+  };
+  int m = factorShifted(0.0);
+  if (m == 0) {
+    c.why = "Cholesky pivot " + std::to_string(pivot) + " of " + std::to_string(n) + " is not positive";
     return c;
   }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < j; ++i) L(i, j) = 0.0;
-  // gamma_{m+1} || |L| |L|^T ||_inf: w = |L|^T 1, then the largest of |L| w.
-  int m = 0;
-  std::vector<double> w(n, 0.0), z(n, 0.0);
-  std::vector<int> rowCount(n, 0);
-  for (int j = 0; j < n; ++j)
-    for (int i = j; i < n; ++i)
-      if (L(i, j) != 0.0) {
-        w[j] += std::abs(L(i, j));
-        ++rowCount[i];
-      }
-  for (int j = 0; j < n; ++j)
-    for (int i = j; i < n; ++i) z[i] += std::abs(L(i, j)) * w[j];
-  m = *std::max_element(rowCount.begin(), rowCount.end());
-  const double u = std::numeric_limits<double>::epsilon() / 2.0;
-  const double gamma = (m + 1) * u / (1.0 - (m + 1) * u);
-  const double backward = gamma * *std::max_element(z.begin(), z.end());
-  double rcond = 0.0;
-  std::vector<double> work(3 * static_cast<std::size_t>(n));
-  std::vector<int> iwork(n);
-  lapack.POCON('L', n, L.values(), L.stride(), anorm, &rcond, work.data(), iwork.data(), &info);
-  // rcond = 1 / (||H||_1 est||(L L^T)^-1||_1): the smallest eigenvalue is at
-  // least 1 / ||(L L^T)^-1||_1, taken ten times the estimate.
-  const double lambdaMin = rcond * anorm / 10.0;
-  c.margin = backward > 0.0 ? lambdaMin / backward : std::numeric_limits<double>::infinity();
-  c.shown = info == 0 && c.margin > 1.0;
-  if (!c.shown) {
-    std::ostringstream os;
-    os << "its smallest eigenvalue (scaled to unit diagonal, estimated " << lambdaMin
-       << ") is not above Cholesky's backward error " << backward;
-    c.why = os.str();
+  c.factored = true;
+  // The shifted factor's own row count decides its gamma_k: refactor if its
+  // fill differs (an exact zero of one factor need not be one of the other).
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    c.shift = shiftFor(m);
+    const int mShifted = factorShifted(c.shift);
+    if (mShifted == 0) break;
+    if (mShifted <= m) {
+      c.shown = true;
+      return c;
+    }
+    m = mShifted;
   }
+  std::ostringstream os;
+  os << "scaled to unit diagonal and shifted by " << c.shift
+     << " (Cholesky's a-priori error, Rump's test), its factorisation fails at pivot " << pivot
+     << ": its least eigenvalue is within rounding of zero, or below";
+  c.why = os.str();
   return c;
 }
 

@@ -10,6 +10,7 @@
 #include <cfloat>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -615,23 +616,26 @@ TEST(CampbellStudy, AFrameRateTrackMissingAtOneSpeedStaysAFrameRateTrack) {
 
 namespace {
 /// ParabolaProblem whose mode is damped, its growth rate undecided
-/// (GyroscopicMode::undecided, Neutral) from `from` to `to`, and a
-/// conservative system's Neutral (a split defective cluster, not undecided)
-/// everywhere else below `to`.
+/// (GyroscopicMode::undecided, Neutral) from `from` to `to` (below `onset`),
+/// Flutter from `onset` up, and a conservative system's Neutral (a split
+/// defective cluster, not undecided) everywhere else below `to`.
 class UndecidedParabola : public ParabolaProblem {
 public:
-  UndecidedParabola(double from, double to) : from_(from), to_(to) {}
+  UndecidedParabola(double from, double to, double onset = std::numeric_limits<double>::infinity())
+      : from_(from), to_(to), onset_(onset) {}
   synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
     auto out = ParabolaProblem::solve(speeds);
     auto& m = out.result.modes[0];
     const double W = speeds[0];
-    m.undecided = W >= from_ && W <= to_;
-    m.stability = W <= to_ ? eigen::Stability::Neutral : eigen::Stability::Stable;
+    m.undecided = W >= from_ && W <= to_ && W < onset_;
+    m.stability = W >= onset_ ? eigen::Stability::Flutter
+                  : W <= to_  ? eigen::Stability::Neutral
+                              : eigen::Stability::Stable;
     return out;
   }
 
 private:
-  double from_, to_;
+  double from_, to_, onset_;
 };
 }  // namespace
 
@@ -656,28 +660,6 @@ TEST(CampbellStudy, SpeedsWhereAGrowthRateIsUndecidedAreListed) {
   EXPECT_TRUE(none.undecidedRanges.empty());
 }
 
-namespace {
-/// ParabolaProblem whose damped mode is Flutter from `onset` up and its
-/// growth undecided from `from` to just below `onset`: no grid speed of the
-/// test's sweep falls in between.
-class UndecidedBelowTheEdge : public ParabolaProblem {
-public:
-  UndecidedBelowTheEdge(double from, double onset) : from_(from), onset_(onset) {}
-  synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
-    auto out = ParabolaProblem::solve(speeds);
-    auto& m = out.result.modes[0];
-    const double W = speeds[0];
-    m.undecided = W >= from_ && W < onset_;
-    m.stability = W >= onset_ ? eigen::Stability::Flutter : m.undecided ? eigen::Stability::Neutral
-                                                                         : eigen::Stability::Stable;
-    return out;
-  }
-
-private:
-  double from_, onset_;
-};
-}  // namespace
-
 // The bisection of an unstable range's edge (theory §12.1) goes to where
 // instability is shown; a speed it meets whose growth is undecided (theory
 // §13.3) is not shown unstable, but the onset may lie there, within the
@@ -686,7 +668,7 @@ private:
 // from 0.9 to 1.0, unstable from 1.0): the sweep said "unstable from 1"
 // and nothing of 0.9 to 1.
 TEST(CampbellStudy, UndecidedSpeedsTheEdgesBisectionMeetsAreListed) {
-  const auto r = analysis::CampbellStudy(sweep(6, 1.0)).run(UndecidedBelowTheEdge(0.9, 1.0));
+  const auto r = analysis::CampbellStudy(sweep(6, 1.0)).run(UndecidedParabola(0.9, 1.0, 1.0));
   ASSERT_EQ(r.unstableRanges.size(), 1u);
   EXPECT_TRUE(r.unstableEdgesRefined);
   // The edge to the bisection's width, 1e-6 of the bracket's speeds.

@@ -98,18 +98,17 @@ TEST(StructureDefect, FindsAnAsymmetryOnEitherSideOfTheDiagonal) {
   EXPECT_DOUBLE_EQ(cms::skewDefect(K), 0.25 / cms::frobeniusNorm(K));
 }
 
-// showPositiveDefinite (theory §13.3, "The energy bound") must never show an
-// indefinite matrix positive definite, and should show one whose smallest
-// eigenvalue stands clear of Cholesky's backward error.
+// showPositiveDefinite (theory §13.3, "Showing definiteness") must never show
+// an indefinite matrix positive definite, and should show one whose smallest
+// eigenvalue stands clear of Cholesky's a-priori error.
 //
 // Exactly known spectra first: the free spring chain's stiffness (integer
 // entries, rows summing to zero: singular exactly, its null vector 1) shifted
 // by +-2^-k on the diagonal (exact in binary), so its least eigenvalue is
-// +-2^-k exactly. Its factor has two nonzeros per row (gamma_3) and
-// || |L| |L|^T ||_inf <= 4 after scaling to unit diagonal, so the backward
-// error is below 4 gamma_3 ~ 1.4e-15: +2^-k with the estimator's factor 10
-// and the scaling's 1/2..1 is shown down to k = 40 (9e-13 / 20 > 1.4e-15);
-// -2^-k is never shown, whatever k.
+// +-2^-k exactly. Its factor has two nonzeros per row (gamma_3), so the
+// shift is c ~ 1.01 gamma_3 n + 4u ~ 1.4e-14 on the diagonal scaled to
+// [1/4, 1): +2^-k, at least 2^-k / 4 scaled, is shown down to k = 40
+// (2.3e-13 > 1.4e-14); -2^-k is never shown, whatever k.
 TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
   const int n = 40;
   const auto chain = [&](double shift) {
@@ -124,12 +123,13 @@ TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
   for (int k = 2; k <= 50; k += 2) {  // 2 - 2^-50 is a double; 2 - 2^-54 would round to 2
     const double d = std::ldexp(1.0, -k);
     const auto minus = cms::showPositiveDefinite(chain(-d));
-    EXPECT_FALSE(minus.shown) << "least eigenvalue -2^-" << k << ", margin " << minus.margin;
+    EXPECT_FALSE(minus.shown) << "least eigenvalue -2^-" << k << ", shift " << minus.shift;
     EXPECT_FALSE(minus.why.empty());
     if (k <= 40) {
       const auto plus = cms::showPositiveDefinite(chain(d));
       EXPECT_TRUE(plus.shown) << "least eigenvalue 2^-" << k << ": " << plus.why;
-      EXPECT_GT(plus.margin, 1.0);
+      EXPECT_GT(plus.shift, 0.0);
+      EXPECT_LT(plus.shift, 2e-14);  // 1.01 gamma_3 40 + 4 u
     }
   }
   // Units: the same chain with its coordinates scaled by 10^-8 .. 10^8
@@ -149,13 +149,27 @@ TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
   EXPECT_NE(z.why.find("diagonal entry 7"), std::string::npos) << z.why;
 }
 
-// Where Cholesky itself succeeds on an indefinite matrix, the margin must
-// refuse it. A free spring chain with random stiffnesses k_i in [1, 2]
+// The entries' own error counts: diag(1, 2^-43) is positive definite as
+// stored, but with its second entry known only to within 2^-42 (as if
+// rounded when formed) the exact matrix may be diag(1, -2^-43), and it is not
+// shown; within 2^-60 it is.
+TEST(PositiveDefiniteness, CountsTheEntriesOwnError) {
+  DenseMatrix A(2, 2), F(2, 2);
+  A(0, 0) = 1.0, A(1, 1) = std::ldexp(1.0, -43);
+  EXPECT_TRUE(cms::showPositiveDefinite(A).shown);
+  F(1, 1) = std::ldexp(1.0, -42);
+  EXPECT_FALSE(cms::showPositiveDefinite(A, &F).shown);
+  F(1, 1) = std::ldexp(1.0, -60);
+  EXPECT_TRUE(cms::showPositiveDefinite(A, &F).shown);
+}
+
+// Where Cholesky itself succeeds on an indefinite matrix, the shifted
+// factorisation must refuse it. A free spring chain with random stiffnesses k_i in [1, 2]
 // (n = 40): K_ii is the double at or just below k_{i-1} + k_i (TwoSum gives
 // the sum's rounding exactly), so 1^T K 1 = sum_i (K_ii - k_{i-1} - k_i) < 0
 // exactly: K is indefinite, its least eigenvalue ~ -eps. Its factorisation's
 // rounding is of the same size, so on some of the 200 chains the last pivot
-// comes out positive (asserted, or the test would not test the margin);
+// comes out positive (asserted, or the test would not test the shift);
 // none may be shown.
 TEST(PositiveDefiniteness, AnIndefiniteMatrixCholeskyFactorsIsNotShown) {
   const int n = 40;
@@ -178,19 +192,19 @@ TEST(PositiveDefiniteness, AnIndefiniteMatrixCholeskyFactorsIsNotShown) {
     }
     if (!below) K(1, 1) = std::nextafter(K(1, 1), 0.0);
     const auto c = cms::showPositiveDefinite(K);
-    EXPECT_FALSE(c.shown) << "trial " << trial << ", margin " << c.margin;
-    factored += c.margin > 0.0;  // Cholesky ran to the end
+    EXPECT_FALSE(c.shown) << "trial " << trial << ", shift " << c.shift;
+    factored += c.factored;
   }
-  EXPECT_GE(factored, 1) << "no chain's Cholesky succeeded: the margin was not tested";
+  EXPECT_GE(factored, 1) << "no chain's Cholesky succeeded: the shift was not tested";
 }
 
 // Dense spectra, Q diag(lambda) Q^T with Q orthogonal (Householder QR of a
 // random matrix), n = 40, eigenvalues log-spaced from delta to 1: forming A
 // moves them by ~n eps ||A|| ~ 1e-14, so the indefinite ones (-delta) are
 // tested where delta >= 1e-11 (a thousand times that), and the definite
-// ones are shown where delta >= 1e-9: the dense factor's backward error is
-// gamma_41 || |L| |L|^T || <~ 41 * 1.1e-16 * 40 ~ 2e-13 against delta / 10
-// on the unit diagonal (>= delta).
+// ones are shown where delta >= 1e-9: the dense factor's shift is
+// 1.01 gamma_41 n / (1 - gamma_41) + 4 u ~ 1.9e-13 against a scaled least
+// eigenvalue >= delta / 4.
 TEST(PositiveDefiniteness, DenseSpectraAreShownAboveTheBackwardError) {
   const int n = 40;
   DenseMatrix Q = randomMatrix(n, n, 1.0, 11);
@@ -214,7 +228,7 @@ TEST(PositiveDefiniteness, DenseSpectraAreShownAboveTheBackwardError) {
   };
   for (double delta : {1e-2, 1e-5, 1e-8, 1e-11}) {
     const auto minus = cms::showPositiveDefinite(spectrum(-delta));
-    EXPECT_FALSE(minus.shown) << "least eigenvalue " << -delta << ", margin " << minus.margin;
+    EXPECT_FALSE(minus.shown) << "least eigenvalue " << -delta << ", shift " << minus.shift;
   }
   for (double delta : {1e-2, 1e-5, 1e-9}) {
     const auto plus = cms::showPositiveDefinite(spectrum(delta));

@@ -2225,8 +2225,8 @@ Scene:
 // uncertainties, inflated by K's condition, exceed the growth rates
 // themselves (-5.7e-5 1/s within 0.056 at 78 rad/s), so "stable" was the
 // sign of a number rounding could have flipped (theory §13.3). The energy
-// bound decides it: K > 0 and D + d M > 0 are shown from their Cholesky
-// factors at d = 1e-7 |lambda_1| (the Instability Tolerance's share), so no
+// bound decides it: M > 0, K > 0 and D + d M > 0 are proven from Cholesky
+// factors of their shifts (theory §13.3) at d = 1e-7 |lambda_1| (the Instability Tolerance's share), so no
 // mode grows faster than d, and every mode is Stable, none undecided. The
 // same rotor with material damping turning with it (Rayleigh beta: a
 // circulatory N, which can feed energy in) has no bound, and says why.

@@ -31,27 +31,32 @@ void requireFinite(const DenseMatrix& A, const std::string& name);
 /// that is positive definite only by rounding.
 int choleskyLower(DenseMatrix& A, double relPivotTol = 0.0);
 
-/// What showPositiveDefinite found (theory §13.3, "The energy bound").
+/// What showPositiveDefinite found (theory §13.3, "Showing definiteness").
 struct DefinitenessCheck {
-  bool shown = false;  ///< A is positive definite, shown from its Cholesky factor
-  /// The smallest eigenvalue's lower estimate over Cholesky's backward error
-  /// (> 1: shown); 0 where the factorisation failed.
-  double margin = 0.0;
-  std::string why;     ///< where not shown: the failed pivot or the margin
+  bool shown = false;     ///< A is positive definite, proven from a Cholesky factor
+  bool factored = false;  ///< the Cholesky factorisation of A (scaled) itself ran to the end
+  /// c: the shift H - c I that was factored, H = A scaled to unit diagonal
+  /// (0 where it was not reached).
+  double shift = 0.0;
+  std::string why;        ///< where not shown: the failed pivot or the shift
 };
 
-/// Whether a symmetric A is positive definite, shown from a floating-point
-/// Cholesky factor rather than assumed from its success. A is scaled to unit
-/// diagonal by powers of two (exact), H = S A S; the computed factor obeys
-/// L L^T = H + E with |E| <= gamma_{m+1} |L| |L|^T (Higham, Accuracy and
-/// Stability of Numerical Algorithms, Thm 10.3; m the most nonzeros in a row
-/// of L: an exact zero adds no rounding), so H, and A with it, is positive
-/// definite where lambda_min(L L^T) > gamma_{m+1} || |L| |L|^T ||_inf (Weyl;
-/// the inf-norm of a symmetric nonnegative matrix bounds its 2-norm).
-/// lambda_min(L L^T) >= 1 / ||(L L^T)^-1||_1, whose estimate (LAPACK dpocon,
-/// a lower estimate, rarely below a third) is taken ten times larger. A
-/// diagonal entry that is not positive, or a failed pivot, is not shown.
-DefinitenessCheck showPositiveDefinite(const DenseMatrix& A);
+/// Whether a symmetric A is positive definite, proven from a floating-point
+/// Cholesky factor rather than assumed from its success (Rump, "Verification
+/// of positive definiteness", BIT 46, 2006, with the factor's sparsity). A is
+/// scaled to unit diagonal (at most) by powers of two, exactly: H = S A S.
+/// Where Cholesky of B = fl(H - c I) succeeds, R^T R = B + E with
+/// ||E||_2 <= gamma_k / (1 - gamma_k) tr(B) (Higham, Accuracy and Stability
+/// of Numerical Algorithms, Thm 10.3; k = 1 + the most nonzeros in a row of
+/// R, since an exact zero adds no rounding; || |R^T| |R| ||_2 <= ||R||_F^2 =
+/// tr(R^T R)), so H >= (c - ||E|| - u) I > 0 for
+///   c > gamma_k / (1 - gamma_k) n + u + ||S F S||_inf,
+/// F the entries' own error bound `entryError` (>= |A_exact - A|
+/// componentwise, e.g. the rounding of a sum that formed A; null for none).
+/// No estimate enters. A diagonal entry that is not positive, or a failed
+/// pivot, is not shown; nor is a matrix whose least eigenvalue (scaled) is
+/// below ~c: ~n m eps.
+DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* entryError = nullptr);
 
 /// C = alpha * op(A) * op(B) (+ beta C), thin wrapper of Teuchos::BLAS GEMM.
 void gemm(bool transA, bool transB, double alpha, const DenseMatrix& A, const DenseMatrix& B,

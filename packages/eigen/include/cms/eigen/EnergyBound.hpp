@@ -16,11 +16,13 @@
 
 namespace cms::eigen {
 
-/// The bound d for `sys` (symmetric M, K, D; skew G, N), shown where N is
-/// absent or zero and K and D + d M are shown positive definite from their
-/// Cholesky factors (cms::showPositiveDefinite: the factor's backward error
-/// against the smallest eigenvalue, so rounding cannot make the proof).
-/// The note says what was shown, or which condition failed.
+/// The bound d for `sys` (symmetric M, K, D; skew G, N: the system the
+/// solver solves, GyroscopicSystem::symmetrised), shown where N is absent or
+/// zero and M, K and D + d M are proven positive definite
+/// (cms::showPositiveDefinite: Cholesky of each shifted by Cholesky's
+/// a-priori error, so rounding cannot make the proof; D + d M with the
+/// rounding of its forming). The note says what was proven, or which
+/// condition failed.
 EnergyBound energyBound(const GyroscopicSystem& sys, double d);
 
 /// Each mode's verdict against a shown bound: a mode that is not RigidBody
