@@ -94,7 +94,7 @@ DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* 
     c.why = "empty matrix";
     return c;
   }
-  // Unit diagonal (within a factor 4) by powers of two: every scaled entry
+  // Unit diagonal (within [1/4, 2)) by powers of two: every scaled entry
   // is exact, and the proof is blind to the units of the coordinates (a
   // rotation's stiffness beside a translation's).
   std::vector<double> s(n);
@@ -109,7 +109,10 @@ DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* 
     std::frexp(A(i, i), &e);
     s[i] = std::ldexp(1.0, -e / 2);
   }
+  // tr(H) >= tr(H - c I) (below; its rounding is within the 1% there), and
   // ||S F S||_inf, rounded up by 1%.
+  double trace = 0.0;
+  for (int i = 0; i < n; ++i) trace += A(i, i) * s[i] * s[i];
   double entries = 0.0;
   if (entryError) {
     for (int i = 0; i < n; ++i) {
@@ -142,7 +145,7 @@ DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* 
   };
   const auto shiftFor = [&](int m) {
     const double k = m + 1.0, gamma = k * u / (1.0 - k * u);
-    return 1.01 * (gamma / (1.0 - gamma) * n + entries) + 4.0 * u;
+    return 1.01 * (gamma / (1.0 - gamma) * trace + entries) + 4.0 * u;
   };
   int m = factorShifted(0.0);
   if (m == 0) {

@@ -106,9 +106,9 @@ TEST(StructureDefect, FindsAnAsymmetryOnEitherSideOfTheDiagonal) {
 // entries, rows summing to zero: singular exactly, its null vector 1) shifted
 // by +-2^-k on the diagonal (exact in binary), so its least eigenvalue is
 // +-2^-k exactly. Its factor has two nonzeros per row (gamma_3), so the
-// shift is c ~ 1.01 gamma_3 n + 4u ~ 1.4e-14 on the diagonal scaled to
-// [1/4, 1): +2^-k, at least 2^-k / 4 scaled, is shown down to k = 40
-// (2.3e-13 > 1.4e-14); -2^-k is never shown, whatever k.
+// shift is c = 1.01 gamma_3 tr(H) + 4 u ~ 7.5e-15 (the diagonal 2 scaled to
+// 1/2, the ends' 1 kept: tr(H) ~ 21): +2^-k, at least 2^-k / 4 scaled, is
+// shown down to k = 40 (2.3e-13 > 7.5e-15); -2^-k is never shown.
 TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
   const int n = 40;
   const auto chain = [&](double shift) {
@@ -129,7 +129,7 @@ TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
       const auto plus = cms::showPositiveDefinite(chain(d));
       EXPECT_TRUE(plus.shown) << "least eigenvalue 2^-" << k << ": " << plus.why;
       EXPECT_GT(plus.shift, 0.0);
-      EXPECT_LT(plus.shift, 2e-14);  // 1.01 gamma_3 40 + 4 u
+      EXPECT_LT(plus.shift, 1e-14);  // 1.01 gamma_3 21 + 4 u
     }
   }
   // Units: the same chain with its coordinates scaled by 10^-8 .. 10^8
@@ -203,8 +203,8 @@ TEST(PositiveDefiniteness, AnIndefiniteMatrixCholeskyFactorsIsNotShown) {
 // moves them by ~n eps ||A|| ~ 1e-14, so the indefinite ones (-delta) are
 // tested where delta >= 1e-11 (a thousand times that), and the definite
 // ones are shown where delta >= 1e-9: the dense factor's shift is
-// 1.01 gamma_41 n / (1 - gamma_41) + 4 u ~ 1.9e-13 against a scaled least
-// eigenvalue >= delta / 4.
+// 1.01 gamma_41 tr(H) / (1 - gamma_41) + 4 u <~ 3.7e-13 (tr(H) < 2n)
+// against a scaled least eigenvalue >= delta / 4.
 TEST(PositiveDefiniteness, DenseSpectraAreShownAboveTheBackwardError) {
   const int n = 40;
   DenseMatrix Q = randomMatrix(n, n, 1.0, 11);

@@ -44,18 +44,18 @@ struct DefinitenessCheck {
 /// Whether a symmetric A is positive definite, proven from a floating-point
 /// Cholesky factor rather than assumed from its success (Rump, "Verification
 /// of positive definiteness", BIT 46, 2006, with the factor's sparsity). A is
-/// scaled to unit diagonal (at most) by powers of two, exactly: H = S A S.
+/// scaled to unit diagonal (within [1/4, 2)) by powers of two, exactly: H = S A S.
 /// Where Cholesky of B = fl(H - c I) succeeds, R^T R = B + E with
 /// ||E||_2 <= gamma_k / (1 - gamma_k) tr(B) (Higham, Accuracy and Stability
 /// of Numerical Algorithms, Thm 10.3; k = 1 + the most nonzeros in a row of
 /// R, since an exact zero adds no rounding; || |R^T| |R| ||_2 <= ||R||_F^2 =
 /// tr(R^T R)), so H >= (c - ||E|| - u) I > 0 for
-///   c > gamma_k / (1 - gamma_k) n + u + ||S F S||_inf,
+///   c > gamma_k / (1 - gamma_k) tr(H) + u + ||S F S||_inf,
 /// F the entries' own error bound `entryError` (>= |A_exact - A|
 /// componentwise, e.g. the rounding of a sum that formed A; null for none).
 /// No estimate enters. A diagonal entry that is not positive, or a failed
 /// pivot, is not shown; nor is a matrix whose least eigenvalue (scaled) is
-/// below ~c: ~n m eps.
+/// below ~c: ~tr(H) k u, ~n k u.
 DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* entryError = nullptr);
 
 /// C = alpha * op(A) * op(B) (+ beta C), thin wrapper of Teuchos::BLAS GEMM.
