@@ -166,9 +166,11 @@ DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* 
     m = mShifted;
   }
   std::ostringstream os;
-  os << "scaled to unit diagonal and shifted by " << c.shift
-     << " (Cholesky's a-priori error, Rump's test), its factorisation fails at pivot " << pivot
-     << ": its least eigenvalue is within rounding of zero, or below";
+  os << "scaled to unit diagonal and shifted by " << c.shift << " (Cholesky's a-priori error, Rump's test), ";
+  if (pivot > 0)
+    os << "its factorisation fails at pivot " << pivot << ": its least eigenvalue is within rounding of zero, or below";
+  else
+    os << "its factor's fill kept growing past the shift's assumption";
   c.why = os.str();
   return c;
 }

@@ -1590,9 +1590,10 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
     addStabilityTolerances(*pl);
     pl->set("Energy Bound", true,
-            "a damped system: show N = 0, K > 0 and D + d M > 0 (d = Instability Tolerance times the least "
-            "|lambda|) from Cholesky factors, so that no mode grows faster than d and a growth within its "
-            "uncertainty is decided stable (doc/theory.md 13.3); false skips it");
+            "a damped system: prove N = 0 and M > 0, K > 0, D + d M > 0 (d = Instability Tolerance times the "
+            "least |lambda|) from Cholesky factors of their shifts by Cholesky's a-priori error, so that no mode "
+            "grows faster than d and a growth within its uncertainty is decided stable (doc/theory.md 13.3); "
+            "false skips it");
     pl->set("Definiteness Tolerance", 1e-14,
             "K is treated as not positive definite when its smallest Cholesky pivot squared is "
             "below this times the largest (the symmetric form would lose all accuracy)");
@@ -1749,7 +1750,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0,
                      unreturned);
   // A damped system's growth rates against the energy bound (theory §13.3):
-  // where N = 0, K > 0 and D + d M > 0 are shown, no mode grows faster than
+  // where N = 0 and M, K, D + d M > 0 are proven, no mode grows faster than
   // d, so a growth within its uncertainty (which grows with K's condition)
   // is decided; d is the Instability Tolerance's share of the least |lambda|.
   if (sys.damped() && params_.get<bool>("Energy Bound")) {
