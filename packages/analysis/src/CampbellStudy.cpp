@@ -856,8 +856,13 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     }
     r.unstableEdgesRefined = true;
     if (!metUndecided.empty()) {
-      // Merged with the grid's runs where they overlap or touch.
-      auto& u = r.undecidedRanges;
+      // Merged with the grid's runs where they overlap, as intervals
+      // [low, high] whatever the speeds' sign, then written back in the
+      // sweep's direction as the grid's runs are (a negative nominal rate
+      // runs from high to low; a review found the two orders mixed).
+      const bool ascending = refAt(r.factors.back()) >= refAt(r.factors.front());
+      std::vector<std::pair<double, double>> u;
+      for (const auto& [a, b] : r.undecidedRanges) u.push_back({std::min(a, b), std::max(a, b)});
       u.insert(u.end(), metUndecided.begin(), metUndecided.end());
       std::sort(u.begin(), u.end());
       std::vector<std::pair<double, double>> merged;
@@ -866,7 +871,11 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
           merged.back().second = std::max(merged.back().second, range.second);
         else
           merged.push_back(range);
-      u = merged;
+      if (!ascending) {
+        std::reverse(merged.begin(), merged.end());
+        for (auto& [a, b] : merged) std::swap(a, b);
+      }
+      r.undecidedRanges = merged;
     }
   }
 
@@ -1210,11 +1219,14 @@ void CampbellResult::printCrossings(std::ostream& os) const {
   }
   // A damped mode's growth its uncertainty does not decide (theory §13.3):
   // neither the unstable ranges above nor "stable".
-  for (const auto& [a, b] : undecidedRanges)
-    os << "UNDECIDED from " << a << " to " << b << " rad/s of '" << ref
-       << "' (the sweep's speeds, and the bisection's next to an unstable edge; a growth rate within its "
-          "uncertainty of the Instability Tolerance, "
-          "\"neutral\" in the CSV: neither shown stable nor unstable there)\n";
+  for (const auto& [a, b] : undecidedRanges) {
+    os << "UNDECIDED " << (a == b ? "at " : "from ") << a;
+    if (a != b) os << " to " << b;
+    os << " rad/s of '" << ref
+       << "' (the sweep's speeds, \"neutral\" in the CSV, and the speeds the bisection of an unstable edge met; "
+          "a growth rate within its uncertainty of the Instability Tolerance: neither shown stable nor unstable "
+          "there)\n";
+  }
   os.flags(flags);
   os.precision(prec);
 }

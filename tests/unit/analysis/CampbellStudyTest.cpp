@@ -682,4 +682,28 @@ TEST(CampbellStudy, UndecidedSpeedsTheEdgesBisectionMeetsAreListed) {
   std::ostringstream os;
   r.printCrossings(os);
   EXPECT_NE(os.str().find("UNDECIDED from 0.9"), std::string::npos) << os.str();
+  // The same at negative speeds (Speed Factor -1: the sweep runs from 0
+  // down to -2): the bisection's range is written in the sweep's direction,
+  // as the unstable range is, from -0.9 down to just above -1 (a review
+  // found "from -78.5 to -78.49" beside "unstable from -78.51 to -161").
+  class Mirrored : public UndecidedParabola {
+  public:
+    Mirrored() : UndecidedParabola(0.9, 1.0, 1.0) {}
+    synthesis::StructureModes solve(const std::vector<double>& speeds) const override {
+      std::vector<double> flipped(speeds);
+      for (double& w : flipped) w = -w;
+      auto out = UndecidedParabola::solve(flipped);
+      out.speeds = speeds;
+      return out;
+    }
+  };
+  auto params = sweep(6, 1.0);
+  params.set("Speed Factor", -1.0);
+  const auto n = analysis::CampbellStudy(params).run(Mirrored());
+  ASSERT_EQ(n.unstableRanges.size(), 1u);
+  EXPECT_NEAR(n.unstableRanges[0].first, -1.0, 2e-6);
+  ASSERT_EQ(n.undecidedRanges.size(), 1u);
+  EXPECT_NEAR(n.undecidedRanges[0].first, -0.9, 4 * DBL_EPSILON);
+  EXPECT_GT(n.undecidedRanges[0].second, -1.0);
+  EXPECT_LT(n.undecidedRanges[0].second, -1.0 + 2e-6);
 }

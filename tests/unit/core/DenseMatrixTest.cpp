@@ -98,7 +98,7 @@ TEST(StructureDefect, FindsAnAsymmetryOnEitherSideOfTheDiagonal) {
   EXPECT_DOUBLE_EQ(cms::skewDefect(K), 0.25 / cms::frobeniusNorm(K));
 }
 
-// showPositiveDefinite (theory §13.3, "Showing definiteness") must never show
+// showPositiveDefinite (theory §13.3, "Proving definiteness") must never show
 // an indefinite matrix positive definite, and should show one whose smallest
 // eigenvalue stands clear of Cholesky's a-priori error.
 //

@@ -281,11 +281,14 @@ struct CampbellResult {
   /// that end is the sweep's, not an edge of the range, which goes on
   /// beyond it.
   std::vector<std::pair<bool, bool>> unstableOpen;
-  /// Omega_ref (rad/s), first and last grid speed of each run of speeds
-  /// where some mode's growth rate is undecided (GyroscopicMode::undecided:
-  /// a damped structure's growth its uncertainty does not tell from the
-  /// Instability Tolerance, "neutral" in the CSV; theory §13.3). Neither
-  /// stable nor unstable there; not bisected.
+  /// Omega_ref (rad/s), first and last speed of each run of speeds where
+  /// some mode's growth rate is undecided (GyroscopicMode::undecided: a
+  /// damped structure's growth its uncertainty does not tell from the
+  /// Instability Tolerance, "neutral" in the CSV; theory §13.3): the grid's
+  /// runs, and per unstable edge the lowest to the highest speed its
+  /// bisection met undecided, merged where they overlap; in the sweep's
+  /// direction (from high to low for a negative nominal rate). Neither
+  /// stable nor unstable there; not bisected themselves.
   std::vector<std::pair<double, double>> undecidedRanges;
   /// Reference speeds (rad/s) where a frequency passes through zero: the
   /// count of K(Omega)'s negative eigenvalues changes there, bisected on

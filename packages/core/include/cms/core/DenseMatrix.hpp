@@ -31,7 +31,7 @@ void requireFinite(const DenseMatrix& A, const std::string& name);
 /// that is positive definite only by rounding.
 int choleskyLower(DenseMatrix& A, double relPivotTol = 0.0);
 
-/// What showPositiveDefinite found (theory §13.3, "Showing definiteness").
+/// What showPositiveDefinite found (theory §13.3, "Proving definiteness").
 struct DefinitenessCheck {
   bool shown = false;     ///< A is positive definite, proven from a Cholesky factor
   bool factored = false;  ///< the Cholesky factorisation of A (scaled) itself ran to the end
