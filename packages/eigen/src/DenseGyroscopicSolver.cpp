@@ -1062,7 +1062,7 @@ double growthUncertainty(cplx lambda, double errorBound, double etaQ, double ins
 bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
                      double zeroBelow) {
   const double growth = m.lambda.real(), size = std::abs(m.lambda);
-  if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) || !(m.eigenvalueError < size) ||
+  if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) ||
       size <= zeroBelow || m.blockScale > 0.0)
     return false;
   for (const auto& o : modes)

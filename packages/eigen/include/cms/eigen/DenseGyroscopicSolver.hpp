@@ -71,8 +71,10 @@ double growthUncertainty(std::complex<double> lambda, double errorBound, double 
 
 /// Whether `m`'s growth rate is undecided and is refined (theory §13.3):
 /// positive, above instabilityTol |lambda| but within its growthTolerance,
-/// its first-order error below |lambda| (a split zero's is of its own
-/// size), |lambda| above `zeroBelow` (a zero the rigid test takes anyway),
+/// |lambda| above `zeroBelow` (a zero the rigid test takes anyway; a first
+/// version also asked for a first-order error below |lambda|, for split
+/// zeros, and a stiff rotor's 0.0147 1/s flutter within 1172 read "stable":
+/// a review),
 /// not solved apart (blockScale), and no other of `modes` (or a mirror)
 /// within 1e-3 |lambda|: a split cluster's member (a free body's frame-rate
 /// triple at i Omega, split by rounding by ~1e-4 Omega), of which inverse
