@@ -1934,6 +1934,29 @@ std::vector<eigen::GyroscopicMode> rotorModes(const std::string& scene,
   return analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm).modes.result.modes;
 }
 
+/// A shaft of `elements` Full beam elements spinning at `rate` in the
+/// stationary frame on a 2-element clamped support (Full) of Young's modulus
+/// `supportE` with bearing dampers (200 N s/m) at its end; `material` is
+/// appended to the shaft's Beam map (e.g. its Structural Damping).
+std::string dampedSupportRotor(double supportE, int elements, double rate, const std::string& material,
+                               const std::string& solver) {
+  std::ostringstream s;
+  s << "Scene:\n  Substructures:\n    support:\n      Kind: C\n"
+    << "      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: " << supportE
+    << ", Density: 7800.0, Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start, Dampers: "
+       "{bearing: {Node Set: end, Damping: [0, 200.0, 200.0, 0, 0, 0]}}}\n"
+    << "      Reduction: {Basis: Full}\n"
+    << "    shaft:\n      Kind: A\n      Parent: support\n      Attachment: {Parent Nodes: end, Nodes: start}\n"
+    << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Frame: Stationary}\n"
+    << "      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: " << elements
+    << ", Young's Modulus: 2.0e11, Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion "
+       "Constant: 2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01]"
+    << material << "}\n"
+    << "      Reduction: {Basis: Full}\n"
+    << "  Analysis: {Number of Modes: 10, Solver: " << solver << "}\n";
+  return s.str();
+}
+
 /// How many of `ms` flutter.
 long flutters(const std::vector<eigen::GyroscopicMode>& ms) {
   return std::count_if(ms.begin(), ms.end(),
@@ -2206,22 +2229,7 @@ TEST(SceneRegression, AStiffOrFineRotorsFlutterIsNotReadStable) {
   // against FLUTTER at 0.016559 on the dense path (a review, 2026-12-01).
   // Refined, the sparse path gives 0.0165587 within 8.4e-5 (the dense
   // 0.0165587, checked by hand: 5 s at n = 612).
-  check(R"(
-Scene:
-  Substructures:
-    support:
-      Kind: C
-      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 1e18, Density: 7800.0, Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start, Dampers: {bearing: {Node Set: end, Damping: [0, 200.0, 200.0, 0, 0, 0]}}}
-      Reduction: {Basis: Full}
-    shaft:
-      Kind: A
-      Parent: support
-      Attachment: {Parent Nodes: end, Nodes: start}
-      Spin: {Axis: [1, 0, 0], Rate: 120.75, Frame: Stationary}
-      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 100, Young's Modulus: 2.0e11, Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01], Structural Damping: {Rayleigh Beta: 1.0e-5}}
-      Reduction: {Basis: Full}
-  Analysis: {Number of Modes: 10, Solver: Sparse}
-)",
+  check(dampedSupportRotor(1e18, 100, 120.75, ", Structural Damping: {Rayleigh Beta: 1.0e-5}", "Sparse"),
         0.0165587, "E = 1e18 with bearing dampers, 100 elements, an error above |lambda|");
   EXPECT_GE(refinedCases, 3) << "the refinement decided too few cases (of 14: 7 by hand, 6 under ctest, 1 rank, before the 14th)";
   // Undecided is only what the refinement takes (undecidedGrowth): a stable
@@ -2258,23 +2266,7 @@ Scene:
 TEST(SceneRegression, APassiveRotorsGrowthWithinItsUncertaintyIsDecidedByTheEnergyBound) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
   const auto scene = [](const std::string& material) {
-    return std::string(R"(
-Scene:
-  Substructures:
-    support:
-      Kind: C
-      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 2.0e16, Density: 7800.0, Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start, Dampers: {bearing: {Node Set: end, Damping: [0, 200.0, 200.0, 0, 0, 0]}}}
-      Reduction: {Basis: Full}
-    shaft:
-      Kind: A
-      Parent: support
-      Attachment: {Parent Nodes: end, Nodes: start}
-      Spin: {Axis: [1, 0, 0], Rate: 140.0, Frame: Stationary}
-      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 8, Young's Modulus: 2.0e11, Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01])") +
-           material + R"(}
-      Reduction: {Basis: Full}
-  Analysis: {Number of Modes: 10, Solver: Dense}
-)";
+    return dampedSupportRotor(2.0e16, 8, 140.0, material, "Dense");
   };
   const auto solve = [&](const std::string& text) {
     const auto sc = parse(text);
