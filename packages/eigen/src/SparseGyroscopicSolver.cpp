@@ -264,9 +264,21 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   // 4. The iteration the parameters name (SparseIterations.hpp).
   const detail::IterationSettings settings{c.eigensolver, c.blockSize, c.maxRestarts, c.verbosity, c.tol,
                                            c.mumps ? "MUMPS-LDLT" : "CHOLMOD"};
-  const detail::IterationOutcome it = c.eigensolver == "ARPACK"
-                                          ? detail::iterateArpack(problem, settings, nev)
-                                          : detail::iterateAnasazi(problem, settings, nev, numBlocks);
+  detail::IterationOutcome it = c.eigensolver == "ARPACK" ? detail::iterateArpack(problem, settings, nev)
+                                                           : detail::iterateAnasazi(problem, settings, nev, numBlocks);
+  // A breakdown of Anasazi's iteration is retried by ARPACK on the same
+  // factored transform: Block Krylov-Schur's Schur reordering (TREXC)
+  // refused a swap among the double eigenvalues of a damped isotropic shaft
+  // at rest, and the run ended, exit 3, with no output (a review, 2026-12-01).
+  if (!it.failure.empty() && c.eigensolver != "ARPACK") {
+    detail::IterationSettings arpack = settings;
+    arpack.eigensolver = "ARPACK";
+    detail::IterationOutcome again = detail::iterateArpack(problem, arpack, nev);
+    if (again.failure.empty()) {
+      result.reason += "; " + it.failure + ": solved again by ARPACK on the same factored transform";
+      it = std::move(again);
+    }
+  }
   result.iterations = it.iterations;
   if (!it.failure.empty()) {
     result.status = SolveStatus::NumericalIssue;
