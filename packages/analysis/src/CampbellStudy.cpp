@@ -810,13 +810,14 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     // edge is bisected to where instability is shown; the undecided speeds
     // the bisection met are listed with the grid's (before, only the grid's
     // were: an onset below the edge, within the uncertainty, went unsaid).
-    std::vector<std::pair<double, double>> metUndecided;
+    std::vector<double> edgeUndecided;                        // this edge's, reference speeds
+    std::vector<std::pair<double, double>> metUndecided;      // per edge, lowest to highest
     const auto unstableAt = [&](double f, bool& ok) {
       const auto m = problem.solve(speedsAt(f));
       ok = m.result.status == eigen::SolveStatus::Converged && !m.result.modes.empty();
       bool u = false, undecided = false;
       for (const auto& mode : m.result.modes) u = u || unstable(mode.stability), undecided = undecided || mode.undecided;
-      if (ok && undecided) metUndecided.push_back({refAt(f), refAt(f)});
+      if (ok && undecided) edgeUndecided.push_back(refAt(f));
       return u;
     };
     // From rest (a free body diverging about its intermediate axis at any
@@ -829,7 +830,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         return stable == 0.0 ? crossingTol * std::abs(maxFactor)
                              : crossingTol * std::max(std::abs(stable), std::abs(unstableF));
       };
-      const std::size_t before = metUndecided.size();
+      edgeUndecided.clear();
       for (int it = 0; it < 200 && std::abs(unstableF - stable) > width(); ++it) {
         const double mid = 0.5 * (stable + unstableF);
         bool ok = false;
@@ -839,12 +840,9 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       }
       // This edge's undecided speeds as one range, from the lowest to the
       // highest (a stable speed between them does not decide the others).
-      if (metUndecided.size() > before + 1) {
-        std::pair<double, double> span = metUndecided[before];
-        for (std::size_t i = before + 1; i < metUndecided.size(); ++i)
-          span = {std::min(span.first, metUndecided[i].first), std::max(span.second, metUndecided[i].second)};
-        metUndecided.resize(before);
-        metUndecided.push_back(span);
+      if (!edgeUndecided.empty()) {
+        const auto [lo, hi] = std::minmax_element(edgeUndecided.begin(), edgeUndecided.end());
+        metUndecided.push_back({*lo, *hi});
       }
       return refAt(0.5 * (stable + unstableF));
     };

@@ -122,19 +122,17 @@ DefinitenessCheck showPositiveDefinite(const DenseMatrix& A, const DenseMatrix* 
     }
     entries *= 1.01;
   }
-  Teuchos::LAPACK<int, double> lapack;
   const double u = std::numeric_limits<double>::epsilon() / 2.0;
-  // Cholesky of H - shift I; the most nonzeros in a row of its factor
-  // (0 where it failed, `pivot` then the failed column).
+  // Cholesky of H - shift I (choleskyLower: the upper triangle zeroed); the
+  // most nonzeros in a row of its factor (0 where it failed, `pivot` then
+  // the failed column).
   int pivot = 0;
   const auto factorShifted = [&](double shift) {
     DenseMatrix L(n, n);
     for (int j = 0; j < n; ++j)
       for (int i = j; i < n; ++i) L(i, j) = A(i, j) * s[i] * s[j] - (i == j ? shift : 0.0);
-    int info = 0;
-    lapack.POTRF('L', n, L.values(), L.stride(), &info);
-    pivot = info;
-    if (info != 0) return 0;
+    pivot = choleskyLower(L);
+    if (pivot != 0) return 0;
     int m = 0;
     for (int i = 0; i < n; ++i) {
       int row = 0;
