@@ -1,6 +1,7 @@
 // cms::frobeniusNorm and the structure defects: the unrolled sum of squares
 // against a reference summed in long double, and its scaled fallback where
 // the squares would overflow or underflow.
+#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -129,7 +130,9 @@ TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
       const auto plus = cms::showPositiveDefinite(chain(d));
       EXPECT_TRUE(plus.shown) << "least eigenvalue 2^-" << k << ": " << plus.why;
       EXPECT_GT(plus.shift, 0.0);
-      EXPECT_LT(plus.shift, 1e-14);  // 1.01 gamma_3 21 + 4 u
+      // The shift the proof needs at most: tr(H) < 2n by the scaling.
+      const double u = DBL_EPSILON / 2, g = 3 * u / (1 - 3 * u);
+      EXPECT_LE(plus.shift, 1.01 * g / (1 - g) * 2.0 * n + 4 * u);
     }
   }
   // Units: the same chain with its coordinates scaled by 10^-8 .. 10^8
@@ -141,6 +144,10 @@ TEST(PositiveDefiniteness, IsShownOnlyWhereItHolds) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) S(i, j) *= u[i] * u[j];
   EXPECT_TRUE(cms::showPositiveDefinite(S).shown);
+  // An empty matrix proves nothing.
+  const auto empty = cms::showPositiveDefinite(DenseMatrix());
+  EXPECT_FALSE(empty.shown);
+  EXPECT_EQ(empty.why, "empty matrix");
   // A diagonal entry that is not positive is named.
   DenseMatrix Z = chain(1.0);
   Z(7, 7) = 0.0;

@@ -243,7 +243,9 @@ TEST(StabilityVerdict, TheTwoSidedEstimateKeepsOnlyABetterBound) {
   ASSERT_TRUE(e.step(a, b, c));
   EXPECT_LE(e.change, 8 * DBL_EPSILON * std::abs(root));
   const double size = std::abs(root), floor = 2 * DBL_EPSILON * 2 * (1 + size + size * size) / std::abs(2.0 * root + 2.0);
-  EXPECT_NEAR(e.boundIfBetter(a, b, r, 1.0), floor, 1e-12 * floor);  // lambda to 8 eps: its powers to ~1e-15
+  // lambda within 8 eps of the root: |lambda|, |lambda|^2 and |2 lambda + 2|
+  // within ~16 eps each, the floor within ~50 eps.
+  EXPECT_NEAR(e.boundIfBetter(a, b, r, 1.0), floor, 64 * DBL_EPSILON * floor);
   EXPECT_TRUE(std::isnan(e.boundIfBetter(a, b, r, 0.5 * floor)));
   // Changes that grow: no bound (infinite), refused whatever came before.
   TwoSidedEstimate g{root};
