@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 
@@ -264,6 +265,11 @@ TEST(SparseGyroscopicInput, RejectsMalformedSystemsAndParameters) {
   Teuchos::ParameterList b;
   b.set("Block Size", 1);
   EXPECT_THROW(SparseGyroscopicSolver{b}, InputError);
+  for (double f : {-1e-5, std::nan("")}) {
+    Teuchos::ParameterList ft;
+    ft.set("Frequency Tolerance", f);
+    EXPECT_THROW(SparseGyroscopicSolver{ft}, InputError) << f;
+  }
   // LOBPCG needs the symmetric path; a spinning chain beyond critical has K indefinite.
   ChainSpec fast = spec;
   fast.spin = 5.0;

@@ -22,9 +22,13 @@ namespace cms::eigen::detail {
 /// Which of them the solver returns (its first nModes within residualTol):
 /// an undecided growth rate among them is refined by two-sided inverse
 /// iteration on the full model (theory §13.3).
+/// A damped (or circulatory) system's returned mode whose first-order
+/// eigenvalue error exceeds frequencyTol |lambda| is refined too (theory §5,
+/// "Stiff rows"): 0 refines every one, infinity none.
 struct RitzRefinement {
   int nModes = 0;
   double residualTol = 1e-8;
+  double frequencyTol = 1e-6;
 };
 
 std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys, const MultiVector& vectors,

@@ -112,6 +112,14 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
       j["growth_refined"] = md.refinedError > 0.0;
       j["growth_undecided"] = md.undecided;
     }
+    // How far the solve can have left the eigenvalue from the reduced
+    // model's exact one (1/s; theory §5, "Stiff rows"): the two-sided bound
+    // where the mode was refined, else the first-order estimate ||r|| ||q||
+    // / |q^H Q'(lambda) q|.
+    if (md.refinedError > 0.0 || md.eigenvalueError > 0.0) {
+      j["eigenvalue_error"] = numberOrNull(md.refinedError > 0.0 ? md.refinedError : md.eigenvalueError);
+      j["eigenvalue_error_kind"] = md.refinedError > 0.0 ? "refined bound" : "first order";
+    }
     // The rigorous bound (theory §11.8), only where the structure is SPD.
     if (m < r.accuracy.size() && r.accuracy[m].bound >= 0.0) {
       j["error_bound"] = r.accuracy[m].bound;
