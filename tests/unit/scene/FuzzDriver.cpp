@@ -210,7 +210,7 @@ const std::vector<std::string> kYamlWords = {
     "{a: b}", "[1, 2]", "Kind: C", "Kind: R", "Parent: bus", "Parent: hub", "Elements: 1000001", "Elements: 2",
     "Rate: -1", "Area: 0", "Basis: Full", "Basis: Modes", "Vectors: 0", "Vectors: 100000", "Clamp: ends",
     "Substructures:", "Beam:", "Rotor:", "Spin:", "Reduction:", "Finite Element Model:", "Mesh: no.msh",
-    "Free Reference: start", "Number of Modes: 0", "Dense Limit: 1", "Speed Factor: 1e308", "Type: RigidFit",
+    "Free Reference: start", "Number of Modes: 0", "Dense Limit: 1", "Speed Factor: 1e308", "Frequency Tolerance: -0", "Type: RigidFit",
     "Frame: Stationary", "Element Sets:", "Tip Mass: 1", "Free: true", "\n    x: 1\n"};
 const std::vector<std::string> kGmshWords = {
     "$Nodes", "$EndNodes", "$Elements", "$EndElements", "$Entities", "$EndEntities", "$PhysicalNames",
