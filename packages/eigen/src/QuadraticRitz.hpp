@@ -28,7 +28,7 @@ namespace cms::eigen::detail {
 struct RitzRefinement {
   int nModes = 0;
   double residualTol = 1e-8;
-  double frequencyTol = 1e-6;
+  double frequencyTol = 1e-5;
 };
 
 std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys, const MultiVector& vectors,

@@ -116,7 +116,10 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
     // model's exact one (1/s; theory §5, "Stiff rows"): the two-sided bound
     // where the mode was refined, else the first-order estimate ||r|| ||q||
     // / |q^H Q'(lambda) q|.
-    if (md.refinedError > 0.0 || md.eigenvalueError > 0.0) {
+    // Not for a zero (rigid or critical), which has no relative accuracy
+    // and whose first-order estimate means nothing.
+    if ((md.refinedError > 0.0 || md.eigenvalueError > 0.0) && md.stability != eigen::Stability::RigidBody &&
+        md.stability != eigen::Stability::Critical) {
       j["eigenvalue_error"] = numberOrNull(md.refinedError > 0.0 ? md.refinedError : md.eigenvalueError);
       j["eigenvalue_error_kind"] = md.refinedError > 0.0 ? "refined bound" : "first order";
     }
