@@ -203,10 +203,10 @@ void printModes(const analysis::ModalResult& r) {
     std::cout << "least damping ratio: " << std::setprecision(4) << result.leastDampingRatio()
               << (!result.isStable() ? " (UNSTABLE: a mode grows" +
                                            (undecided > 0 ? "; UNDECIDED: " + std::to_string(undecided) +
-                                                                " more grow within their uncertainty, marked neutral)"
+                                                                " more have a growth rate whose sign is within its uncertainty, marked neutral)"
                                                           : std::string(")"))
                   : undecided > 0      ? " (UNDECIDED: " + std::to_string(undecided) +
-                                        " mode(s) grow within their uncertainty, marked neutral)"
+                                        " mode(s) have a growth rate whose sign is within its uncertainty, marked neutral)"
                   : result.leastDampingRatio() < 0.0
                       ? std::string(result.energyBound.shown ? " (rounding: every mode stable, by the energy bound)"
                                                              : " (rounding: every mode stable)")
