@@ -411,7 +411,7 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       return global;
     };
     double best = std::numeric_limits<double>::infinity(), previousMeasure = best;
-    cplx bestLambda = m.lambda;
+    cplx bestLambda = m.lambda, oneBack = m.lambda, twoBack = m.lambda;
     MultiVector bestX(map2, 1);
     for (int step = 0; step < 8; ++step) {
       derivative(*C, sigma, x, rhs);
@@ -453,7 +453,20 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       const double measure = weightedResidual(e.lambda) / std::abs(2.0 * e.lambda * a + b);
       const bool contracting = measure <= 0.5 * previousMeasure;
       previousMeasure = measure;
-      const double stands = measure <= bound ? bound : contracting ? measure : std::numeric_limits<double>::infinity();
+      // A steady drift is no convergence, whatever the floor (and the first
+      // two steps, which cannot show one, stand not): two changes
+      // of nearly one size (ratio 0.8-1.25) in one direction (the value two
+      // steps back more than 1.5 changes away). A close pair's mean drifted
+      // so, 1.6e-6 rad/s a step below the floor 8.3e-5, 9.4e-4 from either
+      // member, its measure below the floor too (OPENBLAS_CORETYPE=Nehalem,
+      // one BLAS thread).
+      const double ratio = e.changeBefore > 0.0 ? e.change / e.changeBefore : 0.0;
+      const bool drifting = step >= 2 && ratio >= 0.8 && ratio <= 1.25 && std::abs(e.lambda - twoBack) > 1.5 * e.change;
+      twoBack = oneBack, oneBack = e.lambda;
+      const double stands = drifting || step < 2  ? std::numeric_limits<double>::infinity()
+                            : measure <= bound    ? bound
+                            : contracting         ? measure
+                                                  : std::numeric_limits<double>::infinity();
       if (stands < best) best = stands, bestLambda = e.lambda, bestX.assign(x);
     }
     // Kept only where it decides more than the Ritz value's own uncertainty
