@@ -567,9 +567,8 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
       GyroscopicMode& m = rm[j];
       const double size = std::abs(m.lambda), growth = m.lambda.real();
       const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
-      const double error = m.refinedError > 0.0 ? m.refinedError : m.eigenvalueError;
-      if (m.stability == Stability::Stable && size > rigidTol * s && m.blockScale == 0.0 && m.refinedError == 0.0 &&
-          !(error <= refinement.frequencyTol * size) && std::abs(growth) > instabTol * size &&
+      if (m.stability == Stability::Stable && m.refinedError == 0.0 &&
+          uncertainFrequency(m, refinement.frequencyTol, rigidTol * s) && std::abs(growth) > instabTol * size &&
           growth + m.growthTolerance > instabTol * size)
         m.stability = Stability::Neutral, m.undecided = true;
     }
