@@ -1558,6 +1558,23 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
   classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
 }
 
+namespace {
+/// Whether the symmetric part of sys.K + sys.N is proven positive definite
+/// (showPositiveDefinite, the given entries taken exact): then no
+/// eigenvalue is zero (Re q^H (K + N) q > 0 for q != 0). Not where sys has
+/// coordinates the stiffness at rest does not reach.
+bool stiffnessShownNonsingular(const GyroscopicSystem& sys) {
+  const int n = sys.size();
+  if (n == 0 || !sys.unrestrained.empty()) return false;
+  const bool hasN = sys.N.numRows() == n;
+  DenseMatrix A(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      A(i, j) = 0.5 * (sys.K(i, j) + sys.K(j, i)) + (hasN ? 0.5 * (sys.N(i, j) + sys.N(j, i)) : 0.0);
+  return showPositiveDefinite(A).shown;
+}
+}  // namespace
+
 Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParameters() {
   static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Dense Gyroscopic Solver"));
@@ -1589,6 +1606,11 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
     pl->set("Structure Tolerance", 1e-10,
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
     addStabilityTolerances(*pl);
+    pl->set("Stiffness Proof", true,
+            "a damped system: prove the symmetric part of K + N positive definite (doc/theory.md 4.3), so that "
+            "no eigenvalue is zero and none is taken for a rigid-body mode however far below the Rigid Body "
+            "Tolerance of the system's scale; false where the given K carries errors the proof cannot see (a "
+            "projection: its caller proves it with them)");
     pl->set("Energy Bound", true,
             "a damped system: prove N = 0 and M > 0, K > 0, D + d M > 0 (d = Instability Tolerance times the "
             "least |lambda|) from Cholesky factors of their shifts by Cholesky's a-priori error, so that no mode "
@@ -1609,8 +1631,19 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   const int nModes = requestedCount(params_, n);
   std::vector<cplx> unreturned;  // the general path's eigenvalues past the returned ones (classifyModes)
   const std::string method = params_.get<std::string>("Method");
-  const double rigidTol = params_.get<double>("Rigid Body Tolerance");
   const double instabTol = params_.get<double>("Instability Tolerance");
+  // A damped system whose sym(K + N) is proven positive definite has no
+  // zero eigenvalue (Re q^H (K + N) q > 0 for every q != 0): none is a
+  // rigid-body mode, however small against the system's scale, which takes
+  // its stiffness from the stiffest part and its mass from the heaviest. A
+  // 1.2 m shaft on a pedestal of E = 1e18 (s = 6.5e7 rad/s) has its lowest
+  // pair at 58.37 rad/s, below 1e-6 s: the pair was taken for two rigid
+  // motions and the run refused as "unrestrained" (theory §4.3, "A
+  // stiffness shown nonsingular"). Two Cholesky factors of n, beside the
+  // 2n pencil's QZ.
+  const bool noZeros =
+      sys.damped() && params_.get<bool>("Stiffness Proof") && stiffnessShownNonsingular(sys);
+  const double rigidTol = noZeros ? 0.0 : params_.get<double>("Rigid Body Tolerance");
 
   DenseMatrix Lm(sys.M);
   const int infoM = choleskyLower(Lm);
@@ -1749,6 +1782,19 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // (theory §4.3).
   completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0,
                      unreturned);
+  if (noZeros) {
+    const double below = params_.get<double>("Rigid Body Tolerance") * scale;
+    const long small = std::count_if(result.modes.begin(), result.modes.end(), [&](const GyroscopicMode& m) {
+      return m.blockScale == 0.0 && std::abs(m.lambda) <= below;
+    });
+    if (small > 0) {
+      std::ostringstream note;
+      note << std::setprecision(3) << "; " << small << " mode(s) below the Rigid Body Tolerance of the system's scale ("
+           << below << " 1/s) are vibrations, not rigid-body modes: sym(K + N) is proven positive definite (theory "
+           << "4.3)";
+      result.reason += note.str();
+    }
+  }
   // A damped system's growth rates against the energy bound (theory §13.3):
   // where N = 0 and M, K, D + d M > 0 are proven, no mode grows faster than
   // d, so a growth within its uncertainty (which grows with K's condition)

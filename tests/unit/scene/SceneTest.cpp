@@ -2372,6 +2372,52 @@ TEST(SceneRegression, AStiffSupportsDampedFrequenciesAreRefined) {
   }
 }
 
+// A support of E = 1e18 under a 1.2 m steel shaft, both with D = alpha M,
+// at rest, on the dense path (the default for its 612 coordinates): the
+// system's scale s = sqrt(||K|| / ||M||), the support's stiffness over the
+// shaft's mass, is 6.5e7 rad/s, and the shaft's lowest pair (58.37 rad/s)
+// lies below the Rigid Body Tolerance's 1e-6 s. It was taken for two rigid
+// motions and the run refused as "unrestrained ... shaft moves freely" (exit
+// 2); so was the 1 m shaft on that support clamped at both ends (s = 1.1e8).
+// sym(K + N) is now proven positive definite (theory §4.3, "A stiffness
+// shown nonsingular"): no eigenvalue is zero, and each mode must be the
+// closed form lambda = -alpha/2 + i sqrt(omega^2 - alpha^2/4), omega from
+// the undamped model's Meirovitch path (componentwise accurate: its own
+// scale), within the mode's reported error, plus 1e-8 |lambda| for the
+// reference. (That error is first order, as the dense path reports it: its
+// normwise dggev leaves the clamped support's pair 0.66 rad/s off, within
+// an error of 5.6.)
+TEST(SceneRegression, AShaftOnASupportAMillionTimesStifferIsNotTakenForAFreeBody) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const double alpha = 0.5;
+  const std::string damping = ", Structural Damping: {Rayleigh Alpha: 0.5}";
+  for (const auto& [length, clamp] : {std::pair<std::string, std::string>{"1.2", "start"}, {"1", "ends"}}) {
+    const auto scene = [&](const std::string& material, const std::string& support) {
+      std::string s = dampedSupportRotor(1e18, 100, 0.0, material, "Dense", support);
+      s.replace(s.find("To: [1, 0, 0]"), 13, "To: [" + length + ", 0, 0]");
+      s.replace(s.find("Clamp: start"), 12, "Clamp: " + clamp);
+      return s;
+    };
+    const auto undamped = rotorModes(scene("", ""), comm);
+    const auto sc = parse(scene(damping, damping));
+    analysis::ModalResult r;
+    ASSERT_NO_THROW(r = analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm))
+        << length << " m shaft, support clamped at " << clamp;
+    const auto& res = r.modes.result;
+    EXPECT_NE(res.reason.find("are vibrations, not rigid-body modes"), std::string::npos) << res.reason;
+    ASSERT_EQ(res.modes.size(), 10u);
+    ASSERT_EQ(undamped.size(), 10u);
+    for (int j = 0; j < 10; ++j) {
+      const double w = undamped[j].omega;
+      const std::complex<double> exact(-alpha / 2.0, std::sqrt(w * w - alpha * alpha / 4.0));
+      const auto& m = res.modes[j];
+      EXPECT_EQ(m.stability, eigen::Stability::Stable) << clamp << ", mode " << j << ": " << m.lambda;
+      EXPECT_LE(std::abs(m.lambda - exact), m.eigenvalueError + 1e-8 * std::abs(exact))
+          << clamp << ", mode " << j << ": " << m.lambda << " against " << exact;
+    }
+  }
+}
+
 // The same stiff-support shaft (bearing dampers, beta 1e-5) spinning at
 // 0.5 rad/s: its lowest pair is split by 1.9e-3 rad/s. Asked for 10 modes,
 // the iteration returned both members near 77.7 and 78.1; refined from a
