@@ -1559,11 +1559,19 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
 }
 
 namespace {
-/// Whether the symmetric part of sys.K + sys.N is proven positive definite
+/// Whether the symmetric part of sys.K + sys.N is positive definite as the
+/// undamped path takes K to be (Cholesky's pivots^2 spread by no more than
+/// `definitenessTol`, "Definiteness Tolerance": then that path solves it on
+/// its Meirovitch form, each mode on its own scale) and proven so
 /// (showPositiveDefinite, the given entries taken exact): then no
 /// eigenvalue is zero (Re q^H (K + N) q > 0 for q != 0). Not where sys has
-/// coordinates the stiffness at rest does not reach.
-bool stiffnessShownNonsingular(const GyroscopicSystem& sys) {
+/// coordinates the stiffness at rest does not reach. The proof alone
+/// takes a synthesised K's rounding as stiffness: a post's free turn under
+/// an arm 2e5 to 1e12 times stiffer was "proven" stiff and printed as a
+/// vibration (2.5e-5 to 0.029 rad/s) where it had been refused as
+/// "unrestrained" (a review); its pivots spread past the tolerance, as the
+/// undamped path finds.
+bool stiffnessShownNonsingular(const GyroscopicSystem& sys, double definitenessTol) {
   const int n = sys.size();
   if (n == 0 || !sys.unrestrained.empty()) return false;
   const bool hasN = sys.N.numRows() == n;
@@ -1571,7 +1579,8 @@ bool stiffnessShownNonsingular(const GyroscopicSystem& sys) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i)
       A(i, j) = 0.5 * (sys.K(i, j) + sys.K(j, i)) + (hasN ? 0.5 * (sys.N(i, j) + sys.N(j, i)) : 0.0);
-  return showPositiveDefinite(A).shown;
+  DenseMatrix L(A);
+  return choleskyLower(L, definitenessTol) == 0 && showPositiveDefinite(A).shown;
 }
 }  // namespace
 
@@ -1607,10 +1616,10 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
             "Tolerance on the symmetry of M, K and skew-symmetry of G, relative to s^2||M||+s||G||+||K|| at the frequency scale s");
     addStabilityTolerances(*pl);
     pl->set("Stiffness Proof", true,
-            "a damped system: prove the symmetric part of K + N positive definite (doc/theory.md 4.3), so that "
-            "no eigenvalue is zero and none is taken for a rigid-body mode however far below the Rigid Body "
-            "Tolerance of the system's scale; false where the given K carries errors the proof cannot see (a "
-            "projection: its caller proves it with them)");
+            "a damped system: where the symmetric part of K + N passes the Definiteness Tolerance's Cholesky "
+            "test and is proven positive definite (doc/theory.md 4.3), no eigenvalue is zero and none is taken "
+            "for a rigid-body mode however far below the Rigid Body Tolerance of the system's scale; false where "
+            "the given K carries errors the proof cannot see (a projection's rounding)");
     pl->set("Energy Bound", true,
             "a damped system: prove N = 0 and M > 0, K > 0, D + d M > 0 (d = Instability Tolerance times the "
             "least |lambda|) from Cholesky factors of their shifts by Cholesky's a-priori error, so that no mode "
@@ -1642,7 +1651,8 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // stiffness shown nonsingular"). Two Cholesky factors of n, beside the
   // 2n pencil's QZ.
   const bool noZeros =
-      sys.damped() && params_.get<bool>("Stiffness Proof") && stiffnessShownNonsingular(sys);
+      sys.damped() && params_.get<bool>("Stiffness Proof") &&
+      stiffnessShownNonsingular(sys, params_.get<double>("Definiteness Tolerance"));
   const double rigidTol = noZeros ? 0.0 : params_.get<double>("Rigid Body Tolerance");
 
   DenseMatrix Lm(sys.M);
@@ -1790,8 +1800,8 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
     if (small > 0) {
       std::ostringstream note;
       note << std::setprecision(3) << "; " << small << " mode(s) below the Rigid Body Tolerance of the system's scale ("
-           << below << " 1/s) are vibrations, not rigid-body modes: sym(K + N) is proven positive definite (theory "
-           << "4.3)";
+           << below << " 1/s) are vibrations, not rigid-body modes: sym(K + N) is positive definite within the "
+           << "Definiteness Tolerance and proven so (theory 4.3)";
       result.reason += note.str();
     }
   }
