@@ -227,7 +227,7 @@ void reportAccuracy(const Config& c, GyroscopicResult& result) {
     const GyroscopicMode& m = result.modes[j];
     const double size = std::abs(m.lambda);
     if (m.stability == Stability::RigidBody || m.blockScale > 0.0 || !(size > 0.0)) continue;
-    const double error = (m.refinedError > 0.0 ? m.refinedError : m.eigenvalueError) / size;
+    const double error = m.reportedError() / size;
     if (m.refinedError > 0.0) ++refined, worstRefined = std::max(worstRefined, error);
     if (!(error <= c.frequencyTol)) {
       ++unshown;

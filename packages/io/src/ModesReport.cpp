@@ -120,7 +120,7 @@ void writeModesJson(OutputFiles& files, const std::filesystem::path& file, const
     // and whose first-order estimate means nothing.
     if ((md.refinedError > 0.0 || md.eigenvalueError > 0.0) && md.stability != eigen::Stability::RigidBody &&
         md.stability != eigen::Stability::Critical) {
-      j["eigenvalue_error"] = numberOrNull(md.refinedError > 0.0 ? md.refinedError : md.eigenvalueError);
+      j["eigenvalue_error"] = numberOrNull(md.reportedError());
       j["eigenvalue_error_kind"] = md.refinedError > 0.0 ? "refined bound" : "first order";
     }
     // The rigorous bound (theory §11.8), only where the structure is SPD.

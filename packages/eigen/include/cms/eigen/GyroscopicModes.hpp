@@ -96,6 +96,10 @@ struct GyroscopicMode {
   /// Meaningful for a simple eigenvalue; for a defective one the
   /// denominator vanishes and the bound grows past |lambda| (theory §4.3).
   double eigenvalueError = 0.0;
+  /// The eigenvalue's reported error, rad/s: refinedError where the mode was
+  /// refined (a bound), else eigenvalueError (first order); the JSON's
+  /// `eigenvalue_error`, whose `eigenvalue_error_kind` says which.
+  double reportedError() const { return refinedError > 0.0 ? refinedError : eigenvalueError; }
   /// The frequency scale of the block this mode was solved in when it is
   /// not the whole system's: the Schur complement on the coordinates the
   /// stiffness at rest does not reach (GyroscopicSystem::unrestrained,
