@@ -388,7 +388,7 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
     // step that had converged to it (the lowest pair of an isotropic shaft on
     // a stiff damped support: 1.96e-5 rad/s at the first step, 0.024 after
     // the third with OPENBLAS_CORETYPE=Nehalem; theory §5, "Stiff rows").
-    // Eight steps (the dense path takes three): a pair whose Ritz value was
+    // Eight steps (the dense path too): a pair whose Ritz value was
     // 1.9e-3 off reached its floor (2e-5 rad/s) at the fifth, after a step
     // whose floor was 700 times that (2 ranks, Nehalem). A step costs two solves with the
     // factors, a small part of the factorisation.
@@ -410,8 +410,7 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       Teuchos::reduceAll(*rowMap->getComm(), Teuchos::REDUCE_SUM, 1, &local, &global);
       return global;
     };
-    double best = std::numeric_limits<double>::infinity(), previousMeasure = best;
-    cplx bestLambda = m.lambda, oneBack = m.lambda, twoBack = m.lambda;
+    RefinementGate gate(m.lambda);
     MultiVector bestX(map2, 1);
     for (int step = 0; step < 8; ++step) {
       derivative(*C, sigma, x, rhs);
@@ -432,52 +431,21 @@ bool refineRitzModes(const SparseGyroscopicSystem& sys, std::vector<GyroscopicMo
       forms(*C, b, rounding.absolute[1], rounding.product[1]);
       forms(*sys.M, a, rounding.absolute[2], rounding.product[2]);
       if (!e.step(a, b, c)) break;
-      // A step's bound stands only where the residual, weighed by the left
-      // vector, agrees with it to first order: sum |y_i| |(Q(lambda) x)_i| /
-      // |y^H Q'(lambda) x| <= bound. A close pair refined from a shift
-      // between its members stalls at a weighted mean of the two, each step
-      // moving it by less than the rounding floor; that floor was then
-      // claimed (8.3e-5 rad/s) for a value 9e-4 from either eigenvalue, where
-      // this measure read 9.4e-4 (the stiff-support shaft spinning at 0.5
-      // rad/s, its pair split by 1.9e-3; a review). On converged steps it
-      // reads 0.05 of the floor.
-      // A step whose measure exceeds its bound still stands where the
-      // measure contracts (at least halves) from the step before: the vector
-      // then keeps a leftover of a close neighbour's that the shift fixed at
-      // the Ritz value damps by a constant ratio each step, and the measure,
-      // first order in it, overstates the eigenvalue's error, second order;
-      // its bound is then the measure (a second review: converged pairs 1e-5
-      // to 1e-4 |lambda| apart were discarded). A stalled mean's measure
-      // stays (9.38e-4, 9.38e-4, ...).
+      // Which step stands, and with what bound: RefinementGate (the stall
+      // of a close pair refined from a shift between its members).
       const double bound = twoSidedBound(e.lambda, e.change, e.changeBefore, a, b, rounding);
       const double measure = weightedResidual(e.lambda) / std::abs(2.0 * e.lambda * a + b);
-      const bool contracting = measure <= 0.5 * previousMeasure;
-      previousMeasure = measure;
-      // A steady drift is no convergence, whatever the floor (and the first
-      // two steps, which cannot show one, stand not): two changes
-      // of nearly one size (ratio 0.8-1.25) in one direction (the value two
-      // steps back more than 1.5 changes away). A close pair's mean drifted
-      // so, 1.6e-6 rad/s a step below the floor 8.3e-5, 9.4e-4 from either
-      // member, its measure below the floor too (OPENBLAS_CORETYPE=Nehalem,
-      // one BLAS thread).
-      const double ratio = e.changeBefore > 0.0 ? e.change / e.changeBefore : 0.0;
-      const bool drifting = step >= 2 && ratio >= 0.8 && ratio <= 1.25 && std::abs(e.lambda - twoBack) > 1.5 * e.change;
-      twoBack = oneBack, oneBack = e.lambda;
-      const double stands = drifting || step < 2  ? std::numeric_limits<double>::infinity()
-                            : measure <= bound    ? bound
-                            : contracting         ? measure
-                                                  : std::numeric_limits<double>::infinity();
-      if (stands < best) best = stands, bestLambda = e.lambda, bestX.assign(x);
+      if (gate.offer(step, e, bound, measure)) bestX.assign(x);
     }
     // Kept only where it decides more than the Ritz value's own uncertainty
     // did (the refinement helped; the same on every rank: both come from
     // global sums).
-    if (!(best < m.growthTolerance)) continue;
+    if (!(gate.best < m.growthTolerance)) continue;
     {
       auto xv = bestX.getLocalViewHost(Tpetra::Access::ReadOnly);
       for (size_t i = 0; i < nloc; ++i) m.q[i] = cplx(xv(i, 0), xv(nloc + i, 0));
     }
-    m.lambda = bestLambda, m.refinedError = best;
+    m.lambda = gate.bestLambda, m.refinedError = gate.best;
     any = true;
   }
   return any;

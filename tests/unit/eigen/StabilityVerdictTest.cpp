@@ -228,10 +228,9 @@ TEST(StabilityVerdict, ADampedGrowthWithinItsUncertaintyIsUndecided) {
 // 0, roots -1 +/- 2i. One step from near -1 + 2i lands on that root (the
 // quadratic formula, to rounding); the next changes nothing, and the bound
 // is then the rounding floor 2 eps sum_A w_A (absolute + n product) /
-// |2 lambda a + b|. A bound no better than the uncertainty before (or an
-// infinite one: changes that do not shrink) is refused, NaN: the computed
-// value stays.
-TEST(StabilityVerdict, TheTwoSidedEstimateKeepsOnlyABetterBound) {
+// |2 lambda a + b|. Changes that grow give no bound (infinite); contracting
+// ones above the floor, change r / (1 - r).
+TEST(StabilityVerdict, TheTwoSidedEstimateBoundsItsValue) {
   using cplx = std::complex<double>;
   const cplx a = 1.0, b = 2.0, c = 5.0, root(-1.0, 2.0);
   FunctionalRounding r;
@@ -245,15 +244,45 @@ TEST(StabilityVerdict, TheTwoSidedEstimateKeepsOnlyABetterBound) {
   const double size = std::abs(root), floor = 2 * DBL_EPSILON * 2 * (1 + size + size * size) / std::abs(2.0 * root + 2.0);
   // lambda within 8 eps of the root: |lambda|, |lambda|^2 and |2 lambda + 2|
   // within ~16 eps each, the floor within ~50 eps.
-  EXPECT_NEAR(e.boundIfBetter(a, b, r, 1.0), floor, 64 * DBL_EPSILON * floor);
-  EXPECT_TRUE(std::isnan(e.boundIfBetter(a, b, r, 0.5 * floor)));
-  // Changes that grow: no bound (infinite), refused whatever came before.
-  TwoSidedEstimate g{root};
-  g.change = 1e-3, g.changeBefore = 1e-4;
-  EXPECT_TRUE(std::isnan(g.boundIfBetter(a, b, r, 1e300)));
-  // Contracting changes above the floor: change r / (1 - r), r their ratio.
-  g.change = 1e-4, g.changeBefore = 1e-3;
-  EXPECT_NEAR(g.boundIfBetter(a, b, r, 1.0), 1e-4 * 0.1 / 0.9, 8 * DBL_EPSILON * 1e-4 * 0.1 / 0.9);
+  EXPECT_NEAR(twoSidedBound(e.lambda, e.change, e.changeBefore, a, b, r), floor, 64 * DBL_EPSILON * floor);
+  EXPECT_TRUE(std::isinf(twoSidedBound(root, 1e-3, 1e-4, a, b, r)));
+  EXPECT_NEAR(twoSidedBound(root, 1e-4, 1e-3, a, b, r), 1e-4 * 0.1 / 0.9, 8 * DBL_EPSILON * 1e-4 * 0.1 / 0.9);
   // a = b = 0: no root, the step says so.
   EXPECT_FALSE(TwoSidedEstimate{root}.step(0.0, 0.0, c));
+}
+
+// Which refinement step stands (RefinementGate, theory §5 "Stiff rows"),
+// on made-up steps of a value near 78 (the stiff-support shaft's pair):
+// - a stall, its measure (the left-weighted residual, 9.4e-4) far above
+//   its floor (8e-5) and not shrinking, never stands;
+// - a converged step (measure 4e-6 below its bound 8e-5) stands from the
+//   third step on, not before;
+// - a measure that halves stands with the measure as its bound;
+// - a steady drift (changes of one size in one direction) does not stand,
+//   whatever its measure.
+TEST(StabilityVerdict, ARefinementStepStandsOnlyWhereItsResidualAgrees) {
+  using cplx = std::complex<double>;
+  const auto at = [](cplx lambda, double change, double changeBefore) {
+    TwoSidedEstimate e{lambda};
+    e.change = change, e.changeBefore = changeBefore;
+    return e;
+  };
+  RefinementGate stall(cplx(-0.03, 78.1469));
+  for (int step = 0; step < 8; ++step)
+    EXPECT_FALSE(stall.offer(step, at(cplx(-0.03, 78.1469 + 1e-9 * step), 1e-9, 1e-9), 8e-5, 9.4e-4)) << step;
+  EXPECT_TRUE(std::isinf(stall.best));
+  RefinementGate converged(cplx(-0.03, 78.14));
+  EXPECT_FALSE(converged.offer(0, at(cplx(-0.03, 78.146), 6e-3, 0.0), 8e-5, 4e-6));
+  EXPECT_FALSE(converged.offer(1, at(cplx(-0.03, 78.1459), 1e-4, 6e-3), 8e-5, 4e-6));
+  EXPECT_TRUE(converged.offer(2, at(cplx(-0.03, 78.14599), 9e-5, 1e-4 * 0.1), 8e-5, 4e-6));
+  EXPECT_EQ(converged.best, 8e-5);
+  EXPECT_EQ(converged.bestLambda, cplx(-0.03, 78.14599));
+  RefinementGate halving(cplx(-0.03, 78.14));
+  const double measures[4] = {1e-2, 4e-3, 1.5e-3, 6e-4};
+  for (int step = 0; step < 4; ++step)
+    halving.offer(step, at(cplx(-0.03, 78.146 + 1e-6 * step), 1e-6 / (step + 1), 1e-6 / step), 1e-5, measures[step]);
+  EXPECT_EQ(halving.best, 6e-4);  // steps 2 and 3 halve; the least stands
+  RefinementGate drift(cplx(-0.03, 78.1469));
+  for (int step = 0; step < 6; ++step)
+    EXPECT_FALSE(drift.offer(step, at(cplx(-0.03, 78.1469 + 1.6e-6 * step), 1.6e-6, 1.6e-6), 8e-5, 2e-5)) << step;
 }

@@ -126,11 +126,34 @@ struct TwoSidedEstimate {
   /// One step: lambda <- twoSidedRoot(a, b, c, lambda), the changes
   /// shifted. Returns whether lambda stays finite.
   bool step(std::complex<double> a, std::complex<double> b, std::complex<double> c);
-  /// twoSidedBound of the current lambda where it is below `before` (the
-  /// uncertainty the computed value had); else NaN: the refinement did not
-  /// help, and the computed value stays.
-  double boundIfBetter(std::complex<double> a, std::complex<double> b, const FunctionalRounding& rounding,
-                       double before) const;
+};
+
+/// Which step of a two-sided refinement stands, and with what bound (theory
+/// §5, "Stiff rows"; the dense and the sparse refinement alike). A close
+/// pair refined from a shift between its members stalls at a weighted mean
+/// of the two, each step moving it by less than the rounding floor, and that
+/// floor would be claimed for a value far from either member. So a step's
+/// twoSidedBound stands only where the residual weighed by the left vector
+/// agrees with it to first order, measure = sum_i |y_i| |(Q(lambda) x)_i| /
+/// |y^H Q'(lambda) x| <= bound; or, where the measure at least halves from
+/// the step before (a close neighbour's leftover damped by a constant
+/// ratio), with the measure as its bound. Not at the first two steps, which
+/// cannot show a drift, nor where the value drifts steadily: two changes of
+/// ratio 0.8-1.25 in one direction (the value two steps back more than 1.5
+/// changes away). The least standing bound is kept.
+class RefinementGate {
+ public:
+  explicit RefinementGate(std::complex<double> start) : bestLambda(start), oneBack_(start), twoBack_(start) {}
+  /// Step `step` (0, 1, ...) of `e`, just taken, with its twoSidedBound and
+  /// measure: whether it stands with the least bound so far (then `best` and
+  /// `bestLambda` are its).
+  bool offer(int step, const TwoSidedEstimate& e, double bound, double measure);
+  double best = std::numeric_limits<double>::infinity();
+  std::complex<double> bestLambda;
+
+ private:
+  double previousMeasure_ = std::numeric_limits<double>::infinity();
+  std::complex<double> oneBack_, twoBack_;
 };
 
 /// Classify lambda against the tolerances (relative to `scale`).
