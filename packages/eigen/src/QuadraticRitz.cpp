@@ -488,8 +488,7 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // produce spurious Ritz values (large residual) near the target, and those
   // must lose to genuine modes, not be selected for being close.
   // Damped: D != 0, or a circulatory N (not Hamiltonian either).
-  const bool damped = (!sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0) ||
-                      (!sys.N.is_null() && sys.N->getFrobeniusNorm() > 0.0);
+  const bool damped = sys.damped();
   expandModes(*Q, rm);
   measureRitzModes(sys, rm, instabTol, !damped);
   // Which scale judges a Ritz value (theory §4.3): its mode's own s_q (set

@@ -342,8 +342,7 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   selectModes(c, detail::quadraticRitzModes(sys, *it.vectors, c.shift, c.rigidTol, c.instabTol, refinement),
               attempt);
   // Said where the extraction refines (QuadraticRitz.cpp: D or N not zero).
-  if ((!sys.D.is_null() && sys.D->getFrobeniusNorm() > 0.0) || (!sys.N.is_null() && sys.N->getFrobeniusNorm() > 0.0))
-    reportAccuracy(c, result);
+  if (sys.damped()) reportAccuracy(c, result);
   attempt.checkable = problem.symmetric && c.shift >= 0.0;
   return attempt;
 }

@@ -14,6 +14,10 @@
 
 namespace cms::eigen {
 
+bool SparseGyroscopicSystem::damped() const {
+  return (!D.is_null() && D->getFrobeniusNorm() > 0.0) || (!N.is_null() && N->getFrobeniusNorm() > 0.0);
+}
+
 GlobalOrdinal SparseGyroscopicSystem::globalSize() const {
   return static_cast<GlobalOrdinal>(M->getRowMap()->getGlobalNumElements());
 }

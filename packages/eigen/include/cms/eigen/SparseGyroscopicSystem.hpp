@@ -26,6 +26,10 @@ struct SparseGyroscopicSystem {
   void validate(double relTol = 1e-10) const;
 
   GlobalOrdinal globalSize() const;
+  /// Whether D or N is present and not zero (||.||_F > 0): the system is
+  /// not conservative and the general path (and its refinement) applies.
+  /// Collective.
+  bool damped() const;
 };
 
 }  // namespace cms::eigen
