@@ -1059,9 +1059,12 @@ double growthUncertainty(cplx lambda, double errorBound, double etaQ, double ins
   return std::max({errorBound, near ? split : 0.0, instabilityTol * size});
 }
 
-bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
-                     double zeroBelow) {
-  const double growth = m.lambda.real(), size = std::abs(m.lambda);
+namespace {
+/// undecidedGrowth for a growth rate of sign `sign` (+1: growing; -1:
+/// decaying, undecidedDecay).
+bool undecidedSign(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
+                   double zeroBelow, double sign) {
+  const double growth = sign * m.lambda.real(), size = std::abs(m.lambda);
   if (!(growth > instabilityTol * size) || !(growth <= m.growthTolerance) ||
       size <= zeroBelow || m.blockScale > 0.0)
     return false;
@@ -1071,6 +1074,21 @@ bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>&
                      std::abs(o.lambda + std::conj(m.lambda)) <= 1e-3 * size))
       return false;
   return true;
+}
+
+/// A decaying growth rate whose sign its uncertainty does not decide (as
+/// undecidedGrowth, the sign turned): on a circulatory system (N != 0,
+/// which no energy bound makes stable) the dense path refines it too, and
+/// one left unrefined reads Neutral (theory §13.3).
+bool undecidedDecay(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
+                    double zeroBelow) {
+  return undecidedSign(m, modes, instabilityTol, zeroBelow, -1.0);
+}
+}  // namespace
+
+bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
+                     double zeroBelow) {
+  return undecidedSign(m, modes, instabilityTol, zeroBelow, 1.0);
 }
 
 cplx twoSidedRoot(cplx a, cplx b, cplx c, cplx near) {
@@ -1484,30 +1502,36 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
 /// eigenvalue), tiny from dggev's lambda). Sets refinedError. Returns whether
 /// any changed.
 bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
-                     double zeroBelow) {
+                     double zeroBelow, bool decays) {
   const int n = sys.size();
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
   const auto C = [&](int i, int j) { return sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0); };
   const auto Kt = [&](int i, int j) { return sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0); };
   bool any = false;
   for (auto& m : modes) {
-    if (!undecidedGrowth(m, modes, instabilityTol, zeroBelow)) continue;
+    if (!undecidedGrowth(m, modes, instabilityTol, zeroBelow) &&
+        !(decays && undecidedDecay(m, modes, instabilityTol, zeroBelow)))
+      continue;
     const double size = std::abs(m.lambda);
-    // Q(sigma), factored once. An exactly singular one (sigma an eigenvalue
-    // to the last bit) is moved by 1e-10 |sigma|: inverse iteration needs
-    // only a near-singular matrix.
+    // Q(sigma), factored at sigma. An exactly singular one (sigma an
+    // eigenvalue to the last bit) is moved by 1e-10 |sigma|: inverse
+    // iteration needs only a near-singular matrix.
     std::vector<cplx> A(static_cast<std::size_t>(n) * n);
     std::vector<int> piv(n);
-    cplx sigma = m.lambda;
+    cplx sigma;
     int info = 1;
-    for (int attempt = 0; attempt < 2 && info > 0; ++attempt) {
-      if (attempt == 1) sigma += 1e-10 * size;
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          A[i + static_cast<std::size_t>(j) * n] = sigma * sigma * sys.M(i, j) + sigma * C(i, j) + Kt(i, j);
-      zgetrf_(&n, &n, A.data(), &n, piv.data(), &info);
-    }
-    if (info != 0) continue;
+    const auto factor = [&](cplx at) {
+      sigma = at, info = 1;
+      for (int attempt = 0; attempt < 2 && info > 0; ++attempt) {
+        if (attempt == 1) sigma += 1e-10 * size;
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i)
+            A[i + static_cast<std::size_t>(j) * n] = sigma * sigma * sys.M(i, j) + sigma * C(i, j) + Kt(i, j);
+        zgetrf_(&n, &n, A.data(), &n, piv.data(), &info);
+      }
+      return info == 0;
+    };
+    if (!factor(m.lambda)) continue;
     std::vector<cplx> x(m.q), y(m.q), rx(n), ry(n), Kx(n), Cx(n), Mx(n), bestX;
     TwoSidedEstimate e{m.lambda};
     cplx a = 0.0, b = 0.0, c = 0.0;
@@ -1516,53 +1540,64 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
     // three and the last kept, the stiff-support shaft spinning at 0.5 rad/s
     // (its pair split by 1.9e-3 rad/s) came out at 78.146850 with a bound of
     // 8.4e-5, 8.6e-4 from either member (two BLAS threads), the stall the
-    // sparse refinement had (theory §5, "Stiff rows").
+    // sparse refinement had (theory §5, "Stiff rows"). Where no step stands
+    // and the value has moved from the shift, Q is factored again at the
+    // value and eight more steps taken: a shift 0.44 rad/s from a pair split
+    // by 0.02 converges by 0.96 a step (the same shaft at 5.6 rad/s, 50
+    // elements: dggev's forward whirl 78.58 for 78.15), no step stood, and
+    // the growth stayed undecided.
     RefinementGate gate(m.lambda);
-    bool ok = true;
     const int one = 1;
-    for (int step = 0; step < 8 && ok; ++step) {
-      // x <- Q(sigma)^-1 Q'(sigma) x and y <- Q(sigma)^-H Q'(sigma)^H y,
-      // Q'(sigma) = 2 sigma M + G + D (its transpose has D - G).
-      std::fill(rx.begin(), rx.end(), 0.0), std::fill(ry.begin(), ry.end(), 0.0);
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          rx[i] += (2.0 * sigma * sys.M(i, j) + C(i, j)) * x[j];
-          ry[i] += (2.0 * std::conj(sigma) * sys.M(i, j) + C(j, i)) * y[j];
-        }
-      zgetrs_("N", &n, &one, A.data(), &n, piv.data(), rx.data(), &n, &info, 1);
-      if (info == 0) zgetrs_("C", &n, &one, A.data(), &n, piv.data(), ry.data(), &n, &info, 1);
-      double nx = 0.0, ny = 0.0;
-      for (int i = 0; i < n; ++i) nx += std::norm(rx[i]), ny += std::norm(ry[i]);
-      nx = std::sqrt(nx), ny = std::sqrt(ny);
-      if (info != 0 || !(nx > 0.0) || !(ny > 0.0) || !std::isfinite(nx) || !std::isfinite(ny)) { ok = false; break; }
-      for (int i = 0; i < n; ++i) x[i] = rx[i] / nx, y[i] = ry[i] / ny;
-      a = b = c = 0.0;
-      rounding = FunctionalRounding{};
-      rounding.n = n;
-      for (int i = 0; i < n; ++i) {
-        Kx[i] = Cx[i] = Mx[i] = 0.0;
-        double aK = 0.0, aC = 0.0, aM = 0.0;
-        int nK = 0, nC = 0, nM = 0;  // the row's nonzeros: a zero entry adds no rounding
-        for (int j = 0; j < n; ++j) {
-          const double k = Kt(i, j), g = C(i, j), mm = sys.M(i, j), ax = std::abs(x[j]);
-          Kx[i] += k * x[j], Cx[i] += g * x[j], Mx[i] += mm * x[j];
-          aK += std::abs(k) * ax, aC += std::abs(g) * ax, aM += std::abs(mm) * ax;
-          nK += k != 0.0, nC += g != 0.0, nM += mm != 0.0;
-        }
-        const cplx yi = std::conj(y[i]);
-        const double ay = std::abs(y[i]);
-        c += yi * Kx[i], b += yi * Cx[i], a += yi * Mx[i];
-        rounding.absolute[0] += nK * ay * aK, rounding.absolute[1] += nC * ay * aC, rounding.absolute[2] += nM * ay * aM;
-        rounding.product[0] += ay * std::abs(Kx[i]), rounding.product[1] += ay * std::abs(Cx[i]),
-            rounding.product[2] += ay * std::abs(Mx[i]);
+    for (int shift = 0; shift < 2 && std::isinf(gate.best); ++shift) {
+      if (shift == 1) {
+        if (!(std::abs(e.lambda - sigma) > e.change) || !factor(e.lambda)) break;
+        gate = RefinementGate(e.lambda);
       }
-      ok = e.step(a, b, c);
-      if (!ok) break;
-      // sum_i |y_i| |(Q(lambda) x)_i| / |y^H Q'(lambda) x| at the new lambda.
-      double weighted = 0.0;
-      for (int i = 0; i < n; ++i) weighted += std::abs(y[i]) * std::abs(Kx[i] + e.lambda * (Cx[i] + e.lambda * Mx[i]));
-      const double bound = twoSidedBound(e.lambda, e.change, e.changeBefore, a, b, rounding);
-      if (gate.offer(step, e, bound, weighted / std::abs(2.0 * e.lambda * a + b))) bestX = x;
+      bool ok = true;
+      for (int step = 0; step < 8 && ok; ++step) {
+        // x <- Q(sigma)^-1 Q'(sigma) x and y <- Q(sigma)^-H Q'(sigma)^H y,
+        // Q'(sigma) = 2 sigma M + G + D (its transpose has D - G).
+        std::fill(rx.begin(), rx.end(), 0.0), std::fill(ry.begin(), ry.end(), 0.0);
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i) {
+            rx[i] += (2.0 * sigma * sys.M(i, j) + C(i, j)) * x[j];
+            ry[i] += (2.0 * std::conj(sigma) * sys.M(i, j) + C(j, i)) * y[j];
+          }
+        zgetrs_("N", &n, &one, A.data(), &n, piv.data(), rx.data(), &n, &info, 1);
+        if (info == 0) zgetrs_("C", &n, &one, A.data(), &n, piv.data(), ry.data(), &n, &info, 1);
+        double nx = 0.0, ny = 0.0;
+        for (int i = 0; i < n; ++i) nx += std::norm(rx[i]), ny += std::norm(ry[i]);
+        nx = std::sqrt(nx), ny = std::sqrt(ny);
+        if (info != 0 || !(nx > 0.0) || !(ny > 0.0) || !std::isfinite(nx) || !std::isfinite(ny)) { ok = false; break; }
+        for (int i = 0; i < n; ++i) x[i] = rx[i] / nx, y[i] = ry[i] / ny;
+        a = b = c = 0.0;
+        rounding = FunctionalRounding{};
+        rounding.n = n;
+        for (int i = 0; i < n; ++i) {
+          Kx[i] = Cx[i] = Mx[i] = 0.0;
+          double aK = 0.0, aC = 0.0, aM = 0.0;
+          int nK = 0, nC = 0, nM = 0;  // the row's nonzeros: a zero entry adds no rounding
+          for (int j = 0; j < n; ++j) {
+            const double k = Kt(i, j), g = C(i, j), mm = sys.M(i, j), ax = std::abs(x[j]);
+            Kx[i] += k * x[j], Cx[i] += g * x[j], Mx[i] += mm * x[j];
+            aK += std::abs(k) * ax, aC += std::abs(g) * ax, aM += std::abs(mm) * ax;
+            nK += k != 0.0, nC += g != 0.0, nM += mm != 0.0;
+          }
+          const cplx yi = std::conj(y[i]);
+          const double ay = std::abs(y[i]);
+          c += yi * Kx[i], b += yi * Cx[i], a += yi * Mx[i];
+          rounding.absolute[0] += nK * ay * aK, rounding.absolute[1] += nC * ay * aC, rounding.absolute[2] += nM * ay * aM;
+          rounding.product[0] += ay * std::abs(Kx[i]), rounding.product[1] += ay * std::abs(Cx[i]),
+              rounding.product[2] += ay * std::abs(Mx[i]);
+        }
+        ok = e.step(a, b, c);
+        if (!ok) break;
+        // sum_i |y_i| |(Q(lambda) x)_i| / |y^H Q'(lambda) x| at the new lambda.
+        double weighted = 0.0;
+        for (int i = 0; i < n; ++i) weighted += std::abs(y[i]) * std::abs(Kx[i] + e.lambda * (Cx[i] + e.lambda * Mx[i]));
+        const double bound = twoSidedBound(e.lambda, e.change, e.changeBefore, a, b, rounding);
+        if (gate.offer(step, e, bound, weighted / std::abs(2.0 * e.lambda * a + b))) bestX = x;
+      }
     }
     // Kept only where it decides more than the computed value's own
     // uncertainty did: else the refinement did not help, and dggev's value
@@ -1580,10 +1615,25 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
                         const std::vector<std::complex<double>>& unreturned) {
   if (modes.empty()) return;
   const bool damped = sys.damped();
+  // A circulatory N (a rotor's material damping seen from the stationary
+  // frame) can make a mode flutter, and no energy bound proves otherwise: a
+  // decaying growth within its uncertainty is refined too, and one left
+  // unrefined is undecided. The stiff-support shaft spinning at 140 rad/s
+  // (50 elements, beta 1e-6, two BLAS threads) read its forward whirl
+  // "stable" at -0.0020 1/s within 27 (dggev's first order), where it
+  // flutters at +0.0024 (a review; refined, 5.6e-6; theory §13.3).
+  const bool circulatory = sys.N.numRows() == sys.size() && frobeniusNorm(sys.N) > 0.0;
   double scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
-  if (!ownScales && refineUndecided(sys, modes, instabilityTol, rigidBodyTol * scale))
+  if (!ownScales && refineUndecided(sys, modes, instabilityTol, rigidBodyTol * scale, circulatory))
     scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
   classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
+  if (circulatory && !ownScales)
+    for (auto& m : modes) {
+      const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
+      if (m.stability == Stability::Stable && m.refinedError == 0.0 &&
+          undecidedDecay(m, modes, instabilityTol, rigidBodyTol * s))
+        m.stability = Stability::Neutral, m.undecided = true;
+    }
 }
 
 namespace {
