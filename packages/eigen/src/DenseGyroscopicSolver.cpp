@@ -1495,12 +1495,14 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
 /// the two vectors' errors, and a bound (twoSidedBound) that the stiff rows'
 /// residual does not reach: with x alone the bound ||r|| ||q|| / |q^H Q' q|
 /// grew with the mesh, and at 300 elements the 0.229 1/s flutter read
-/// stable again (a review; theory §13.3). Candidates: undecidedGrowth. One
-/// complex LU of Q(sigma) at the computed sigma = lambda (n^3 / 3; its
-/// conjugate-transpose solve gives y), eight steps, the least bound that RefinementGate lets stand kept (each multiplies the
+/// stable again (a review; theory §13.3). Candidates: undecidedGrowth, and
+/// with `decays` (a circulatory N) undecidedDecay. One complex LU of
+/// Q(sigma) at the computed sigma = lambda (n^3 / 3; its
+/// conjugate-transpose solve gives y), eight steps (each multiplies the
 /// vectors' errors by |lambda - sigma| / (the distance to the next
-/// eigenvalue), tiny from dggev's lambda). Sets refinedError. Returns whether
-/// any changed.
+/// eigenvalue), tiny from dggev's lambda), the least bound RefinementGate
+/// lets stand kept; where none stands, one more LU at the value reached and
+/// eight more steps. Sets refinedError. Returns whether any changed.
 bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
                      double zeroBelow, bool decays) {
   const int n = sys.size();
@@ -1726,8 +1728,9 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // 1.2 m shaft on a pedestal of E = 1e18 (s = 6.5e7 rad/s) has its lowest
   // pair at 58.37 rad/s, below 1e-6 s: the pair was taken for two rigid
   // motions and the run refused as "unrestrained" (theory §4.3, "A
-  // stiffness shown nonsingular"). Two Cholesky factors of n, beside the
-  // 2n pencil's QZ.
+  // stiffness shown nonsingular"). Three Cholesky factors of n (the
+  // Definiteness Tolerance's and the proof's two), beside the 2n pencil's
+  // QZ.
   const bool noZeros =
       sys.damped() && params_.get<bool>("Stiffness Proof") &&
       stiffnessShownNonsingular(sys, params_.get<double>("Definiteness Tolerance"));
