@@ -1612,9 +1612,14 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
 }
 }  // namespace
 
-void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
-                        double rigidBodyTol, double instabilityTol, bool ownScales,
-                        const std::vector<std::complex<double>>& unreturned) {
+namespace {
+/// completeDenseModes; `refineDecays`: a circulatory system's decaying
+/// growths within their uncertainty are refined (below; false for the
+/// sparse path's projection, whose Ritz values that path refines on the
+/// full model by its own rules).
+void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double rigidBodyTol,
+                   double instabilityTol, bool ownScales, const std::vector<std::complex<double>>& unreturned,
+                   bool refineDecays) {
   if (modes.empty()) return;
   const bool damped = sys.damped();
   // A circulatory N (a rotor's material damping seen from the stationary
@@ -1624,7 +1629,7 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
   // (50 elements, beta 1e-6, two BLAS threads) read its forward whirl
   // "stable" at -0.0020 1/s within 27 (dggev's first order), where it
   // flutters at +0.0024 (a review; refined, 5.6e-6; theory §13.3).
-  const bool circulatory = sys.N.numRows() == sys.size() && frobeniusNorm(sys.N) > 0.0;
+  const bool circulatory = refineDecays && sys.N.numRows() == sys.size() && frobeniusNorm(sys.N) > 0.0;
   double scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
   if (!ownScales && refineUndecided(sys, modes, instabilityTol, rigidBodyTol * scale, circulatory))
     scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
@@ -1636,6 +1641,13 @@ void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>
           undecidedDecay(m, modes, instabilityTol, rigidBodyTol * s))
         m.stability = Stability::Neutral, m.undecided = true;
     }
+}
+}  // namespace
+
+void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
+                        double rigidBodyTol, double instabilityTol, bool ownScales,
+                        const std::vector<std::complex<double>>& unreturned) {
+  completeModes(sys, modes, rigidBodyTol, instabilityTol, ownScales, unreturned, true);
 }
 
 namespace {
@@ -1700,6 +1712,10 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
             "test and is proven positive definite (doc/theory.md 4.3), no eigenvalue is zero and none is taken "
             "for a rigid-body mode however far below the Rigid Body Tolerance of the system's scale; false where "
             "the given K carries errors the proof cannot see (a projection's rounding)");
+    pl->set("Refine Decays", true,
+            "a system with a circulatory N: refine a decaying growth rate within its uncertainty too, and call "
+            "one left unrefined undecided (doc/theory.md 13.3); false for the sparse path's projection, whose "
+            "Ritz values are refined on the full model");
     pl->set("Energy Bound", true,
             "a damped system: prove N = 0 and M > 0, K > 0, D + d M > 0 (d = Instability Tolerance times the "
             "least |lambda|) from Cholesky factors of their shifts by Cholesky's a-priori error, so that no mode "
@@ -1871,8 +1887,8 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // an SVD: the low modes come from the largest singular values); dggev's
   // accuracy is normwise, so its modes are judged on the system's scale
   // (theory §4.3).
-  completeDenseModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0,
-                     unreturned);
+  completeModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0, unreturned,
+                params_.get<bool>("Refine Decays"));
   if (noZeros) {
     const double below = params_.get<double>("Rigid Body Tolerance") * scale;
     const long small = std::count_if(result.modes.begin(), result.modes.end(), [&](const GyroscopicMode& m) {
