@@ -724,6 +724,10 @@ extern "C" {
 void zgetrf_(const int* m, const int* n, std::complex<double>* a, const int* lda, int* ipiv, int* info);
 void zgetrs_(const char* trans, const int* n, const int* nrhs, const std::complex<double>* a, const int* lda,
              const int* ipiv, std::complex<double>* b, const int* ldb, int* info, std::size_t);
+void zggev_(const char* jobvl, const char* jobvr, const int* n, std::complex<double>* a, const int* lda,
+            std::complex<double>* b, const int* ldb, std::complex<double>* alpha, std::complex<double>* beta,
+            std::complex<double>* vl, const int* ldvl, std::complex<double>* vr, const int* ldvr,
+            std::complex<double>* work, const int* lwork, double* rwork, int* info, std::size_t, std::size_t);
 }
 
 /// The modes of the coordinates r on which the stiffness at rest vanishes
@@ -1091,6 +1095,36 @@ bool undecidedGrowth(const GyroscopicMode& m, const std::vector<GyroscopicMode>&
   return undecidedSign(m, modes, instabilityTol, zeroBelow, 1.0);
 }
 
+bool uncertainFrequency(const GyroscopicMode& m, double frequencyTol, double zeroBelow) {
+  const double size = std::abs(m.lambda);
+  return size > zeroBelow && m.blockScale == 0.0 && !(m.eigenvalueError <= frequencyTol * size);
+}
+
+std::string accuracyNote(const std::vector<GyroscopicMode>& modes, double frequencyTol, const std::string& where) {
+  int refined = 0, unshown = 0, worstMode = 0;
+  double worstRefined = 0.0, worstUnshown = 0.0;
+  for (std::size_t j = 0; j < modes.size(); ++j) {
+    const GyroscopicMode& m = modes[j];
+    const double size = std::abs(m.lambda);
+    if (m.stability == Stability::RigidBody || m.blockScale > 0.0 || !(size > 0.0)) continue;
+    const double error = m.reportedError() / size;
+    if (m.refinedError > 0.0) ++refined, worstRefined = std::max(worstRefined, error);
+    if (!(error <= frequencyTol)) {
+      ++unshown;
+      if (!(error <= worstUnshown)) worstUnshown = error, worstMode = static_cast<int>(j) + 1;
+    }
+  }
+  std::ostringstream os;
+  os.precision(2);
+  if (refined > 0)
+    os << "; " << refined << " mode(s) refined" << where << " by two-sided inverse iteration, each eigenvalue "
+       << "within " << worstRefined << " of |lambda| (bound)";
+  if (unshown > 0)
+    os << "; " << unshown << " mode(s) not shown within the Frequency Tolerance " << frequencyTol
+       << " (worst: mode " << worstMode << ", " << worstUnshown << " of |lambda|)";
+  return os.str();
+}
+
 cplx twoSidedRoot(cplx a, cplx b, cplx c, cplx near) {
   if (a == 0.0) return b == 0.0 ? cplx(std::nan(""), std::nan("")) : -c / b;
   // q = -(b + sign sqrt(b^2 - 4ac)) / 2 with the sign that adds magnitudes;
@@ -1116,8 +1150,10 @@ double twoSidedBound(cplx lambda, double change, double changeBefore, cplx a, cp
   return r < 1.0 ? std::max(floor, change * r / (1.0 - r)) : std::numeric_limits<double>::infinity();
 }
 
-bool TwoSidedEstimate::step(cplx a, cplx b, cplx c) {
-  const cplx next = twoSidedRoot(a, b, c, lambda);
+bool TwoSidedEstimate::step(cplx a, cplx b, cplx c) { return step(a, b, c, lambda); }
+
+bool TwoSidedEstimate::step(cplx a, cplx b, cplx c, cplx near) {
+  const cplx next = twoSidedRoot(a, b, c, near);
   changeBefore = change, change = std::abs(next - lambda), lambda = next;
   return std::isfinite(lambda.real()) && std::isfinite(lambda.imag());
 }
@@ -1482,98 +1518,211 @@ double measureModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mo
   return scale;
 }
 
-/// Modes whose growth rate lies within its own uncertainty only because
-/// the general solve left a residual of the system's scale (dggev is
-/// normwise accurate: its residual grows with the stiffest element and
-/// with Rayleigh's beta omega_max^2), refined by two-sided inverse iteration
-/// on Q(lambda) = lambda^2 M + lambda (G + D) + K + N with the user's
-/// matrices: at 80 elements a Jeffcott rotor's internal-damping growth,
-/// 0.241 1/s, read stable, and at 112 a free body's intermediate-axis
-/// divergence read rigid, with the first bound alone (found by a review).
-/// The left vector y (Q(lambda)^H y = 0) with the right one x gives the
-/// eigenvalue as the root of y^H Q(mu) x = 0, whose error is the product of
-/// the two vectors' errors, and a bound (twoSidedBound) that the stiff rows'
-/// residual does not reach: with x alone the bound ||r|| ||q|| / |q^H Q' q|
-/// grew with the mesh, and at 300 elements the 0.229 1/s flutter read
-/// stable again (a review; theory §13.3). Candidates: undecidedGrowth, and
-/// with `decays` (a circulatory N) undecidedDecay. One complex LU of
-/// Q(sigma) at the computed sigma = lambda (n^3 / 3; its
-/// conjugate-transpose solve gives y), eight steps (each multiplies the
-/// vectors' errors by |lambda - sigma| / (the distance to the next
-/// eigenvalue), tiny from dggev's lambda), the least bound RefinementGate
-/// lets stand kept; where none stands, one more LU at the value reached and
-/// eight more steps. Sets refinedError. Returns whether any changed.
-bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
-                     double zeroBelow, bool decays) {
-  const int n = sys.size();
+/// The projected two-sided problem of a cluster of p eigenvalues
+/// (refineModes): w^H (mu^2 A2 + mu A1 + A0) z = 0 with A_k = Y^H (M, G + D,
+/// K + N) X, p x p, column-major, solved by LAPACK zggev on its 2p companion
+/// pencil [[0, I], [-A0, -A1]] v = mu [[I, 0], [0, A2]] v: a right vector's
+/// top half is z, a left vector's bottom half w (u^H L(mu) = 0 gives
+/// u_2^H (mu^2 A2 + mu A1 + A0) = 0). Returns false where zggev fails or
+/// meets an infinite eigenvalue.
+bool projectedQuadratic(int p, const std::vector<cplx>& A0, const std::vector<cplx>& A1, const std::vector<cplx>& A2,
+                        std::vector<cplx>& mu, std::vector<cplx>& Z, std::vector<cplx>& W) {
+  const int P = 2 * p;
+  std::vector<cplx> L(static_cast<std::size_t>(P) * P, 0.0), B(L), VL(L), VR(L), alpha(P), beta(P);
+  for (int i = 0; i < p; ++i) L[i + static_cast<std::size_t>(p + i) * P] = 1.0, B[i + static_cast<std::size_t>(i) * P] = 1.0;
+  for (int j = 0; j < p; ++j)
+    for (int i = 0; i < p; ++i) {
+      const std::size_t ij = i + static_cast<std::size_t>(j) * p;
+      L[(p + i) + static_cast<std::size_t>(j) * P] = -A0[ij];
+      L[(p + i) + static_cast<std::size_t>(p + j) * P] = -A1[ij];
+      B[(p + i) + static_cast<std::size_t>(p + j) * P] = A2[ij];
+    }
+  std::vector<double> rwork(8 * P);
+  cplx wq;
+  int info = 0, lwork = -1;
+  zggev_("V", "V", &P, L.data(), &P, B.data(), &P, alpha.data(), beta.data(), VL.data(), &P, VR.data(), &P, &wq, &lwork,
+         rwork.data(), &info, 1, 1);
+  lwork = std::max(1, static_cast<int>(wq.real()));
+  std::vector<cplx> work(lwork);
+  zggev_("V", "V", &P, L.data(), &P, B.data(), &P, alpha.data(), beta.data(), VL.data(), &P, VR.data(), &P, work.data(),
+         &lwork, rwork.data(), &info, 1, 1);
+  if (info != 0) return false;
+  mu.assign(P, 0.0), Z.assign(static_cast<std::size_t>(p) * P, 0.0), W.assign(static_cast<std::size_t>(p) * P, 0.0);
+  for (int k = 0; k < P; ++k) {
+    if (beta[k] == 0.0) return false;
+    mu[k] = alpha[k] / beta[k];
+    for (int i = 0; i < p; ++i) {
+      Z[i + static_cast<std::size_t>(k) * p] = VR[i + static_cast<std::size_t>(k) * P];
+      W[i + static_cast<std::size_t>(k) * p] = VL[(p + i) + static_cast<std::size_t>(k) * P];
+    }
+  }
+  return true;
+}
+
+/// Orthonormalises the p columns of the n x p `X` (modified Gram-Schmidt,
+/// twice). Returns false where a column is lost (its norm after projection
+/// below 1e-12 of its own: the block has collapsed onto fewer directions).
+bool orthonormalise(int n, int p, std::vector<cplx>& X) {
+  for (int j = 0; j < p; ++j) {
+    cplx* x = X.data() + static_cast<std::size_t>(j) * n;
+    double before = 0.0;
+    for (int i = 0; i < n; ++i) before += std::norm(x[i]);
+    for (int pass = 0; pass < 2; ++pass)
+      for (int k = 0; k < j; ++k) {
+        const cplx* q = X.data() + static_cast<std::size_t>(k) * n;
+        cplx d = 0.0;
+        for (int i = 0; i < n; ++i) d += std::conj(q[i]) * x[i];
+        for (int i = 0; i < n; ++i) x[i] -= d * q[i];
+      }
+    double after = 0.0;
+    for (int i = 0; i < n; ++i) after += std::norm(x[i]);
+    if (!(after > 1e-24 * before) || !std::isfinite(after)) return false;
+    const double s = 1.0 / std::sqrt(after);
+    for (int i = 0; i < n; ++i) x[i] *= s;
+  }
+  return true;
+}
+
+/// Whether a mode is a candidate for refineModes, and what it needs: its
+/// growth undecided (undecidedGrowth; with `decays`, a circulatory N,
+/// undecidedDecay too), or its frequency not shown within `frequencyTol`
+/// |lambda| by its first-order error (uncertainFrequency).
+bool needsRefinement(const GyroscopicMode& m, const std::vector<GyroscopicMode>& modes, double instabilityTol,
+                     double zeroBelow, bool decays, double frequencyTol) {
+  return undecidedGrowth(m, modes, instabilityTol, zeroBelow) ||
+         (decays && undecidedDecay(m, modes, instabilityTol, zeroBelow)) ||
+         uncertainFrequency(m, frequencyTol, zeroBelow);
+}
+
+/// One cluster of refineModes, `members` (indices into `modes`), refined as
+/// one block. Returns whether any member changed.
+bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, const std::vector<int>& members) {
+  const int n = sys.size(), p = static_cast<int>(members.size());
+  const std::size_t N = static_cast<std::size_t>(n);
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
   const auto C = [&](int i, int j) { return sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0); };
   const auto Kt = [&](int i, int j) { return sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0); };
-  bool any = false;
-  for (auto& m : modes) {
-    if (!undecidedGrowth(m, modes, instabilityTol, zeroBelow) &&
-        !(decays && undecidedDecay(m, modes, instabilityTol, zeroBelow)))
-      continue;
-    const double size = std::abs(m.lambda);
-    // Q(sigma), factored at sigma. An exactly singular one (sigma an
-    // eigenvalue to the last bit) is moved by 1e-10 |sigma|: inverse
-    // iteration needs only a near-singular matrix.
-    std::vector<cplx> A(static_cast<std::size_t>(n) * n);
-    std::vector<int> piv(n);
-    cplx sigma;
-    int info = 1;
-    const auto factor = [&](cplx at) {
-      sigma = at, info = 1;
-      for (int attempt = 0; attempt < 2 && info > 0; ++attempt) {
-        if (attempt == 1) sigma += 1e-10 * size;
-        for (int j = 0; j < n; ++j)
-          for (int i = 0; i < n; ++i)
-            A[i + static_cast<std::size_t>(j) * n] = sigma * sigma * sys.M(i, j) + sigma * C(i, j) + Kt(i, j);
-        zgetrf_(&n, &n, A.data(), &n, piv.data(), &info);
-      }
-      return info == 0;
-    };
-    if (!factor(m.lambda)) continue;
-    std::vector<cplx> x(m.q), y(m.q), rx(n), ry(n), Kx(n), Cx(n), Mx(n), bestX;
-    TwoSidedEstimate e{m.lambda};
-    cplx a = 0.0, b = 0.0, c = 0.0;
-    FunctionalRounding rounding;
-    // Eight steps, the least standing bound kept (RefinementGate): with
-    // three and the last kept, the stiff-support shaft spinning at 0.5 rad/s
-    // (its pair split by 1.9e-3 rad/s) came out at 78.146850 with a bound of
-    // 8.4e-5, 8.6e-4 from either member (two BLAS threads), the stall the
-    // sparse refinement had (theory §5, "Stiff rows"). Where no step stands
-    // and the value has moved from the shift, Q is factored again at the
-    // value and eight more steps taken: a shift 0.44 rad/s from a pair split
-    // by 0.02 converges by 0.96 a step (the same shaft at 5.6 rad/s, 50
-    // elements: dggev's forward whirl 78.58 for 78.15), no step stood, and
-    // the growth stayed undecided.
-    RefinementGate gate(m.lambda);
-    const int one = 1;
-    for (int shift = 0; shift < 2 && std::isinf(gate.best); ++shift) {
-      if (shift == 1) {
-        if (!(std::abs(e.lambda - sigma) > e.change) || !factor(e.lambda)) break;
-        gate = RefinementGate(e.lambda);
-      }
-      bool ok = true;
-      for (int step = 0; step < 8 && ok; ++step) {
-        // x <- Q(sigma)^-1 Q'(sigma) x and y <- Q(sigma)^-H Q'(sigma)^H y,
-        // Q'(sigma) = 2 sigma M + G + D (its transpose has D - G).
-        std::fill(rx.begin(), rx.end(), 0.0), std::fill(ry.begin(), ry.end(), 0.0);
-        for (int j = 0; j < n; ++j)
+  double size = 0.0;
+  cplx centre = 0.0;
+  for (int j : members) size = std::max(size, std::abs(modes[j].lambda)), centre += modes[j].lambda / double(p);
+  // Q(sigma), factored at sigma. An exactly singular one (sigma an
+  // eigenvalue to the last bit) is moved by 1e-10 |sigma|: inverse
+  // iteration needs only a near-singular matrix.
+  std::vector<cplx> A(N * N);
+  std::vector<int> piv(n);
+  cplx sigma;
+  int info = 1;
+  const auto factor = [&](cplx at) {
+    sigma = at, info = 1;
+    for (int attempt = 0; attempt < 2 && info > 0; ++attempt) {
+      if (attempt == 1) sigma += 1e-10 * size;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) A[i + j * N] = sigma * sigma * sys.M(i, j) + sigma * C(i, j) + Kt(i, j);
+      zgetrf_(&n, &n, A.data(), &n, piv.data(), &info);
+    }
+    return info == 0;
+  };
+  if (!factor(centre)) return false;
+  // X (right) and Y (left), n x p, from the modes' shapes.
+  std::vector<cplx> X(N * p), Y, RX(N * p), RY(N * p), KX, CX, MX;
+  for (int t = 0; t < p; ++t) std::copy(modes[members[t]].q.begin(), modes[members[t]].q.end(), X.begin() + t * N);
+  Y = X;
+  std::vector<TwoSidedEstimate> e(p);
+  for (int t = 0; t < p; ++t) e[t].lambda = modes[members[t]].lambda;
+  struct Kept {
+    double best = std::numeric_limits<double>::infinity();
+    cplx lambda;
+    std::vector<cplx> x;
+  };
+  std::vector<Kept> kept(p);
+  std::vector<std::vector<cplx>> bestX(p);
+  std::vector<cplx> x(n), y(n), Kx(n), Cx(n), Mx(n);
+  const int one = 1;
+  // Eight steps, the least standing bound kept (RefinementGate): with
+  // three and the last kept, the stiff-support shaft spinning at 0.5 rad/s
+  // (its pair split by 1.9e-3 rad/s) came out at 78.146850 with a bound of
+  // 8.4e-5, 8.6e-4 from either member (two BLAS threads), the stall the
+  // sparse refinement had (theory §5, "Stiff rows").
+  for (int shift = 0; shift < 2; ++shift) {
+    if (shift == 1) {
+      // Again, factored at the values reached, where a member has no
+      // standing step and they have moved from the shift (a shift 0.44
+      // rad/s from a pair split by 0.02 converged by 0.96 a step: the
+      // same shaft at 5.6 rad/s, 50 elements, refined one by one).
+      if (std::all_of(kept.begin(), kept.end(), [](const Kept& s) { return std::isfinite(s.best); })) break;
+      cplx reached = 0.0;
+      double change = 0.0;
+      for (const auto& s : e) reached += s.lambda / double(p), change = std::max(change, s.change);
+      if (!(std::abs(reached - sigma) > change) || !factor(reached)) break;
+    }
+    std::vector<RefinementGate> gate;
+    for (const auto& s : e) gate.emplace_back(s.lambda);
+    bool ok = true;
+    for (int step = 0; step < 8 && ok; ++step) {
+      // X <- Q(sigma)^-1 Q'(sigma) X and Y <- Q(sigma)^-H Q'(sigma)^H Y,
+      // Q'(sigma) = 2 sigma M + G + D (its transpose has D - G),
+      // orthonormalised.
+      std::fill(RX.begin(), RX.end(), 0.0), std::fill(RY.begin(), RY.end(), 0.0);
+      for (int t = 0; t < p; ++t)
+        for (int j = 0; j < n; ++j) {
+          const cplx xj = X[j + t * N], yj = Y[j + t * N];
           for (int i = 0; i < n; ++i) {
-            rx[i] += (2.0 * sigma * sys.M(i, j) + C(i, j)) * x[j];
-            ry[i] += (2.0 * std::conj(sigma) * sys.M(i, j) + C(j, i)) * y[j];
+            RX[i + t * N] += (2.0 * sigma * sys.M(i, j) + C(i, j)) * xj;
+            RY[i + t * N] += (2.0 * std::conj(sigma) * sys.M(i, j) + C(j, i)) * yj;
           }
-        zgetrs_("N", &n, &one, A.data(), &n, piv.data(), rx.data(), &n, &info, 1);
-        if (info == 0) zgetrs_("C", &n, &one, A.data(), &n, piv.data(), ry.data(), &n, &info, 1);
-        double nx = 0.0, ny = 0.0;
-        for (int i = 0; i < n; ++i) nx += std::norm(rx[i]), ny += std::norm(ry[i]);
-        nx = std::sqrt(nx), ny = std::sqrt(ny);
-        if (info != 0 || !(nx > 0.0) || !(ny > 0.0) || !std::isfinite(nx) || !std::isfinite(ny)) { ok = false; break; }
-        for (int i = 0; i < n; ++i) x[i] = rx[i] / nx, y[i] = ry[i] / ny;
-        a = b = c = 0.0;
-        rounding = FunctionalRounding{};
+        }
+      zgetrs_("N", &n, &p, A.data(), &n, piv.data(), RX.data(), &n, &info, 1);
+      if (info == 0) zgetrs_("C", &n, &p, A.data(), &n, piv.data(), RY.data(), &n, &info, 1);
+      if (info != 0 || !orthonormalise(n, p, RX) || !orthonormalise(n, p, RY)) break;
+      X.swap(RX), Y.swap(RY);
+      // Each member's vectors: for p = 1 the block's; else the projected
+      // problem's, each member taking the Ritz value nearest its own.
+      std::vector<cplx> mu, Z, W;
+      std::vector<int> pick(p, -1);
+      if (p > 1) {
+        KX.assign(N * p, 0.0), CX.assign(N * p, 0.0), MX.assign(N * p, 0.0);
+        for (int t = 0; t < p; ++t)
+          for (int j = 0; j < n; ++j) {
+            const cplx xj = X[j + t * N];
+            for (int i = 0; i < n; ++i)
+              KX[i + t * N] += Kt(i, j) * xj, CX[i + t * N] += C(i, j) * xj, MX[i + t * N] += sys.M(i, j) * xj;
+          }
+        std::vector<cplx> A0(p * p, 0.0), A1(A0), A2(A0);
+        for (int s = 0; s < p; ++s)
+          for (int r = 0; r < p; ++r)
+            for (int i = 0; i < n; ++i) {
+              const cplx yr = std::conj(Y[i + r * N]);
+              A0[r + s * p] += yr * KX[i + s * N], A1[r + s * p] += yr * CX[i + s * N], A2[r + s * p] += yr * MX[i + s * N];
+            }
+        if (!projectedQuadratic(p, A0, A1, A2, mu, Z, W)) break;
+        std::vector<char> used(mu.size(), 0);
+        for (int round = 0; round < p; ++round) {  // greedy: the nearest (member, value) pair first
+          int bt = -1, bk = -1;
+          double bd = std::numeric_limits<double>::infinity();
+          for (int t = 0; t < p; ++t)
+            for (int kk = 0; kk < 2 * p && pick[t] < 0; ++kk)
+              if (!used[kk] && std::abs(mu[kk] - e[t].lambda) < bd) bd = std::abs(mu[kk] - e[t].lambda), bt = t, bk = kk;
+          if (bt < 0) break;
+          pick[bt] = bk, used[bk] = 1;
+        }
+      }
+      for (int t = 0; t < p && ok; ++t) {
+        if (p == 1) {
+          std::copy(X.begin(), X.begin() + n, x.begin()), std::copy(Y.begin(), Y.begin() + n, y.begin());
+        } else {
+          if (pick[t] < 0) { ok = false; break; }
+          double nx = 0.0, ny = 0.0;
+          for (int i = 0; i < n; ++i) {
+            x[i] = y[i] = 0.0;
+            for (int s = 0; s < p; ++s)
+              x[i] += X[i + s * N] * Z[s + pick[t] * p], y[i] += Y[i + s * N] * W[s + pick[t] * p];
+            nx += std::norm(x[i]), ny += std::norm(y[i]);
+          }
+          if (!(nx > 0.0) || !(ny > 0.0) || !std::isfinite(nx) || !std::isfinite(ny)) { ok = false; break; }
+          for (int i = 0; i < n; ++i) x[i] /= std::sqrt(nx), y[i] /= std::sqrt(ny);
+        }
+        cplx a = 0.0, b = 0.0, c = 0.0;
+        FunctionalRounding rounding;
         rounding.n = n;
         for (int i = 0; i < n; ++i) {
           Kx[i] = Cx[i] = Mx[i] = 0.0;
@@ -1592,21 +1741,109 @@ bool refineUndecided(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& m
           rounding.product[0] += ay * std::abs(Kx[i]), rounding.product[1] += ay * std::abs(Cx[i]),
               rounding.product[2] += ay * std::abs(Mx[i]);
         }
-        ok = e.step(a, b, c);
+        // The root of y^H Q(mu) x = 0: for a member of a block, the Ritz
+        // value it took (a root of its functional by construction).
+        ok = p == 1 ? e[t].step(a, b, c) : e[t].step(a, b, c, mu[pick[t]]);
         if (!ok) break;
         // sum_i |y_i| |(Q(lambda) x)_i| / |y^H Q'(lambda) x| at the new lambda.
         double weighted = 0.0;
-        for (int i = 0; i < n; ++i) weighted += std::abs(y[i]) * std::abs(Kx[i] + e.lambda * (Cx[i] + e.lambda * Mx[i]));
-        const double bound = twoSidedBound(e.lambda, e.change, e.changeBefore, a, b, rounding);
-        if (gate.offer(step, e, bound, weighted / std::abs(2.0 * e.lambda * a + b))) bestX = x;
+        for (int i = 0; i < n; ++i)
+          weighted += std::abs(y[i]) * std::abs(Kx[i] + e[t].lambda * (Cx[i] + e[t].lambda * Mx[i]));
+        const double bound = twoSidedBound(e[t].lambda, e[t].change, e[t].changeBefore, a, b, rounding);
+        if (gate[t].offer(step, e[t], bound, weighted / std::abs(2.0 * e[t].lambda * a + b))) bestX[t] = x;
       }
     }
-    // Kept only where it decides more than the computed value's own
-    // uncertainty did: else the refinement did not help, and dggev's value
-    // and shape stay (a review found refined values kept that were worse).
-    if (!(gate.best < m.growthTolerance)) continue;
-    m.lambda = gate.bestLambda, m.q = bestX, m.refinedError = gate.best;
+    for (int t = 0; t < p; ++t)
+      if (gate[t].best < kept[t].best) kept[t] = {gate[t].best, gate[t].bestLambda, bestX[t]};
+  }
+  // Kept only where it decides more than the computed value's own
+  // uncertainty did (its growth's, or its first-order error): else the
+  // refinement did not help, and dggev's value and shape stay (a review
+  // found refined values kept that were worse).
+  bool any = false;
+  for (int t = 0; t < p; ++t) {
+    GyroscopicMode& m = modes[members[t]];
+    if (!(kept[t].best < std::max(m.growthTolerance, m.eigenvalueError))) continue;
+    m.lambda = kept[t].lambda, m.q = kept[t].x, m.refinedError = kept[t].best;
     any = true;
+  }
+  return any;
+}
+/// Modes left uncertain by the general solve, refined by two-sided inverse
+/// iteration on Q(lambda) = lambda^2 M + lambda (G + D) + K + N with the
+/// user's matrices (theory §5, "Stiff rows"; §13.3). dggev is normwise
+/// accurate: its residual grows with the stiffest element and with
+/// Rayleigh's beta omega_max^2. At 80 elements a Jeffcott rotor's
+/// internal-damping growth, 0.241 1/s, read stable, and at 112 a free
+/// body's intermediate-axis divergence read rigid (a review); a shaft on a
+/// support of E = 1e18 clamped at both ends came out with its lowest pair
+/// (78.1456, 78.1475) at 77.944 and 78.882 and no error said but the
+/// first-order 12 rad/s in the JSON. Candidates: needsRefinement. The left
+/// vector y (Q(lambda)^H y = 0) with the right one x gives the eigenvalue as
+/// the root of y^H Q(mu) x = 0, whose error is the product of the two
+/// vectors' errors, and a bound (twoSidedBound) that the stiff rows'
+/// residual does not reach: with x alone the bound ||r|| ||q|| / |q^H Q' q|
+/// grew with the mesh, and at 300 elements the 0.229 1/s flutter read
+/// stable again (a review; theory §13.3).
+///
+/// A cluster is refined as one: candidates and the returned modes within
+/// the sum of their first-order errors of them (not zeros, not modes solved
+/// apart), up to 6. Refined one by one from dggev's values, a pair split by
+/// 1.9e-3 rad/s with values 0.2-0.7 away converged by 0.96-0.99 a step to
+/// the pair's mean, or both to one member. Its p vectors X (right) and Y
+/// (left) are iterated as blocks, orthonormalised, and the projected
+/// problem y^H Q(mu) x = 0 on them (projectedQuadratic; for p = 1 the
+/// two-sided root itself) gives every member: the block converges by the
+/// distance to the cluster over that to the next eigenvalue outside it,
+/// whatever the members' split. One complex LU of Q(sigma) at the cluster's
+/// mean (n^3 / 3; its conjugate-transpose solve gives Y), eight steps, the
+/// least bound RefinementGate lets stand kept per member; where none of a
+/// cluster's members stands and the values have moved from the shift, one
+/// more LU at their mean and eight more steps (a single shift 0.44 rad/s
+/// from a pair split by 0.02 had converged by 0.96 a step). Sets
+/// refinedError. Returns whether any changed.
+bool refineModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
+                 double zeroBelow, bool decays, double frequencyTol) {
+  const int k = static_cast<int>(modes.size());
+  // The clusters: each candidate with the modes within the sum of their
+  // first-order errors, transitively.
+  std::vector<int> cluster(k, -1);
+  const auto eligible = [&](const GyroscopicMode& m) { return std::abs(m.lambda) > zeroBelow && m.blockScale == 0.0; };
+  const auto reach = [](const GyroscopicMode& m) { return std::isfinite(m.eigenvalueError) ? m.eigenvalueError : 0.0; };
+  int clusters = 0;
+  // A conservative system (frequencyTol infinite) refines its undecided
+  // growths one by one, as before clusters: a free shaft's frame-rate
+  // triple, a defective cluster rounding splits, projected as one block
+  // came out with a growth at two ranks and none at one (the Campbell rank
+  // test, tests/CMakeLists.txt free_shaft_campbell_same_tracks).
+  const bool joint = std::isfinite(frequencyTol);
+  for (int j = 0; j < k; ++j) {
+    if (cluster[j] >= 0 || !needsRefinement(modes[j], modes, instabilityTol, zeroBelow, decays, frequencyTol)) continue;
+    cluster[j] = clusters;
+    for (bool grew = joint; grew;) {
+      grew = false;
+      for (int a = 0; a < k; ++a)
+        if (cluster[a] == clusters)
+          for (int b = 0; b < k; ++b)
+            if (cluster[b] < 0 && eligible(modes[b]) &&
+                std::abs(modes[a].lambda - modes[b].lambda) <= reach(modes[a]) + reach(modes[b]))
+              cluster[b] = clusters, grew = true;
+    }
+    ++clusters;
+  }
+  bool any = false;
+  for (int c = 0; c < clusters; ++c) {
+    std::vector<int> members;
+    for (int j = 0; j < k; ++j)
+      if (cluster[j] == c) members.push_back(j);
+    // A cluster past 6 is refined member by member (the block's projected
+    // problem would hold more than the cluster is close).
+    std::vector<std::vector<int>> blocks;
+    if (members.size() <= 6) blocks.push_back(members);
+    else
+      for (int j : members)
+        if (needsRefinement(modes[j], modes, instabilityTol, zeroBelow, decays, frequencyTol)) blocks.push_back({j});
+    for (const auto& block : blocks) any = refineCluster(sys, modes, block) || any;
   }
   return any;
 }
@@ -1619,7 +1856,7 @@ namespace {
 /// full model by its own rules).
 void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double rigidBodyTol,
                    double instabilityTol, bool ownScales, const std::vector<std::complex<double>>& unreturned,
-                   bool refineDecays) {
+                   bool refineDecays, double frequencyTol) {
   if (modes.empty()) return;
   const bool damped = sys.damped();
   // A circulatory N (a rotor's material damping seen from the stationary
@@ -1631,9 +1868,35 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   // flutters at +0.0024 (a review; refined, 5.6e-6; theory §13.3).
   const bool circulatory = refineDecays && sys.N.numRows() == sys.size() && frobeniusNorm(sys.N) > 0.0;
   double scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
-  if (!ownScales && refineUndecided(sys, modes, instabilityTol, rigidBodyTol * scale, circulatory))
+  // A conservative system's frequencies are not refined (its growths are,
+  // as undecided): as on the sparse path, the Frequency Tolerance is a
+  // damped system's.
+  if (!ownScales && refineModes(sys, modes, instabilityTol, rigidBodyTol * scale, circulatory,
+                                damped ? frequencyTol : std::numeric_limits<double>::infinity())) {
+    // In the solve's order again (ascending |lambda|, as generalModes
+    // returns them): a refined pair can exchange its members (the shaft's
+    // 4593.24 and 4593.54 came back in each other's places).
+    std::stable_sort(modes.begin(), modes.end(),
+                     [](const GyroscopicMode& a, const GyroscopicMode& b) { return std::abs(a.lambda) < std::abs(b.lambda); });
     scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
+  }
   classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
+  // A mode whose |lambda| lies within its own first-order error of zero
+  // cannot be told from a rigid-body motion, whatever the system's scale
+  // says (theory §4.3): a solid bar on a line of nodes, its free turn
+  // restrained only by a synthesised K's rounding, came out of dggev at
+  // 0.0109 rad/s within 0.15 (one BLAS thread on an AMD EPYC; at two it was
+  // below the Rigid Body Tolerance) and was printed as a vibration where the
+  // run is refused as "unrestrained". Not where the stiffness was proven
+  // nonsingular (rigidBodyTol = 0), nor on the Meirovitch path (each mode on
+  // its own scale), nor for a refined mode (its bound is not first order).
+  if (!ownScales && rigidBodyTol > 0.0)
+    for (auto& m : modes)
+      if ((m.stability == Stability::Stable || m.stability == Stability::Neutral) && m.blockScale == 0.0 &&
+          m.refinedError == 0.0 && std::abs(m.lambda) <= m.eigenvalueError) {
+        m.stability = Stability::RigidBody, m.undecided = false;
+        zeroRigidDamping(m);
+      }
   if (circulatory && !ownScales)
     for (auto& m : modes) {
       const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
@@ -1647,7 +1910,8 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
 void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
                         double rigidBodyTol, double instabilityTol, bool ownScales,
                         const std::vector<std::complex<double>>& unreturned) {
-  completeModes(sys, modes, rigidBodyTol, instabilityTol, ownScales, unreturned, true);
+  completeModes(sys, modes, rigidBodyTol, instabilityTol, ownScales, unreturned, true,
+                std::numeric_limits<double>::infinity());
 }
 
 namespace {
@@ -1716,6 +1980,11 @@ Teuchos::RCP<const Teuchos::ParameterList> DenseGyroscopicSolver::getValidParame
             "a system with a circulatory N: refine a decaying growth rate within its uncertainty too, and call "
             "one left unrefined undecided (doc/theory.md 13.3); false for the sparse path's projection, whose "
             "Ritz values are refined on the full model");
+    pl->set("Frequency Tolerance", 1e-5,
+            "a damped system: a mode whose first-order eigenvalue error ||r|| ||q|| / |q^H (2 lambda M + G + D) q| "
+            "exceeds this times |lambda| is refined by two-sided inverse iteration on Q(lambda), a cluster within "
+            "its members' errors as one block (one complex LU of n each; doc/theory.md 5, \"Stiff rows\"); a mode "
+            "still not shown within it is said in the reason; infinity refines none for its frequency");
     pl->set("Energy Bound", true,
             "a damped system: prove N = 0 and M > 0, K > 0, D + d M > 0 (d = Instability Tolerance times the "
             "least |lambda|) from Cholesky factors of their shifts by Cholesky's a-priori error, so that no mode "
@@ -1888,7 +2157,8 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // accuracy is normwise, so its modes are judged on the system's scale
   // (theory §4.3).
   completeModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0, unreturned,
-                params_.get<bool>("Refine Decays"));
+                params_.get<bool>("Refine Decays"), params_.get<double>("Frequency Tolerance"));
+  if (sys.damped()) result.reason += accuracyNote(result.modes, params_.get<double>("Frequency Tolerance"), "");
   if (noZeros) {
     const double below = params_.get<double>("Rigid Body Tolerance") * scale;
     const long small = std::count_if(result.modes.begin(), result.modes.end(), [&](const GyroscopicMode& m) {

@@ -268,18 +268,6 @@ Teuchos::RCP<CrsMatrix> complexPencil(const CrsMatrix& M, const CrsMatrix& C, co
   return realEmbedding(*A, *B, map2);
 }
 
-/// Whether a damped mode's eigenvalue is not shown within frequencyTol
-/// |lambda| by its first-order error (theory §5, "Stiff rows"): its
-/// residual, small against ||K||, is not small against the stiffness its own
-/// coordinates see where a stiff part is coupled to a soft one. A support of
-/// E = 1e18 under a steel shaft left the shaft's damped frequencies 4e-5
-/// off (1e-3 at other mode counts) with normwise residuals of 1e-14 and no
-/// error said. Not a zero (below `zeroBelow`), not one solved apart.
-bool uncertainFrequency(const GyroscopicMode& m, double frequencyTol, double zeroBelow) {
-  const double size = std::abs(m.lambda);
-  return size > zeroBelow && m.blockScale == 0.0 && !(m.eigenvalueError <= frequencyTol * size);
-}
-
 /// The Ritz modes among `which` whose growth rate is undecided (positive,
 /// above instabilityTol |lambda|, within its uncertainty, whose first-order
 /// bound ten times ||r|| ||q|| / |q^H Q' q| the stiff rows' residual
@@ -476,6 +464,10 @@ std::vector<GyroscopicMode> quadraticRitzModes(const SparseGyroscopicSystem& sys
   // refinement as one member twice
   // (`SceneRegression.TwoSolvesOfAStiffSpinningRotorAgreeWithinTheirReportedErrors`).
   dense.set("Refine Decays", false);
+  // Nor its frequencies, for the same reason: the Ritz values whose
+  // first-order error exceeds the Frequency Tolerance are refined on the
+  // full model (refineRitzModes).
+  dense.set("Frequency Tolerance", std::numeric_limits<double>::infinity());
   dense.set("Instability Tolerance", instabTol);
   // The projected pencil's energy bound is not the full model's: its
   // verdicts are made again below, on the full model's residuals.

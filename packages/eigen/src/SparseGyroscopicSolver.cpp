@@ -19,6 +19,7 @@
 #include "cms/core/DistributedDirectSolver.hpp"
 #include "cms/core/Error.hpp"
 #include "cms/core/SparseDirectSolver.hpp"
+#include "cms/eigen/DenseGyroscopicSolver.hpp"
 #include "cms/eigen/SturmCount.hpp"
 
 namespace cms::eigen {
@@ -215,36 +216,6 @@ void selectModes(const Config& c, std::vector<GyroscopicMode> rm, Attempt& attem
   }
 }
 
-/// A damped set's eigenvalue accuracy in the reason (theory §5, "Stiff
-/// rows"): the modes refined on the full model with their largest relative
-/// bound, and those whose error is still not shown within the Frequency
-/// Tolerance (first-order estimate, or a refined bound no tighter). Zeros
-/// and modes solved apart have no relative accuracy to say.
-void reportAccuracy(const Config& c, GyroscopicResult& result) {
-  int refined = 0, unshown = 0, worstMode = 0;
-  double worstRefined = 0.0, worstUnshown = 0.0;
-  for (std::size_t j = 0; j < result.modes.size(); ++j) {
-    const GyroscopicMode& m = result.modes[j];
-    const double size = std::abs(m.lambda);
-    if (m.stability == Stability::RigidBody || m.blockScale > 0.0 || !(size > 0.0)) continue;
-    const double error = m.reportedError() / size;
-    if (m.refinedError > 0.0) ++refined, worstRefined = std::max(worstRefined, error);
-    if (!(error <= c.frequencyTol)) {
-      ++unshown;
-      if (!(error <= worstUnshown)) worstUnshown = error, worstMode = static_cast<int>(j) + 1;
-    }
-  }
-  std::ostringstream os;
-  os.precision(2);
-  if (refined > 0)
-    os << "; " << refined << " mode(s) refined on the full model by two-sided inverse iteration, each eigenvalue "
-       << "within " << worstRefined << " of |lambda| (bound)";
-  if (unshown > 0)
-    os << "; " << unshown << " mode(s) not shown within the Frequency Tolerance " << c.frequencyTol
-       << " (worst: mode " << worstMode << ", " << worstUnshown << " of |lambda|)";
-  result.reason += os.str();
-}
-
 /// One run for `nModes` modes: the manager's phases in order (the problem
 /// and its form, the transform, the iteration, the extraction, the returned
 /// set); the caller (SparseGyroscopicSolver::solve) adds the Sturm check.
@@ -342,7 +313,7 @@ Attempt solveAttempt(const Teuchos::ParameterList& params, const SparseGyroscopi
   selectModes(c, detail::quadraticRitzModes(sys, *it.vectors, c.shift, c.rigidTol, c.instabTol, refinement),
               attempt);
   // Said where the extraction refines (QuadraticRitz.cpp: D or N not zero).
-  if (sys.damped()) reportAccuracy(c, result);
+  if (sys.damped()) result.reason += accuracyNote(result.modes, c.frequencyTol, " on the full model");
   attempt.checkable = problem.symmetric && c.shift >= 0.0;
   return attempt;
 }

@@ -49,8 +49,9 @@ ParameterList sceneKeys() {
         "who factors on the sparse path (the truth, large reduced models): CHOLMOD, gathered to rank 0; MUMPS, "
         "across the ranks; Auto: MUMPS on more than one rank for matrices of 2e6 entries or more");
   a.set("Frequency Tolerance", 1e-5,
-        "a damped structure on the sparse path: a mode whose first-order eigenvalue error exceeds this times "
-        "|lambda| is refined on the full model (one factorisation each; doc/theory.md §5, \"Stiff rows\")");
+        "a damped structure: a mode whose first-order eigenvalue error exceeds this times |lambda| is refined "
+        "by two-sided inverse iteration on the full model (sparse path) or on the reduced Q(lambda) (dense "
+        "path, a cluster as one block), one factorisation each (doc/theory.md §5, \"Stiff rows\")");
   a.set("Speed Factor", 1.0, "multiplies every nominal spin rate");
   a.set("Target Accuracy", 0.0,
         "> 0: cms modes enriches the reduced substructures until every one of the Number of Modes has an "
@@ -496,6 +497,7 @@ Scene Scene::fromParameters(const ParameterList& p, const std::string& path) {
                     ap << "/Frequency Tolerance = " << frequencyTol
                        << " must be finite and >= 0 (a relative eigenvalue error; 0 refines every damped mode)");
     scene.solve.sublist("Sparse Solver").set("Frequency Tolerance", frequencyTol);
+    scene.solve.sublist("Dense Solver").set("Frequency Tolerance", frequencyTol);
     scene.targetAccuracy = getNumber(a, "Target Accuracy", ap, 0.0);
     CMS_INPUT_CHECK(!std::isfinite(scene.targetAccuracy) || scene.targetAccuracy < 0 || scene.targetAccuracy >= 0.1,
                     ap << "/Target Accuracy = " << scene.targetAccuracy
