@@ -286,3 +286,25 @@ TEST(StabilityVerdict, ARefinementStepStandsOnlyWhereItsResidualAgrees) {
   for (int step = 0; step < 6; ++step)
     EXPECT_FALSE(drift.offer(step, at(cplx(-0.03, 78.1469 + 1.6e-6 * step), 1.6e-6, 1.6e-6), 8e-5, 2e-5)) << step;
 }
+
+// A mode near a split defective cluster but outside its spread is not one
+// of its members (theory §4, "An outsider near a cluster"). The free
+// shaft's bending mode at 906.43 rad/s lies 2.2 rad/s from the frame-rate
+// triple at 908.6 (spread 3e-4), within r_3 = 10 eta^(1/3) s = 2.43 at
+// eta = 4.2e-16, s = 3.241e4 (its two-rank backward error; at one rank,
+// 2.8e-16, r_3 = 2.11 missed the triple), and read neutral at two ranks
+// only (free_shaft_campbell_same_tracks_at_1_and_2_ranks on an AMD EPYC).
+// It is stable; the triple's members, 2.8e-4 apart, stay neutral.
+TEST(StabilityVerdict, AModeOutsideADefectiveClustersSpreadIsNotOneOfItsMembers) {
+  const double s = 3.241e4, eta = 4.23e-16;
+  const std::complex<double> centre(0.0, 908.6), off(1e-4, 1e-4);
+  std::vector<GyroscopicMode> modes{syntheticMode({-2.9e-11, 906.4339465}, 0, 0.0),
+                                    syntheticMode(centre + off, 1, 0.0), syntheticMode(centre - off, 2, 0.0),
+                                    syntheticMode(centre + std::complex<double>(-1e-4, 2e-4), 3, 0.0)};
+  for (auto& m : modes) m.residual = eta;
+  ASSERT_LE(std::abs(modes[0].lambda - centre), 10.0 * std::cbrt(eta) * s);  // inside r_3
+  ASSERT_GT(std::abs(modes[0].lambda - centre), 10.0 * std::sqrt(eta) * s);  // outside r_2
+  classifyModes(modes, s, 1e-6, 1e-7, /*conservative=*/true, /*completeShapes=*/true);
+  EXPECT_EQ(modes[0].stability, Stability::Stable) << toString(modes[0].stability);
+  for (int j : {1, 2, 3}) EXPECT_EQ(modes[j].stability, Stability::Neutral) << "member " << j;
+}
