@@ -1832,17 +1832,36 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
 /// the list (a review). Values are not enough (a double pair's members are
 /// equal: a guard on values alone broke the isotropic shaft's true pairs),
 /// but shapes are: the refined modes whose values lie within each other's
-/// bounds are taken in order of how far their refinement moved them
-/// (least first), and one whose shape lies within the span of those before
-/// it (the part orthogonal to them below 0.3 of its norm, an angle of 17
-/// degrees) repeats an eigenvector already held: it gets back dggev's value
-/// and shape, and with them its first-order error (the reason counts it as
-/// not shown).
-void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vector<GyroscopicMode>& before) {
+/// bounds are taken by refinement unit (`unit`: a block, or a mode refined
+/// alone), the unit that moved least first, and a mode whose shape lies
+/// within the span of the units before (the part orthogonal to them below
+/// 0.3 of its norm, an angle of 17 degrees) repeats an eigenvector already
+/// held: it gets back dggev's value and shape, and with them its
+/// first-order error (the reason counts it as not shown). Within one block
+/// the values are the projected problem's, multiplicities included, and
+/// stand (its Ritz vectors of a multiple value can be nearly parallel:
+/// compared mode by mode, four shafts' sixfold value was undone).
+void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vector<GyroscopicMode>& before,
+                             const std::vector<int>& unit) {
   const int k = static_cast<int>(modes.size());
   std::vector<int> refined;
   for (int j = 0; j < k; ++j)
     if (modes[j].refinedError > 0.0) refined.push_back(j);
+  const auto moved = [&](int j) { return std::abs(modes[j].lambda - before[j].lambda); };
+  // Projects v onto the complement of the orthonormal `basis`; returns the
+  // squared norms before and after.
+  const auto project = [](std::vector<cplx>& v, const std::vector<std::vector<cplx>>& basis) {
+    double norm = 0.0, rest = 0.0;
+    for (const auto& c : v) norm += std::norm(c);
+    for (int pass = 0; pass < 2; ++pass)
+      for (const auto& b : basis) {
+        cplx d = 0.0;
+        for (std::size_t i = 0; i < v.size(); ++i) d += std::conj(b[i]) * v[i];
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] -= d * b[i];
+      }
+    for (const auto& c : v) rest += std::norm(c);
+    return std::make_pair(norm, rest);
+  };
   std::vector<char> seen(k, 0);
   for (int j : refined) {
     if (seen[j]) continue;
@@ -1853,29 +1872,43 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
         if (!seen[o] && std::abs(modes[o].lambda - modes[group[g]].lambda) <=
                             modes[o].refinedError + modes[group[g]].refinedError)
           group.push_back(o), seen[o] = 1;
-    if (group.size() < 2) continue;
-    std::sort(group.begin(), group.end(), [&](int a, int b) {
-      return std::abs(modes[a].lambda - before[a].lambda) < std::abs(modes[b].lambda - before[b].lambda);
-    });
+    // The group's refinement units (a block, or a mode refined alone), the
+    // one whose members moved least first.
+    std::vector<int> units;
+    for (int m : group)
+      if (std::find(units.begin(), units.end(), unit[m]) == units.end()) units.push_back(unit[m]);
+    if (units.size() < 2) continue;
+    const auto least = [&](int u) {
+      double d = std::numeric_limits<double>::infinity();
+      for (int m : group)
+        if (unit[m] == u) d = std::min(d, moved(m));
+      return d;
+    };
+    std::sort(units.begin(), units.end(), [&](int a, int b) { return least(a) < least(b); });
     std::vector<std::vector<cplx>> basis;  // orthonormal, of the shapes kept
-    for (int m : group) {
-      std::vector<cplx> v(modes[m].q);
-      double norm = 0.0;
-      for (const auto& c : v) norm += std::norm(c);
-      for (int pass = 0; pass < 2; ++pass)
-        for (const auto& b : basis) {
-          cplx d = 0.0;
-          for (std::size_t i = 0; i < v.size(); ++i) d += std::conj(b[i]) * v[i];
-          for (std::size_t i = 0; i < v.size(); ++i) v[i] -= d * b[i];
+    for (int u : units) {
+      std::vector<std::vector<cplx>> own;
+      for (int m : group) {
+        if (unit[m] != u) continue;
+        std::vector<cplx> v(modes[m].q);
+        const auto [norm, rest] = project(v, basis);
+        if (!basis.empty() && !(rest > 0.09 * norm)) {
+          modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+          continue;
         }
-      double rest = 0.0;
-      for (const auto& c : v) rest += std::norm(c);
-      if (!(rest > 0.09 * norm)) {
-        modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
-        continue;
+        own.push_back(modes[m].q);
       }
-      for (auto& c : v) c /= std::sqrt(rest);
-      basis.push_back(std::move(v));
+      // The unit's own shapes join the basis where independent (a block's
+      // Ritz vectors of a multiple value can be nearly parallel: zggev's
+      // eigenvectors of a repeated eigenvalue; its values are the projected
+      // problem's, with their multiplicity, and stand).
+      for (auto& v : own) {
+        const auto [norm, rest] = project(v, basis);
+        if (rest > 0.09 * norm) {
+          for (auto& c : v) c /= std::sqrt(rest);
+          basis.push_back(std::move(v));
+        }
+      }
     }
   }
 }
@@ -1929,6 +1962,8 @@ bool refineModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes
   };
   const auto reach = [](const GyroscopicMode& m) { return std::isfinite(m.eigenvalueError) ? m.eigenvalueError : 0.0; };
   const std::vector<GyroscopicMode> before(modes);  // dggev's, for undoRepeatedRefinements
+  std::vector<int> unit(k, -1);                     // each refined mode's block
+  int units = 0;
   std::vector<char> candidate(k);
   for (int j = 0; j < k; ++j)  // a mode without its whole shape is not refined
     candidate[j] = eligible(modes[j]) && needsRefinement(modes[j], modes, instabilityTol, zeroBelow, decays, frequencyTol);
@@ -1971,9 +2006,13 @@ bool refineModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes
     std::vector<std::vector<int>> blocks;
     for (std::size_t i = 0; i < members.size(); i += 64)
       blocks.emplace_back(members.begin() + i, members.begin() + std::min(members.size(), i + 64));
-    for (const auto& block : blocks) any = refineCluster(sys, modes, block) || any;
+    for (const auto& block : blocks) {
+      for (int m : block) unit[m] = units;
+      ++units;
+      any = refineCluster(sys, modes, block) || any;
+    }
   }
-  if (any) undoRepeatedRefinements(modes, before);
+  if (any) undoRepeatedRefinements(modes, before, unit);
   return any;
 }
 }  // namespace
