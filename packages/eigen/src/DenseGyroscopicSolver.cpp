@@ -1872,12 +1872,23 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
         if (!seen[o] && std::abs(modes[o].lambda - modes[group[g]].lambda) <=
                             modes[o].refinedError + modes[group[g]].refinedError)
           group.push_back(o), seen[o] = 1;
+    // A real value dggev returned that refined into a complex one is half
+    // of a conjugate pair rounding split onto the real axis: the other half
+    // can refine into the same mode, in its block too (at two ranks both
+    // members of the shaft's double pair were split, four real values in
+    // one block, and refined into four copies). Such modes are compared
+    // last, one by one, against every shape kept.
+    const auto converted = [&](int m) { return before[m].lambda.imag() == 0.0 && modes[m].lambda.imag() != 0.0; };
+    std::vector<int> last;
+    for (int m : group)
+      if (converted(m)) last.push_back(m);
+    std::sort(last.begin(), last.end(), [&](int a, int b) { return moved(a) < moved(b); });
     // The group's refinement units (a block, or a mode refined alone), the
     // one whose members moved least first.
     std::vector<int> units;
     for (int m : group)
-      if (std::find(units.begin(), units.end(), unit[m]) == units.end()) units.push_back(unit[m]);
-    if (units.size() < 2) continue;
+      if (!converted(m) && std::find(units.begin(), units.end(), unit[m]) == units.end()) units.push_back(unit[m]);
+    if (units.size() < 2 && last.empty()) continue;
     const auto least = [&](int u) {
       double d = std::numeric_limits<double>::infinity();
       for (int m : group)
@@ -1889,7 +1900,7 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
     for (int u : units) {
       std::vector<std::vector<cplx>> own;
       for (int m : group) {
-        if (unit[m] != u) continue;
+        if (unit[m] != u || converted(m)) continue;
         std::vector<cplx> v(modes[m].q);
         const auto [norm, rest] = project(v, basis);
         if (!basis.empty() && !(rest > 0.09 * norm)) {
@@ -1909,6 +1920,16 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
           basis.push_back(std::move(v));
         }
       }
+    }
+    for (int m : last) {
+      std::vector<cplx> v(modes[m].q);
+      const auto [norm, rest] = project(v, basis);
+      if (!(rest > 0.09 * norm)) {
+        modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+        continue;
+      }
+      for (auto& c : v) c /= std::sqrt(rest);
+      basis.push_back(std::move(v));
     }
   }
 }
