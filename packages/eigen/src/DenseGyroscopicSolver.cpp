@@ -1581,26 +1581,34 @@ bool projectedQuadratic(int p, const std::vector<cplx>& A0, const std::vector<cp
   return true;
 }
 
+/// Removes from the n entries of v their parts along the orthonormal
+/// `basis` (modified Gram-Schmidt, twice); returns v's squared norm before
+/// and after (orthonormalise, undoRepeatedRefinements).
+std::pair<double, double> projectOut(cplx* v, int n, const std::vector<const cplx*>& basis) {
+  double norm = 0.0, rest = 0.0;
+  for (int i = 0; i < n; ++i) norm += std::norm(v[i]);
+  for (int pass = 0; pass < 2; ++pass)
+    for (const cplx* b : basis) {
+      cplx d = 0.0;
+      for (int i = 0; i < n; ++i) d += std::conj(b[i]) * v[i];
+      for (int i = 0; i < n; ++i) v[i] -= d * b[i];
+    }
+  for (int i = 0; i < n; ++i) rest += std::norm(v[i]);
+  return {norm, rest};
+}
+
 /// Orthonormalises the p columns of the n x p `X` (modified Gram-Schmidt,
 /// twice). Returns false where a column is lost (its norm after projection
 /// below 1e-12 of its own: the block has collapsed onto fewer directions).
 bool orthonormalise(int n, int p, std::vector<cplx>& X) {
+  std::vector<const cplx*> before;
   for (int j = 0; j < p; ++j) {
     cplx* x = X.data() + static_cast<std::size_t>(j) * n;
-    double before = 0.0;
-    for (int i = 0; i < n; ++i) before += std::norm(x[i]);
-    for (int pass = 0; pass < 2; ++pass)
-      for (int k = 0; k < j; ++k) {
-        const cplx* q = X.data() + static_cast<std::size_t>(k) * n;
-        cplx d = 0.0;
-        for (int i = 0; i < n; ++i) d += std::conj(q[i]) * x[i];
-        for (int i = 0; i < n; ++i) x[i] -= d * q[i];
-      }
-    double after = 0.0;
-    for (int i = 0; i < n; ++i) after += std::norm(x[i]);
-    if (!(after > 1e-24 * before) || !std::isfinite(after)) return false;
-    const double s = 1.0 / std::sqrt(after);
+    const auto [norm, rest] = projectOut(x, n, before);
+    if (!(rest > 1e-24 * norm) || !std::isfinite(rest)) return false;
+    const double s = 1.0 / std::sqrt(rest);
     for (int i = 0; i < n; ++i) x[i] *= s;
+    before.push_back(x);
   }
   return true;
 }
@@ -1659,7 +1667,6 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   std::vector<Kept> kept(p);
   std::vector<std::vector<cplx>> bestX(p);
   std::vector<cplx> x(n), y(n), Kx(n), Cx(n), Mx(n);
-  const int one = 1;
   // Eight steps, the least standing bound kept (RefinementGate): with
   // three and the last kept, the stiff-support shaft spinning at 0.5 rad/s
   // (its pair split by 1.9e-3 rad/s) came out at 78.146850 with a bound of
@@ -1848,19 +1855,10 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
   for (int j = 0; j < k; ++j)
     if (modes[j].refinedError > 0.0) refined.push_back(j);
   const auto moved = [&](int j) { return std::abs(modes[j].lambda - before[j].lambda); };
-  // Projects v onto the complement of the orthonormal `basis`; returns the
-  // squared norms before and after.
   const auto project = [](std::vector<cplx>& v, const std::vector<std::vector<cplx>>& basis) {
-    double norm = 0.0, rest = 0.0;
-    for (const auto& c : v) norm += std::norm(c);
-    for (int pass = 0; pass < 2; ++pass)
-      for (const auto& b : basis) {
-        cplx d = 0.0;
-        for (std::size_t i = 0; i < v.size(); ++i) d += std::conj(b[i]) * v[i];
-        for (std::size_t i = 0; i < v.size(); ++i) v[i] -= d * b[i];
-      }
-    for (const auto& c : v) rest += std::norm(c);
-    return std::make_pair(norm, rest);
+    std::vector<const cplx*> b;
+    for (const auto& u : basis) b.push_back(u.data());
+    return projectOut(v.data(), static_cast<int>(v.size()), b);
   };
   std::vector<char> seen(k, 0);
   for (int j : refined) {
