@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
+#include <tuple>
 #include <sstream>
 
 #include <Teuchos_BLAS.hpp>
@@ -482,7 +483,7 @@ struct UnrestrainedModes {
 
 std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes, double scale, double rigidBodyTol,
                                          std::vector<cplx>& unreturned, bool standard = false,
-                                         UnrestrainedModes* block = nullptr) {
+                                         UnrestrainedModes* block = nullptr, bool spares = false) {
   const int n = sys.size(), N = 2 * n;
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
   const bool damped = sys.damped();
@@ -706,8 +707,20 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
           break;
         }
     }
+  // With `spares`, a damped system's modes past the count, one for each
+  // real value within it: a conjugate pair rounding split onto the real
+  // axis is two real values for one mode, and where the refinement finds
+  // the second half to be the pair already held it is dropped
+  // (undoRepeatedRefinements); a spare then takes its place, and the rest
+  // go back to `unreturned` (completeModes).
+  std::size_t returned = static_cast<std::size_t>(kept);
+  if (spares && damped)
+    for (int k = 0; k < kept; ++k)
+      if (returned < upper.size() && upper[k].lambda.imag() == 0.0 && std::abs(upper[k].lambda) > rigidBodyTol &&
+          upper[k].blockScale == 0.0)
+        ++returned;
   std::vector<GyroscopicMode> modes;
-  for (int k = 0; k < kept; ++k) {
+  for (std::size_t k = 0; k < returned; ++k) {
     GyroscopicMode m;
     m.lambda = upper[k].lambda * scale;
     m.q = std::move(upper[k].q);
@@ -716,7 +729,7 @@ std::vector<GyroscopicMode> generalModes(const GyroscopicSystem& sys, int nModes
     modes.push_back(std::move(m));
   }
   unreturned.clear();
-  for (std::size_t j = kept; j < upper.size(); ++j) unreturned.push_back(upper[j].lambda * scale);
+  for (std::size_t j = returned; j < upper.size(); ++j) unreturned.push_back(upper[j].lambda * scale);
   return modes;
 }
 
@@ -1848,8 +1861,19 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
 /// the values are the projected problem's, multiplicities included, and
 /// stand (its Ritz vectors of a multiple value can be nearly parallel:
 /// compared mode by mode, four shafts' sixfold value was undone).
-void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vector<GyroscopicMode>& before,
-                             const std::vector<int>& unit) {
+///
+/// A real value dggev returned that refined into a complex one already held
+/// (`converted` below) is half of a conjugate pair rounding split onto the
+/// real axis, and the pair is one mode (the member with Im > 0): undone,
+/// the half stayed in the list at -61.97, no eigenvalue, "not shown", and
+/// pushed the tenth mode off. It is refined again alone, from dggev's value
+/// and shape (a genuine real eigenvalue a block carried onto its neighbour
+/// stays real from its own value), and where that too repeats a shape held
+/// it is dropped: returns the indices to drop (theory §5, "A pair split
+/// onto the real axis").
+std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
+                                         const std::vector<GyroscopicMode>& before, const std::vector<int>& unit) {
+  std::vector<int> dropped;
   const int k = static_cast<int>(modes.size());
   std::vector<int> refined;
   for (int j = 0; j < k; ++j)
@@ -1921,15 +1945,24 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
     }
     for (int m : last) {
       std::vector<cplx> v(modes[m].q);
-      const auto [norm, rest] = project(v, basis);
+      auto [norm, rest] = project(v, basis);
       if (!(rest > 0.09 * norm)) {
         modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
-        continue;
+        if (!refineCluster(sys, modes, {m})) continue;  // no step stood: dggev's value, first order
+        v = modes[m].q;
+        std::tie(norm, rest) = project(v, basis);
+        if (!(rest > 0.09 * norm)) {
+          if (converted(m)) dropped.push_back(m);  // the pair's other half, held already
+          else modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+          continue;
+        }
       }
       for (auto& c : v) c /= std::sqrt(rest);
       basis.push_back(std::move(v));
     }
   }
+  std::sort(dropped.begin(), dropped.end());
+  return dropped;
 }
 
 /// Modes left uncertain by the general solve, refined by two-sided inverse
@@ -1968,8 +2001,11 @@ void undoRepeatedRefinements(std::vector<GyroscopicMode>& modes, const std::vect
 /// eight more steps (a single shift 0.44 rad/s from a pair split by 0.02
 /// had converged by 0.96 a step). Sets refinedError. Returns whether any
 /// changed. Conservative systems (frequencyTol infinite): one by one.
+/// With `dropHalves`, the second half of a conjugate pair split onto the
+/// real axis (undoRepeatedRefinements) leaves the list, counted in
+/// `dropped`; without, it keeps dggev's value and first-order error.
 bool refineModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double instabilityTol,
-                 double zeroBelow, bool decays, double frequencyTol) {
+                 double zeroBelow, bool decays, double frequencyTol, bool dropHalves, int& dropped) {
   const int k = static_cast<int>(modes.size());
   // The clusters: each candidate with the modes within the sum of their
   // first-order errors, transitively (union-find over the pairs: O(k^2),
@@ -2031,7 +2067,12 @@ bool refineModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes
       any = refineCluster(sys, modes, block) || any;
     }
   }
-  if (any) undoRepeatedRefinements(modes, before, unit);
+  if (any) {
+    const std::vector<int> halves = undoRepeatedRefinements(sys, modes, before, unit);
+    for (auto h = halves.rbegin(); h != halves.rend(); ++h)
+      if (dropHalves) modes.erase(modes.begin() + *h), ++dropped;
+      else modes[*h].lambda = before[*h].lambda, modes[*h].q = before[*h].q, modes[*h].refinedError = 0.0;
+  }
   return any;
 }
 }  // namespace
@@ -2040,10 +2081,13 @@ namespace {
 /// completeDenseModes; `refineDecays`: a circulatory system's decaying
 /// growths within their uncertainty are refined (below; false for the
 /// sparse path's projection, whose Ritz values that path refines on the
-/// full model by its own rules).
+/// full model by its own rules). `wanted` >= 0 (the dense solve, whose
+/// generalModes returned spares past the count): a split pair's second
+/// half is dropped (refineModes; counted in `dropped`), and the modes past
+/// `wanted` go to `unreturned`; -1 (the projection): every mode stays.
 void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, double rigidBodyTol,
-                   double instabilityTol, bool ownScales, const std::vector<std::complex<double>>& unreturned,
-                   bool refineDecays, double frequencyTol) {
+                   double instabilityTol, bool ownScales, std::vector<std::complex<double>>& unreturned,
+                   bool refineDecays, double frequencyTol, int wanted, int& dropped) {
   if (modes.empty()) return;
   const bool damped = sys.damped();
   // A circulatory N (a rotor's material damping seen from the stationary
@@ -2058,15 +2102,23 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   // A conservative system's frequencies are not refined (its growths are,
   // as undecided): as on the sparse path, the Frequency Tolerance is a
   // damped system's.
-  if (!ownScales && refineModes(sys, modes, instabilityTol, rigidBodyTol * scale, circulatory,
-                                damped ? frequencyTol : std::numeric_limits<double>::infinity())) {
+  const bool refined = !ownScales && refineModes(sys, modes, instabilityTol, rigidBodyTol * scale, circulatory,
+                                                 damped ? frequencyTol : std::numeric_limits<double>::infinity(),
+                                                 wanted >= 0, dropped);
+  if (refined)
     // In the solve's order again (ascending |lambda|, as generalModes
     // returns them): a refined pair can exchange its members (the shaft's
     // 4593.24 and 4593.54 came back in each other's places).
     std::stable_sort(modes.begin(), modes.end(),
                      [](const GyroscopicMode& a, const GyroscopicMode& b) { return std::abs(a.lambda) < std::abs(b.lambda); });
-    scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
+  // The spares past the count, where no half was dropped, are values past
+  // the returned ones again.
+  const bool cut = wanted >= 0 && static_cast<int>(modes.size()) > wanted;
+  if (cut) {
+    for (std::size_t j = static_cast<std::size_t>(wanted); j < modes.size(); ++j) unreturned.push_back(modes[j].lambda);
+    modes.resize(static_cast<std::size_t>(wanted));
   }
+  if (refined || cut) scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
   classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
   // A mode whose |lambda| lies within its own first-order error of zero
   // cannot be told from a rigid-body motion, whatever the system's scale
@@ -2103,8 +2155,10 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
 void completeDenseModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
                         double rigidBodyTol, double instabilityTol, bool ownScales,
                         const std::vector<std::complex<double>>& unreturned) {
-  completeModes(sys, modes, rigidBodyTol, instabilityTol, ownScales, unreturned, true,
-                std::numeric_limits<double>::infinity());
+  std::vector<std::complex<double>> beyond(unreturned);
+  int dropped = 0;
+  completeModes(sys, modes, rigidBodyTol, instabilityTol, ownScales, beyond, true,
+                std::numeric_limits<double>::infinity(), -1, dropped);
 }
 
 namespace {
@@ -2288,14 +2342,16 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       bool qr = params_.get<std::string>("General Eigensolver") == "Hessenberg QR";
       if (!qr) {
         try {
-          result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, false, block);
+          result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, false, block, !every);
         } catch (const QzFailure& e) {
           qr = true;
           how = std::string("; there too ") + e.what() +
                 ": solved by LAPACK dgeev (Hessenberg QR) on the standard problem, B = I";
         }
       }
-      if (qr) result.modes = generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, /*standard=*/true, block);
+      if (qr)
+        result.modes =
+            generalModes(c, every ? 2 * n : nModes, scale, rigidTol, unreturned, /*standard=*/true, block, !every);
       std::vector<double> re(n), im(n);
       for (auto& m : result.modes) {
         if (m.blockScale > 0.0) continue;  // solved apart, in the given coordinates
@@ -2330,7 +2386,7 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
       also("K spans too many orders for the symmetric form: the pencil in the coordinates with M = I");
     } else {
       try {
-        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, rigidTol, unreturned, false, block);
+        result.modes = generalModes(sys, every ? 2 * n : nModes, scale, rigidTol, unreturned, false, block, !every);
       } catch (const InfiniteEigenvalue&) {
         solveCongruent(how);
         also("dggev returned an infinite eigenvalue on the pencil with M, which is positive definite: "
@@ -2350,8 +2406,18 @@ GyroscopicResult DenseGyroscopicSolver::solve(const GyroscopicSystem& input) con
   // an SVD: the low modes come from the largest singular values); dggev's
   // accuracy is normwise, so its modes are judged on the system's scale
   // (theory §4.3).
+  int dropped = 0;
   completeModes(input, result.modes, rigidTol, instabTol, result.solver.rfind("dense Meirovitch", 0) == 0, unreturned,
-                params_.get<bool>("Refine Decays"), params_.get<double>("Frequency Tolerance"));
+                params_.get<bool>("Refine Decays"), params_.get<double>("Frequency Tolerance"), result.numRequested,
+                dropped);
+  if (dropped > 0) {
+    std::ostringstream note;
+    note << "; " << dropped << " real value(s) dggev returned dropped: each refined onto a complex mode the list "
+         << "holds already, half of a conjugate pair rounding split onto the real axis (theory §5)";
+    result.reason += note.str();
+    if (params_.get<int>("Number of Modes") == -1 && sys.damped())
+      result.numRequested = static_cast<int>(result.modes.size());  // every mode: the split pair is one
+  }
   if (sys.damped()) result.reason += accuracyNote(result.modes, params_.get<double>("Frequency Tolerance"), "");
   if (noZeros) {
     const double below = params_.get<double>("Rigid Body Tolerance") * scale;

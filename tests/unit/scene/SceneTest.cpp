@@ -2551,12 +2551,18 @@ TEST(SceneRegression, FourIdenticalShaftsKeepEveryMemberOfTheirMultipleFrequenci
 // alone, both converged to -78.1 + 2.708 i, and the pair was printed three
 // times with "refined bounds" of 3.2e-5, a true mode pushed off the list (a
 // review). A refinement that repeats a shape another refined mode holds is
-// undone now (undoRepeatedRefinements, theory §5). Against the closed form
-// lambda = -alpha/2 + i sqrt(omega^2 - alpha^2/4): each refined mode within
-// its bound (plus 1e-8 |lambda| for the reference) of a closed-form value,
-// and no closed-form value held by more refined modes than its
-// multiplicity; a mode left unrefined is counted in the reason as not
-// shown.
+// undone now (undoRepeatedRefinements, theory §5). Undone, the split half
+// stayed in the list at -61.97 (its first-order error 8.3, "not shown"), a
+// value that is no eigenvalue, and the tenth mode was pushed off: the two
+// real values are one conjugate pair, held once (the member with Im > 0),
+// and the second half refined onto it again is dropped, the list filled
+// from the values past the count (theory §5, "A pair split onto the real
+// axis"). Against the closed form lambda = -alpha/2 + i sqrt(omega^2 -
+// alpha^2/4), in order: every mode within its reported error (plus 1e-8
+// |lambda| for the reference) of the closed form's, so each value is there
+// with its multiplicity and no other; each shown within the default
+// Frequency Tolerance. (Whether dggev splits a pair, and which, depends
+// on the BLAS kernels and the rank count: both members at two ranks.)
 TEST(SceneRegression, ANearCriticallyDampedPairIsNotRefinedOntoOneEigenvalueTwice) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
   const double alpha = 156.2;
@@ -2572,31 +2578,14 @@ TEST(SceneRegression, ANearCriticallyDampedPairIsNotRefinedOntoOneEigenvalueTwic
   analysis::ModalResult r;
   ASSERT_NO_THROW(r = analysis::ModalAnalysis(sc.structure, sc.solve, Teuchos::ParameterList()).run(comm));
   const auto& res = r.modes.result;
-  ASSERT_EQ(res.modes.size(), 10u);
-  std::vector<int> held(closedForm.size(), 0);
-  int unshown = 0;
+  ASSERT_EQ(res.modes.size(), 10u) << res.reason;
   for (std::size_t j = 0; j < res.modes.size(); ++j) {
     const auto& m = res.modes[j];
-    unshown += !(m.reportedError() <= 1e-5 * std::abs(m.lambda));
-    if (!(m.refinedError > 0.0)) continue;
-    std::size_t c = 0;
-    for (std::size_t i = 1; i < closedForm.size(); ++i)
-      if (std::abs(m.lambda - closedForm[i]) < std::abs(m.lambda - closedForm[c])) c = i;
-    EXPECT_LE(std::abs(m.lambda - closedForm[c]), m.refinedError + 1e-8 * std::abs(closedForm[c]))
-        << "mode " << j << ": " << m.lambda << " (refined bound " << m.refinedError << ") against " << closedForm[c];
-    ++held[c];
+    EXPECT_LE(std::abs(m.lambda - closedForm[j]), m.reportedError() + 1e-8 * std::abs(closedForm[j]))
+        << "mode " << j << ": " << m.lambda << " (error " << m.reportedError()
+        << (m.refinedError > 0.0 ? ", refined" : ", first order") << ") against " << closedForm[j];
+    EXPECT_LE(m.reportedError(), 1e-5 * std::abs(m.lambda)) << "mode " << j << ": " << res.reason;
   }
-  for (std::size_t c = 0; c < closedForm.size(); ++c) {
-    const long multiplicity = std::count_if(closedForm.begin(), closedForm.end(), [&](const std::complex<double>& o) {
-      return std::abs(o - closedForm[c]) <= 1e-9 * std::abs(closedForm[c]);
-    });
-    // held[] counts each refined mode at one representative of its value.
-    EXPECT_LE(held[c], multiplicity) << closedForm[c] << " held by " << held[c] << " refined modes";
-  }
-  if (unshown > 0)
-    EXPECT_NE(res.reason.find(std::to_string(unshown) + " mode(s) not shown within the Frequency Tolerance"),
-              std::string::npos)
-        << res.reason;
 }
 
 // The dense path's refinement stalled as the sparse path's had (theory §5,
