@@ -6,7 +6,6 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
-#include <tuple>
 #include <sstream>
 
 #include <Teuchos_BLAS.hpp>
@@ -1241,6 +1240,13 @@ std::vector<std::complex<double>> splitCluster(const std::vector<GyroscopicMode>
   return members;
 }
 
+/// A mode whose refinement showed its eigenvalue nonzero (theory §4.3, "A
+/// zero shown nonzero"): refined, |lambda| above ten times its bound. Set
+/// by completeModes only where |lambda| is also above the Rigid Body
+/// Tolerance of the mode's own componentwise scale; elsewhere the refinement
+/// takes no mode below the zero test (refineModes' `eligible`).
+bool shownNonzero(const GyroscopicMode& m) { return m.refinedError > 0.0 && std::abs(m.lambda) > 10.0 * m.refinedError; }
+
 /// Is a split cluster centred within twice its spread of zero?
 bool centredAtZero(const std::vector<std::complex<double>>& members) {
   std::complex<double> centre = 0.0;
@@ -1267,8 +1273,9 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       // of the block's scale is a zero, and a growth rate within that is
       // none (theory §4.3).
       const double split = m.blockScale > 0.0 && m.blockError > 0.0 ? 10.0 * std::sqrt(m.blockError) * s : 0.0;
-      m.stability = std::abs(m.lambda) <= split ? Stability::RigidBody
-                                                : classify(m.lambda, s, rigidBodyTol, instabilityTol);
+      m.stability = std::abs(m.lambda) <= split
+                        ? Stability::RigidBody
+                        : classify(m.lambda, s, shownNonzero(m) ? 0.0 : rigidBodyTol, instabilityTol);
       m.growthTolerance = std::max(m.growthTolerance, split);
       // A growth rate against the mode's own uncertainty where it was made
       // (completeDenseModes, measureRitzModes): beyond it, an instability;
@@ -1397,14 +1404,14 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       for (std::size_t b = a + 1; b < within3.size(); ++b) spread3 = std::max(spread3, std::abs(within3[a] - within3[b]));
     }
     const bool split = near2 >= 1 || (near3 >= 2 && nearest3 <= 10.0 * spread3);
-    Stability s = classify(m.lambda, scale, rigidBodyTol, instabilityTol);
+    Stability s = classify(m.lambda, scale, shownNonzero(m) ? 0.0 : rigidBodyTol, instabilityTol);
     // (Zeros stay judged on the system's scale, except those of the block
     // solved apart on its own (theory §4.3). Taking a value whose growth
     // exceeded ten times its first-order error bound for no zero made a
     // free body's defective rigid zero, computed at 4e-8 with a residual
     // of 1e-16, a DIVERGENCE on two ranks: that bound fails at a Jordan
     // block.)
-    if (std::abs(m.lambda) <= radius && zeroCentred) s = Stability::RigidBody;
+    if (std::abs(m.lambda) <= radius && zeroCentred && !shownNonzero(m)) s = Stability::RigidBody;
     else if (!partner && (s == Stability::Divergence || s == Stability::Flutter || m.lambda.real() > 0.0))
       s = Stability::Stable;
     else if ((s == Stability::Divergence || s == Stability::Flutter) && m.lambda.real() <= radius)
@@ -1637,6 +1644,54 @@ bool needsRefinement(const GyroscopicMode& m, const std::vector<GyroscopicMode>&
          uncertainFrequency(m, frequencyTol, zeroBelow);
 }
 
+/// Whether mode j's shape lies within the span of the shapes of the other
+/// modes whose values are within its reported error and theirs (the part
+/// orthogonal to them below 0.3 of its norm, as undoRepeatedRefinements):
+/// a refinement that found an eigenvalue the list holds already. A rod arm
+/// 1e16 times stiffer than its post: dggev's values 562 and 1528 (real,
+/// taken for zeros) refined onto the rigid-arm pair at 45.6672 that it
+/// listed, which was printed four times (completeModes' zero shown nonzero).
+bool repeatsAShapeHeld(const std::vector<GyroscopicMode>& modes, std::size_t j) {
+  const GyroscopicMode& m = modes[j];
+  std::vector<std::vector<cplx>> basis;
+  for (std::size_t o = 0; o < modes.size(); ++o) {
+    if (o == j || modes[o].q.size() != m.q.size() ||
+        !(std::abs(modes[o].lambda - m.lambda) <= m.reportedError() + modes[o].reportedError()))
+      continue;
+    std::vector<cplx> v(modes[o].q);
+    std::vector<const cplx*> b;
+    for (const auto& u : basis) b.push_back(u.data());
+    const auto [norm, rest] = projectOut(v.data(), static_cast<int>(v.size()), b);
+    if (!(rest > 1e-24 * norm)) continue;
+    for (auto& c : v) c /= std::sqrt(rest);
+    basis.push_back(std::move(v));
+  }
+  if (basis.empty()) return false;
+  std::vector<cplx> v(m.q);
+  std::vector<const cplx*> b;
+  for (const auto& u : basis) b.push_back(u.data());
+  const auto [norm, rest] = projectOut(v.data(), static_cast<int>(v.size()), b);
+  return !(rest > 0.09 * norm);
+}
+
+/// A shape's componentwise frequency scale, rad/s: sqrt(|q|^T |K + N| |q| /
+/// q^H M q) + |q|^T |G + D| |q| / q^H M q, what rounding of the entries the
+/// shape loads can do to its eigenvalue (GyroscopicMode::scale; completeModes'
+/// zero shown nonzero).
+double componentScale(const GyroscopicSystem& sys, const std::vector<cplx>& q) {
+  const int n = sys.size();
+  const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
+  double aK = 0.0, aC = 0.0, qMq = 0.0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double a = std::abs(q[i]) * std::abs(q[j]);
+      aK += std::abs(sys.K(i, j) + (hasN ? sys.N(i, j) : 0.0)) * a;
+      aC += std::abs(sys.G(i, j) + (hasD ? sys.D(i, j) : 0.0)) * a;
+      qMq += std::real(std::conj(q[i]) * sys.M(i, j) * q[j]);
+    }
+  return qMq > 0.0 ? std::sqrt(aK / qMq) + aC / qMq : std::numeric_limits<double>::infinity();
+}
+
 /// One cluster of refineModes, `members` (indices into `modes`), refined as
 /// one block. Returns whether any member changed.
 bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, const std::vector<int>& members) {
@@ -1867,10 +1922,11 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
 /// real axis, and the pair is one mode (the member with Im > 0): undone,
 /// the half stayed in the list at -61.97, no eigenvalue, "not shown", and
 /// pushed the tenth mode off. It is refined again alone, from dggev's value
-/// and shape (a genuine real eigenvalue a block carried onto its neighbour
-/// stays real from its own value), and where that too repeats a shape held
-/// it is dropped: returns the indices to drop (theory §5, "A pair split
-/// onto the real axis").
+/// and shape, and where that lands on a value and shape any mode of the list
+/// holds (repeatsAShapeHeld) it is dropped: returns the indices to drop
+/// (theory §5, "A pair split onto the real axis"). Elsewhere (a genuine real
+/// eigenvalue a block carried onto its neighbour stays off every held value
+/// from its own) it keeps dggev's value and first-order error.
 std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
                                          const std::vector<GyroscopicMode>& before, const std::vector<int>& unit) {
   std::vector<int> dropped;
@@ -1900,7 +1956,12 @@ std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vecto
     // members of the shaft's double pair were split, four real values in
     // one block, and refined into four copies). Such modes are compared
     // last, one by one, against every shape kept.
-    const auto converted = [&](int m) { return before[m].lambda.imag() == 0.0 && modes[m].lambda.imag() != 0.0; };
+    // Complex where its bound shows it: a real root refined with Im 1e-11
+    // within its bound is no conversion (an overdamped shaft's all-real
+    // spectrum had values "dropped" as halves of pairs it has not; a review).
+    const auto converted = [&](int m) {
+      return before[m].lambda.imag() == 0.0 && std::abs(modes[m].lambda.imag()) > modes[m].refinedError;
+    };
     std::vector<int> last;
     for (int m : group)
       if (converted(m)) last.push_back(m);
@@ -1945,17 +2006,28 @@ std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vecto
     }
     for (int m : last) {
       std::vector<cplx> v(modes[m].q);
-      auto [norm, rest] = project(v, basis);
+      const auto [norm, rest] = project(v, basis);
       if (!(rest > 0.09 * norm)) {
-        modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+        const auto restore = [&] {
+          modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+        };
+        restore();
         if (!refineCluster(sys, modes, {m})) continue;  // no step stood: dggev's value, first order
-        v = modes[m].q;
-        std::tie(norm, rest) = project(v, basis);
-        if (!(rest > 0.09 * norm)) {
-          if (converted(m)) dropped.push_back(m);  // the pair's other half, held already
-          else modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+        // Onto any value the list holds (not only this group's: two planes
+        // of unequal omega between their critical dampings, the half came
+        // back on the other plane's genuine real root, held in another group,
+        // and was printed twice; a review): the pair's other half.
+        if (repeatsAShapeHeld(modes, static_cast<std::size_t>(m))) {
+          dropped.push_back(m);
           continue;
         }
+        // Else dggev's value stays, with its first-order error: complex
+        // again on a value nobody holds, near a nearly defective pair (a
+        // spinning shaft near critical damping), such values came with bounds
+        // of 0.07-0.1 that the truth, 0.26 away, broke, and a real one with
+        // 0.146 where the truth was 0.355 away (a review).
+        restore();
+        continue;
       }
       for (auto& c : v) c /= std::sqrt(rest);
       basis.push_back(std::move(v));
@@ -2119,29 +2191,67 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
     modes.resize(static_cast<std::size_t>(wanted));
   }
   if (refined || cut) scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
-  classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
-  // A mode whose |lambda| lies within its own first-order error of zero
-  // cannot be told from a rigid-body motion, whatever the system's scale
-  // says (theory §4.3): a solid bar on a line of nodes, its free turn
-  // restrained only by a synthesised K's rounding, came out of dggev at
-  // 0.0109 rad/s within 0.15 (one BLAS thread on an AMD EPYC; at two it was
-  // below the Rigid Body Tolerance) and was printed as a vibration where the
-  // run is refused as "unrestrained". Not where the stiffness was proven
-  // nonsingular (rigidBodyTol = 0), nor on the Meirovitch path (each mode on
-  // its own scale), nor for a refined mode (its bound is not first order).
-  // Nor with gyroscopic terms: near a critical speed q^H Q'(lambda) q =
-  // 2 lambda q^H M q + q^H G q tends to zero and the first-order error
-  // overstates: a spinning support's mode at 4.6986 rad/s, 83 rad/s, has a
-  // first-order error about |lambda| where dense and sparse agree to six
-  // digits (a review; it is labelled critical anyway, by the system's
-  // scale: an open finding).
-  if (!ownScales && rigidBodyTol > 0.0 && !(frobeniusNorm(sys.G) > 0.0))
-    for (auto& m : modes)
-      if ((m.stability == Stability::Stable || m.stability == Stability::Neutral) && m.blockScale == 0.0 &&
-          m.refinedError == 0.0 && std::abs(m.lambda) <= m.eigenvalueError) {
-        m.stability = Stability::RigidBody, m.undecided = false;
-        zeroRigidDamping(m);
-      }
+  const auto judge = [&] {
+    classifyModes(modes, scale, rigidBodyTol, instabilityTol, !damped, /*completeShapes=*/true, unreturned);
+    // A mode whose |lambda| lies within its own first-order error of zero
+    // cannot be told from a rigid-body motion, whatever the system's scale
+    // says (theory §4.3): a solid bar on a line of nodes, its free turn
+    // restrained only by a synthesised K's rounding, came out of dggev at
+    // 0.0109 rad/s within 0.15 (one BLAS thread on an AMD EPYC; at two it was
+    // below the Rigid Body Tolerance) and was printed as a vibration where the
+    // run is refused as "unrestrained". Not where the stiffness was proven
+    // nonsingular (rigidBodyTol = 0), nor on the Meirovitch path (each mode on
+    // its own scale), nor for a refined mode (its bound is not first order).
+    // Nor with gyroscopic terms: near a critical speed q^H Q'(lambda) q =
+    // 2 lambda q^H M q + q^H G q tends to zero and the first-order error
+    // overstates: a spinning support's mode at 4.6986 rad/s, 83 rad/s, has a
+    // first-order error about |lambda| (below: shown nonzero by refinement).
+    if (!ownScales && rigidBodyTol > 0.0 && !(frobeniusNorm(sys.G) > 0.0))
+      for (auto& m : modes)
+        if ((m.stability == Stability::Stable || m.stability == Stability::Neutral) && m.blockScale == 0.0 &&
+            m.refinedError == 0.0 && std::abs(m.lambda) <= m.eigenvalueError) {
+          m.stability = Stability::RigidBody, m.undecided = false;
+          zeroRigidDamping(m);
+        }
+  };
+  judge();
+  // A zero by the system's scale, or by the radius a split defective zero
+  // could take, only: refined alone (two-sided inverse iteration with the
+  // user's matrices), it is shown nonzero where its |lambda| exceeds ten
+  // times its bound and the Rigid Body Tolerance of its own componentwise
+  // scale (what rounding of the entries it loads can do: a free turn held
+  // by K's rounding alone stays a zero). A shaft spinning with its support
+  // of E = 1e18 at 83 rad/s, past its critical speed, has its forward whirl
+  // at 4.6986 rad/s in the spinning frame, below 1e-6 of the system's scale
+  // (7e7 rad/s, the support's) and within 10 sqrt(eta) s: it was labelled
+  // critical, and with the shaft's material damping printed at 0 rad/s
+  // where it flutters (a review; theory §4.3, "A zero shown nonzero"). The
+  // dense solve only (`wanted` >= 0; not the sparse path's projection), not
+  // a mode solved apart (its block's scale is its own). One complex LU of
+  // n per such mode.
+  if (!ownScales && rigidBodyTol > 0.0 && wanted >= 0 && sys.unrestrained.empty()) {
+    const std::size_t n = static_cast<std::size_t>(sys.size());
+    bool shown = false;
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+      GyroscopicMode& m = modes[j];
+      if (m.stability != Stability::RigidBody || m.blockScale != 0.0 || m.refinedError != 0.0 ||
+          !(std::abs(m.lambda) > 0.0) || m.q.size() != n)
+        continue;
+      const GyroscopicMode was = m;
+      if (refineCluster(sys, modes, {static_cast<int>(j)}) && shownNonzero(m) &&
+          std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q) && !repeatsAShapeHeld(modes, j))
+        shown = true;
+      else
+        m = was;
+    }
+    if (shown) {
+      std::stable_sort(modes.begin(), modes.end(), [](const GyroscopicMode& a, const GyroscopicMode& b) {
+        return std::abs(a.lambda) < std::abs(b.lambda);
+      });
+      scale = measureModes(sys, modes, instabilityTol, ownScales, unreturned);
+      judge();
+    }
+  }
   if (circulatory && !ownScales)
     for (auto& m : modes) {
       const double s = m.scale > 0.0 ? std::min(m.scale, scale) : scale;
