@@ -1240,13 +1240,6 @@ std::vector<std::complex<double>> splitCluster(const std::vector<GyroscopicMode>
   return members;
 }
 
-/// A mode whose refinement showed its eigenvalue nonzero (theory §4.3, "A
-/// zero shown nonzero"): refined, |lambda| above ten times its bound. Set
-/// by completeModes only where |lambda| is also above the Rigid Body
-/// Tolerance of the mode's own componentwise scale; elsewhere the refinement
-/// takes no mode below the zero test (refineModes' `eligible`).
-bool shownNonzero(const GyroscopicMode& m) { return m.refinedError > 0.0 && std::abs(m.lambda) > 10.0 * m.refinedError; }
-
 /// Is a split cluster centred within twice its spread of zero?
 bool centredAtZero(const std::vector<std::complex<double>>& members) {
   std::complex<double> centre = 0.0;
@@ -1275,7 +1268,7 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       const double split = m.blockScale > 0.0 && m.blockError > 0.0 ? 10.0 * std::sqrt(m.blockError) * s : 0.0;
       m.stability = std::abs(m.lambda) <= split
                         ? Stability::RigidBody
-                        : classify(m.lambda, s, shownNonzero(m) ? 0.0 : rigidBodyTol, instabilityTol);
+                        : classify(m.lambda, s, m.shownNonzero ? 0.0 : rigidBodyTol, instabilityTol);
       m.growthTolerance = std::max(m.growthTolerance, split);
       // A growth rate against the mode's own uncertainty where it was made
       // (completeDenseModes, measureRitzModes): beyond it, an instability;
@@ -1404,14 +1397,14 @@ void classifyModes(std::vector<GyroscopicMode>& modes, double scale, double rigi
       for (std::size_t b = a + 1; b < within3.size(); ++b) spread3 = std::max(spread3, std::abs(within3[a] - within3[b]));
     }
     const bool split = near2 >= 1 || (near3 >= 2 && nearest3 <= 10.0 * spread3);
-    Stability s = classify(m.lambda, scale, shownNonzero(m) ? 0.0 : rigidBodyTol, instabilityTol);
+    Stability s = classify(m.lambda, scale, m.shownNonzero ? 0.0 : rigidBodyTol, instabilityTol);
     // (Zeros stay judged on the system's scale, except those of the block
     // solved apart on its own (theory §4.3). Taking a value whose growth
     // exceeded ten times its first-order error bound for no zero made a
     // free body's defective rigid zero, computed at 4e-8 with a residual
     // of 1e-16, a DIVERGENCE on two ranks: that bound fails at a Jordan
     // block.)
-    if (std::abs(m.lambda) <= radius && zeroCentred && !shownNonzero(m)) s = Stability::RigidBody;
+    if (std::abs(m.lambda) <= radius && zeroCentred && !m.shownNonzero) s = Stability::RigidBody;
     else if (!partner && (s == Stability::Divergence || s == Stability::Flutter || m.lambda.real() > 0.0))
       s = Stability::Stable;
     else if ((s == Stability::Divergence || s == Stability::Flutter) && m.lambda.real() <= radius)
@@ -2217,10 +2210,13 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   judge();
   // A zero by the system's scale, or by the radius a split defective zero
   // could take, only: refined alone (two-sided inverse iteration with the
-  // user's matrices), it is shown nonzero where its |lambda| exceeds ten
-  // times its bound and the Rigid Body Tolerance of its own componentwise
-  // scale (what rounding of the entries it loads can do: a free turn held
-  // by K's rounding alone stays a zero). A shaft spinning with its support
+  // user's matrices), it is shown nonzero where it oscillates, its
+  // frequency |Im lambda| above ten times its bound, and its |lambda| above
+  // sqrt(eps) s (below) and the Rigid Body Tolerance of its own
+  // componentwise scale (a free turn held by K's rounding alone stays a
+  // zero). Not a real value: at a critical speed itself the computed
+  // K(Omega) has cancelled, and its rounding, which no bound of the
+  // refinement sees, makes a divergence of either sign (a review). A shaft spinning with its support
   // of E = 1e18 at 83 rad/s, past its critical speed, has its forward whirl
   // at 4.6986 rad/s in the spinning frame, below 1e-6 of the system's scale
   // (7e7 rad/s, the support's) and within 10 sqrt(eta) s: it was labelled
@@ -2231,6 +2227,12 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   // n per such mode.
   if (!ownScales && rigidBodyTol > 0.0 && wanted >= 0 && sys.unrestrained.empty()) {
     const std::size_t n = static_cast<std::size_t>(sys.size());
+    // A double zero (a critical speed's Jordan block) split by a normwise
+    // perturbation eps of K moves by sqrt(eps) s: below that, a value the
+    // refinement "shows" is the computed K(Omega)'s rounding, whose entries
+    // have cancelled (a point mass exactly at its critical speed read
+    // DIVERGENCE at 2.1e-8 1/s within a "bound" of 3.8e-23; a review).
+    const double floor = std::sqrt(std::numeric_limits<double>::epsilon()) * scale;
     bool shown = false;
     for (std::size_t j = 0; j < modes.size(); ++j) {
       GyroscopicMode& m = modes[j];
@@ -2238,9 +2240,10 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
           !(std::abs(m.lambda) > 0.0) || m.q.size() != n)
         continue;
       const GyroscopicMode was = m;
-      if (refineCluster(sys, modes, {static_cast<int>(j)}) && shownNonzero(m) &&
-          std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q) && !repeatsAShapeHeld(modes, j))
-        shown = true;
+      if (refineCluster(sys, modes, {static_cast<int>(j)}) && std::abs(m.lambda.imag()) > 10.0 * m.refinedError &&
+          std::abs(m.lambda) > floor && std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q) &&
+          !repeatsAShapeHeld(modes, j))
+        m.shownNonzero = shown = true;
       else
         m = was;
     }

@@ -2714,6 +2714,37 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
     }
 }
 
+// A critical speed itself is an answer, not an instability: a point mass
+// on springs kx = 2, ky = 400 N/m (m = 1 kg) spinning in its own frame at
+// Omega = sqrt(kx / m), where K(Omega) = diag(kx - m Omega^2, ...) is
+// singular (Omega as the nearest double: sqrt(2), sqrt(5) with kx = 5). The
+// zero refinement (theory §4.3, "A zero shown nonzero") first refined the
+// zero to a real +2.1e-8 within a "bound" of 3.8e-23 and read DIVERGENCE:
+// the computed K(Omega)'s entry has cancelled, and its rounding (27% of
+// that value against the exact rate) is what no bound of the refinement
+// sees (a review). The lowest mode must read critical.
+TEST(SceneRegression, APointMassAtItsCriticalSpeedIsCriticalNotDivergent) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  for (double kx : {2.0, 5.0}) {
+    SCOPED_TRACE("kx " + std::to_string(kx));
+    std::ostringstream s;
+    s << std::setprecision(17) << "Scene:\n  Substructures:\n    mass:\n      Kind: C\n"
+      << "      Finite Element Model:\n        Mesh: " << CMS_TEST_DATA_DIR << "/meshes/point_mass.msh\n"
+      << "        Point Masses:\n          m: {Node Set: m, Mass: 1.0, Inertia: [0, 0, 0, 0, 0, 0]}\n"
+      << "        Springs:\n          s: {Node Set: m, Stiffness: [" << kx << ", 400.0, 1.0e4, 0, 0, 0]}\n"
+      << "      Spin: {Axis: [0.0, 0.0, 1.0], Origin: [0.0, 0.0, 0.0], Rate: " << std::sqrt(kx)
+      << ", Frame: Rotating}\n      Reduction: {Basis: Full}\n  Analysis: {Number of Modes: 6}\n";
+    std::vector<eigen::GyroscopicMode> ms;
+    ASSERT_NO_THROW(ms = rotorModes(s.str(), comm));
+    ASSERT_FALSE(ms.empty());
+    EXPECT_EQ(ms[0].stability, eigen::Stability::Critical)
+        << eigen::toString(ms[0].stability) << " at " << ms[0].lambda << " (refined bound " << ms[0].refinedError << ")";
+    for (const auto& m : ms)
+      EXPECT_TRUE(m.stability != eigen::Stability::Divergence && m.stability != eigen::Stability::Flutter)
+          << eigen::toString(m.stability) << " at " << m.lambda;
+  }
+}
+
 // The dense path's refinement stalled as the sparse path's had (theory §5,
 // "Stiff rows"; RefinementGate): the stiff-support shaft (bearing dampers,
 // beta 1e-5) spinning at 0.5 rad/s, its lowest pair split by 1.9e-3 rad/s,

@@ -84,6 +84,11 @@ struct GyroscopicMode {
   /// within ten times eigenvalueError is refined with its left vector, whose
   /// bound is tight on stiff rows where ||r|| ||q|| is not. 0: not refined.
   double refinedError = 0.0;
+  /// A mode the zero tests took (below the Rigid Body Tolerance of the
+  /// scale, or within a split zero's radius) that the dense solve refined
+  /// alone and showed to oscillate (theory §4.3, "A zero shown nonzero"):
+  /// it is classified by its growth, not as a zero. False elsewhere.
+  bool shownNonzero = false;
   /// A damped (or circulatory) system's mode whose positive growth rate,
   /// above the Instability Tolerance, stays within its uncertainty (after
   /// the refinement, where it was refined; undecidedGrowth, theory §13.3):
