@@ -2216,12 +2216,13 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   // componentwise scale (a free turn held by K's rounding alone stays a
   // zero). Not a real value: at a critical speed itself the computed
   // K(Omega) has cancelled, and its rounding, which no bound of the
-  // refinement sees, makes a divergence of either sign (a review). A shaft spinning with its support
-  // of E = 1e18 at 83 rad/s, past its critical speed, has its forward whirl
-  // at 4.6986 rad/s in the spinning frame, below 1e-6 of the system's scale
-  // (7e7 rad/s, the support's) and within 10 sqrt(eta) s: it was labelled
-  // critical, and with the shaft's material damping printed at 0 rad/s
-  // where it flutters (a review; theory §4.3, "A zero shown nonzero"). The
+  // refinement sees, makes a divergence of either sign (a review). A shaft
+  // spinning with its support of E = 1e18 at 83 rad/s, past its critical
+  // speed, has its forward whirl at 4.6986 rad/s in the spinning frame,
+  // below 1e-6 of the system's scale (7e7 rad/s, the support's) and within
+  // 10 sqrt(eta) s: it was labelled critical, and with the shaft's material
+  // damping printed at 0 rad/s where it flutters (a review; theory §4.3, "A
+  // zero shown nonzero"). The
   // dense solve only (`wanted` >= 0; not the sparse path's projection), not
   // a mode solved apart (its block's scale is its own). One complex LU of
   // n per such mode.
