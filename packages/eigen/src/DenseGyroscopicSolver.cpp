@@ -1626,6 +1626,40 @@ bool orthonormalise(int n, int p, std::vector<cplx>& X) {
   return true;
 }
 
+/// The span of shapes kept (undoRepeatedRefinements, repeatsAShapeHeld):
+/// an orthonormal basis grown by projectOut.
+struct ShapeSpan {
+  std::vector<std::vector<cplx>> basis;
+  /// v's squared norm, and that of its part orthogonal to the span (v is
+  /// left holding that part).
+  std::pair<double, double> project(std::vector<cplx>& v) const {
+    std::vector<const cplx*> b;
+    for (const auto& u : basis) b.push_back(u.data());
+    return projectOut(v.data(), static_cast<int>(v.size()), b);
+  }
+  /// Adds q's direction where its orthogonal part exceeds `minRest` of its
+  /// squared norm; returns whether it did.
+  bool add(std::vector<cplx> q, double minRest) {
+    const auto [norm, rest] = project(q);
+    if (!(rest > minRest * norm)) return false;
+    for (auto& c : q) c /= std::sqrt(rest);
+    basis.push_back(std::move(q));
+    return true;
+  }
+  /// Whether q lies within the span: its orthogonal part at most 0.09 of its
+  /// squared norm (0.3 of its norm, an angle of 17 degrees).
+  bool holds(std::vector<cplx> q) const {
+    const auto [norm, rest] = project(q);
+    return !(rest > 0.09 * norm);
+  }
+};
+
+/// A refined mode given back the value and shape the solve returned, and
+/// with them its first-order error (refinedError 0).
+void restoreSolved(GyroscopicMode& m, const GyroscopicMode& solved) {
+  m.lambda = solved.lambda, m.q = solved.q, m.refinedError = 0.0;
+}
+
 /// Whether a mode is a candidate for refineModes, and what it needs: its
 /// growth undecided (undecidedGrowth; with `decays`, a circulatory N,
 /// undecidedDecay too), or its frequency not shown within `frequencyTol`
@@ -1646,25 +1680,12 @@ bool needsRefinement(const GyroscopicMode& m, const std::vector<GyroscopicMode>&
 /// listed, which was printed four times (completeModes' zero shown nonzero).
 bool repeatsAShapeHeld(const std::vector<GyroscopicMode>& modes, std::size_t j) {
   const GyroscopicMode& m = modes[j];
-  std::vector<std::vector<cplx>> basis;
-  for (std::size_t o = 0; o < modes.size(); ++o) {
-    if (o == j || modes[o].q.size() != m.q.size() ||
-        !(std::abs(modes[o].lambda - m.lambda) <= m.reportedError() + modes[o].reportedError()))
-      continue;
-    std::vector<cplx> v(modes[o].q);
-    std::vector<const cplx*> b;
-    for (const auto& u : basis) b.push_back(u.data());
-    const auto [norm, rest] = projectOut(v.data(), static_cast<int>(v.size()), b);
-    if (!(rest > 1e-24 * norm)) continue;
-    for (auto& c : v) c /= std::sqrt(rest);
-    basis.push_back(std::move(v));
-  }
-  if (basis.empty()) return false;
-  std::vector<cplx> v(m.q);
-  std::vector<const cplx*> b;
-  for (const auto& u : basis) b.push_back(u.data());
-  const auto [norm, rest] = projectOut(v.data(), static_cast<int>(v.size()), b);
-  return !(rest > 0.09 * norm);
+  ShapeSpan span;
+  for (std::size_t o = 0; o < modes.size(); ++o)
+    if (o != j && modes[o].q.size() == m.q.size() &&
+        std::abs(modes[o].lambda - m.lambda) <= m.reportedError() + modes[o].reportedError())
+      span.add(modes[o].q, 1e-24);
+  return !span.basis.empty() && span.holds(m.q);
 }
 
 /// A shape's componentwise frequency scale, rad/s: sqrt(|q|^T |K + N| |q| /
@@ -1919,20 +1940,18 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
 /// holds (repeatsAShapeHeld) it is dropped: returns the indices to drop
 /// (theory §5, "A pair split onto the real axis"). Elsewhere (a genuine real
 /// eigenvalue a block carried onto its neighbour stays off every held value
-/// from its own) it keeps dggev's value and first-order error.
+/// from its own), and always without `dropHalves` (the sparse path's
+/// projection, which is not refined again), it keeps dggev's value and
+/// first-order error.
 std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes,
-                                         const std::vector<GyroscopicMode>& before, const std::vector<int>& unit) {
+                                         const std::vector<GyroscopicMode>& before, const std::vector<int>& unit,
+                                         bool dropHalves) {
   std::vector<int> dropped;
   const int k = static_cast<int>(modes.size());
   std::vector<int> refined;
   for (int j = 0; j < k; ++j)
     if (modes[j].refinedError > 0.0) refined.push_back(j);
   const auto moved = [&](int j) { return std::abs(modes[j].lambda - before[j].lambda); };
-  const auto project = [](std::vector<cplx>& v, const std::vector<std::vector<cplx>>& basis) {
-    std::vector<const cplx*> b;
-    for (const auto& u : basis) b.push_back(u.data());
-    return projectOut(v.data(), static_cast<int>(v.size()), b);
-  };
   std::vector<char> seen(k, 0);
   for (int j : refined) {
     if (seen[j]) continue;
@@ -1972,15 +1991,13 @@ std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vecto
       return d;
     };
     std::sort(units.begin(), units.end(), [&](int a, int b) { return least(a) < least(b); });
-    std::vector<std::vector<cplx>> basis;  // orthonormal, of the shapes kept
+    ShapeSpan kept;  // of the shapes kept
     for (int u : units) {
       std::vector<std::vector<cplx>> own;
       for (int m : group) {
         if (unit[m] != u || converted(m)) continue;
-        std::vector<cplx> v(modes[m].q);
-        const auto [norm, rest] = project(v, basis);
-        if (!basis.empty() && !(rest > 0.09 * norm)) {
-          modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
+        if (!kept.basis.empty() && kept.holds(modes[m].q)) {
+          restoreSolved(modes[m], before[m]);
           continue;
         }
         own.push_back(modes[m].q);
@@ -1989,41 +2006,27 @@ std::vector<int> undoRepeatedRefinements(const GyroscopicSystem& sys, std::vecto
       // Ritz vectors of a multiple value can be nearly parallel: zggev's
       // eigenvectors of a repeated eigenvalue; its values are the projected
       // problem's, with their multiplicity, and stand).
-      for (auto& v : own) {
-        const auto [norm, rest] = project(v, basis);
-        if (rest > 0.09 * norm) {
-          for (auto& c : v) c /= std::sqrt(rest);
-          basis.push_back(std::move(v));
-        }
-      }
+      for (auto& v : own) kept.add(std::move(v), 0.09);
     }
     for (int m : last) {
-      std::vector<cplx> v(modes[m].q);
-      const auto [norm, rest] = project(v, basis);
-      if (!(rest > 0.09 * norm)) {
-        const auto restore = [&] {
-          modes[m].lambda = before[m].lambda, modes[m].q = before[m].q, modes[m].refinedError = 0.0;
-        };
-        restore();
-        if (!refineCluster(sys, modes, {m})) continue;  // no step stood: dggev's value, first order
-        // Onto any value the list holds (not only this group's: two planes
-        // of unequal omega between their critical dampings, the half came
-        // back on the other plane's genuine real root, held in another group,
-        // and was printed twice; a review): the pair's other half.
-        if (repeatsAShapeHeld(modes, static_cast<std::size_t>(m))) {
-          dropped.push_back(m);
-          continue;
-        }
-        // Else dggev's value stays, with its first-order error: complex
-        // again on a value nobody holds, near a nearly defective pair (a
-        // spinning shaft near critical damping), such values came with bounds
-        // of 0.07-0.1 that the truth, 0.26 away, broke, and a real one with
-        // 0.146 where the truth was 0.355 away (a review).
-        restore();
+      if (kept.add(modes[m].q, 0.09)) continue;
+      restoreSolved(modes[m], before[m]);
+      // Without `dropHalves` (the sparse path's projection) it stays so.
+      if (!dropHalves || !refineCluster(sys, modes, {m})) continue;  // no step stood: dggev's value, first order
+      // Onto any value the list holds (not only this group's: two planes
+      // of unequal omega between their critical dampings, the half came
+      // back on the other plane's genuine real root, held in another group,
+      // and was printed twice; a review): the pair's other half.
+      if (repeatsAShapeHeld(modes, static_cast<std::size_t>(m))) {
+        dropped.push_back(m);
         continue;
       }
-      for (auto& c : v) c /= std::sqrt(rest);
-      basis.push_back(std::move(v));
+      // Else dggev's value stays, with its first-order error: complex
+      // again on a value nobody holds, near a nearly defective pair (a
+      // spinning shaft near critical damping), such values came with bounds
+      // of 0.07-0.1 that the truth, 0.26 away, broke, and a real one with
+      // 0.146 where the truth was 0.355 away (a review).
+      restoreSolved(modes[m], before[m]);
     }
   }
   std::sort(dropped.begin(), dropped.end());
@@ -2133,10 +2136,8 @@ bool refineModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes
     }
   }
   if (any) {
-    const std::vector<int> halves = undoRepeatedRefinements(sys, modes, before, unit);
-    for (auto h = halves.rbegin(); h != halves.rend(); ++h)
-      if (dropHalves) modes.erase(modes.begin() + *h), ++dropped;
-      else modes[*h].lambda = before[*h].lambda, modes[*h].q = before[*h].q, modes[*h].refinedError = 0.0;
+    const std::vector<int> halves = undoRepeatedRefinements(sys, modes, before, unit, dropHalves);
+    for (auto h = halves.rbegin(); h != halves.rend(); ++h) modes.erase(modes.begin() + *h), ++dropped;
   }
   return any;
 }
