@@ -1706,9 +1706,49 @@ double componentScale(const GyroscopicSystem& sys, const std::vector<cplx>& q) {
   return qMq > 0.0 ? std::sqrt(aK / qMq) + aC / qMq : std::numeric_limits<double>::infinity();
 }
 
+/// How far rounding of the matrices' entries can move the refined value
+/// lambda (right vector x, left y) of the computed system, to first order:
+/// a perturbation dQ moves it by y^H dQ(lambda) x / y^H Q'(lambda) x, and
+/// with |dK| <= kappa eps sys.KMagnitude (the magnitudes of K's parts,
+/// which hold its cancellation at a critical speed) and the other matrices'
+/// entries rounded to kappa eps of their own magnitudes, at most
+///   kappa eps |y|^T (R + |N| + |lambda| (|G| + |D|) + |lambda|^2 |M|) |x| / |y^H Q'(lambda) x|.
+/// kappa = 64: an assembled entry is a sum of element contributions of
+/// some ten operations each (10 eps of its magnitude), the sum of K's parts
+/// adds two, and near a double root (a critical speed's Jordan block) the
+/// first-order move understates by two the perturbation that reaches zero;
+/// the rest is margin. Infinite where sys.KMagnitude is not given or Q'
+/// vanishes (completeModes' zero shown nonzero; theory §4.3).
+double roundingReach(const GyroscopicSystem& sys, cplx lambda, const std::vector<cplx>& x,
+                     const std::vector<cplx>& y) {
+  const int n = sys.size();
+  if (sys.KMagnitude.numRows() != n || static_cast<int>(x.size()) != n || static_cast<int>(y.size()) != n)
+    return std::numeric_limits<double>::infinity();
+  const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
+  const double l = std::abs(lambda);
+  double reach = 0.0;
+  cplx slope = 0.0;  // y^H Q'(lambda) x, Q'(lambda) = 2 lambda M + G + D
+  for (int j = 0; j < n; ++j) {
+    const double ax = std::abs(x[j]);
+    for (int i = 0; i < n; ++i) {
+      const double c = hasD ? sys.D(i, j) : 0.0;
+      reach += std::abs(y[i]) * ax *
+               (sys.KMagnitude(i, j) + (hasN ? std::abs(sys.N(i, j)) : 0.0) +
+                l * (std::abs(sys.G(i, j)) + std::abs(c)) + l * l * std::abs(sys.M(i, j)));
+      slope += std::conj(y[i]) * (2.0 * lambda * sys.M(i, j) + sys.G(i, j) + c) * x[j];
+    }
+  }
+  constexpr double kappa = 64.0;
+  const double move = kappa * std::numeric_limits<double>::epsilon() * reach;
+  return std::abs(slope) > 0.0 ? move / std::abs(slope) : std::numeric_limits<double>::infinity();
+}
+
 /// One cluster of refineModes, `members` (indices into `modes`), refined as
-/// one block. Returns whether any member changed.
-bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, const std::vector<int>& members) {
+/// one block. Returns whether any member changed. With `left` and one
+/// member, the left vector of the value kept (y^H Q(lambda) = 0; empty
+/// where dggev's value stands).
+bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& modes, const std::vector<int>& members,
+                   std::vector<cplx>* left = nullptr) {
   const int n = sys.size(), p = static_cast<int>(members.size());
   const std::size_t N = static_cast<std::size_t>(n);
   const bool hasD = sys.D.numRows() == n, hasN = sys.N.numRows() == n;
@@ -1744,10 +1784,10 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   struct Kept {
     double best = std::numeric_limits<double>::infinity();
     cplx lambda;
-    std::vector<cplx> x;
+    std::vector<cplx> x, y;
   };
   std::vector<Kept> kept(p);
-  std::vector<std::vector<cplx>> bestX(p);
+  std::vector<std::vector<cplx>> bestX(p), bestY(p);
   std::vector<cplx> x(n), y(n), Kx(n), Cx(n), Mx(n);
   // Eight steps, the least standing bound kept (RefinementGate): with
   // three and the last kept, the stiff-support shaft spinning at 0.5 rad/s
@@ -1863,11 +1903,11 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
           weighted += std::abs(y[i]) * std::abs(Kx[i] + e[t].lambda * (Cx[i] + e[t].lambda * Mx[i]));
         const double bound = twoSidedBound(e[t].lambda, e[t].change, e[t].changeBefore, a, b, rounding);
         lastX[t] = x;
-        if (gate[t].offer(step, e[t], bound, weighted / std::abs(2.0 * e[t].lambda * a + b))) bestX[t] = x;
+        if (gate[t].offer(step, e[t], bound, weighted / std::abs(2.0 * e[t].lambda * a + b))) bestX[t] = x, bestY[t] = y;
       }
     }
     for (int t = 0; t < p; ++t)
-      if (gate[t].best < kept[t].best) kept[t] = {gate[t].best, gate[t].bestLambda, bestX[t]};
+      if (gate[t].best < kept[t].best) kept[t] = {gate[t].best, gate[t].bestLambda, bestX[t], bestY[t]};
   }
   // A block member no step of which stands is finished alone, from its
   // Ritz value and vector, with Q factored there: the block separates the
@@ -1901,11 +1941,14 @@ bool refineCluster(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
     if (!std::isfinite(kept[t].best)) continue;  // finished alone above, or left as it was
     if (!(kept[t].best < std::max(m.growthTolerance, m.eigenvalueError))) continue;
     m.lambda = kept[t].lambda, m.q = kept[t].x, m.refinedError = kept[t].best;
+    if (left && p == 1) *left = kept[t].y;
     // A mode is the member of its conjugate pair with Im >= 0 (generalModes):
     // a real value refined into a complex one can land on either member.
     if (m.lambda.imag() < 0.0) {
       m.lambda = std::conj(m.lambda);
       for (auto& c : m.q) c = std::conj(c);
+      if (left && p == 1)
+        for (auto& c : *left) c = std::conj(c);
     }
     any = true;
   }
@@ -2211,40 +2254,54 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   judge();
   // A zero by the system's scale, or by the radius a split defective zero
   // could take, only: refined alone (two-sided inverse iteration with the
-  // user's matrices), it is shown nonzero where it oscillates, its
-  // frequency |Im lambda| above ten times its bound, and its |lambda| above
-  // sqrt(eps) s (below) and the Rigid Body Tolerance of its own
-  // componentwise scale (a free turn held by K's rounding alone stays a
-  // zero). Not a real value: at a critical speed itself the computed
-  // K(Omega) has cancelled, and its rounding, which no bound of the
-  // refinement sees, makes a divergence of either sign (a review). A shaft
-  // spinning with its support of E = 1e18 at 83 rad/s, past its critical
-  // speed, has its forward whirl at 4.6986 rad/s in the spinning frame,
-  // below 1e-6 of the system's scale (7e7 rad/s, the support's) and within
-  // 10 sqrt(eta) s: it was labelled critical, and with the shaft's material
-  // damping printed at 0 rad/s where it flutters (a review; theory §4.3, "A
-  // zero shown nonzero"). The
-  // dense solve only (`wanted` >= 0; not the sparse path's projection), not
-  // a mode solved apart (its block's scale is its own). One complex LU of
-  // n per such mode.
+  // user's matrices), it is shown nonzero where its shape repeats none held
+  // and, where K's parts are known (sys.KMagnitude, assembled entry by
+  // entry), where |lambda| exceeds ten times its refined bound and what
+  // rounding of the entries can move it (roundingReach), real or complex.
+  // Without them only an oscillation is: |Im lambda| above ten times its
+  // bound, |lambda| above sqrt(eps) s (below) and the Rigid Body Tolerance
+  // of its own componentwise scale (a free turn held by K's rounding alone
+  // stays a zero), and never a real value, since at a critical speed the
+  // computed K(Omega) has cancelled, and its rounding, which no bound of
+  // the refinement sees, makes a divergence of either sign (a point mass
+  // exactly at its critical speed read DIVERGENCE at 2.1e-8 1/s within a
+  // "bound" of 3.8e-23; a review); the parts' magnitudes hold that
+  // cancellation. A shaft spinning with its support of E = 1e18 at 83 rad/s,
+  // past its critical speed, has its forward whirl at 4.6986 rad/s in the
+  // spinning frame, below 1e-6 of the system's scale (7e7 rad/s, the
+  // support's) and within 10 sqrt(eta) s: it was labelled critical, and
+  // with the shaft's material damping printed at 0 rad/s where it flutters
+  // (a review); on the scales alone a window of 0.3-0.6 rad/s about the
+  // critical speed still read so, with the parts' bound 0.04. A lag hinge
+  // on the spin axis of a flexible hub diverges at 0.124 1/s at 20 rad/s,
+  // below 1e-6 of the system's scale, and was refused as "unrestrained"
+  // (theory §4.3, "A zero shown nonzero"; §17.3). The dense solve only
+  // (`wanted` >= 0; not the sparse path's projection), not a mode solved
+  // apart (its block's scale is its own). One complex LU of n per such mode.
   if (!ownScales && rigidBodyTol > 0.0 && wanted >= 0 && sys.unrestrained.empty()) {
     const std::size_t n = static_cast<std::size_t>(sys.size());
     // A double zero (a critical speed's Jordan block) split by a normwise
     // perturbation eps of K moves by sqrt(eps) s: below that, a value the
-    // refinement "shows" is the computed K(Omega)'s rounding, whose entries
-    // have cancelled (a point mass exactly at its critical speed read
-    // DIVERGENCE at 2.1e-8 1/s within a "bound" of 3.8e-23; a review).
+    // refinement "shows" may be the computed K(Omega)'s rounding.
     const double floor = std::sqrt(std::numeric_limits<double>::epsilon()) * scale;
     bool shown = false;
+    const bool parts = sys.KMagnitude.numRows() == static_cast<int>(n);
     for (std::size_t j = 0; j < modes.size(); ++j) {
       GyroscopicMode& m = modes[j];
       if (m.stability != Stability::RigidBody || m.blockScale != 0.0 || m.refinedError != 0.0 ||
           !(std::abs(m.lambda) > 0.0) || m.q.size() != n)
         continue;
       const GyroscopicMode was = m;
-      if (refineCluster(sys, modes, {static_cast<int>(j)}) && std::abs(m.lambda.imag()) > 10.0 * m.refinedError &&
-          std::abs(m.lambda) > floor && std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q) &&
-          !repeatsAShapeHeld(modes, j))
+      std::vector<cplx> left;
+      if (!refineCluster(sys, modes, {static_cast<int>(j)}, &left)) {
+        m = was;
+        continue;
+      }
+      const bool nonzero =
+          parts ? std::abs(m.lambda) > 10.0 * m.refinedError && std::abs(m.lambda) > roundingReach(sys, m.lambda, m.q, left)
+                : std::abs(m.lambda.imag()) > 10.0 * m.refinedError && std::abs(m.lambda) > floor &&
+                      std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q);
+      if (nonzero && !repeatsAShapeHeld(modes, j))
         m.shownNonzero = shown = true;
       else
         m = was;

@@ -1,5 +1,8 @@
 #include "cms/eigen/GyroscopicSystem.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "cms/core/Error.hpp"
 #include "cms/eigen/DenseGyroscopicSolver.hpp"
 
@@ -31,6 +34,17 @@ void GyroscopicSystem::validate(double relTol) const {
                                          << " but M is " << n << "x" << n
                                          << " (leave it 0x0 for none)");
     requireFinite(*A, std::string("GyroscopicSystem: ") + name);
+  }
+  if (KMagnitude.numRows() != 0 || KMagnitude.numCols() != 0) {
+    CMS_INPUT_CHECK(KMagnitude.numRows() != n || KMagnitude.numCols() != n,
+                    "GyroscopicSystem: KMagnitude is " << KMagnitude.numRows() << "x" << KMagnitude.numCols()
+                                                       << " but M is " << n << "x" << n << " (leave it 0x0 for none)");
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        CMS_INPUT_CHECK(!(KMagnitude(i, j) >= std::abs(K(i, j)) * (1.0 - 1e-12)) || !std::isfinite(KMagnitude(i, j)),
+                        "GyroscopicSystem: KMagnitude(" << i << ", " << j << ") = " << KMagnitude(i, j)
+                                                        << " is not a finite magnitude of K's parts (|K(i, j)| = "
+                                                        << std::abs(K(i, j)) << ")");
   }
   for (std::size_t i = 0; i < unrestrained.size(); ++i)
     CMS_INPUT_CHECK(unrestrained[i] < 0 || unrestrained[i] >= n || (i > 0 && unrestrained[i] <= unrestrained[i - 1]),
@@ -75,12 +89,14 @@ void GyroscopicSystem::validate(double relTol) const {
 }
 
 GyroscopicSystem GyroscopicSystem::symmetrised() const {
-  GyroscopicSystem s{M, G, K, D, N, unrestrained};
+  GyroscopicSystem s{M, G, K, D, N, unrestrained, KMagnitude};
   const int n = size();
   const bool hasD = D.numRows() == n && n > 0, hasN = N.numRows() == n && n > 0;
+  const bool hasR = KMagnitude.numRows() == n && n > 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < j; ++i) {
       s.M(i, j) = s.M(j, i) = 0.5 * (M(i, j) + M(j, i));
+      if (hasR) s.KMagnitude(i, j) = s.KMagnitude(j, i) = std::max(KMagnitude(i, j), KMagnitude(j, i));
       s.K(i, j) = s.K(j, i) = 0.5 * (K(i, j) + K(j, i));
       s.G(i, j) = 0.5 * (G(i, j) - G(j, i));
       s.G(j, i) = -s.G(i, j);

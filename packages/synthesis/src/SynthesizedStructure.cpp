@@ -1182,6 +1182,13 @@ void SynthesizedStructure::finishMatrices(Sums& sums) {
     if (F.is_null()) return symmetric(sum, sign);
     return symmetric(Tpetra::MatrixMatrix::add(1.0, false, *sum, 1.0, false, *F), sign);
   };
+  // Before the sums below fold the reduced parts in: K is entrywise where
+  // none of its parts is a projection (an element-assembled entry's
+  // rounding is a few eps of its own magnitude; a projection's, of
+  // B^T |K| B, which its cancellation can leave far above |B^T K B|).
+  kEntrywise_ = sums.K0.is_null() && std::all_of(sums.K2.begin(), sums.K2.end(), [](const auto& t) {
+                  return t.second.is_null();
+                });
   M_ = total(sums.M, sums.fullM, 1.0);
   const auto K0 = total(sums.K0, sums.fullK0, 1.0);
   for (std::size_t i = 0; i < sums.G.size(); ++i) sums.G[i] = total(sums.G[i], sums.fullG[i], -1.0);
@@ -1234,6 +1241,7 @@ struct SynthesizedStructure::DensePieces {
   std::vector<DenseMatrix> G;  ///< per speed parameter (0 x 0: none)
   std::vector<DenseMatrix> N;  ///< circulatory, per speed parameter (0 x 0: none)
   std::vector<std::tuple<int, int, DenseMatrix>> K2;
+  bool entrywise = false;  ///< kEntrywise_: out.KMagnitude is formed
 };
 
 eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<double>& s) const {
@@ -1254,6 +1262,7 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
     for (const auto& Gi : G_) d->G.push_back(Gi.is_null() ? DenseMatrix() : toDense(*Gi));
     for (const auto& Ni : N_) d->N.push_back(Ni.is_null() ? DenseMatrix() : toDense(*Ni));
     for (const auto& t : K2_) d->K2.emplace_back(t.i, t.j, toDense(*t.K));
+    d->entrywise = kEntrywise_;
     pieces = d;
   }
   // G(s) = sum_i s_i G_i, K(s) = K0 + sum s_i s_j K_ij, entry by entry in
@@ -1268,11 +1277,21 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
     if (d.G[i].numRows() == n && s[i] != 0.0)
       for (int c = 0; c < n; ++c)
         for (int r = 0; r < n; ++r) out.G(r, c) += s[i] * d.G[i](r, c);
+  // With the magnitudes of the parts summed, what K's rounding is relative
+  // to (GyroscopicSystem::KMagnitude; theory §4.3, "A zero shown nonzero").
+  if (d.entrywise) {
+    out.KMagnitude = DenseMatrix(n, n);
+    for (int col = 0; col < n; ++col)
+      for (int r = 0; r < n; ++r) out.KMagnitude(r, col) = std::abs(d.K0(r, col));
+  }
   for (const auto& [i, j, Kij] : d.K2) {
     const double c = s[static_cast<std::size_t>(i)] * s[static_cast<std::size_t>(j)];
     if (c == 0.0) continue;
     for (int col = 0; col < n; ++col)
       for (int r = 0; r < n; ++r) out.K(r, col) += c * Kij(r, col);
+    if (d.entrywise)
+      for (int col = 0; col < n; ++col)
+        for (int r = 0; r < n; ++r) out.KMagnitude(r, col) += std::abs(c * Kij(r, col));
   }
   if (d.D.numRows() == n) out.D = d.D;
   for (std::size_t i = 0; i < d.N.size(); ++i) {

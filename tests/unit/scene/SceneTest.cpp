@@ -2679,7 +2679,13 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
       << material << "}\n      Reduction: {Basis: Full}\n  Analysis: {Number of Modes: 6, Solver: Dense}\n";
     return s.str();
   };
-  for (double rate : {80.0, 83.0})
+  // 78.0 and 78.6 rad/s, 0.29 and 0.31 rad/s from the critical speed
+  // (78.29): in the window that still read critical where only the
+  // system's scale bounded what rounding could do (1e-6 of the mode's own
+  // componentwise scale); read with the bound of K's parts
+  // (GyroscopicSystem::KMagnitude), as the rest. Damped, the truth flutters
+  // at 78.6 (+1.2e-5 1/s), and was printed at 0 rad/s, "critical".
+  for (double rate : {78.0, 78.6, 80.0, 83.0})
     for (const std::string material : {"", ", Structural Damping: {Rayleigh Beta: 1.0e-6}"}) {
       SCOPED_TRACE(std::to_string(rate) + " rad/s" + material);
       std::vector<eigen::GyroscopicMode> spinning, stationary;
@@ -2687,12 +2693,14 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
       ASSERT_NO_THROW(stationary = rotorModes(scene(rate, false, material), comm));
       ASSERT_GE(spinning.size(), 1u);
       ASSERT_GE(stationary.size(), 2u);
-      // The stationary frame's forward whirl: of its lowest pair, the one
-      // whose image in the spinning frame is the lowest.
+      // The stationary frame's forward whirl: of its lowest pair, the
+      // higher (the tip disc's gyroscopic moment stiffens the forward
+      // whirl; the image of the backward one can be the lower: at 78.0
+      // rad/s the backward whirl is at 78.0016, its image 0.0016).
       const auto image = [&](const eigen::GyroscopicMode& s) {
         return std::complex<double>(s.lambda.real(), std::abs(s.lambda.imag() - rate));
       };
-      const auto& fw = std::abs(image(stationary[0])) < std::abs(image(stationary[1])) ? stationary[0] : stationary[1];
+      const auto& fw = stationary[0].omega > stationary[1].omega ? stationary[0] : stationary[1];
       const auto& m = spinning[0];
       EXPECT_NE(m.stability, eigen::Stability::Critical) << m.lambda;
       EXPECT_NE(m.stability, eigen::Stability::RigidBody) << m.lambda;
@@ -2700,8 +2708,10 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
           << m.lambda << " (error " << m.reportedError() << (m.refinedError > 0.0 ? ", refined" : ", first order")
           << ") against " << image(fw) << " (error " << fw.reportedError() << ")";
       // Shown, not only within a first-order error of |lambda| (the
-      // default Frequency Tolerance's 1e-5).
-      EXPECT_LE(m.reportedError(), 1e-5 * std::abs(m.lambda)) << m.lambda;
+      // default Frequency Tolerance's 1e-5; in the window, 1e-4: the
+      // refinement's bound there is its functional's rounding on this
+      // system's scale, 3.3e-6 rad/s, 1.1e-5 of 0.29 rad/s).
+      EXPECT_LE(m.reportedError(), (rate < 79.0 ? 1e-4 : 1e-5) * std::abs(m.lambda)) << m.lambda;
       // Damped, the forward whirl flutters past its critical speed (the
       // material damping's circulatory term) in either frame. Undamped, the
       // verdict is not compared: the conservative verdict's k = 3 radius,

@@ -27,6 +27,15 @@ struct GyroscopicSystem {
   /// its own normwise scale, so the general path solves them again through
   /// the Schur complement of the other coordinates (theory §4.3).
   std::vector<int> unrestrained;
+  /// Optional, entrywise >= 0: the magnitudes of the parts K was summed
+  /// from, |K_0| + sum |s_i s_j| |K_ij| (K(Omega) = K_0 + Omega^2 (K_S1 -
+  /// K_T1)), where each part was assembled entry by entry (no products of
+  /// reduced bases, whose entries cancel). K's entries then carry rounding
+  /// of a few eps of these, not of |K|: at a critical speed K_0 and
+  /// Omega^2 K_T1 cancel. The dense solver bounds what rounding can do to a
+  /// mode near zero with it (theory §4.3, "A zero shown nonzero"). 0 x 0:
+  /// not known (the zero tests stay on the system's scale).
+  DenseMatrix KMagnitude;
 
   int size() const { return M.numRows(); }
   /// D or N present and not all zero: the spectrum is no longer Hamiltonian.

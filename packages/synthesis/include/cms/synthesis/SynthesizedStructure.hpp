@@ -472,6 +472,10 @@ private:
     Teuchos::RCP<const CrsMatrix> K;
   };
   std::vector<KTerm> K2_;
+  /// K0_ and K2_ hold no reduced part's products B^T K B, only entries
+  /// assembled from elements (Full substructures, monolithically): their
+  /// magnitudes then bound K's rounding (GyroscopicSystem::KMagnitude).
+  bool kEntrywise_ = false;
   std::vector<SubstructureReduction> reports_;
   double seconds_ = 0.0, basesSeconds_ = 0.0;
 };
