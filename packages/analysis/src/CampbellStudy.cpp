@@ -491,6 +491,29 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     r.speeds.push_back(speedsAt(r.factors.back()));
   }
   const auto grid = problem.solveAll(r.speeds, params_.get<int>("Threads"));
+  // K(Omega)'s count of negative eigenvalues at each grid speed (a
+  // factorisation each): where it changes over a step a frequency passes
+  // through zero inside it. Taken before the tracking, which follows such a
+  // mode through the step, and bisected after it (zero-frequency critical
+  // speeds, below).
+  const double step = r.factors.size() > 1 ? std::abs(r.factors[1] - r.factors[0]) : 1.0;
+  std::vector<StiffnessCount> counts(r.factors.size());
+  std::vector<double> countAt(r.factors.begin(), r.factors.end());  // where counts[k] was taken
+  {
+    const StiffnessCount first = problem.stiffnessCount(speedsAt(r.factors[0]));
+    r.zeroCountsTaken = first.available;
+    if (!r.zeroCountsTaken) r.zeroCountsNote = first.why;  // the model gives none
+    for (std::size_t k = 0; k < r.factors.size() && r.zeroCountsTaken; ++k) {
+      counts[k] = k == 0 ? first : problem.stiffnessCount(speedsAt(r.factors[k]));
+      if (counts[k].negative < 0) {
+        countAt[k] = r.factors[k] + crossingTol * step;
+        counts[k] = problem.stiffnessCount(speedsAt(countAt[k]));
+      }
+      if (counts[k].negative < 0)
+        r.zeroCountsNote = counts[k].why + " (at " + std::to_string(refAt(r.factors[k])) + " rad/s; the steps beside "
+                           "it not searched)";
+    }
+  }
   std::vector<std::pair<int, int>> unstableSteps;  // each range's first and last grid step
   for (int k = 0; k < steps; ++k) {
     const double f = r.factors[k];
@@ -639,6 +662,36 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     for (const auto& [v, t, j] : pairs)
       if (match[t] < 0 && !used[j] && accept(t, j))
         match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v);
+    // A vibration mode through zero frequency inside the step comes back
+    // conjugated (a pair is listed by its member with Im >= 0): its shape is
+    // the conjugate of its continuation, whose MAC with the track's last
+    // mode is low, and the track was lost there, the mode entering as a new
+    // one (the shaft on its 1e18 support past its critical speed, once the
+    // zero refinement showed it nonzero at 78.02 rad/s: before, a grid
+    // speed in the window that read "critical" carried it, as a zero takes
+    // any MAC). Where the count of K(Omega)'s negative eigenvalues changes
+    // over the step, tracks left unmatched take unused modes by the MAC of
+    // their conjugates (the floor as above, the largest first), at most as
+    // many as the count changed.
+    if (r.zeroCountsTaken && counts[k - 1].negative >= 0 && counts[k].negative >= 0 &&
+        counts[k].negative != counts[k - 1].negative) {
+      std::vector<eigen::GyroscopicMode> conjugated(modes);
+      for (auto& m : conjugated)
+        for (auto& c : m.q) c = std::conj(c);
+      const auto conjugateMac = problem.mac(last, conjugated);
+      std::vector<std::tuple<double, int, int>> through;
+      for (std::size_t t = 0; t < last.size(); ++t)
+        for (std::size_t j = 0; j < modes.size(); ++j)
+          if (match[t] < 0 && !used[j] && !zeroFrequency(last[t].stability) && !zeroFrequency(modes[j].stability) &&
+              conjugateMac[t][j] >= macFloor)
+            through.push_back({conjugateMac[t][j], static_cast<int>(t), static_cast<int>(j)});
+      std::stable_sort(through.begin(), through.end(),
+                       [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
+      long long left = std::llabs(counts[k].negative - counts[k - 1].negative);
+      for (const auto& [v, t, j] : through)
+        if (left > 0 && match[t] < 0 && !used[j])
+          match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v), --left;
+    }
     for (std::size_t t = 0; t < r.tracks.size(); ++t) {
       auto& tr = r.tracks[t];
       const int j = match[t];
@@ -897,22 +950,6 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   //    speed is the bracket's end; refused there too, the brackets beside
   //    it are not searched, and the note says where.
   {
-    const double step = r.factors.size() > 1 ? std::abs(r.factors[1] - r.factors[0]) : 1.0;
-    std::vector<StiffnessCount> counts(r.factors.size());
-    std::vector<double> at(r.factors.begin(), r.factors.end());
-    const StiffnessCount first = problem.stiffnessCount(speedsAt(r.factors[0]));
-    r.zeroCountsTaken = first.available;
-    if (!r.zeroCountsTaken) r.zeroCountsNote = first.why;  // the model gives none
-    for (std::size_t k = 0; k < r.factors.size() && r.zeroCountsTaken; ++k) {
-      counts[k] = k == 0 ? first : problem.stiffnessCount(speedsAt(r.factors[k]));
-      if (counts[k].negative < 0) {
-        at[k] = r.factors[k] + crossingTol * step;
-        counts[k] = problem.stiffnessCount(speedsAt(at[k]));
-      }
-      if (counts[k].negative < 0)
-        r.zeroCountsNote = counts[k].why + " (at " + std::to_string(refAt(r.factors[k])) + " rad/s; the steps beside "
-                           "it not searched)";
-    }
     const std::function<void(double, long long, double, long long)> search = [&](double lo, long long cLo, double hi,
                                                                               long long cHi) {
       if (cLo == cHi) return;
@@ -937,7 +974,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     if (r.zeroCountsTaken)
       for (std::size_t k = 1; k < r.factors.size(); ++k)
         if (counts[k - 1].negative >= 0 && counts[k].negative >= 0)
-          search(at[k - 1], counts[k - 1].negative, at[k], counts[k].negative);
+          search(countAt[k - 1], counts[k - 1].negative, countAt[k], counts[k].negative);
   }
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.

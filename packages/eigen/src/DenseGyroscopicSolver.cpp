@@ -2254,28 +2254,29 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
   judge();
   // A zero by the system's scale, or by the radius a split defective zero
   // could take, only: refined alone (two-sided inverse iteration with the
-  // user's matrices), it is shown nonzero where its shape repeats none held
-  // and, where K's parts are known (sys.KMagnitude, assembled entry by
-  // entry), where |lambda| exceeds ten times its refined bound and what
-  // rounding of the entries can move it (roundingReach), real or complex.
-  // Without them only an oscillation is: |Im lambda| above ten times its
-  // bound, |lambda| above sqrt(eps) s (below) and the Rigid Body Tolerance
+  // user's matrices), it is shown nonzero where it oscillates, |Im lambda|
+  // above ten times its bound, its shape repeats none held, and |lambda|
+  // exceeds ten times what rounding of the entries can move it
+  // (roundingReach) where K's parts are known (sys.KMagnitude, assembled
+  // entry by entry: their magnitudes hold K(Omega)'s cancellation at a
+  // critical speed), else sqrt(eps) s (below) and the Rigid Body Tolerance
   // of its own componentwise scale (a free turn held by K's rounding alone
-  // stays a zero), and never a real value, since at a critical speed the
-  // computed K(Omega) has cancelled, and its rounding, which no bound of
-  // the refinement sees, makes a divergence of either sign (a point mass
-  // exactly at its critical speed read DIVERGENCE at 2.1e-8 1/s within a
-  // "bound" of 3.8e-23; a review); the parts' magnitudes hold that
-  // cancellation. A shaft spinning with its support of E = 1e18 at 83 rad/s,
+  // stays a zero). Never a real value: at a critical speed itself the
+  // computed K(Omega) has cancelled (a point mass exactly at its critical
+  // speed read DIVERGENCE at 2.1e-8 1/s within a "bound" of 3.8e-23; a
+  // review), and with the parts' bound a mechanism still read DIVERGENCE
+  // where K_S1 carries the prestress solve's rounding, which R does not
+  // hold (a blade on a lag hinge on the axis, its inner element 1e8 times
+  // softer axially: 0.0225 1/s at 100 rad/s), or where only the mesh keeps
+  // a zero from zero (the same blade coned: 0.00282, 0.00142 1/s at 4 and
+  // 8 elements; a review). A shaft spinning with its support of E = 1e18 at 83 rad/s,
   // past its critical speed, has its forward whirl at 4.6986 rad/s in the
   // spinning frame, below 1e-6 of the system's scale (7e7 rad/s, the
   // support's) and within 10 sqrt(eta) s: it was labelled critical, and
   // with the shaft's material damping printed at 0 rad/s where it flutters
   // (a review); on the scales alone a window of 0.3-0.6 rad/s about the
-  // critical speed still read so, with the parts' bound 0.04. A lag hinge
-  // on the spin axis of a flexible hub diverges at 0.124 1/s at 20 rad/s,
-  // below 1e-6 of the system's scale, and was refused as "unrestrained"
-  // (theory §4.3, "A zero shown nonzero"; §17.3). The dense solve only
+  // critical speed still read so, with the parts' bound 0.04 (theory §4.3,
+  // "A zero shown nonzero"). The dense solve only
   // (`wanted` >= 0; not the sparse path's projection), not a mode solved
   // apart (its block's scale is its own). One complex LU of n per such mode.
   if (!ownScales && rigidBodyTol > 0.0 && wanted >= 0 && sys.unrestrained.empty()) {
@@ -2297,10 +2298,19 @@ void completeModes(const GyroscopicSystem& sys, std::vector<GyroscopicMode>& mod
         m = was;
         continue;
       }
+      const double reach = parts ? roundingReach(sys, m.lambda, m.q, left) : 0.0;
       const bool nonzero =
-          parts ? std::abs(m.lambda) > 10.0 * m.refinedError && std::abs(m.lambda) > roundingReach(sys, m.lambda, m.q, left)
-                : std::abs(m.lambda.imag()) > 10.0 * m.refinedError && std::abs(m.lambda) > floor &&
-                      std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q);
+          std::abs(m.lambda.imag()) > 10.0 * m.refinedError &&
+          (parts ? std::abs(m.lambda) > 10.0 * reach
+                 : std::abs(m.lambda) > floor && std::abs(m.lambda) > rigidBodyTol * componentScale(sys, m.q));
+      // Ten times the reach: a point mass 1e-14 below its critical speed,
+      // shown beyond its reach once (0.7 |lambda|), printed 9.2339e-7 rad/s
+      // within a refined bound of 2.6e-21 where the exact is 9.2582e-7 (a
+      // review): the bound, as every mode's, takes the computed matrices as
+      // exact, and a mode shown nonzero is one their rounding moves by at
+      // most a tenth of itself (the reach is a worst case: the shaft's 0.307
+      // rad/s at 78.6 rad/s, reach 1.35e-5, agrees with the stationary
+      // frame's model to 6e-10).
       if (nonzero && !repeatsAShapeHeld(modes, j))
         m.shownNonzero = shown = true;
       else

@@ -2727,6 +2727,59 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
     }
 }
 
+// A Campbell track follows its mode through a critical speed between two
+// grid speeds: the shaft of the test above, in its spinning frame, swept
+// from 0 to 166 rad/s in 11 steps (its critical speed, 78.29, between 66.4
+// and 83). Past it the forward whirl's eigenvalue i (omega_FW - Omega) comes
+// back as its conjugate (a pair is listed by its member with Im >= 0), its
+// shape conjugated, whose MAC with the mode before is ~0: the track was lost
+// at 83 rad/s and the mode entered as a new track ("left the requested
+// modes"). Before the zero refinement narrowed the window that reads
+// "critical" (theory §4.3), the 101-step sweep had a grid speed in it, and a
+// zero takes any MAC; with the window narrowed the track was lost there too
+// (theory §12.1). The lowest track must be |omega_FW - Omega| at every
+// speed, never lost, omega_FW from the stationary-frame model of the same
+// shaft (the test above), within 1e-6 of it (both models' errors and
+// rounding at this scale are below 1e-8 rad/s).
+TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGridSpeeds) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const auto scene = [](double rate, bool spinningFrame) {
+    std::ostringstream s;
+    s << "Scene:\n  Substructures:\n    support:\n      Kind: C\n"
+      << "      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 1.0e18, Density: 7800.0, "
+         "Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start}\n";
+    if (spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Stress Stiffening: false}\n";
+    s << "      Reduction: {Basis: Full}\n    shaft:\n      Kind: " << (spinningFrame ? "E" : "A")
+      << "\n      Parent: support\n      Attachment: {Parent Nodes: end, Nodes: start}\n";
+    if (!spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Frame: Stationary}\n";
+    s << "      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 50, Young's Modulus: 2.0e11, Density: 7800.0, "
+         "Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, "
+         "Tip Inertia: [0.02, 0.01, 0.01]}\n      Reduction: {Basis: Full}\n"
+      << "  Analysis: {Number of Modes: 6, Solver: Dense}\n";
+    return s.str();
+  };
+  const auto sc = parse(scene(83.0, true));
+  const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto s = synthesis::SynthesizedStructure::synthesize(a);
+  Teuchos::ParameterList study;
+  study.set("Steps", 11);
+  const auto r = analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, sc.solve));
+  ASSERT_EQ(r.zeroFrequencySpeeds.size(), 1u) << r.zeroCountsNote;
+  EXPECT_NEAR(r.zeroFrequencySpeeds[0], 78.2927, 1e-4 * 78.29);
+  ASSERT_FALSE(r.tracks.empty());
+  const auto& low = r.tracks[0];
+  for (std::size_t k = 0; k < r.speeds.size(); ++k) {
+    const double W = r.speeds[k][0];
+    SCOPED_TRACE(std::to_string(W) + " rad/s");
+    ASSERT_FALSE(low.lost[k]) << "the lowest track lost";
+    if (W == 0.0) continue;  // at rest the pair is double: either whirl
+    const auto stationary = rotorModes(scene(W, false), comm);
+    ASSERT_GE(stationary.size(), 2u);
+    const double fw = std::max(stationary[0].omega, stationary[1].omega);
+    EXPECT_NEAR(low.omega[k], std::abs(fw - W), 1e-6 * fw) << "forward whirl " << fw;
+  }
+}
+
 // A critical speed itself is an answer, not an instability: a point mass
 // on springs kx = 2, ky = 400 N/m (m = 1 kg) spinning in its own frame at
 // Omega = sqrt(kx / m), where K(Omega) = diag(kx - m Omega^2, ...) is
