@@ -2739,11 +2739,13 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
 // zero takes any MAC; with the window narrowed the track was lost there too
 // (theory §12.1). The lowest track must be |omega_FW - Omega| at every
 // speed, never lost, omega_FW from the stationary-frame model of the same
-// shaft (the test above), within 1e-4 of it: the sweep's undamped dense
-// solves keep dggev's values, unrefined (0.0027 rad/s off, 3.5e-5 of
-// omega_FW, at 116.2 rad/s with OpenBLAS's Nehalem kernels; within 1e-6
-// with Zen's), and the nearest other mode of the spinning frame is 150 rad/s
-// from this one, so the branch is told apart all the same.
+// shaft (the test above), within 1e-3 of it (0.078 rad/s): the sweep's
+// undamped dense solves keep dggev's values, unrefined, whose first-order
+// error on this system's scale (s = 7e7 rad/s) is about eps s^2 / (2
+// omega) = 0.014 rad/s at 37.8 rad/s (0.0027 off at 116.2 rad/s with
+// OpenBLAS's Nehalem kernels, within 7.8e-5 with Zen's), while every other
+// mode of the spinning frame is at least 17 rad/s from this branch above
+// rest, so the branch is told apart all the same.
 TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGridSpeeds) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
   const auto scene = [](double rate, bool spinningFrame) {
@@ -2779,7 +2781,7 @@ TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGr
     const auto stationary = rotorModes(scene(W, false), comm);
     ASSERT_GE(stationary.size(), 2u);
     const double fw = std::max(stationary[0].omega, stationary[1].omega);
-    EXPECT_NEAR(low.omega[k], std::abs(fw - W), 1e-4 * fw) << "forward whirl " << fw;
+    EXPECT_NEAR(low.omega[k], std::abs(fw - W), 1e-3 * fw) << "forward whirl " << fw;
   }
 }
 
