@@ -2644,6 +2644,30 @@ TEST(SceneRegression, ASplitHalfRefinedOntoAnotherPlanesRealRootIsDropped) {
   }
 }
 
+namespace {
+/// The shaft of the near-critical tests below (50 Full elements, tip disc)
+/// on a 2-element support of E = 1e18, spinning at `rate` about x: in its
+/// spinning frame (the support C spins, the shaft E turns with it) or in
+/// the stationary frame (the shaft A with Frame: Stationary); `material`
+/// is appended to the shaft's Beam map.
+std::string shaftOnStiffSupport(double rate, bool spinningFrame, const std::string& material = "") {
+  std::ostringstream s;
+  s << "Scene:\n  Substructures:\n    support:\n      Kind: C\n"
+    << "      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 1.0e18, Density: 7800.0, "
+       "Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start}\n";
+  if (spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Stress Stiffening: false}\n";
+  s << "      Reduction: {Basis: Full}\n    shaft:\n      Kind: " << (spinningFrame ? "E" : "A")
+    << "\n      Parent: support\n      Attachment: {Parent Nodes: end, Nodes: start}\n";
+  if (!spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Frame: Stationary}\n";
+  s << "      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 50, Young's Modulus: 2.0e11, Density: 7800.0, "
+       "Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, "
+       "Tip Inertia: [0.02, 0.01, 0.01]"
+    << material << "}\n      Reduction: {Basis: Full}\n  Analysis: {Number of Modes: 6, Solver: Dense}\n";
+  return s.str();
+}
+
+}  // namespace
+
 // Near a critical speed, seen from the spinning frame: a 2-element support
 // of E = 1e18 spins at Omega about x with the shaft (E, turning with it; no
 // stress stiffening, none arises for a shaft on its spin axis), past the
@@ -2664,21 +2688,6 @@ TEST(SceneRegression, ASplitHalfRefinedOntoAnotherPlanesRealRootIsDropped) {
 // 1e-9 Omega for the two models' rounding at the scale of the speed.
 TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const auto scene = [](double rate, bool spinningFrame, const std::string& material) {
-    std::ostringstream s;
-    s << "Scene:\n  Substructures:\n    support:\n      Kind: C\n"
-      << "      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 1.0e18, Density: 7800.0, "
-         "Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start}\n";
-    if (spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Stress Stiffening: false}\n";
-    s << "      Reduction: {Basis: Full}\n    shaft:\n      Kind: " << (spinningFrame ? "E" : "A")
-      << "\n      Parent: support\n      Attachment: {Parent Nodes: end, Nodes: start}\n";
-    if (!spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Frame: Stationary}\n";
-    s << "      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 50, Young's Modulus: 2.0e11, Density: 7800.0, "
-         "Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, "
-         "Tip Inertia: [0.02, 0.01, 0.01]"
-      << material << "}\n      Reduction: {Basis: Full}\n  Analysis: {Number of Modes: 6, Solver: Dense}\n";
-    return s.str();
-  };
   // 78.0 and 78.6 rad/s, 0.29 and 0.31 rad/s from the critical speed
   // (78.29): in the window that still read critical where only the
   // system's scale bounded what rounding could do (1e-6 of the mode's own
@@ -2689,8 +2698,8 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
     for (const std::string material : {"", ", Structural Damping: {Rayleigh Beta: 1.0e-6}"}) {
       SCOPED_TRACE(std::to_string(rate) + " rad/s" + material);
       std::vector<eigen::GyroscopicMode> spinning, stationary;
-      ASSERT_NO_THROW(spinning = rotorModes(scene(rate, true, material), comm));
-      ASSERT_NO_THROW(stationary = rotorModes(scene(rate, false, material), comm));
+      ASSERT_NO_THROW(spinning = rotorModes(shaftOnStiffSupport(rate, true, material), comm));
+      ASSERT_NO_THROW(stationary = rotorModes(shaftOnStiffSupport(rate, false, material), comm));
       ASSERT_GE(spinning.size(), 1u);
       ASSERT_GE(stationary.size(), 2u);
       // The stationary frame's forward whirl: of its lowest pair, the
@@ -2748,22 +2757,7 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
 // rest, so the branch is told apart all the same.
 TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGridSpeeds) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const auto scene = [](double rate, bool spinningFrame) {
-    std::ostringstream s;
-    s << "Scene:\n  Substructures:\n    support:\n      Kind: C\n"
-      << "      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 1.0e18, Density: 7800.0, "
-         "Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start}\n";
-    if (spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Stress Stiffening: false}\n";
-    s << "      Reduction: {Basis: Full}\n    shaft:\n      Kind: " << (spinningFrame ? "E" : "A")
-      << "\n      Parent: support\n      Attachment: {Parent Nodes: end, Nodes: start}\n";
-    if (!spinningFrame) s << "      Spin: {Axis: [1, 0, 0], Rate: " << rate << ", Frame: Stationary}\n";
-    s << "      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 50, Young's Modulus: 2.0e11, Density: 7800.0, "
-         "Area: 1.2566e-3, Iy: 1.2566e-7, Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, "
-         "Tip Inertia: [0.02, 0.01, 0.01]}\n      Reduction: {Basis: Full}\n"
-      << "  Analysis: {Number of Modes: 6, Solver: Dense}\n";
-    return s.str();
-  };
-  const auto sc = parse(scene(83.0, true));
+  const auto sc = parse(shaftOnStiffSupport(83.0, true));
   const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
   const auto s = synthesis::SynthesizedStructure::synthesize(a);
   Teuchos::ParameterList study;
@@ -2778,7 +2772,7 @@ TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGr
     SCOPED_TRACE(std::to_string(W) + " rad/s");
     ASSERT_FALSE(low.lost[k]) << "the lowest track lost";
     if (W == 0.0) continue;  // at rest the pair is double: either whirl
-    const auto stationary = rotorModes(scene(W, false), comm);
+    const auto stationary = rotorModes(shaftOnStiffSupport(W, false), comm);
     ASSERT_GE(stationary.size(), 2u);
     const double fw = std::max(stationary[0].omega, stationary[1].omega);
     EXPECT_NEAR(low.omega[k], std::abs(fw - W), 1e-3 * fw) << "forward whirl " << fw;
