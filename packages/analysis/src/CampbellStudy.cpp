@@ -673,6 +673,19 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     // over the step, tracks left unmatched take unused modes by the MAC of
     // their conjugates (the floor as above, the largest first), at most as
     // many as the count changed.
+    // Only a mode near enough to zero at both speeds: through zero within
+    // the step, omega_{k-1} + omega_k is the frequency's change over it,
+    // at most 4 times the largest rate's (a whirl's image moves by up to
+    // 1 + Jp / Jd <= 3 times the rate). Past the zero the forward whirl has
+    // the backward whirl's sense and nearly its shape, the pass above can
+    // give the backward track either, and without this the forward track
+    // took the backward mode (MAC ~1), and a 1X crossing was invented
+    // between them, at one rank and not at two (a review: a 20-element
+    // shaft, a small disc, 15 of 56 step counts).
+    double rateStep = 0.0;
+    for (std::size_t p = 0; p < r.parameters.size(); ++p)
+      rateStep = std::max(rateStep, std::abs(r.speeds[static_cast<std::size_t>(k)][p] -
+                                             r.speeds[static_cast<std::size_t>(k - 1)][p]));
     if (r.zeroCountsTaken && counts[k - 1].negative >= 0 && counts[k].negative >= 0 &&
         counts[k].negative != counts[k - 1].negative) {
       std::vector<eigen::GyroscopicMode> conjugated(modes);
@@ -683,7 +696,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       for (std::size_t t = 0; t < last.size(); ++t)
         for (std::size_t j = 0; j < modes.size(); ++j)
           if (match[t] < 0 && !used[j] && !zeroFrequency(last[t].stability) && !zeroFrequency(modes[j].stability) &&
-              conjugateMac[t][j] >= macFloor)
+              conjugateMac[t][j] >= macFloor && last[t].omega + modes[j].omega <= 4.0 * rateStep)
             through.push_back({conjugateMac[t][j], static_cast<int>(t), static_cast<int>(j)});
       std::stable_sort(through.begin(), through.end(),
                        [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });

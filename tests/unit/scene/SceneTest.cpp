@@ -2779,6 +2779,35 @@ TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGr
   }
 }
 
+// No crossing is invented where a track follows its mode through zero: the
+// same shaft with 20 elements and a small disc (tip inertia 2e-4, 1e-4),
+// swept to 166 rad/s in 40 steps. Past its critical speed (78.22) the
+// forward whirl has the backward whirl's sense and nearly its shape, and
+// the first form of the track-through-zero rule (theory §12.1) gave the
+// forward track the backward mode (MAC ~1): a 1X "critical speed" at 78.70
+// rad/s between them, at one rank and not at two (a review; 15 of 56 step
+// counts). The only 1X crossing is the forward whirl's image meeting the
+// line, Omega = omega_FW - Omega: 39.11 rad/s (the stationary-frame model's
+// images agree to 1e-7; the review). Allowed: the bisection's tolerance.
+TEST(SceneRegression, ATrackThroughZeroInventsNoCrossing) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  std::string text = shaftOnStiffSupport(83.0, true);
+  text.replace(text.find("Elements: 50"), 12, "Elements: 20");
+  text.replace(text.find("Tip Inertia: [0.02, 0.01, 0.01]"), 31, "Tip Inertia: [2.0e-4, 1.0e-4, 1.0e-4]");
+  const auto sc = parse(text);
+  const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto s = synthesis::SynthesizedStructure::synthesize(a);
+  Teuchos::ParameterList study;
+  study.set("Steps", 40);
+  const auto r = analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, sc.solve));
+  ASSERT_EQ(r.zeroFrequencySpeeds.size(), 1u) << r.zeroCountsNote;
+  std::vector<double> oneX;
+  for (const auto& c : r.crossings)
+    if (c.order == 1.0) oneX.push_back(c.speed);
+  ASSERT_EQ(oneX.size(), 1u) << (oneX.size() > 1 ? oneX[1] : 0.0);
+  EXPECT_NEAR(oneX[0], 39.11, 1e-3 * 39.11);
+}
+
 // A critical speed itself is an answer, not an instability: a point mass
 // on springs kx = 2, ky = 400 N/m (m = 1 kg) spinning in its own frame at
 // Omega = sqrt(kx / m), where K(Omega) = diag(kx - m Omega^2, ...) is
