@@ -2666,6 +2666,18 @@ std::string shaftOnStiffSupport(double rate, bool spinningFrame, const std::stri
   return s.str();
 }
 
+/// The Campbell study of a scene's structure (its Analysis), `steps` speeds
+/// from rest to twice the nominal rates.
+analysis::CampbellResult campbellOf(const std::string& text, int steps,
+                                    const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const auto sc = parse(text);
+  const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
+  const auto s = synthesis::SynthesizedStructure::synthesize(a);
+  Teuchos::ParameterList study;
+  study.set("Steps", steps);
+  return analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, sc.solve));
+}
+
 }  // namespace
 
 // Near a critical speed, seen from the spinning frame: a 2-element support
@@ -2757,12 +2769,7 @@ TEST(SceneRegression, AModeNearACriticalSpeedIsShownNonzeroByItsRefinement) {
 // rest, so the branch is told apart all the same.
 TEST(SceneRegression, ACampbellTrackFollowsItsModeThroughACriticalSpeedBetweenGridSpeeds) {
   auto comm = Teuchos::DefaultComm<int>::getComm();
-  const auto sc = parse(shaftOnStiffSupport(83.0, true));
-  const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
-  const auto s = synthesis::SynthesizedStructure::synthesize(a);
-  Teuchos::ParameterList study;
-  study.set("Steps", 11);
-  const auto r = analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, sc.solve));
+  const auto r = campbellOf(shaftOnStiffSupport(83.0, true), 11, comm);
   ASSERT_EQ(r.zeroFrequencySpeeds.size(), 1u) << r.zeroCountsNote;
   EXPECT_NEAR(r.zeroFrequencySpeeds[0], 78.2927, 1e-4 * 78.29);
   ASSERT_FALSE(r.tracks.empty());
@@ -2794,12 +2801,7 @@ TEST(SceneRegression, ATrackThroughZeroInventsNoCrossing) {
   std::string text = shaftOnStiffSupport(83.0, true);
   text.replace(text.find("Elements: 50"), 12, "Elements: 20");
   text.replace(text.find("Tip Inertia: [0.02, 0.01, 0.01]"), 31, "Tip Inertia: [2.0e-4, 1.0e-4, 1.0e-4]");
-  const auto sc = parse(text);
-  const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
-  const auto s = synthesis::SynthesizedStructure::synthesize(a);
-  Teuchos::ParameterList study;
-  study.set("Steps", 40);
-  const auto r = analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, sc.solve));
+  const auto r = campbellOf(text, 40, comm);
   ASSERT_EQ(r.zeroFrequencySpeeds.size(), 1u) << r.zeroCountsNote;
   std::vector<double> oneX;
   for (const auto& c : r.crossings)
