@@ -682,12 +682,12 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     // took the backward mode (MAC ~1), and a 1X crossing was invented
     // between them, at one rank and not at two (a review: a 20-element
     // shaft, a small disc, 15 of 56 step counts).
-    double rateStep = 0.0;
-    for (std::size_t p = 0; p < r.parameters.size(); ++p)
-      rateStep = std::max(rateStep, std::abs(r.speeds[static_cast<std::size_t>(k)][p] -
-                                             r.speeds[static_cast<std::size_t>(k - 1)][p]));
     if (r.zeroCountsTaken && counts[k - 1].negative >= 0 && counts[k].negative >= 0 &&
         counts[k].negative != counts[k - 1].negative) {
+      double rateStep = 0.0;
+      for (std::size_t p = 0; p < r.parameters.size(); ++p)
+        rateStep = std::max(rateStep, std::abs(r.speeds[static_cast<std::size_t>(k)][p] -
+                                               r.speeds[static_cast<std::size_t>(k - 1)][p]));
       std::vector<eigen::GyroscopicMode> conjugated(modes);
       for (auto& m : conjugated)
         for (auto& c : m.q) c = std::conj(c);

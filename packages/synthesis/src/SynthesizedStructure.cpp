@@ -1241,7 +1241,6 @@ struct SynthesizedStructure::DensePieces {
   std::vector<DenseMatrix> G;  ///< per speed parameter (0 x 0: none)
   std::vector<DenseMatrix> N;  ///< circulatory, per speed parameter (0 x 0: none)
   std::vector<std::tuple<int, int, DenseMatrix>> K2;
-  bool entrywise = false;  ///< kEntrywise_: out.KMagnitude is formed
 };
 
 eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<double>& s) const {
@@ -1262,7 +1261,6 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
     for (const auto& Gi : G_) d->G.push_back(Gi.is_null() ? DenseMatrix() : toDense(*Gi));
     for (const auto& Ni : N_) d->N.push_back(Ni.is_null() ? DenseMatrix() : toDense(*Ni));
     for (const auto& t : K2_) d->K2.emplace_back(t.i, t.j, toDense(*t.K));
-    d->entrywise = kEntrywise_;
     pieces = d;
   }
   // G(s) = sum_i s_i G_i, K(s) = K0 + sum s_i s_j K_ij, entry by entry in
@@ -1279,7 +1277,7 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
         for (int r = 0; r < n; ++r) out.G(r, c) += s[i] * d.G[i](r, c);
   // With the magnitudes of the parts summed, what K's rounding is relative
   // to (GyroscopicSystem::KMagnitude; theory §4.3, "A zero shown nonzero").
-  if (d.entrywise) {
+  if (kEntrywise_) {
     out.KMagnitude = DenseMatrix(n, n);
     for (int col = 0; col < n; ++col)
       for (int r = 0; r < n; ++r) out.KMagnitude(r, col) = std::abs(d.K0(r, col));
@@ -1289,7 +1287,7 @@ eigen::GyroscopicSystem SynthesizedStructure::denseSystem(const std::vector<doub
     if (c == 0.0) continue;
     for (int col = 0; col < n; ++col)
       for (int r = 0; r < n; ++r) out.K(r, col) += c * Kij(r, col);
-    if (d.entrywise)
+    if (kEntrywise_)
       for (int col = 0; col < n; ++col)
         for (int r = 0; r < n; ++r) out.KMagnitude(r, col) += std::abs(c * Kij(r, col));
   }
