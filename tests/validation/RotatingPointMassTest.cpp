@@ -197,6 +197,74 @@ TEST(RotatingPointMass, AnUnstableRangeOpenAtTheSweepsEndSaysSo) {
       << os.str();
 }
 
+// A divergence band that no grid speed falls in (speeds 0, 15, 30 about the
+// band (20, 25)): every grid speed is stable, and the sweep said so, though
+// the count of K's negative eigenvalues, already taken and bisected for the
+// zero-frequency speeds 20 and 25, is 1 between them: det K < 0 there, so
+// det(lambda^2 M + lambda G + K) has a real positive root, whatever G and
+// the damping (theory §12.1, "A band between two speeds"). The band must be
+// listed unstable, its edges the bisected zeros (to the Crossing Tolerance
+// 1e-9 of the speed, doubled: the bracket's middle within half its width,
+// and the count's zero pivot a rounding away), with or without "Refine
+// Crossings" (the count is bisected either way). Before, no range was
+// listed (found by a review).
+TEST(RotatingPointMass, ADivergenceBandBetweenTwoSweepSpeedsIsListed) {
+  for (const bool refine : {true, false}) {
+    Teuchos::ParameterList study;
+    study.set("Steps", 3);
+    study.set("Max Factor", 1.0);
+    study.set("Crossing Tolerance", 1e-9);
+    study.set("Refine Crossings", refine);
+    const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
+    ASSERT_EQ(d.zeroFrequencySpeeds.size(), 2u) << "the premise: both zeros found by the count";
+    ASSERT_EQ(d.unstableRanges.size(), 1u) << "refine " << refine;
+    EXPECT_NEAR(d.unstableRanges[0].first, 20.0, 2e-9 * 20.0);
+    EXPECT_NEAR(d.unstableRanges[0].second, 25.0, 2e-9 * 25.0);
+    ASSERT_EQ(d.unstableOpen.size(), 1u);
+    EXPECT_FALSE(d.unstableOpen[0].first);
+    EXPECT_FALSE(d.unstableOpen[0].second);
+    std::ostringstream os;
+    d.printCrossings(os);
+    EXPECT_NE(os.str().find("odd number of negative eigenvalues"), std::string::npos) << os.str();
+    // The same band seen at a grid speed (22.5 of 0, 7.5, ..., 30) gives
+    // the same edges: the two ways agree.
+    study.set("Steps", 5);
+    const auto g = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
+    ASSERT_EQ(g.unstableRanges.size(), 1u);
+    if (refine) {
+      EXPECT_NEAR(g.unstableRanges[0].first, d.unstableRanges[0].first, 2e-9 * 20.0);
+      EXPECT_NEAR(g.unstableRanges[0].second, d.unstableRanges[0].second, 2e-9 * 25.0);
+    }
+  }
+  // No false alarm: isotropic springs pass both frequencies through zero
+  // at one speed (20 rad/s; the count goes 0 to 2 there), and the mass is
+  // gyroscopically stable on either side: no range.
+  auto iso = pointMass();
+  iso.K0(1, 1) = kx;
+  Teuchos::ParameterList study;
+  study.set("Steps", 3);
+  study.set("Max Factor", 1.0);
+  study.set("Crossing Tolerance", 1e-9);
+  const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(iso, "frame", 30.0));
+  ASSERT_EQ(d.zeroFrequencySpeeds.size(), 1u);
+  EXPECT_NEAR(d.zeroFrequencySpeeds[0], 20.0, 2e-9 * 20.0);
+  EXPECT_TRUE(d.unstableRanges.empty());
+  // Where a circulatory N acts the parity proves nothing (p(0) = det(K +
+  // N)): the same counts, said to come with N, list no band.
+  class WithCirculation : public analysis::DenseSweepProblem {
+  public:
+    using analysis::DenseSweepProblem::DenseSweepProblem;
+    analysis::StiffnessCount stiffnessCount(const std::vector<double>& speeds) const override {
+      auto c = analysis::DenseSweepProblem::stiffnessCount(speeds);
+      c.circulatory = true;
+      return c;
+    }
+  };
+  const auto n = analysis::CampbellStudy(study).run(WithCirculation(pointMass(), "frame", 30.0));
+  EXPECT_EQ(n.zeroFrequencySpeeds.size(), 2u);
+  EXPECT_TRUE(n.unstableRanges.empty());
+}
+
 // A track keeps its mode's identity through a critical speed that hides
 // it: a mass on isotropic springs (k = 100, m = 1: the in-plane pair at
 // 10 -/+ Omega in the rotating frame) with internal damping (c = 1 in x,

@@ -223,10 +223,17 @@ StiffnessCount SynthesizedSweepProblem::stiffnessCount(const std::vector<double>
     return out;
   }
   const int limit = solveParams_.isParameter("Dense Limit") ? solveParams_.get<int>("Dense Limit") : 1500;
-  if (reduced_.size() <= limit) return denseStiffnessCount(reduced_.denseSystem(speeds).K);
+  if (reduced_.size() <= limit) {
+    const auto sys = reduced_.denseSystem(speeds);
+    out = denseStiffnessCount(sys.K);
+    out.circulatory = sys.N.numRows() > 0;
+    return out;
+  }
   // The sparse inertia, K scaled by its diagonal's magnitudes first, as the
   // dense count is (its zero-pivot test is against the largest diagonal).
-  auto K = Teuchos::rcp(new CrsMatrix(*reduced_.system(speeds).K, Teuchos::Copy));
+  const auto sys = reduced_.system(speeds);
+  out.circulatory = !sys.N.is_null();
+  auto K = Teuchos::rcp(new CrsMatrix(*sys.K, Teuchos::Copy));
   Vector d(K->getRowMap());
   K->getLocalDiagCopy(d);
   {
@@ -962,12 +969,28 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   //    is taken again a crossing tolerance of a step above it, and that
   //    speed is the bracket's end; refused there too, the brackets beside
   //    it are not searched, and the note says where.
+  //    Between two zeros inside one step the count is known too; where it
+  //    is odd, det K < 0 and the characteristic polynomial det(lambda^2 M
+  //    + lambda (G + D) + K), positive for large real lambda (M > 0), has
+  //    a real root lambda > 0: divergence whatever G and D, with no grid
+  //    speed to show it (found by a review). Such a band is listed
+  //    unstable, its edges the two zeros. Not where a circulatory N acts
+  //    (the polynomial at 0 is then det(K + N)), nor where a count failed.
+  struct CountEdge {
+    double at;           // factor
+    long long below, above;
+    bool refined;
+  };
+  std::vector<std::pair<double, double>> countBands;  // factors
   {
+    std::vector<CountEdge> edges;  // this step's, in speed order
+    bool circulatory = false;
     const std::function<void(double, long long, double, long long)> search = [&](double lo, long long cLo, double hi,
                                                                               long long cHi) {
       if (cLo == cHi) return;
       const double width = crossingTol * std::max({std::abs(lo), std::abs(hi), step});
       const auto record = [&](double f, bool refined) {
+        edges.push_back({f, cLo, cHi, refined});
         // A bracket that closed on rest: K singular at rest (a mechanism,
         // a rigid motion that spin softens) is no critical speed.
         if (lo == r.factors[0] && r.factors[0] == 0.0 && hi <= crossingTol * step) return;
@@ -977,6 +1000,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       if (hi - lo <= width) return record(0.5 * (lo + hi), true);
       const double mid = 0.5 * (lo + hi);
       const auto cMid = problem.stiffnessCount(speedsAt(mid));
+      circulatory = circulatory || cMid.circulatory;
       if (cMid.negative < 0) {  // said, and the middle of what is known
         r.zeroCountsNote = cMid.why + " (at " + std::to_string(refAt(mid)) + " rad/s, inside a bracket)";
         return record(mid, false);
@@ -985,10 +1009,50 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       search(mid, cMid.negative, hi, cHi);
     };
     if (r.zeroCountsTaken)
-      for (std::size_t k = 1; k < r.factors.size(); ++k)
-        if (counts[k - 1].negative >= 0 && counts[k].negative >= 0)
-          search(countAt[k - 1], counts[k - 1].negative, countAt[k], counts[k].negative);
+      for (std::size_t k = 1; k < r.factors.size(); ++k) {
+        if (counts[k - 1].negative < 0 || counts[k].negative < 0) continue;
+        edges.clear();
+        circulatory = counts[k - 1].circulatory || counts[k].circulatory;
+        search(countAt[k - 1], counts[k - 1].negative, countAt[k], counts[k].negative);
+        if (circulatory) continue;
+        for (std::size_t e = 1; e < edges.size(); ++e)
+          if (edges[e - 1].refined && edges[e].refined && edges[e - 1].above % 2 != 0)
+            countBands.push_back({edges[e - 1].at, edges[e].at});
+      }
   }
+  r.unstableByCount.assign(r.unstableRanges.size(), false);
+  if (const double ref1 = refAt(1.0) - refAt(0.0); !countBands.empty() && ref1 != 0.0) {
+    // Into the grid's ranges, in the sweep's order (of the factor), one
+    // range where they meet. A grid range's factors from its reference
+    // speeds (refAt is linear in the factor).
+    struct Band {
+      double lo, hi;  // factors
+      std::pair<double, double> range;
+      std::pair<bool, bool> open;
+      bool byCount;
+    };
+    std::vector<Band> bands;
+    for (std::size_t i = 0; i < r.unstableRanges.size(); ++i) {
+      const double a = (r.unstableRanges[i].first - refAt(0.0)) / ref1;
+      const double b = (r.unstableRanges[i].second - refAt(0.0)) / ref1;
+      bands.push_back({std::min(a, b), std::max(a, b), r.unstableRanges[i], r.unstableOpen[i], false});
+    }
+    for (const auto& [lo, hi] : countBands) bands.push_back({lo, hi, {refAt(lo), refAt(hi)}, {false, false}, true});
+    std::stable_sort(bands.begin(), bands.end(), [](const Band& x, const Band& y) { return x.lo < y.lo; });
+    r.unstableRanges.clear(), r.unstableOpen.clear(), r.unstableByCount.clear();
+    double reach = 0.0;  // the last range's upper factor
+    for (const auto& b : bands) {
+      if (!r.unstableRanges.empty() && b.lo <= reach) {
+        if (b.hi > reach) r.unstableRanges.back().second = b.range.second, r.unstableOpen.back().second = b.open.second;
+        r.unstableByCount.back() = r.unstableByCount.back() && b.byCount;
+        reach = std::max(reach, b.hi);
+        continue;
+      }
+      r.unstableRanges.push_back(b.range), r.unstableOpen.push_back(b.open), r.unstableByCount.push_back(b.byCount);
+      reach = b.hi;
+    }
+  }
+
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
   for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
@@ -1257,6 +1321,12 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     const auto [a, b] = unstableRanges[i];
     const auto [fromStart, toEnd] = i < unstableOpen.size() ? unstableOpen[i] : std::make_pair(false, false);
     // An end of the sweep is no edge of the range: it goes on beyond it.
+    if (i < unstableByCount.size() && unstableByCount[i]) {
+      os << "unstable from " << a << " to " << b << " rad/s of '" << ref
+         << "' (divergence between two sweep speeds: K(Omega) has an odd number of negative eigenvalues "
+            "there, so det K < 0 and a real root lambda > 0; edges the zero-frequency speeds, bisected on the count)\n";
+      continue;
+    }
     const char* edges = fromStart && toEnd ? "" : fromStart ? "its upper edge " : toEnd ? "its lower edge " : "edges ";
     os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'" << (toEnd ? " and beyond" : "") << " ("
        << (fromStart ? "unstable from the sweep's first speed; " : "")

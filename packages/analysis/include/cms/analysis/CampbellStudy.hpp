@@ -57,6 +57,10 @@ struct StiffnessCount {
   long long negative = -1;  ///< negative eigenvalues; -1: not counted
   bool available = true;    ///< false: the model gives no count at any speed
   std::string why;          ///< why not counted
+  /// A circulatory stiffness N acts at these speeds: the count's parity
+  /// then proves nothing (an odd count proves divergence only where the
+  /// characteristic polynomial at 0 is det K, theory §12.1).
+  bool circulatory = false;
 };
 
 /// What a Campbell study needs of a model. Every method is collective.
@@ -281,6 +285,11 @@ struct CampbellResult {
   /// that end is the sweep's, not an edge of the range, which goes on
   /// beyond it.
   std::vector<std::pair<bool, bool>> unstableOpen;
+  /// Per unstable range: found between two sweep speeds by the stiffness
+  /// count alone, an odd number of K's negative eigenvalues (det K < 0: a
+  /// real root lambda > 0, theory §12.1), its edges the bisected zero-
+  /// frequency speeds; no grid speed lies in it.
+  std::vector<bool> unstableByCount;
   /// Omega_ref (rad/s), first and last speed of each run of speeds where
   /// some mode's growth rate is undecided (GyroscopicMode::undecided: a
   /// damped structure's growth its uncertainty does not tell from the
