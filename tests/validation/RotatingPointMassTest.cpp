@@ -110,13 +110,16 @@ TEST(RotatingPointMass, CampbellFindsTheDivergenceRange) {
   ASSERT_EQ(ranges.size(), 1u);
   EXPECT_FALSE(d.unstableEdgesRefined);
   // Sweep step 0.1: the first/last unstable sample lies within one step inside
-  // (20, 25); exactly at 20 and 25 the zero root is neutral. The ends are
-  // samples of the sweep, compared exactly with the samples that bracket them.
-  const auto speed = [&](int k) { return d.speeds[k][0]; };
-  EXPECT_GE(ranges[0].first, speed(200));   // 20
-  EXPECT_LE(ranges[0].first, speed(201));   // 20.1
-  EXPECT_GE(ranges[0].second, speed(249));  // 24.9
-  EXPECT_LE(ranges[0].second, speed(250));  // 25
+  // (20, 25); exactly at 20 and 25 the zero root is neutral. Without
+  // "Refine Crossings" the grid's range ends there; the stiffness count,
+  // bisected either way, proves the band divergent between its zeros
+  // (theory §12.1, "A band between two speeds"), and the range is the
+  // count's: 20 and 25 to the Crossing Tolerance (1e-6 of the speed,
+  // doubled: the bracket's middle, and a rounding of the count's pivot).
+  ASSERT_EQ(d.unstableByCount.size(), 1u);
+  EXPECT_TRUE(d.unstableByCount[0]);
+  EXPECT_NEAR(ranges[0].first, 20.0, 2e-6 * 20.0);
+  EXPECT_NEAR(ranges[0].second, 25.0, 2e-6 * 25.0);
 }
 
 TEST(RotatingPointMass, CampbellBisectsTheDivergenceRangesEdges) {

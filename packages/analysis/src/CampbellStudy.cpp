@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <tuple>
@@ -969,17 +970,21 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
   //    is taken again a crossing tolerance of a step above it, and that
   //    speed is the bracket's end; refused there too, the brackets beside
   //    it are not searched, and the note says where.
-  //    Between two zeros inside one step the count is known too; where it
-  //    is odd, det K < 0 and the characteristic polynomial det(lambda^2 M
-  //    + lambda (G + D) + K), positive for large real lambda (M > 0), has
-  //    a real root lambda > 0: divergence whatever G and D, with no grid
-  //    speed to show it (found by a review). Such a band is listed
-  //    unstable, its edges the two zeros. Not where a circulatory N acts
-  //    (the polynomial at 0 is then det(K + N)), nor where a count failed.
+  //    Between two zeros the count is known too; where it is odd, det K <
+  //    0 and the characteristic polynomial det(lambda^2 M + lambda (G + D)
+  //    + K), positive for large real lambda (M > 0), has a real root
+  //    lambda > 0: divergence whatever G and D. Such a band is listed
+  //    unstable, its edges the two zeros: inside one step no grid speed
+  //    shows it (found by a review), and at a grid speed inside it the
+  //    dense solve can take the real root for a zero (an anisotropic shaft
+  //    in its own frame, growth 0.37-0.67 1/s on a scale of 7e7 rad/s,
+  //    "critical"). Not where a circulatory N acts (the polynomial at 0 is
+  //    then det(K + N)), nor across a failed count, nor from a zero that
+  //    closed on rest (a mechanism's count there is its rounding's).
   struct CountEdge {
     double at;           // factor
     long long below, above;
-    bool refined;
+    bool refined;        // bisected to the tolerance (not a failed count's middle, nor closed on rest)
   };
   std::vector<std::pair<double, double>> countBands;  // factors
   {
@@ -990,10 +995,11 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       if (cLo == cHi) return;
       const double width = crossingTol * std::max({std::abs(lo), std::abs(hi), step});
       const auto record = [&](double f, bool refined) {
-        edges.push_back({f, cLo, cHi, refined});
         // A bracket that closed on rest: K singular at rest (a mechanism,
         // a rigid motion that spin softens) is no critical speed.
-        if (lo == r.factors[0] && r.factors[0] == 0.0 && hi <= crossingTol * step) return;
+        const bool rest = lo == r.factors[0] && r.factors[0] == 0.0 && hi <= crossingTol * step;
+        edges.push_back({f, cLo, cHi, refined && !rest});
+        if (rest) return;
         r.zeroFrequencySpeeds.push_back(refAt(f));
         r.zeroFrequencyRefined.push_back(refined);
       };
@@ -1008,16 +1014,25 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       search(lo, cLo, mid, cMid.negative);
       search(mid, cMid.negative, hi, cHi);
     };
+    std::optional<double> oddFrom;  // the zero past which the count is odd, while known
     if (r.zeroCountsTaken)
       for (std::size_t k = 1; k < r.factors.size(); ++k) {
-        if (counts[k - 1].negative < 0 || counts[k].negative < 0) continue;
+        if (counts[k - 1].negative < 0 || counts[k].negative < 0) {
+          oddFrom.reset();
+          continue;
+        }
         edges.clear();
         circulatory = counts[k - 1].circulatory || counts[k].circulatory;
         search(countAt[k - 1], counts[k - 1].negative, countAt[k], counts[k].negative);
-        if (circulatory) continue;
-        for (std::size_t e = 1; e < edges.size(); ++e)
-          if (edges[e - 1].refined && edges[e].refined && edges[e - 1].above % 2 != 0)
-            countBands.push_back({edges[e - 1].at, edges[e].at});
+        if (circulatory) {
+          oddFrom.reset();
+          continue;
+        }
+        for (const auto& e : edges) {
+          if (oddFrom && e.refined) countBands.push_back({*oddFrom, e.at});
+          oddFrom.reset();
+          if (e.refined && e.above % 2 != 0) oddFrom = e.at;
+        }
       }
   }
   r.unstableByCount.assign(r.unstableRanges.size(), false);
@@ -1044,7 +1059,7 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     for (const auto& b : bands) {
       if (!r.unstableRanges.empty() && b.lo <= reach) {
         if (b.hi > reach) r.unstableRanges.back().second = b.range.second, r.unstableOpen.back().second = b.open.second;
-        r.unstableByCount.back() = r.unstableByCount.back() && b.byCount;
+        r.unstableByCount.back() = r.unstableByCount.back() || b.byCount;
         reach = std::max(reach, b.hi);
         continue;
       }
@@ -1321,18 +1336,18 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     const auto [a, b] = unstableRanges[i];
     const auto [fromStart, toEnd] = i < unstableOpen.size() ? unstableOpen[i] : std::make_pair(false, false);
     // An end of the sweep is no edge of the range: it goes on beyond it.
-    if (i < unstableByCount.size() && unstableByCount[i]) {
-      os << "unstable from " << a << " to " << b << " rad/s of '" << ref
-         << "' (divergence between two sweep speeds: K(Omega) has an odd number of negative eigenvalues "
-            "there, so det K < 0 and a real root lambda > 0; edges the zero-frequency speeds, bisected on the count)\n";
-      continue;
-    }
+    // A band the stiffness count proves is bisected on the count whatever
+    // "Refine Crossings" says.
+    const bool byCount = i < unstableByCount.size() && unstableByCount[i];
     const char* edges = fromStart && toEnd ? "" : fromStart ? "its upper edge " : toEnd ? "its lower edge " : "edges ";
     os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'" << (toEnd ? " and beyond" : "") << " ("
+       << (byCount ? "divergence: K(Omega) has an odd number of negative eigenvalues between two zero-frequency "
+                     "speeds, so det K < 0 and a real root lambda > 0, whether or not a sweep speed shows it; "
+                   : "")
        << (fromStart ? "unstable from the sweep's first speed; " : "")
        << (toEnd ? "still unstable at the sweep's end; " : "");
     if (fromStart && toEnd) os << "no edge in the sweep)";
-    else os << edges << (unstableEdgesRefined ? "bisected)" : "the sweep's unstable speeds: up to a step outside)");
+    else os << edges << (unstableEdgesRefined || byCount ? "bisected)" : "the sweep's unstable speeds: up to a step outside)");
     os << '\n';
   }
   // A damped mode's growth its uncertainty does not decide (theory §13.3):

@@ -2667,14 +2667,15 @@ std::string shaftOnStiffSupport(double rate, bool spinningFrame, const std::stri
 }
 
 /// The Campbell study of a scene's structure (its Analysis), `steps` speeds
-/// from rest to twice the nominal rates.
+/// from rest to twice the nominal rates, crossings bisected or not.
 analysis::CampbellResult campbellOf(const std::string& text, int steps,
-                                    const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+                                    const Teuchos::RCP<const Teuchos::Comm<int>>& comm, bool refine = true) {
   const auto sc = parse(text);
   const auto a = synthesis::AssembledStructure::assemble(sc.structure, comm);
   const auto s = synthesis::SynthesizedStructure::synthesize(a);
   Teuchos::ParameterList study;
   study.set("Steps", steps);
+  study.set("Refine Crossings", refine);
   return analysis::CampbellStudy(study).run(analysis::SynthesizedSweepProblem(a, s, sc.solve));
 }
 
@@ -2808,6 +2809,38 @@ TEST(SceneRegression, ATrackThroughZeroInventsNoCrossing) {
     if (c.order == 1.0) oneX.push_back(c.speed);
   ASSERT_EQ(oneX.size(), 1u) << (oneX.size() > 1 ? oneX[1] : 0.0);
   EXPECT_NEAR(oneX[0], 39.11, 1e-3 * 39.11);
+}
+
+// An anisotropic shaft (Iz = 1.3e-7 against Iy = 1.2566e-7) spinning in its
+// own frame diverges between the critical speeds of its two planes, where
+// K(Omega) has one negative eigenvalue. Swept 0, 78.9, 157.8 rad/s, the
+// grid speed 78.9 lies inside the band, and its dense solve took the
+// divergent root (growth 0.67 1/s on a system scale of 7e7 rad/s, the
+// support's) for a zero and printed it "critical": the sweep listed no
+// unstable range (found while testing the band between sweep speeds). The
+// band must be listed, its edges the two zero-frequency speeds, proven by
+// the count (theory §12.1, "A band between two speeds"). The edges'
+// independent check: K's bending parts in each plane scale with that
+// plane's I and spin softening is the same in both, so the upper edge is
+// the lower times sqrt(Iz / Iy), up to the rotary inertia the mass matrix
+// adds per plane (rho I: a share I / (A L^2) ~ 1e-4 of the plane's inertia,
+// 3.4% apart between the planes, ~2e-6 of the speed); allowed 1e-5.
+TEST(SceneRegression, ADivergenceBandIsListedWhereASweepSpeedsSolveReadsCritical) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  std::string text = shaftOnStiffSupport(78.9, true);
+  text.replace(text.find("Iz: 1.2566e-7"), 13, "Iz: 1.3e-7");
+  // Without "Refine Crossings" (the engine-order crossings' bisection,
+  // 35 s of solves here): the count is bisected either way.
+  const auto r = campbellOf(text, 3, comm, false);
+  ASSERT_EQ(r.zeroFrequencySpeeds.size(), 2u) << r.zeroCountsNote;
+  ASSERT_EQ(r.unstableRanges.size(), 1u);
+  ASSERT_EQ(r.unstableByCount.size(), 1u);
+  EXPECT_TRUE(r.unstableByCount[0]);
+  EXPECT_EQ(r.unstableRanges[0].first, r.zeroFrequencySpeeds[0]);
+  EXPECT_EQ(r.unstableRanges[0].second, r.zeroFrequencySpeeds[1]);
+  EXPECT_LT(r.unstableRanges[0].first, 78.9);
+  EXPECT_GT(r.unstableRanges[0].second, 78.9);
+  EXPECT_NEAR(r.unstableRanges[0].second / r.unstableRanges[0].first, std::sqrt(1.3e-7 / 1.2566e-7), 1e-5);
 }
 
 // A critical speed itself is an answer, not an instability: a point mass

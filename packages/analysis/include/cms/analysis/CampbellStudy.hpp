@@ -285,10 +285,11 @@ struct CampbellResult {
   /// that end is the sweep's, not an edge of the range, which goes on
   /// beyond it.
   std::vector<std::pair<bool, bool>> unstableOpen;
-  /// Per unstable range: found between two sweep speeds by the stiffness
-  /// count alone, an odd number of K's negative eigenvalues (det K < 0: a
-  /// real root lambda > 0, theory §12.1), its edges the bisected zero-
-  /// frequency speeds; no grid speed lies in it.
+  /// Per unstable range: it holds a band the stiffness count proves
+  /// divergent, an odd number of K's negative eigenvalues between two
+  /// zero-frequency speeds (det K < 0: a real root lambda > 0, theory
+  /// §12.1), whether or not a grid speed's solve showed it; its edges there
+  /// the bisected zeros. Merged with a grid range it meets.
   std::vector<bool> unstableByCount;
   /// Omega_ref (rad/s), first and last speed of each run of speeds where
   /// some mode's growth rate is undecided (GyroscopicMode::undecided: a
