@@ -268,6 +268,45 @@ TEST(RotatingPointMass, ADivergenceBandBetweenTwoSweepSpeedsIsListed) {
   EXPECT_TRUE(n.unstableRanges.empty());
 }
 
+// Past its critical speed an isotropic mass's lower mode, |omega_0 -
+// Omega|, comes back conjugated: its circular orbit then turns the way the
+// upper mode's does, and both modes have one shape (MAC 1 with the upper
+// track's last, 0 with the lower's). The MAC alone cannot tell them
+// apart; the tracks must follow the frequencies' continuity: the upper
+// track is omega_0 + Omega at every speed and the lower |omega_0 - Omega|
+// (each to 1e-9 of omega_0 + Omega: the eigenvalues of a 2-DOF dense
+// solve). The upper track took |omega_0 - Omega| past 20 rad/s, the lower
+// was lost and a 1X crossing read on the jump (an open finding of an
+// earlier review; theory §12.1, "Ties").
+TEST(RotatingPointMass, IsotropicTracksKeepTheirBranchesPastTheCriticalSpeed) {
+  auto iso = pointMass();
+  iso.K0(1, 1) = kx;
+  const double w0 = std::sqrt(kx / m);  // 20 rad/s
+  for (const int steps : {7, 11, 16, 31}) {
+    SCOPED_TRACE(std::to_string(steps) + " steps");
+    Teuchos::ParameterList study;
+    study.set("Steps", steps);
+    study.set("Max Factor", 1.0);
+    study.set("Refine Crossings", false);
+    const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(iso, "frame", 45.0));
+    ASSERT_EQ(d.tracks.size(), 2u);
+    for (const auto& tr : d.tracks) {
+      const bool upper = tr.omega.back() > 45.0;  // 65 rad/s at the sweep's end, the lower 25
+      for (std::size_t k = 0; k < tr.omega.size(); ++k) {
+        const double W = d.speeds[k][0];
+        if (tr.lost[k]) continue;
+        EXPECT_NEAR(tr.omega[k], upper ? w0 + W : std::abs(w0 - W), 1e-9 * (w0 + W))
+            << (upper ? "upper" : "lower") << " track at " << W << " rad/s";
+      }
+    }
+    // One 1X crossing, the lower whirl's at omega_0 / 2 = 10 rad/s (linear
+    // between sweep speeds: exact, the branch is linear); the swap read a
+    // second on the jump (18.75 rad/s at 7 steps).
+    ASSERT_EQ(d.crossings.size(), 1u) << d.crossings.back().speed;
+    EXPECT_NEAR(d.crossings[0].speed, 10.0, 1e-9 * 10.0);
+  }
+}
+
 // A track keeps its mode's identity through a critical speed that hides
 // it: a mass on isotropic springs (k = 100, m = 1: the in-plane pair at
 // 10 -/+ Omega in the rotating frame) with internal damping (c = 1 in x,

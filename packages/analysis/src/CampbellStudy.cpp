@@ -667,9 +667,32 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
         r.tracks[t].minMac = std::min(r.tracks[t].minMac, std::min(1.0, sum));
       }
     }
-    for (const auto& [v, t, j] : pairs)
-      if (match[t] < 0 && !used[j] && accept(t, j))
-        match[t] = j, used[j] = true, r.tracks[t].minMac = std::min(r.tracks[t].minMac, v);
+    // Pairs whose MACs tie (within 1e-3) go by the frequency's continuity,
+    // the least relative change first: two modes can share one shape, and
+    // the MAC cannot tell them apart. Past its critical speed an isotropic
+    // rotor's lower whirl, |omega_0 - Omega|, comes back conjugated, its
+    // orbit turning as the upper whirl's, and both modes had MAC 1 with the
+    // upper track: it took the lower mode, a 1X "critical speed" was read
+    // on the jump, and the lower track was lost (an open finding).
+    const auto change = [&](int t, int j) {
+      const double a = last[static_cast<std::size_t>(t)].omega, b = modes[static_cast<std::size_t>(j)].omega;
+      return a + b > 0.0 ? std::abs(a - b) / (a + b) : 0.0;
+    };
+    constexpr double macTie = 1e-3;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      const auto [v, t, j] = pairs[i];
+      if (match[t] >= 0 || used[j] || !accept(t, j)) continue;
+      std::size_t best = i;
+      for (std::size_t q = i + 1; q < pairs.size() && std::get<0>(pairs[q]) >= v - macTie; ++q) {
+        const auto [v2, t2, j2] = pairs[q];
+        if (match[t2] < 0 && !used[j2] && change(t2, j2) < change(std::get<1>(pairs[best]), std::get<2>(pairs[best])) &&
+            accept(t2, j2))
+          best = q;
+      }
+      const auto [vb, tb, jb] = pairs[best];
+      match[tb] = jb, used[jb] = true, r.tracks[tb].minMac = std::min(r.tracks[tb].minMac, vb);
+      if (best != i) --i;  // pair i is still open: looked at again
+    }
     // A vibration mode through zero frequency inside the step comes back
     // conjugated (a pair is listed by its member with Im >= 0): its shape is
     // the conjugate of its continuation, whose MAC with the track's last
@@ -1036,38 +1059,47 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
       }
   }
   r.unstableByCount.assign(r.unstableRanges.size(), false);
+  r.unstableCountBands.assign(r.unstableRanges.size(), {});
+  r.unstableEdgesBisected.assign(r.unstableRanges.size(), {r.unstableEdgesRefined, r.unstableEdgesRefined});
   if (const double ref1 = refAt(1.0) - refAt(0.0); !countBands.empty() && ref1 != 0.0) {
     // Into the grid's ranges, in the sweep's order (of the factor), one
-    // range where they meet. A grid range's factors from its reference
-    // speeds (refAt is linear in the factor).
+    // range where they meet, each edge bisected or not as the band it came
+    // from (a grid range's unrefined edge beyond a count band stays the
+    // grid's; a review found "its lower edge bisected" on a grid speed). A
+    // grid range's factors from its reference speeds (refAt is linear in
+    // the factor).
     struct Band {
       double lo, hi;  // factors
       std::pair<double, double> range;
-      std::pair<bool, bool> open;
+      std::pair<bool, bool> open, bisected;
       bool byCount;
     };
     std::vector<Band> bands;
     for (std::size_t i = 0; i < r.unstableRanges.size(); ++i) {
       const double a = (r.unstableRanges[i].first - refAt(0.0)) / ref1;
       const double b = (r.unstableRanges[i].second - refAt(0.0)) / ref1;
-      bands.push_back({std::min(a, b), std::max(a, b), r.unstableRanges[i], r.unstableOpen[i], false});
+      bands.push_back({std::min(a, b), std::max(a, b), r.unstableRanges[i], r.unstableOpen[i],
+                       r.unstableEdgesBisected[i], false});
     }
-    for (const auto& [lo, hi] : countBands) bands.push_back({lo, hi, {refAt(lo), refAt(hi)}, {false, false}, true});
+    for (const auto& [lo, hi] : countBands)
+      bands.push_back({lo, hi, {refAt(lo), refAt(hi)}, {false, false}, {true, true}, true});
     std::stable_sort(bands.begin(), bands.end(), [](const Band& x, const Band& y) { return x.lo < y.lo; });
     r.unstableRanges.clear(), r.unstableOpen.clear(), r.unstableByCount.clear();
+    r.unstableCountBands.clear(), r.unstableEdgesBisected.clear();
     double reach = 0.0;  // the last range's upper factor
     for (const auto& b : bands) {
-      if (!r.unstableRanges.empty() && b.lo <= reach) {
-        if (b.hi > reach) r.unstableRanges.back().second = b.range.second, r.unstableOpen.back().second = b.open.second;
-        r.unstableByCount.back() = r.unstableByCount.back() || b.byCount;
-        reach = std::max(reach, b.hi);
-        continue;
+      if (r.unstableRanges.empty() || b.lo > reach) {
+        r.unstableRanges.push_back(b.range), r.unstableOpen.push_back(b.open), r.unstableByCount.push_back(false);
+        r.unstableCountBands.emplace_back(), r.unstableEdgesBisected.push_back(b.bisected);
+        reach = b.hi;
+      } else if (b.hi > reach) {
+        r.unstableRanges.back().second = b.range.second, r.unstableOpen.back().second = b.open.second;
+        r.unstableEdgesBisected.back().second = b.bisected.second;
+        reach = b.hi;
       }
-      r.unstableRanges.push_back(b.range), r.unstableOpen.push_back(b.open), r.unstableByCount.push_back(b.byCount);
-      reach = b.hi;
+      if (b.byCount) r.unstableByCount.back() = true, r.unstableCountBands.back().push_back(b.range);
     }
   }
-
 
   // Frame-rate tracks (equal to a spin rate over the whole sweep) and their crossings set aside.
   for (auto& tr : r.tracks) tr.frameRateOf = rateLike(tr), tr.frameRate = tr.frameRateOf >= 0;
@@ -1336,18 +1368,27 @@ void CampbellResult::printCrossings(std::ostream& os) const {
     const auto [a, b] = unstableRanges[i];
     const auto [fromStart, toEnd] = i < unstableOpen.size() ? unstableOpen[i] : std::make_pair(false, false);
     // An end of the sweep is no edge of the range: it goes on beyond it.
-    // A band the stiffness count proves is bisected on the count whatever
-    // "Refine Crossings" says.
-    const bool byCount = i < unstableByCount.size() && unstableByCount[i];
-    const char* edges = fromStart && toEnd ? "" : fromStart ? "its upper edge " : toEnd ? "its lower edge " : "edges ";
-    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'" << (toEnd ? " and beyond" : "") << " ("
-       << (byCount ? "divergence: K(Omega) has an odd number of negative eigenvalues between two zero-frequency "
-                     "speeds, so det K < 0 and a real root lambda > 0, whether or not a sweep speed shows it; "
-                   : "")
-       << (fromStart ? "unstable from the sweep's first speed; " : "")
-       << (toEnd ? "still unstable at the sweep's end; " : "");
+    // The stretches the stiffness count proves divergent are said apart
+    // (the rest of a merged range may be a damped or gyroscopic
+    // instability with an even count; a review).
+    os << "unstable from " << a << " to " << b << " rad/s of '" << ref << "'" << (toEnd ? " and beyond" : "") << " (";
+    if (i < unstableCountBands.size() && !unstableCountBands[i].empty()) {
+      os << "divergence ";
+      for (std::size_t c = 0; c < unstableCountBands[i].size(); ++c)
+        os << (c > 0 ? " and " : "") << "from " << unstableCountBands[i][c].first << " to "
+           << unstableCountBands[i][c].second;
+      os << ": K(Omega) has an odd number of negative eigenvalues between two zero-frequency speeds, so det K < 0 "
+            "and a real root lambda > 0, whether or not a sweep speed shows it; ";
+    }
+    os << (fromStart ? "unstable from the sweep's first speed; " : "") << (toEnd ? "still unstable at the sweep's end; " : "");
+    const auto [lowBisected, highBisected] =
+        i < unstableEdgesBisected.size() ? unstableEdgesBisected[i] : std::make_pair(unstableEdgesRefined, unstableEdgesRefined);
+    const char* grid = "the sweep's unstable speed: up to a step outside";
     if (fromStart && toEnd) os << "no edge in the sweep)";
-    else os << edges << (unstableEdgesRefined || byCount ? "bisected)" : "the sweep's unstable speeds: up to a step outside)");
+    else if (fromStart) os << "its upper edge " << (highBisected ? "bisected" : grid) << ")";
+    else if (toEnd) os << "its lower edge " << (lowBisected ? "bisected" : grid) << ")";
+    else if (lowBisected == highBisected) os << "edges " << (lowBisected ? "bisected)" : "the sweep's unstable speeds: up to a step outside)");
+    else os << "lower edge " << (lowBisected ? "bisected" : grid) << ", upper edge " << (highBisected ? "bisected" : grid) << ")";
     os << '\n';
   }
   // A damped mode's growth its uncertainty does not decide (theory §13.3):

@@ -2843,6 +2843,49 @@ TEST(SceneRegression, ADivergenceBandIsListedWhereASweepSpeedsSolveReadsCritical
   EXPECT_NEAR(r.unstableRanges[0].second / r.unstableRanges[0].first, std::sqrt(1.3e-7 / 1.2566e-7), 1e-5);
 }
 
+// A divergence band inside a wider unstable range is said apart, and the
+// range's edges are bisected or not as the band each came from: two shafts
+// on one spinning support, one anisotropic (Iz = 2.5e-7: odd count from
+// 78.29 to 110.43 rad/s), one isotropic with material damping (beta 1e-4;
+// its pair passes through zero together at 60.07, count 0 to 2, and it is
+// unstable from there with an even count). Swept 0 to 160 in steps of 16
+// without "Refine Crossings", the grid's range starts at its first
+// unstable speed, 64; merged with the count's band it was printed "its
+// lower edge bisected" at 64, and the whole range as "divergence: ... an
+// odd number of negative eigenvalues" (a review).
+TEST(SceneRegression, ADivergenceBandInsideAWiderRangeIsSaidApart) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const std::string beam = "Young's Modulus: 2.0e11, Density: 7800.0, Area: 1.2566e-3, Iy: 1.2566e-7, ";
+  std::ostringstream s;
+  s << "Scene:\n  Substructures:\n    support:\n      Kind: C\n"
+    << "      Beam: {From: [-0.1, 0, 0], To: [0, 0, 0], Elements: 2, Young's Modulus: 2.0e14, Density: 7800.0, "
+       "Area: 2.0e-3, Iy: 8.0e-7, Iz: 8.0e-7, Torsion Constant: 1.6e-6, Clamp: start}\n"
+    << "      Spin: {Axis: [1, 0, 0], Rate: 80, Stress Stiffening: false}\n      Reduction: {Basis: Full}\n";
+  for (const auto& [name, rest] : std::vector<std::pair<std::string, std::string>>{
+           {"shaftA", "Iz: 2.5e-7, Torsion Constant: 2.5133e-7, Tip Mass: 10.0, Tip Inertia: [0.02, 0.01, 0.01]"},
+           {"shaftB", "Iz: 1.2566e-7, Torsion Constant: 2.5133e-7, Tip Mass: 18.6, Tip Inertia: [0.02, 0.01, 0.01], "
+                      "Structural Damping: {Rayleigh Beta: 1.0e-4}"}})
+    s << "    " << name << ":\n      Kind: E\n      Parent: support\n"
+      << "      Attachment: {Parent Nodes: end, Nodes: start}\n"
+      << "      Beam: {From: [0, 0, 0], To: [1, 0, 0], Elements: 10, " << beam << rest << "}\n"
+      << "      Reduction: {Basis: Full}\n";
+  s << "  Analysis: {Number of Modes: 8, Solver: Dense}\n";
+  const auto r = campbellOf(s.str(), 11, comm, false);
+  ASSERT_EQ(r.zeroFrequencySpeeds.size(), 3u) << r.zeroCountsNote;
+  ASSERT_EQ(r.unstableRanges.size(), 1u);
+  EXPECT_EQ(r.unstableRanges[0].first, 64.0);
+  EXPECT_TRUE(r.unstableOpen[0].second);
+  EXPECT_FALSE(r.unstableEdgesBisected[0].first);
+  ASSERT_EQ(r.unstableCountBands[0].size(), 1u);
+  EXPECT_EQ(r.unstableCountBands[0][0].first, r.zeroFrequencySpeeds[1]);
+  EXPECT_EQ(r.unstableCountBands[0][0].second, r.zeroFrequencySpeeds[2]);
+  std::ostringstream os;
+  r.printCrossings(os);
+  EXPECT_NE(os.str().find("its lower edge the sweep's unstable speed: up to a step outside"), std::string::npos)
+      << os.str();
+  EXPECT_NE(os.str().find("divergence from 78.29 to 110.4:"), std::string::npos) << os.str();
+}
+
 // A critical speed itself is an answer, not an instability: a point mass
 // on springs kx = 2, ky = 400 N/m (m = 1 kg) spinning in its own frame at
 // Omega = sqrt(kx / m), where K(Omega) = diag(kx - m Omega^2, ...) is

@@ -291,6 +291,13 @@ struct CampbellResult {
   /// §12.1), whether or not a grid speed's solve showed it; its edges there
   /// the bisected zeros. Merged with a grid range it meets.
   std::vector<bool> unstableByCount;
+  /// Per unstable range: the stretches (Omega_ref, rad/s) the count proves
+  /// divergent inside it (empty: none).
+  std::vector<std::vector<std::pair<double, double>>> unstableCountBands;
+  /// Per unstable range: whether its lower and upper edges were bisected
+  /// (the grid's edges with "Refine Crossings", a count band's always);
+  /// else the grid's unstable speeds.
+  std::vector<std::pair<bool, bool>> unstableEdgesBisected;
   /// Omega_ref (rad/s), first and last speed of each run of speeds where
   /// some mode's growth rate is undecided (GyroscopicMode::undecided: a
   /// damped structure's growth its uncertainty does not tell from the
