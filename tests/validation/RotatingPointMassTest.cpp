@@ -282,16 +282,20 @@ TEST(RotatingPointMass, IsotropicTracksKeepTheirBranchesPastTheCriticalSpeed) {
   auto iso = pointMass();
   iso.K0(1, 1) = kx;
   const double w0 = std::sqrt(kx / m);  // 20 rad/s
-  for (const int steps : {7, 11, 16, 31}) {
-    SCOPED_TRACE(std::to_string(steps) + " steps");
+  // To 45 rad/s in steps below omega_0, and to 100 in 6 steps (h = 20 =
+  // omega_0) and 5 (h = 25 > omega_0): with the change from the last value
+  // alone the tracks swapped at every step past h = omega_0 (a review).
+  for (const auto& [steps, top] : std::vector<std::pair<int, double>>{{7, 45.0}, {11, 45.0}, {16, 45.0}, {31, 45.0},
+                                                                       {6, 100.0}, {5, 100.0}, {4, 120.0}}) {
+    SCOPED_TRACE(std::to_string(steps) + " steps to " + std::to_string(top));
     Teuchos::ParameterList study;
     study.set("Steps", steps);
     study.set("Max Factor", 1.0);
     study.set("Refine Crossings", false);
-    const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(iso, "frame", 45.0));
+    const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(iso, "frame", top));
     ASSERT_EQ(d.tracks.size(), 2u);
     for (const auto& tr : d.tracks) {
-      const bool upper = tr.omega.back() > 45.0;  // 65 rad/s at the sweep's end, the lower 25
+      const bool upper = tr.omega.back() > top;  // omega_0 + top at the sweep's end, the lower top - omega_0
       for (std::size_t k = 0; k < tr.omega.size(); ++k) {
         const double W = d.speeds[k][0];
         if (tr.lost[k]) continue;
@@ -300,10 +304,15 @@ TEST(RotatingPointMass, IsotropicTracksKeepTheirBranchesPastTheCriticalSpeed) {
       }
     }
     // One 1X crossing, the lower whirl's at omega_0 / 2 = 10 rad/s (linear
-    // between sweep speeds: exact, the branch is linear); the swap read a
-    // second on the jump (18.75 rad/s at 7 steps).
+    // between sweep speeds: exact where the branch is linear over its step,
+    // its zero at 20 not inside that step; else inside the step); the swap
+    // read a second on the jump (18.75 rad/s at 7 steps).
     ASSERT_EQ(d.crossings.size(), 1u) << d.crossings.back().speed;
-    EXPECT_NEAR(d.crossings[0].speed, 10.0, 1e-9 * 10.0);
+    const double h = top / (steps - 1);
+    if (h <= w0)
+      EXPECT_NEAR(d.crossings[0].speed, 10.0, 1e-9 * 10.0);
+    else
+      EXPECT_TRUE(d.crossings[0].speed > 0.0 && d.crossings[0].speed < h) << d.crossings[0].speed;
   }
 }
 

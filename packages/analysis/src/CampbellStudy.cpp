@@ -46,34 +46,6 @@ eigen::GyroscopicSystem SpeedDependentSystem::at(double Omega) const {
   return s;
 }
 
-namespace {
-/// Negative eigenvalues of a dense symmetric K by its Bunch-Kaufman L D L^T
-/// (eigen::symmetricNegatives, read as the Sturm count reads its factor), K first scaled
-/// symmetrically by its diagonal's magnitudes (S K S, S = |diag K|^-1/2
-/// where the diagonal is not zero; the inertia is unchanged) so that a
-/// pivot's "zero to rounding", 1e-13, is relative to its own row's
-/// stiffness: against the largest diagonal a soft spring on a chain 1e12
-/// times stiffer went negative 5% late, and at 1e16 never (a review).
-StiffnessCount denseStiffnessCount(const DenseMatrix& K) {
-  StiffnessCount out;
-  const int n = K.numRows();
-  out.negative = 0;
-  if (n == 0) return out;
-  std::vector<double> sc(n, 1.0);
-  for (int i = 0; i < n; ++i)
-    if (std::abs(K(i, i)) > 0.0) sc[i] = 1.0 / std::sqrt(std::abs(K(i, i)));
-  std::vector<double> A(static_cast<std::size_t>(n) * n);  // lower triangle read
-  for (int j = 0; j < n; ++j)
-    for (int i = j; i < n; ++i) A[static_cast<std::size_t>(j) * n + i] = sc[i] * K(i, j) * sc[j];
-  try {
-    out.negative = eigen::symmetricNegatives(A, n, /*tiny*/ 1e-13);
-  } catch (const NumericalError& e) {
-    out.negative = -1;
-    out.why = e.what();
-  }
-  return out;
-}
-}  // namespace
 
 StiffnessCount DenseSweepProblem::stiffnessCount(const std::vector<double>& speeds) const {
   CMS_INPUT_CHECK(speeds.size() != 1 || !std::isfinite(speeds[0]),
@@ -223,39 +195,8 @@ StiffnessCount SynthesizedSweepProblem::stiffnessCount(const std::vector<double>
     out.why = "a rotor on a moving hub (periodic, theory 16.8)";
     return out;
   }
-  const int limit = solveParams_.isParameter("Dense Limit") ? solveParams_.get<int>("Dense Limit") : 1500;
-  if (reduced_.size() <= limit) {
-    const auto sys = reduced_.denseSystem(speeds);
-    out = denseStiffnessCount(sys.K);
-    out.circulatory = sys.N.numRows() > 0;
-    return out;
-  }
-  // The sparse inertia, K scaled by its diagonal's magnitudes first, as the
-  // dense count is (its zero-pivot test is against the largest diagonal).
-  const auto sys = reduced_.system(speeds);
-  out.circulatory = !sys.N.is_null();
-  auto K = Teuchos::rcp(new CrsMatrix(*sys.K, Teuchos::Copy));
-  Vector d(K->getRowMap());
-  K->getLocalDiagCopy(d);
-  {
-    auto v = d.getLocalViewHost(Tpetra::Access::ReadWrite);
-    for (std::size_t i = 0; i < d.getLocalLength(); ++i) v(i, 0) = std::abs(v(i, 0)) > 0.0 ? 1.0 / std::sqrt(std::abs(v(i, 0))) : 1.0;
-  }
-  K->leftScale(d);
-  K->rightScale(d);
-  const auto count = inertia(Teuchos::RCP<const CrsMatrix>(K));
-  if (!count.failure.empty()) {
-    out.why = "the sparse inertia failed: " + count.failure;
-    return out;
-  }
-  // Without pivoting a pivot zero to rounding may be a leading minor's,
-  // not K's: the count there is not trusted (no speed read from it).
-  if (count.tinyPivots > 0) {
-    out.why = "the sparse inertia met " + std::to_string(count.tinyPivots) + " pivot(s) zero to rounding";
-    return out;
-  }
-  out.negative = count.negative;
-  return out;
+  return analysis::stiffnessCount(reduced_, speeds,
+                                  solveParams_.isParameter("Dense Limit") ? solveParams_.get<int>("Dense Limit") : 1500);
 }
 
 std::vector<synthesis::StructureModes> SynthesizedSweepProblem::solveAll(const std::vector<std::vector<double>>& speeds,
@@ -673,9 +614,20 @@ CampbellResult CampbellStudy::run(const SpeedSweepProblem& problem) const {
     // rotor's lower whirl, |omega_0 - Omega|, comes back conjugated, its
     // orbit turning as the upper whirl's, and both modes had MAC 1 with the
     // upper track: it took the lower mode, a 1X "critical speed" was read
-    // on the jump, and the lower track was lost (an open finding).
+    // on the jump, and the lower track was lost (an open finding). The
+    // change is from the track's frequency extrapolated from its last two
+    // steps (the grid is uniform), |2 omega_{k-1} - omega_{k-2}| (a branch
+    // through zero comes back reflected): from its last value alone, a step
+    // h past omega_0 made the wrong pair the nearer, |2 omega_0 - h| against
+    // h, and the tracks swapped at every step, inventing a 1X crossing each
+    // time (a review). From the last value where the track has one step.
     const auto change = [&](int t, int j) {
-      const double a = last[static_cast<std::size_t>(t)].omega, b = modes[static_cast<std::size_t>(j)].omega;
+      const auto& om = r.tracks[static_cast<std::size_t>(t)].omega;
+      const auto& lost = r.tracks[static_cast<std::size_t>(t)].lost;
+      double a = last[static_cast<std::size_t>(t)].omega;
+      const auto ks = static_cast<std::size_t>(k);
+      if (ks >= 2 && om.size() >= ks && !lost[ks - 1] && !lost[ks - 2]) a = std::abs(2.0 * om[ks - 1] - om[ks - 2]);
+      const double b = modes[static_cast<std::size_t>(j)].omega;
       return a + b > 0.0 ? std::abs(a - b) / (a + b) : 0.0;
     };
     constexpr double macTie = 1e-3;

@@ -12,7 +12,9 @@
 #include <Tpetra_Vector.hpp>
 
 #include "cms/core/Error.hpp"
+#include "cms/core/SparseInertia.hpp"
 #include "cms/core/TpetraTypes.hpp"
+#include "cms/eigen/SturmCount.hpp"
 #include "cms/fem/FiniteElementModel.hpp"
 #include "cms/fem/MatrixSubstructureFile.hpp"
 
@@ -107,6 +109,78 @@ bool hasReducedHex20(const synthesis::AssembledStructure& structure, std::size_t
 
 }  // namespace
 
+/// Negative eigenvalues of a dense symmetric K by its Bunch-Kaufman L D L^T
+/// (eigen::symmetricNegatives, read as the Sturm count reads its factor), K first scaled
+/// symmetrically by its diagonal's magnitudes (S K S, S = |diag K|^-1/2
+/// where the diagonal is not zero; the inertia is unchanged) so that a
+/// pivot's "zero to rounding", 1e-13, is relative to its own row's
+/// stiffness: against the largest diagonal a soft spring on a chain 1e12
+/// times stiffer went negative 5% late, and at 1e16 never (a review).
+/// With the magnitudes of K's parts R (GyroscopicSystem::KMagnitude), by
+/// R's diagonal instead: at a critical speed K's own diagonal can be the
+/// cancelled value (a point mass at Omega = sqrt(kx / m), kx - m Omega^2 =
+/// -4.4e-16 of 2), which scaling by itself turns into a pivot of -1.
+StiffnessCount denseStiffnessCount(const DenseMatrix& K, const DenseMatrix* R) {
+  StiffnessCount out;
+  const int n = K.numRows();
+  out.negative = 0;
+  if (n == 0) return out;
+  const bool parts = R && R->numRows() == n;
+  out.againstParts = parts;
+  std::vector<double> sc(n, 1.0);
+  for (int i = 0; i < n; ++i) {
+    const double d = parts ? (*R)(i, i) : std::abs(K(i, i));
+    if (d > 0.0) sc[i] = 1.0 / std::sqrt(d);
+  }
+  std::vector<double> A(static_cast<std::size_t>(n) * n);  // lower triangle read
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i) A[static_cast<std::size_t>(j) * n + i] = sc[i] * K(i, j) * sc[j];
+  try {
+    out.negative = eigen::symmetricNegatives(A, n, /*tiny*/ 1e-13);
+  } catch (const NumericalError& e) {
+    out.negative = -1;
+    out.why = e.what();
+  }
+  return out;
+}
+
+StiffnessCount stiffnessCount(const synthesis::SynthesizedStructure& reduced, const std::vector<double>& speeds,
+                              int denseLimit) {
+  StiffnessCount out;
+  if (reduced.size() <= denseLimit) {
+    const auto sys = reduced.denseSystem(speeds);
+    out = denseStiffnessCount(sys.K, &sys.KMagnitude);
+    out.circulatory = sys.N.numRows() > 0;
+    return out;
+  }
+  // The sparse inertia, K scaled by its diagonal's magnitudes first, as the
+  // dense count is (its zero-pivot test is against the largest diagonal).
+  const auto sys = reduced.system(speeds);
+  out.circulatory = !sys.N.is_null();
+  auto K = Teuchos::rcp(new CrsMatrix(*sys.K, Teuchos::Copy));
+  Vector d(K->getRowMap());
+  K->getLocalDiagCopy(d);
+  {
+    auto v = d.getLocalViewHost(Tpetra::Access::ReadWrite);
+    for (std::size_t i = 0; i < d.getLocalLength(); ++i) v(i, 0) = std::abs(v(i, 0)) > 0.0 ? 1.0 / std::sqrt(std::abs(v(i, 0))) : 1.0;
+  }
+  K->leftScale(d);
+  K->rightScale(d);
+  const auto count = inertia(Teuchos::RCP<const CrsMatrix>(K));
+  if (!count.failure.empty()) {
+    out.why = "the sparse inertia failed: " + count.failure;
+    return out;
+  }
+  // Without pivoting a pivot zero to rounding may be a leading minor's,
+  // not K's: the count there is not trusted (no speed read from it).
+  if (count.tinyPivots > 0) {
+    out.why = "the sparse inertia met " + std::to_string(count.tinyPivots) + " pivot(s) zero to rounding";
+    return out;
+  }
+  out.negative = count.negative;
+  return out;
+}
+
 int rigidBodyMotions(const synthesis::AssembledStructure& structure) {
   int expected = structure.freeFloating() ? 6 : 0;
   for (std::size_t k = 0; k < structure.numSubstructures(); ++k)
@@ -174,6 +248,41 @@ ZeroFrequencyReport checkZeroFrequencies(const synthesis::AssembledStructure& st
           modes.result.modes[*it].stability = eigen::Stability::Critical;
           ++report.critical, --excess;
         }
+      // Inside a divergence band, not at its edge: where K(Omega) has an
+      // odd number of negative eigenvalues, det K < 0, and det(lambda^2 M +
+      // lambda (G + D) + K), positive for large real lambda (M > 0), has a
+      // real root lambda > 0 (theory §12.1, "A band between two speeds").
+      // An anisotropic shaft in its own frame, divergent from 78.29 to
+      // 79.63 rad/s, printed its root "critical" with a growth of 0.37-0.67
+      // 1/s, below the zero tests' reach on a scale of 7e7 rad/s (the stiff
+      // support's), and the dense path never shows a real value nonzero
+      // (theory §4.3). Restrained at rest only (checked above: a mechanism's
+      // sign at speed can be its rounding's), no rigid motions (their K is
+      // singular at every speed), no circulatory N; the count made against
+      // the magnitudes of K's parts (every part Full), which refuses a pivot
+      // zero to their rounding: at the band's edge, a critical speed, K's
+      // own diagonal has cancelled (the point mass at Omega = sqrt(kx / m)
+      // read DIVERGENCE from a count scaled by it). The zero with the
+      // largest positive real part, real within its own first-order error,
+      // is the root.
+      if (report.expected == 0 && report.critical > 0) {
+        const int limit = solveParams.isParameter("Dense Limit") ? solveParams.get<int>("Dense Limit") : 1500;
+        const auto count = stiffnessCount(reduced, modes.speeds, limit);
+        if (count.againstParts && count.negative > 0 && count.negative % 2 == 1 && !count.circulatory) {
+          int root = -1;
+          for (int m : zeros) {
+            const auto& mode = modes.result.modes[m];
+            if (mode.stability == eigen::Stability::Critical && mode.lambda.real() > 0.0 &&
+                (mode.lambda.imag() == 0.0 || std::abs(mode.lambda.imag()) <= mode.eigenvalueError) &&
+                (root < 0 || mode.lambda.real() > modes.result.modes[root].lambda.real()))
+              root = m;
+          }
+          if (root >= 0) {
+            modes.result.modes[root].stability = eigen::Stability::Divergence;
+            --report.critical, ++report.divergent;
+          }
+        }
+      }
       return report;
     }
   }

@@ -2886,6 +2886,50 @@ TEST(SceneRegression, ADivergenceBandInsideAWiderRangeIsSaidApart) {
   EXPECT_NE(os.str().find("divergence from 78.29 to 110.4:"), std::string::npos) << os.str();
 }
 
+// Inside a divergence band the root is DIVERGENCE, not "critical": a point
+// mass (m = 1 kg) on springs kx = 2, ky = 400 N/m spinning in its own frame
+// diverges for sqrt(2) < Omega < 20 rad/s; a stiff axial spring (1e14 N/m)
+// puts the system's scale at 1e7 rad/s, and the divergent root (2.536 1/s
+// at 3 rad/s, 6.739 at 10) below the zero tests' reach: it was printed
+// "critical" with its growth, a zero at a critical speed (found while
+// testing the Campbell's divergence bands; theory §4.3, §12.1). K(Omega)'s
+// count of negative eigenvalues is 1 there (det K < 0: a real root lambda >
+// 0), the structure is restrained at rest, and the root must read
+// DIVERGENCE with the closed form's growth (the rotating point mass's
+// quartic, tests/validation/RotatingPointMassTest.cpp) within its reported
+// error. The critical speed itself (kx = 2 at Omega = sqrt 2, the test
+// below) stays critical.
+TEST(SceneRegression, ARootInsideADivergenceBandReadsDivergence) {
+  auto comm = Teuchos::DefaultComm<int>::getComm();
+  const double m = 1.0, kx = 2.0, ky = 400.0;
+  for (double W : {3.0, 10.0}) {
+    SCOPED_TRACE(std::to_string(W) + " rad/s");
+    std::ostringstream s;
+    s << std::setprecision(17) << "Scene:\n  Substructures:\n    mass:\n      Kind: C\n"
+      << "      Finite Element Model:\n        Mesh: " << CMS_TEST_DATA_DIR << "/meshes/point_mass.msh\n"
+      << "        Point Masses:\n          m: {Node Set: m, Mass: " << m << ", Inertia: [0, 0, 0, 0, 0, 0]}\n"
+      << "        Springs:\n          s: {Node Set: m, Stiffness: [" << kx << ", " << ky << ", 1.0e14, 0, 0, 0]}\n"
+      << "      Spin: {Axis: [0.0, 0.0, 1.0], Origin: [0.0, 0.0, 0.0], Rate: " << W
+      << ", Frame: Rotating}\n      Reduction: {Basis: Full}\n  Analysis: {Number of Modes: 3}\n";
+    std::vector<eigen::GyroscopicMode> ms;
+    ASSERT_NO_THROW(ms = rotorModes(s.str(), comm));
+    ASSERT_FALSE(ms.empty());
+    // lambda^2 = s solves m^2 s^2 + (m (a + b) + 4 m^2 W^2) s + a b = 0.
+    const double a = kx - m * W * W, b = ky - m * W * W;
+    const double B = m * (a + b) + 4 * m * m * W * W, C = a * b;
+    const double exact = std::sqrt((-B + std::sqrt(B * B - 4 * m * m * C)) / (2 * m * m));
+    int divergent = 0;
+    for (const auto& mode : ms) {
+      EXPECT_NE(mode.stability, eigen::Stability::Critical) << mode.lambda;
+      if (mode.stability != eigen::Stability::Divergence) continue;
+      ++divergent;
+      EXPECT_LE(std::abs(mode.lambda - exact), mode.reportedError() + 1e-12 * exact)
+          << mode.lambda << " (error " << mode.reportedError() << ") against " << exact;
+    }
+    EXPECT_EQ(divergent, 1);
+  }
+}
+
 // A critical speed itself is an answer, not an instability: a point mass
 // on springs kx = 2, ky = 400 N/m (m = 1 kg) spinning in its own frame at
 // Omega = sqrt(kx / m), where K(Omega) = diag(kx - m Omega^2, ...) is

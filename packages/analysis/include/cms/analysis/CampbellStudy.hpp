@@ -31,6 +31,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include "cms/analysis/WhirlClassification.hpp"
+#include "cms/analysis/ZeroFrequencies.hpp"
 #include "cms/core/DenseMatrix.hpp"
 #include "cms/eigen/GyroscopicModes.hpp"
 #include "cms/eigen/GyroscopicSystem.hpp"
@@ -50,17 +51,6 @@ struct SpeedDependentSystem {
   DenseMatrix D;
 
   eigen::GyroscopicSystem at(double Omega) const;
-};
-
-/// The inertia of a stiffness K(speeds) (SpeedSweepProblem::stiffnessCount).
-struct StiffnessCount {
-  long long negative = -1;  ///< negative eigenvalues; -1: not counted
-  bool available = true;    ///< false: the model gives no count at any speed
-  std::string why;          ///< why not counted
-  /// A circulatory stiffness N acts at these speeds: the count's parity
-  /// then proves nothing (an odd count proves divergence only where the
-  /// characteristic polynomial at 0 is det K, theory §12.1).
-  bool circulatory = false;
 };
 
 /// What a Campbell study needs of a model. Every method is collective.
