@@ -48,6 +48,16 @@ std::vector<cplx> exactLambdas(double W) {
   return out;
 }
 
+/// A Campbell study from rest to the nominal rate in `steps` speeds.
+Teuchos::ParameterList sweepOf(int steps, bool refine = true, double crossingTol = 1e-6) {
+  Teuchos::ParameterList study;
+  study.set("Steps", steps);
+  study.set("Max Factor", 1.0);
+  study.set("Crossing Tolerance", crossingTol);
+  study.set("Refine Crossings", refine);
+  return study;
+}
+
 GyroscopicResult solveAt(double W) {
   return DenseGyroscopicSolver().solve(pointMass().at(W));
 }
@@ -213,11 +223,7 @@ TEST(RotatingPointMass, AnUnstableRangeOpenAtTheSweepsEndSaysSo) {
 // listed (found by a review).
 TEST(RotatingPointMass, ADivergenceBandBetweenTwoSweepSpeedsIsListed) {
   for (const bool refine : {true, false}) {
-    Teuchos::ParameterList study;
-    study.set("Steps", 3);
-    study.set("Max Factor", 1.0);
-    study.set("Crossing Tolerance", 1e-9);
-    study.set("Refine Crossings", refine);
+    auto study = sweepOf(3, refine, 1e-9);
     const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(pointMass(), "frame", 30.0));
     ASSERT_EQ(d.zeroFrequencySpeeds.size(), 2u) << "the premise: both zeros found by the count";
     ASSERT_EQ(d.unstableRanges.size(), 1u) << "refine " << refine;
@@ -244,10 +250,7 @@ TEST(RotatingPointMass, ADivergenceBandBetweenTwoSweepSpeedsIsListed) {
   // gyroscopically stable on either side: no range.
   auto iso = pointMass();
   iso.K0(1, 1) = kx;
-  Teuchos::ParameterList study;
-  study.set("Steps", 3);
-  study.set("Max Factor", 1.0);
-  study.set("Crossing Tolerance", 1e-9);
+  const auto study = sweepOf(3, true, 1e-9);
   const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(iso, "frame", 30.0));
   ASSERT_EQ(d.zeroFrequencySpeeds.size(), 1u);
   EXPECT_NEAR(d.zeroFrequencySpeeds[0], 20.0, 2e-9 * 20.0);
@@ -288,11 +291,7 @@ TEST(RotatingPointMass, IsotropicTracksKeepTheirBranchesPastTheCriticalSpeed) {
   for (const auto& [steps, top] : std::vector<std::pair<int, double>>{{7, 45.0}, {11, 45.0}, {16, 45.0}, {31, 45.0},
                                                                        {6, 100.0}, {5, 100.0}, {4, 120.0}}) {
     SCOPED_TRACE(std::to_string(steps) + " steps to " + std::to_string(top));
-    Teuchos::ParameterList study;
-    study.set("Steps", steps);
-    study.set("Max Factor", 1.0);
-    study.set("Refine Crossings", false);
-    const auto d = analysis::CampbellStudy(study).run(analysis::DenseSweepProblem(iso, "frame", top));
+    const auto d = analysis::CampbellStudy(sweepOf(steps, false)).run(analysis::DenseSweepProblem(iso, "frame", top));
     ASSERT_EQ(d.tracks.size(), 2u);
     for (const auto& tr : d.tracks) {
       const bool upper = tr.omega.back() > top;  // omega_0 + top at the sweep's end, the lower top - omega_0

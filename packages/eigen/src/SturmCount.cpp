@@ -43,22 +43,25 @@ namespace {
 /// sign; a 2x2 block [a b; conj(b) c] by its two eigenvalues (a + c)/2 -/+
 /// sqrt((a - c)^2 / 4 + |b|^2); each negative only below -tiny.
 template <class Scalar>
-int negativePivots(const std::vector<Scalar>& F, const std::vector<int>& ipiv, int n, double tiny) {
+int negativePivots(const std::vector<Scalar>& F, const std::vector<int>& ipiv, int n, double tiny, int* within = nullptr) {
   const auto d = [&](int i, int j) { return F[static_cast<std::size_t>(j) * n + i]; };
-  int negative = 0;
+  int negative = 0, small = 0;
   for (int k = 0; k < n;) {
     TEUCHOS_TEST_FOR_EXCEPTION(!std::isfinite(std::real(d(k, k))), NumericalError,
                                "Bunch-Kaufman L D L^T: pivot " << k << " is not finite");
     if (ipiv[k] > 0 || k + 1 == n) {
       negative += std::real(d(k, k)) < -tiny;
+      small += std::abs(std::real(d(k, k))) <= tiny;
       k += 1;
     } else {
       const double a = std::real(d(k, k)), c = std::real(d(k + 1, k + 1));
       const double r = std::sqrt(0.25 * (a - c) * (a - c) + std::norm(d(k + 1, k)));
       negative += (0.5 * (a + c) - r < -tiny) + (0.5 * (a + c) + r < -tiny);
+      small += (std::abs(0.5 * (a + c) - r) <= tiny) + (std::abs(0.5 * (a + c) + r) <= tiny);
       k += 2;
     }
   }
+  if (within) *within = small;
   return negative;
 }
 }  // namespace
@@ -76,7 +79,8 @@ int hermitianNegatives(std::vector<std::complex<double>>& Q, int n, double tiny)
   return negativePivots(Q, ipiv, n, tiny);
 }
 
-int symmetricNegatives(std::vector<double>& A, int n, double tiny) {
+int symmetricNegatives(std::vector<double>& A, int n, double tiny, int* within) {
+  if (within) *within = 0;
   if (n == 0) return 0;
   std::vector<int> ipiv(n);
   int info = 0, lwork = -1;
@@ -86,7 +90,7 @@ int symmetricNegatives(std::vector<double>& A, int n, double tiny) {
   std::vector<double> work(lwork);
   dsytrf_("L", &n, A.data(), &n, ipiv.data(), work.data(), &lwork, &info, 1);
   TEUCHOS_TEST_FOR_EXCEPTION(info < 0, NumericalError, "LAPACK dsytrf failed, info = " << info);
-  return negativePivots(A, ipiv, n, tiny);
+  return negativePivots(A, ipiv, n, tiny, within);
 }
 
 SparseSturmCount sturmCount(const SparseGyroscopicSystem& sys, double omega) {

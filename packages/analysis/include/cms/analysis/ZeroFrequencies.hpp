@@ -43,6 +43,9 @@ struct StiffnessCount {
   /// so that a pivot zero to their rounding is refused even where K's own
   /// diagonal has cancelled; false: by K's own diagonal.
   bool againstParts = false;
+  /// Pivots within rounding of zero (the dense count: counted neither
+  /// way; the sparse count refuses them, `negative` -1).
+  long long tinyPivots = 0;
 };
 
 /// K's negative eigenvalues by a dense Bunch-Kaufman L D L^T of S K S (S =

@@ -24,8 +24,9 @@ namespace cms::eigen {
 /// count.
 int hermitianNegatives(std::vector<std::complex<double>>& lower, int n, double tiny = 0.0);
 /// The same for a real symmetric matrix (LAPACK dsytrf: a quarter of the
-/// complex factorisation's flops).
-int symmetricNegatives(std::vector<double>& lower, int n, double tiny = 0.0);
+/// complex factorisation's flops); `within`, if given, receives how many of
+/// D's eigenvalues lie within tiny of zero (counted neither way).
+int symmetricNegatives(std::vector<double>& lower, int n, double tiny = 0.0, int* within = nullptr);
 
 /// The number of eigenfrequencies omega_j < omega (counted with multiplicity,
 /// one per +/- pair) of M q'' + G q' + K q = 0 with M > 0 and K > 0: the number
