@@ -2926,6 +2926,11 @@ TEST(SceneRegression, ARootInsideADivergenceBandReadsDivergence) {
       EXPECT_NE(mode.stability, eigen::Stability::Critical) << mode.lambda;
       if (mode.stability != eigen::Stability::Divergence) continue;
       ++divergent;
+      // Within the value's own first-order error (dggev's, 5.3e-11 at 3
+      // rad/s: the scale 1e7 rad/s times eps over |Q'|), plus 1e-12 of the
+      // value for the closed form's own rounding in doubles (the quadratic's
+      // root from B^2 - 4 m^2 C, relative error a few eps times B^2 / sqrt of
+      // the discriminant, ~1e-14 here): both relative to what they bound.
       EXPECT_LE(std::abs(mode.lambda - exact), mode.reportedError() + 1e-12 * exact)
           << mode.lambda << " (error " << mode.reportedError() << ") against " << exact;
     }
